@@ -1,0 +1,59 @@
+"""The path landmark ``(v, w, d, T, psi)`` of the paper (equation 2) and its checks.
+
+- ``v``: linear velocity, m/s (odometry twist.linear.x)
+- ``w``: angular velocity, rad/s (odometry twist.angular.z)
+- ``d``: distance from the previous landmark's position, m
+- ``T``: sampling period in force when the landmark was taken, s
+- ``psi``: yaw, rad
+"""
+import math
+from collections import namedtuple
+
+FIELDS = ('v', 'w', 'd', 'T', 'psi')
+
+#: Kobuki's velocity limits (kobuki_node): 0.7 m/s, pi rad/s.
+KOBUKI_MAX_V = 0.7
+KOBUKI_MAX_W = math.pi
+
+
+class Landmark(namedtuple('Landmark', FIELDS)):
+    """One path landmark; a tuple of five floats in REP 103 units."""
+
+    __slots__ = ()
+
+    def as_list(self):
+        return [float(value) for value in self]
+
+
+Limits = namedtuple('Limits', 'max_v max_w')
+Limits.__new__.__defaults__ = (KOBUKI_MAX_V, KOBUKI_MAX_W)
+Limits.__doc__ = 'Largest |v| (m/s) and |w| (rad/s) a landmark may carry.'
+
+
+def landmark_from_values(values, limits=Limits()):
+    """Build a Landmark from five numbers, or raise ValueError naming the bad field.
+
+    Refused: not exactly five numbers, booleans, NaN/Inf, negative ``d``,
+    ``T <= 0``, ``|v|`` or ``|w|`` beyond ``limits``, ``|psi| > pi``.
+    """
+    if not isinstance(values, (list, tuple)) or len(values) != len(FIELDS):
+        raise ValueError('data must be a list of five numbers [v, w, d, T, psi], got %r' % (values,))
+    numbers = []
+    for name, value in zip(FIELDS, values):
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError('%s is not a number: %r' % (name, value))
+        if not math.isfinite(value):
+            raise ValueError('%s is not finite: %r' % (name, value))
+        numbers.append(float(value))
+    landmark = Landmark(*numbers)
+    if landmark.d < 0.0:
+        raise ValueError('d is negative: %r' % landmark.d)
+    if landmark.T <= 0.0:
+        raise ValueError('T must be positive: %r' % landmark.T)
+    if abs(landmark.v) > limits.max_v:
+        raise ValueError('|v| = %g exceeds the limit %g m/s' % (abs(landmark.v), limits.max_v))
+    if abs(landmark.w) > limits.max_w:
+        raise ValueError('|w| = %g exceeds the limit %g rad/s' % (abs(landmark.w), limits.max_w))
+    if abs(landmark.psi) > math.pi + 1e-6:
+        raise ValueError('psi = %g is outside [-pi, pi]' % landmark.psi)
+    return landmark

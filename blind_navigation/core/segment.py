@@ -1,0 +1,95 @@
+"""The paper's straight/curved segment classifier and the two-rate sampling schedule.
+
+Section 3.3.2 of the paper: take four consecutive yaw angles and their three
+differences. The robot is on a *curved* segment if
+
+1. every difference is positive (turning left, REP 103), or
+2. every difference is negative (turning right), or
+3. the differences have both signs and at least one lies in [pi, 2pi] or
+   [-2pi, -pi]: the yaw wrapped around at +-pi during a turn;
+
+otherwise it is on a *straight* segment. The sampling period is the curved
+period on curved segments and the straight period on straight ones.
+
+Noise. On a straight line the yaw still wanders by tiny amounts. Read
+literally, the rules call three tiny differences of one sign a curve (one time
+in four for white noise), and a straight heading of +-pi whose noise crosses
+the seam a wrap-around curve. ``deadband`` (rad per difference) treats a
+difference whose *wrapped* size is at most ``deadband`` as "no change": it has
+no sign, so it cannot make all three differences agree, nor supply the second
+sign of rule 3. (Wrapped size, so that noise across the seam, a raw difference
+of about 2pi, is no change either.) Otherwise the rules use the raw
+differences exactly as the paper states them.
+``deadband=0`` is the paper's rule exactly. The default, 0.01 rad, is a tenth
+of the yaw change per curved-rate sample in the paper's experiments
+(0.097 rad/s at 1 Hz), so real turns still switch the rate as in the paper.
+"""
+import math
+from collections import deque
+
+from .geometry import wrap_angle
+
+STRAIGHT = 'straight'
+CURVED = 'curved'
+
+#: Default dead-band on yaw differences, rad (see module docstring).
+DEFAULT_DEADBAND = 0.01
+#: The paper's sampling periods, s: 0.5 Hz on straight segments, 1 Hz on curves.
+PAPER_STRAIGHT_PERIOD = 2.0
+PAPER_CURVED_PERIOD = 1.0
+WINDOW = 4
+
+
+def _sign(diff, deadband):
+    """Sign of a raw yaw difference; 0 when its wrapped size is within the dead-band."""
+    if abs(wrap_angle(diff)) <= deadband or diff == 0.0:
+        return 0
+    return 1 if diff > 0 else -1
+
+
+def classify(yaws, deadband=DEFAULT_DEADBAND):
+    """Classify four consecutive yaws (rad, as measured, unwrapped or not)."""
+    if len(yaws) != WINDOW:
+        raise ValueError('classify needs %d yaws, got %d' % (WINDOW, len(yaws)))
+    diffs = [b - a for a, b in zip(yaws, yaws[1:])]
+    signs = [_sign(diff, deadband) for diff in diffs]
+    if all(s > 0 for s in signs) or all(s < 0 for s in signs):
+        return CURVED
+    wrapped = any(math.pi <= abs(diff) <= 2.0 * math.pi for diff in diffs)
+    if wrapped and 1 in signs and -1 in signs:
+        return CURVED
+    return STRAIGHT
+
+
+class SamplingSchedule(object):
+    """Chooses the next sampling period from the last four yaws.
+
+    Feed it the yaw at each sampling tick with :meth:`update`; it returns the
+    period for the next cycle. Until four yaws are known the segment is taken
+    as straight.
+    """
+
+    def __init__(self, straight_period=PAPER_STRAIGHT_PERIOD,
+                 curved_period=PAPER_CURVED_PERIOD, deadband=DEFAULT_DEADBAND):
+        if straight_period <= 0 or curved_period <= 0:
+            raise ValueError('sampling periods must be positive (straight %r, curved %r)'
+                             % (straight_period, curved_period))
+        if deadband < 0:
+            raise ValueError('deadband must be >= 0, got %r' % deadband)
+        self.straight_period = float(straight_period)
+        self.curved_period = float(curved_period)
+        self.deadband = float(deadband)
+        self._yaws = deque(maxlen=WINDOW)
+        self.segment = STRAIGHT
+
+    @property
+    def period(self):
+        """The period in force for the next cycle, s."""
+        return self.curved_period if self.segment == CURVED else self.straight_period
+
+    def update(self, yaw):
+        """Add the yaw of this tick; return the period for the next cycle."""
+        self._yaws.append(yaw)
+        if len(self._yaws) == WINDOW:
+            self.segment = classify(list(self._yaws), self.deadband)
+        return self.period

@@ -1,0 +1,1 @@
+"""ROS nodes of blind_navigation: one module per node, each runnable as a script."""

@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""Summarise catkin's xunit results: one line per failure, then `N passed, N failed`.
+
+Counts every case of the pytest unit results (pytest-*.xml) and of each rostest
+test node (rosunit-*.xml); a rostest <test> node that wrote no results counts as
+its rostest-*.xml entry (a failure). Exits 1 when a test failed or none ran.
+"""
+import glob
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+
+def cases(path):
+    root = ET.parse(path).getroot()
+    suites = [root] if root.tag == 'testsuite' else root.iter('testsuite')
+    for suite in suites:
+        for case in suite.iter('testcase'):
+            yield suite, case
+
+
+def outcome(case):
+    """'failed' with a message, 'skipped' or 'passed' for one xunit testcase."""
+    problem = case.find('failure')
+    if problem is None:
+        problem = case.find('error')
+    if problem is not None:
+        text = (problem.get('message') or problem.text or '').strip().splitlines()
+        return 'failed', text[0][:300] if text else ''
+    if case.find('skipped') is not None:
+        return 'skipped', ''
+    return 'passed', ''
+
+
+def result_files(results_dir):
+    """pytest files, each test node's rosunit file, and the rostest entry of any
+    <test> node that produced no rosunit file (it crashed or timed out)."""
+    files = glob.glob(os.path.join(results_dir, 'pytest-*.xml'))
+    files += glob.glob(os.path.join(results_dir, 'rosunit-*.xml'))
+    files += glob.glob(os.path.join(results_dir, 'MISSING-*.xml'))
+    fallbacks = []
+    for path in glob.glob(os.path.join(results_dir, 'rostest-*.xml')):
+        try:
+            for _, case in cases(path):
+                test_name = case.get('name', '')[len('test'):]
+                if not os.path.exists(os.path.join(results_dir, 'rosunit-%s.xml' % test_name)):
+                    fallbacks.append((path, case))
+        except ET.ParseError:
+            files.append(path)
+    return sorted(files), fallbacks
+
+
+def main(results_dir):
+    files, fallbacks = result_files(results_dir)
+    counts = {'passed': 0, 'failed': 0, 'skipped': 0}
+    found = list(fallbacks)
+    for path in files:
+        try:
+            found += [(path, case) for _, case in cases(path)]
+        except ET.ParseError as error:
+            print('FAILED %s: unreadable result file (%s)' % (os.path.basename(path), error))
+            counts['failed'] += 1
+    for path, case in found:
+        state, message = outcome(case)
+        counts[state] += 1
+        if state == 'failed':
+            print('FAILED %s %s.%s: %s' % (os.path.basename(path), case.get('classname'),
+                                           case.get('name'), message))
+    passed, failed, skipped = counts['passed'], counts['failed'], counts['skipped']
+    line = '%d passed, %d failed' % (passed, failed)
+    if skipped:
+        line += ', %d skipped' % skipped
+    print(line)
+    return 1 if failed or not passed else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main(sys.argv[1] if len(sys.argv) > 1 else '.'))

@@ -1,0 +1,8 @@
+"""Python package set-up for catkin (catkin_python_setup() reads this)."""
+from setuptools import setup
+from catkin_pkg.python_setup import generate_distutils_setup
+
+setup(**generate_distutils_setup(
+    packages=['blind_navigation', 'blind_navigation.core', 'blind_navigation.nodes'],
+    package_dir={'': '.'},
+))
