@@ -32,3 +32,8 @@ def quaternion_from_yaw(yaw):
 def distance(ax, ay, bx, by):
     """Euclidean distance between points (ax, ay) and (bx, by)."""
     return math.hypot(bx - ax, by - ay)
+
+
+OdomState = namedtuple('OdomState', 'x y yaw v w stamp')
+OdomState.__doc__ = ('What the layer reads from odometry: pose (m, rad), twist.linear.x (m/s), '
+                     'twist.angular.z (rad/s) and the stamp (s, sim time).')

@@ -1,0 +1,39 @@
+"""Small rospy glue shared by the nodes: params, message conversions, Twist."""
+import math
+
+import rospy
+from geometry_msgs.msg import Twist
+
+from .core.geometry import OdomState, yaw_from_quaternion
+
+
+def load_params(defaults):
+    """Read each ``~name`` private param, falling back to ``defaults[name]``.
+
+    Returns a plain object with one attribute per param and logs the values, so
+    every node documents and reads its params the same way.
+    """
+    values = {name: rospy.get_param('~' + name, default) for name, default in defaults.items()}
+    rospy.loginfo('%s params: %s', rospy.get_name(),
+                  ', '.join('%s=%r' % item for item in sorted(values.items())))
+    return type('Params', (object,), values)()
+
+
+def odom_state_from_msg(msg):
+    """OdomState from nav_msgs/Odometry; ValueError if the pose is NaN or the quaternion null."""
+    pose, twist = msg.pose.pose, msg.twist.twist
+    q = pose.orientation
+    yaw = yaw_from_quaternion(q.x, q.y, q.z, q.w)
+    values = (pose.position.x, pose.position.y, twist.linear.x, twist.angular.z)
+    if not all(math.isfinite(v) for v in values):
+        raise ValueError('non-finite odometry (x, y, v, w) = %r' % (values,))
+    return OdomState(pose.position.x, pose.position.y, yaw, twist.linear.x,
+                     twist.angular.z, msg.header.stamp.to_sec())
+
+
+def twist(v=0.0, w=0.0):
+    """geometry_msgs/Twist with linear.x = v and angular.z = w."""
+    msg = Twist()
+    msg.linear.x = v
+    msg.angular.z = w
+    return msg
