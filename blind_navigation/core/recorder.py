@@ -1,0 +1,96 @@
+"""Path recording: odometry at each sampling tick -> the paper's path landmark.
+
+Section 3.3.1 of the paper: at each tick of the sampling publisher the
+recorder takes ``v`` = twist.linear.x and ``w`` = twist.angular.z from the
+latest odometry, ``d`` = the straight-line distance from the previous
+landmark's position (for the first landmark: from where recording started,
+the first odometry seen), and ``T`` and ``psi`` from the tick itself (the
+period in force and the yaw the publisher read).
+
+Also the memory footprint of a recorded path (section 5: count, bytes, bytes
+per metre), shared by the ROS nodes and the evaluation.
+"""
+from collections import namedtuple
+
+from .geometry import distance, wrap_angle
+from .landmark import Limits, landmark_from_values
+
+Footprint = namedtuple('Footprint', 'landmarks bytes distance bytes_per_metre')
+Footprint.__doc__ = ('Memory used by a recorded path: landmark count, file bytes, path length '
+                     '(sum of d, m) and bytes per metre (0 until the robot has moved).')
+
+
+def footprint(landmarks, size_bytes, total_distance):
+    """Footprint of ``landmarks`` landmarks stored in ``size_bytes`` bytes over ``total_distance`` m."""
+    per_metre = size_bytes / total_distance if total_distance > 0.0 else 0.0
+    return Footprint(int(landmarks), int(size_bytes), float(total_distance), per_metre)
+
+
+class PathRecorder(object):
+    """Turns odometry at sampling ticks into path landmarks ``(v, w, d, T, psi)``.
+
+    Call :meth:`start` with the first odometry seen (where recording starts);
+    :meth:`take` starts implicitly from its own odometry if :meth:`start` was
+    never called (the first landmark then has ``d = 0``).
+    """
+
+    def __init__(self, limits=Limits()):
+        self.limits = limits
+        self.origin = None          # (x, y) where recording started
+        self._previous = None       # (x, y) of the previous landmark, or the origin
+        self.count = 0
+        self.total_distance = 0.0
+
+    @property
+    def started(self):
+        return self._previous is not None
+
+    def start(self, odom_state):
+        """Record the start position (once; later calls are ignored)."""
+        if self._previous is None:
+            self.origin = (odom_state.x, odom_state.y)
+            self._previous = self.origin
+
+    def take(self, odom_state, yaw, period):
+        """The landmark for a tick with yaw ``yaw`` (rad) and period ``period`` (s).
+
+        Raises ValueError (naming the field) when the result is not a valid
+        landmark, e.g. a non-positive period or a velocity beyond the limits;
+        the recorder's position is then unchanged, so the next landmark's
+        ``d`` still counts from the last landmark actually taken.
+        """
+        self.start(odom_state)
+        px, py = self._previous
+        step = distance(px, py, odom_state.x, odom_state.y)
+        landmark = landmark_from_values(
+            [odom_state.v, odom_state.w, step, period, wrap_angle(yaw)], self.limits)
+        self._previous = (odom_state.x, odom_state.y)
+        self.count += 1
+        self.total_distance += step
+        return landmark
+
+
+def record_path(odom_at, duration, schedule, recorder=None):
+    """Plain-Python run of the sampling publisher and saver over a known path.
+
+    ``odom_at(t)`` gives the OdomState ``t`` s after recording started;
+    ``schedule`` is a :class:`~.segment.SamplingSchedule`. As in the nodes,
+    the start yaw is the schedule's first yaw, each tick feeds the schedule
+    its yaw, the next period comes from the schedule, and at ``duration``
+    (vision lost) a final landmark covers the partial cycle since the last
+    tick. Returns ``[(tick time, Landmark), ...]``.
+    """
+    recorder = recorder or PathRecorder()
+    start = odom_at(0.0)
+    recorder.start(start)
+    period = schedule.update(start.yaw)
+    t, ticks = 0.0, []
+    while t + period <= duration + 1e-9:
+        t += period
+        odom = odom_at(t)
+        ticks.append((t, recorder.take(odom, odom.yaw, period)))
+        period = schedule.update(odom.yaw)
+    if duration - t > 1e-9:
+        odom = odom_at(duration)
+        ticks.append((duration, recorder.take(odom, odom.yaw, duration - t)))
+    return ticks
