@@ -1,0 +1,121 @@
+"""Scripted operator missions: what a human teleoperating the robot would send, as a function of time.
+
+A mission file (YAML, ``config/missions/<name>.yaml``) holds either a velocity
+profile or waypoints, plus optional metadata and a world (``arena``,
+``obstacles``: see core/arena.py)::
+
+    description: Table III test 1, straight line at 0.05 m/s
+    rate: 10                       # Hz, how often the operator's teleop publishes
+    segments:                      # each: v (m/s), w (rad/s) and ONE of
+      - {v: 0.05, distance: 3.3}   #   distance (m, needs v), angle (rad, needs w),
+      - {v: 0.086, w: 0.097, angle: 0.4}
+      - {v: 0.0, duration: 2.0}    #   or duration (s)
+    # or: waypoints: {v: 0.086, w: 0.097, points: [[1, 0], [1, 1]]}
+    #     from (0, 0, yaw 0): turn on the spot toward each point, then drive to it.
+
+``command_at(t)`` is open loop on purpose (an operator's stick, not a
+controller): where the robot really ends up is the base's business.
+"""
+import math
+import os
+
+import yaml
+
+from .geometry import wrap_angle
+
+MISSION_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'missions'))
+DEFAULT_RATE = 10.0
+
+
+class Mission(object):
+    """Segments ``[(v, w, duration)]`` played back to back; ``rate`` Hz; ``world`` dict; ``name``."""
+
+    def __init__(self, segments, rate=DEFAULT_RATE, world=None, name='mission', description=''):
+        if not segments:
+            raise ValueError('%s: a mission needs at least one segment' % name)
+        if not (rate > 0):
+            raise ValueError('%s: rate must be > 0 Hz, got %r' % (name, rate))
+        self.segments = [tuple(float(x) for x in s) for s in segments]
+        self.rate = float(rate)
+        self.world = world or {}
+        self.name = name
+        self.description = description
+        self.duration = sum(s[2] for s in self.segments)
+
+    def command_at(self, t):
+        """(v, w) the operator sends ``t`` s after the mission start; None once it is over."""
+        if t < 0:
+            raise ValueError('%s: command_at(t=%r) before the mission start' % (self.name, t))
+        elapsed = 0.0
+        for v, w, duration in self.segments:
+            elapsed += duration
+            if t < elapsed:
+                return v, w
+        return None
+
+    def nominal_length(self):
+        """Path length (m) the commands would give on an ideal robot."""
+        return sum(abs(v) * duration for v, _, duration in self.segments)
+
+
+def _segment(item, where):
+    if not isinstance(item, dict):
+        raise ValueError('%s: a segment is a mapping, got %r' % (where, item))
+    unknown = set(item) - {'v', 'w', 'distance', 'angle', 'duration'}
+    if unknown:
+        raise ValueError('%s: unknown key(s) %s' % (where, sorted(unknown)))
+    v, w = float(item.get('v', 0.0)), float(item.get('w', 0.0))
+    given = [k for k in ('distance', 'angle', 'duration') if k in item]
+    if len(given) != 1:
+        raise ValueError('%s: give exactly one of distance, angle, duration (got %s)' % (where, given))
+    amount = float(item[given[0]])
+    speed = {'distance': abs(v), 'angle': abs(w), 'duration': 1.0}[given[0]]
+    if amount < 0 or speed == 0:
+        raise ValueError('%s: %s=%r cannot be covered at v=%r, w=%r' % (where, given[0], amount, v, w))
+    return v, w, amount / speed
+
+
+def _waypoint_segments(spec, where):
+    try:
+        v, w, points = float(spec['v']), abs(float(spec['w'])), spec['points']
+    except (KeyError, TypeError, ValueError) as error:
+        raise ValueError('%s: waypoints need v, w and points (%s)' % (where, error))
+    if v <= 0 or w <= 0:
+        raise ValueError('%s: waypoint speeds must be > 0, got v=%r w=%r' % (where, v, w))
+    x = y = yaw = 0.0
+    segments = []
+    for i, point in enumerate(points):
+        px, py = float(point[0]), float(point[1])
+        heading = math.atan2(py - y, px - x)
+        turn = wrap_angle(heading - yaw)
+        if abs(turn) > 1e-9:
+            segments.append((0.0, math.copysign(w, turn), abs(turn) / w))
+        segments.append((v, 0.0, math.hypot(px - x, py - y) / v))
+        x, y, yaw = px, py, heading
+    return segments
+
+
+def mission_from_dict(data, name='mission'):
+    """Mission from a parsed mission file; ValueError naming the file and the bad entry."""
+    if not isinstance(data, dict):
+        raise ValueError('%s: a mission file is a mapping' % name)
+    if ('segments' in data) == ('waypoints' in data):
+        raise ValueError('%s: give either segments or waypoints' % name)
+    if 'segments' in data:
+        segments = [_segment(item, '%s: segments[%d]' % (name, i)) for i, item in enumerate(data['segments'])]
+    else:
+        segments = _waypoint_segments(data['waypoints'], '%s: waypoints' % name)
+    world = {k: data[k] for k in ('arena', 'obstacles') if k in data}
+    return Mission(segments, data.get('rate', DEFAULT_RATE), world, name, data.get('description', ''))
+
+
+def load_mission(name_or_path):
+    """Mission from a name in config/missions/ or a YAML path."""
+    path = name_or_path
+    if os.path.sep not in name_or_path and not name_or_path.endswith('.yaml'):
+        path = os.path.join(MISSION_DIR, name_or_path + '.yaml')
+    if not os.path.isfile(path):
+        known = sorted(f[:-5] for f in os.listdir(MISSION_DIR)) if os.path.isdir(MISSION_DIR) else []
+        raise ValueError('mission %r not found (%s); known: %s' % (name_or_path, path, known))
+    with open(path) as stream:
+        return mission_from_dict(yaml.safe_load(stream), path)
