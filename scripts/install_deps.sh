@@ -7,7 +7,8 @@ set -euo pipefail
 COMMON=(g++ cmake make libyaml-cpp-dev python3-yaml python3-numpy python3-matplotlib
         python3-pytest python3-psutil python3-setuptools python3-catkin-pkg)
 DEBIAN_ROS=(catkin ros-message-generation ros-message-runtime ros-std-msgs ros-geometry-msgs
-            ros-nav-msgs ros-sensor-msgs ros-actionlib-msgs ros-std-srvs ros-rosgraph-msgs
+            ros-nav-msgs python3-nav-msgs ros-sensor-msgs ros-actionlib-msgs ros-std-srvs
+            python3-std-srvs ros-rosgraph-msgs
             python3-rospy python3-actionlib python3-rostest librostest-dev python3-roslaunch
             python3-rosbag python3-tf python3-tf2-ros python3-rosmsg python3-rosservice
             python3-rostopic python3-rosnode python3-rosmaster python3-rosparam)

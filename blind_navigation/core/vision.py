@@ -1,0 +1,254 @@
+"""Vision-loss detectors with debounce (no ROS): camera stall, dark images,
+RTAB-Map visual odometry lost, RTAB-Map odom_info ``lost`` flag, manual trigger.
+
+Every detector is fed sim-time stamps (seconds) by its caller (the
+vision_monitor node or a plain-Python harness). A detector's *condition* (no
+image for ``image_timeout``, image dark, VO lost) must hold without a break for
+``debounce`` seconds before it fires, so a flicker shorter than the debounce
+never fires. A detector fires once per loss: it stays quiet while its condition
+keeps holding and re-arms as soon as the condition clears.
+
+``VisionLossMonitor`` bundles the enabled detectors; each feed method returns
+the ``Loss`` events it caused (usually none).
+"""
+import math
+import struct
+from collections import namedtuple
+
+import numpy
+
+Loss = namedtuple('Loss', 'detector reason t since')
+Loss.__doc__ = ('A detector fired at sim time ``t`` (s); ``since`` is when the failure it saw '
+                'began (last image for a stall, first bad message otherwise).')
+
+LOST_COVARIANCE = 9999.0
+"""RTAB-Map's odometry sets pose/twist covariance diagonals to 9999 when lost."""
+
+DETECTORS = ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
+
+
+class Debounce(object):
+    """A condition must hold continuously for ``hold`` seconds (and for at least
+    ``min_count`` consecutive updates) to fire; fires once, re-arms when it clears."""
+
+    def __init__(self, hold, min_count=1):
+        if hold < 0 or min_count < 1:
+            raise ValueError('Debounce: hold must be >= 0 and min_count >= 1, got %r, %r'
+                             % (hold, min_count))
+        self.hold = hold
+        self.min_count = min_count
+        self.onset = None       # when the current bad run began, None while good
+        self.count = 0          # consecutive bad updates in the current run
+        self.fired = False
+
+    def update(self, t, bad, onset=None):
+        """Feed the condition at time ``t``; True exactly when it fires.
+
+        ``onset`` overrides when a new bad run began (a stall starts at
+        last image + timeout, not when somebody noticed it).
+        """
+        if not bad:
+            self.onset, self.count, self.fired = None, 0, False
+            return False
+        if self.onset is None:
+            self.onset = t if onset is None else onset
+        self.count += 1
+        if self.fired or self.count < self.min_count or t - self.onset < self.hold:
+            return False
+        self.fired = True
+        return True
+
+    def reset(self):
+        """Forget everything (e.g. the clock jumped backwards)."""
+        self.onset, self.count, self.fired = None, 0, False
+
+
+class StallDetector(object):
+    """Fires when no message arrived for ``timeout`` s (+ debounce). Armed by the first message."""
+
+    def __init__(self, name, timeout, debounce, what='message'):
+        if timeout <= 0:
+            raise ValueError('%s: timeout must be > 0 s, got %r' % (name, timeout))
+        self.name, self.timeout, self.what = name, timeout, what
+        self.last = None
+        self.debounce = Debounce(debounce)
+
+    @property
+    def armed(self):
+        """True once the first message has been seen."""
+        return self.last is not None
+
+    def seen(self, t):
+        """A message arrived at ``t``; clears the stall (re-arms)."""
+        self.last = t
+        self.debounce.update(t, False)
+
+    def check(self, t):
+        """Periodic check at ``t``; a ``Loss`` or None."""
+        if self.last is None:
+            return None
+        silent = t - self.last
+        if not self.debounce.update(t, silent >= self.timeout, onset=self.last + self.timeout):
+            return None
+        return Loss(self.name, 'no %s for %.2f s (timeout %.2f s + debounce %.2f s)'
+                    % (self.what, silent, self.timeout, self.debounce.hold), t, self.last)
+
+
+class ConditionDetector(object):
+    """Fires when each message reports a bad condition for ``debounce`` s and ``min_count`` messages."""
+
+    def __init__(self, name, debounce, min_count=1):
+        self.name = name
+        self.debounce = Debounce(debounce, min_count)
+
+    def update(self, t, why):
+        """A message at ``t``; ``why`` says what is wrong with it (None when fine)."""
+        if not self.debounce.update(t, why is not None):
+            return None
+        return Loss(self.name, '%s for %.2f s (%d messages, debounce %.2f s)'
+                    % (why, t - self.debounce.onset, self.debounce.count, self.debounce.hold),
+                    t, self.debounce.onset)
+
+
+# --- what makes a message bad ------------------------------------------------------------------
+
+_CHANNELS = {'mono8': 1, '8UC1': 1, 'rgb8': 3, 'bgr8': 3, '8UC3': 3, 'rgba8': 4, 'bgra8': 4,
+             '8UC4': 4, 'mono16': 1, '16UC1': 1, 'rgb16': 3, 'bgr16': 3, 'rgba16': 4,
+             'bgra16': 4}
+_BAYER_PREFIX = 'bayer_'
+MAX_SAMPLES = 20000
+"""Pixels sampled per image (evenly strided): the mean costs the same for any resolution."""
+
+
+def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False):
+    """Mean intensity on a 0..255 scale of a raw sensor_msgs/Image.
+
+    Handles 8- and 16-bit mono, RGB/BGR(A) and Bayer encodings, row padding
+    (``step``) and ignores the alpha channel. At most MAX_SAMPLES pixels are
+    read. ValueError for an unsupported encoding or a buffer shorter than its
+    header says.
+    """
+    if encoding.startswith(_BAYER_PREFIX):
+        channels, depth = 1, 2 if encoding.endswith('16') else 1
+    elif encoding in _CHANNELS:
+        channels, depth = _CHANNELS[encoding], 2 if '16' in encoding else 1
+    else:
+        raise ValueError('image encoding %r not supported for the dark detector' % encoding)
+    row_bytes = width * channels * depth
+    if height <= 0 or width <= 0 or step < row_bytes or len(data) < step * (height - 1) + row_bytes:
+        raise ValueError('image %dx%d %s: step %d / %d data bytes do not match'
+                         % (width, height, encoding, step, len(data)))
+    dtype = numpy.dtype('>u2' if is_bigendian else '<u2') if depth == 2 else numpy.uint8
+    stride = max(1, int(math.sqrt(height * width / float(MAX_SAMPLES))))
+    rows = numpy.frombuffer(data, dtype=numpy.uint8, count=step * (height - 1) + row_bytes)
+    rows = numpy.lib.stride_tricks.as_strided(rows, shape=(height, row_bytes), strides=(step, 1))
+    pixels = rows[::stride].copy().view(dtype).reshape(-1, width, channels)[:, ::stride, :3]
+    mean = float(pixels.mean())
+    return mean / 257.0 if depth == 2 else mean
+
+
+def vo_lost_reason(position, orientation, pose_cov_diag, twist_cov_diag):
+    """Why an RTAB-Map odometry message means lost, or None when it is fine.
+
+    RTAB-Map publishes position 0, quaternion (0, 0, 0, 0) and covariance
+    diagonals 9999 when visual odometry is lost; non-finite values count too.
+    """
+    values = tuple(position) + tuple(orientation)
+    if not all(math.isfinite(v) for v in values):
+        return 'VO pose not finite %r' % (values,)
+    if sum(q * q for q in orientation) < 1e-12:
+        return 'VO null quaternion'
+    worst = max(tuple(pose_cov_diag) + tuple(twist_cov_diag))
+    if not worst < LOST_COVARIANCE:  # also catches NaN
+        return 'VO covariance %g >= %g' % (worst, LOST_COVARIANCE)
+    return None
+
+
+_HEADER = struct.Struct('<III')  # std_msgs/Header: seq, stamp.secs, stamp.nsecs; then frame_id
+
+
+def odom_info_lost(buff):
+    """The ``lost`` flag of a serialised rtabmap_ros/OdomInfo (or rtabmap_msgs/OdomInfo).
+
+    Both start with ``std_msgs/Header header`` then ``bool lost``, so only the
+    header is skipped: no rtabmap package is needed. ValueError when too short.
+    """
+    offset = _HEADER.size
+    if len(buff) < offset + 4:
+        raise ValueError('odom_info message of %d bytes is shorter than its header' % len(buff))
+    (frame_id_length,) = struct.unpack_from('<I', buff, offset)
+    offset += 4 + frame_id_length
+    if len(buff) <= offset:
+        raise ValueError('odom_info message of %d bytes ends before its lost flag' % len(buff))
+    return bytearray(buff[offset:offset + 1])[0] != 0
+
+
+# --- the bundle --------------------------------------------------------------------------------
+
+class VisionLossMonitor(object):
+    """The enabled detectors behind one vision-loss signal.
+
+    ``enabled`` is a set of names from DETECTORS. Thresholds: ``image_timeout``
+    and ``vo_timeout`` (s), ``debounce`` (s), ``dark_threshold`` (mean
+    intensity 0..255), ``dark_frames`` (consecutive dark images).
+    """
+
+    def __init__(self, enabled, image_timeout=1.0, vo_timeout=1.0, debounce=0.5,
+                 dark_threshold=10.0, dark_frames=3):
+        unknown = set(enabled) - set(DETECTORS)
+        if unknown:
+            raise ValueError('unknown vision detectors %s (known: %s)'
+                             % (sorted(unknown), ', '.join(DETECTORS)))
+        self.enabled = frozenset(enabled)
+        self.dark_threshold = dark_threshold
+        self.stall = StallDetector('stall', image_timeout, debounce, 'image')
+        self.vo_stall = StallDetector('vo_stall', vo_timeout, debounce, 'VO odometry')
+        self.dark = ConditionDetector('dark', debounce, dark_frames)
+        self.vo_lost = ConditionDetector('vo_lost', debounce)
+        self.odom_info = ConditionDetector('odom_info', debounce)
+        self._stalls = (self.stall, self.vo_stall)
+        self._all = (self.stall, self.vo_stall, self.dark, self.vo_lost, self.odom_info)
+        self.last_t = None
+
+    def _clock(self, t):
+        """Reset every detector when time jumps backwards (a restarted sim clock)."""
+        if self.last_t is not None and t < self.last_t:
+            for detector in self._all:
+                detector.debounce.reset()
+            for stall in self._stalls:
+                stall.last = None
+        self.last_t = t
+
+    def _fired(self, *losses):
+        return [loss for loss in losses if loss is not None and loss.detector in self.enabled]
+
+    def image(self, t, mean_intensity):
+        """An image arrived at ``t`` (its mean intensity, None when unknown)."""
+        self._clock(t)
+        self.stall.seen(t)
+        if mean_intensity is None:
+            return []
+        dark = mean_intensity < self.dark_threshold
+        why = 'mean intensity %.1f < %.1f' % (mean_intensity, self.dark_threshold) if dark else None
+        return self._fired(self.dark.update(t, why))
+
+    def vo_odometry(self, t, lost_reason):
+        """A VO odometry message at ``t``; ``lost_reason`` from vo_lost_reason()."""
+        self._clock(t)
+        self.vo_stall.seen(t)
+        return self._fired(self.vo_lost.update(t, lost_reason))
+
+    def odom_info_flag(self, t, lost):
+        """An RTAB-Map odom_info message at ``t`` with its ``lost`` flag."""
+        self._clock(t)
+        return self._fired(self.odom_info.update(t, 'odom_info lost flag set' if lost else None))
+
+    def check(self, t):
+        """Periodic check for the stall detectors (call at a few times the debounce rate)."""
+        self._clock(t)
+        return self._fired(*(stall.check(t) for stall in self._stalls))
+
+    def manual(self, t, source):
+        """Somebody declared vision lost by hand; fires at once (no debounce) if enabled."""
+        self._clock(t)
+        return self._fired(Loss('manual', 'vision_lost published by %s' % source, t, t))

@@ -1,0 +1,228 @@
+#!/usr/bin/env python3
+"""rostest: vision_monitor detects each vision failure mode once, within its latency,
+and ignores a flicker shorter than its debounce.
+
+This node is its own small fake sensor rig under sim time: it publishes /clock
+(100 Hz ticks of 10 ms at real-time factor ~param rtf), a 20 Hz camera
+(sensor_msgs/Image rgb8), RTAB-Map-like visual odometry (nav_msgs/Odometry with
+RTAB-Map's lost convention) and RTAB-Map-like odom_info (a runtime-generated
+rtabmap_msgs/OdomInfo, so no rtabmap package is needed). ~mode picks what
+fails: ``dark`` (images black, VO lost), ``stall`` (camera and VO stop),
+``lost`` (camera fine, VO lost), ``manual`` (this node publishes
+/blind_navigation/vision_lost by hand, then camera and VO stop: the monitor
+must report ``manual`` and never add a vision_lost of its own). ~monitors maps
+each vision_monitor node under test to [its vision_lost topic, the detector
+expected to fire or ``any``].
+"""
+import threading
+import time
+import unittest
+
+import genpy.dynamic
+import numpy
+import rosgraph
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Image
+from std_msgs.msg import Empty, String
+
+from blind_navigation.nodes.vision_monitor import VisionMonitorNode
+
+TICK = 0.01             # sim seconds per /clock message
+SENSOR_EVERY = 5        # ticks between sensor messages: 20 Hz
+LATENCY_MARGIN = 0.2    # issue 6: within the detector's timeout + debounce + 0.2 s
+WALL_TIMEOUT = 30.0     # s, any wait in this test
+QUIET_AFTER = 1.5       # sim s watched after the loss for a second message
+ODOM_INFO = genpy.dynamic.generate_dynamic('rtabmap_msgs/OdomInfo', """std_msgs/Header header
+bool lost
+int32 matches
+int32 inliers
+================================================================================
+MSG: std_msgs/Header
+uint32 seq
+time stamp
+string frame_id
+""")['rtabmap_msgs/OdomInfo']
+FAILS = {  # mode: (camera, vo) in failure: 'ok' | 'dark' | 'lost' | None (silent)
+    'dark': ('dark', 'lost'),
+    'stall': (None, None),
+    'lost': ('ok', 'lost'),
+    'manual': (None, None),
+}
+CAN_FIRE = {'dark': {'dark', 'vo_lost', 'odom_info'}, 'stall': {'stall', 'vo_stall'},
+            'lost': {'vo_lost', 'odom_info'}, 'manual': {'manual'}}
+
+
+class FakeSensors(object):
+    """/clock, camera, RTAB-Map VO and odom_info; ``failed`` switches to the failure mode."""
+
+    def __init__(self, mode, rtf):
+        self.camera_fail, self.vo_fail = FAILS[mode]
+        self.rtf = rtf
+        self.now = 0.0
+        self.ticks = 0
+        self.failed = False
+        self.failed_at = None
+        self.lock = threading.Lock()
+        rng = numpy.random.RandomState(1)
+        self.bright = rng.randint(40, 220, size=(48, 64, 3)).astype(numpy.uint8).tobytes()
+        self.dark = rng.randint(0, 5, size=(48, 64, 3)).astype(numpy.uint8).tobytes()
+        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
+        self.image_pub = rospy.Publisher('/camera/rgb/image_rect_color', Image, queue_size=5)
+        self.vo_pub = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=5)
+        self.info_pub = rospy.Publisher('/rtabmap/odom_info', ODOM_INFO, queue_size=5)
+        self.thread = threading.Thread(target=self.run, daemon=True)
+        self.thread.start()
+
+    def set_failed(self, failed):
+        """Switch the failure on/off at the next tick; returns that tick's sim time."""
+        with self.lock:
+            self.failed = failed
+            self.failed_at = None
+        while not rospy.is_shutdown():
+            with self.lock:
+                if self.failed_at is not None:
+                    return self.failed_at
+            time.sleep(0.001)
+
+    def run(self):
+        start = time.time()
+        while not rospy.is_shutdown():
+            with self.lock:
+                self.ticks += 1
+                self.now = self.ticks * TICK
+                if self.failed_at is None:
+                    self.failed_at = self.now
+                failed = self.failed
+            stamp = rospy.Time.from_sec(self.now)
+            self.clock_pub.publish(Clock(clock=stamp))
+            if self.ticks % SENSOR_EVERY == 0:
+                self.publish_sensors(stamp, failed)
+            time.sleep(max(0.0, start + self.now / self.rtf - time.time()))
+
+    def publish_sensors(self, stamp, failed):
+        camera = self.camera_fail if failed else 'ok'
+        vo = self.vo_fail if failed else 'ok'
+        if camera is not None:
+            self.image_pub.publish(Image(height=48, width=64, encoding='rgb8', step=64 * 3,
+                                         data=self.dark if camera == 'dark' else self.bright))
+        if vo is not None:
+            odom = Odometry()
+            odom.header.stamp = stamp
+            odom.header.frame_id = 'odom'
+            if vo == 'lost':  # RTAB-Map's convention
+                odom.pose.covariance = [9999.0 if i % 7 == 0 else 0.0 for i in range(36)]
+                odom.twist.covariance = list(odom.pose.covariance)
+            else:
+                odom.pose.pose.position.x = 0.1 * stamp.to_sec()
+                odom.pose.pose.orientation.w = 1.0
+                odom.pose.covariance = [0.001 if i % 7 == 0 else 0.0 for i in range(36)]
+            info = ODOM_INFO(lost=(vo == 'lost'), matches=0 if vo == 'lost' else 150)
+            info.header.stamp = stamp
+            self.vo_pub.publish(odom)
+            self.info_pub.publish(info)
+
+    def wait_until(self, sim_time, why):
+        deadline = time.time() + WALL_TIMEOUT
+        while self.now < sim_time:
+            if time.time() > deadline or rospy.is_shutdown():
+                raise AssertionError('sim time did not reach %.2f s (%s) within %.0f s wall'
+                                     % (sim_time, why, WALL_TIMEOUT))
+            time.sleep(0.01)
+
+
+class DetectionTest(unittest.TestCase):
+    """One scenario per run (setUpClass): warm up, flicker, recover, fail for good."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mode = rospy.get_param('~mode')
+        cls.flicker = rospy.get_param('~flicker')
+        cls.monitors = rospy.get_param('~monitors')
+        cls.sensors = FakeSensors(cls.mode, rospy.get_param('~rtf', 1.0))
+        cls.received = {name: [] for name in cls.monitors}
+        cls.reasons = {}
+        for name, (topic, _expected) in cls.monitors.items():
+            rospy.Subscriber(topic, Empty, cls.on_lost, callback_args=name)
+            rospy.Subscriber('/%s/loss' % name, String, cls.on_reason, callback_args=name)
+        cls.wait_for_monitors()
+        cls.sensors.wait_until(cls.sensors.now + 2.0, 'warm-up')
+        flicker_at = cls.sensors.set_failed(True)
+        cls.sensors.wait_until(flicker_at + cls.flicker, 'flicker')
+        cls.sensors.set_failed(False)
+        cls.sensors.wait_until(cls.sensors.now + 2.0, 'after the flicker')
+        cls.fired_on_flicker = {name: list(times) for name, times in cls.received.items()}
+        cls.failed_at = cls.sensors.set_failed(True)
+        if cls.mode == 'manual':
+            rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1,
+                            latch=True).publish(Empty())
+        deadline = time.time() + WALL_TIMEOUT
+        while not all(cls.received.values()) and time.time() < deadline:
+            time.sleep(0.01)
+        cls.sensors.wait_until(cls.sensors.now + rospy.get_param('~quiet_after', QUIET_AFTER),
+                               'watching for a second loss')
+
+    @classmethod
+    def wait_for_monitors(cls):
+        """Until every monitor node subscribes to a sensor topic (its detectors exist)."""
+        sensor_topics = {cls.sensors.image_pub.resolved_name, cls.sensors.vo_pub.resolved_name,
+                         cls.sensors.info_pub.resolved_name}
+        master = rosgraph.Master(rospy.get_name())
+        deadline = time.time() + WALL_TIMEOUT
+        while time.time() < deadline and not rospy.is_shutdown():
+            _publishers, subscribers, _services = master.getSystemState()
+            listening = {node.lstrip('/') for topic, nodes in subscribers if topic in sensor_topics
+                         for node in nodes}
+            if listening >= set(cls.monitors):
+                return
+            time.sleep(0.05)
+        raise AssertionError('the vision monitors %s did not subscribe within %.0f s'
+                             % (sorted(cls.monitors), WALL_TIMEOUT))
+
+    @classmethod
+    def on_lost(cls, _msg, name):
+        cls.received[name].append(cls.sensors.now)
+
+    @classmethod
+    def on_reason(cls, msg, name):
+        cls.reasons[name] = msg.data
+
+    def latency_bound(self, name):
+        def param(key):
+            return rospy.get_param('/%s/%s' % (name, key), VisionMonitorNode.DEFAULTS[key])
+        timeout = param('image_timeout') if self.mode == 'stall' else 0.0
+        return timeout + param('debounce') + LATENCY_MARGIN
+
+    def test_flicker_does_not_fire(self):
+        for name, times in self.fired_on_flicker.items():
+            self.assertEqual(times, [], '%s fired on a %.1f s %s flicker' % (name, self.flicker, self.mode))
+
+    def test_fires_exactly_once_within_latency(self):
+        for name, times in self.received.items():
+            self.assertEqual(len(times), 1, '%s: vision_lost at sim %s, expected exactly one after '
+                             'the %s failure at %.2f s' % (name, times, self.mode, self.failed_at))
+            latency = times[0] - self.failed_at
+            rospy.loginfo('detection latency %s %s: %.3f s (bound %.2f s)', self.mode, name,
+                          latency, self.latency_bound(name))
+            print('LATENCY mode=%s monitor=%s latency=%.3f bound=%.2f'
+                  % (self.mode, name, latency, self.latency_bound(name)))
+            self.assertGreaterEqual(latency, 0.0)
+            self.assertLessEqual(latency, self.latency_bound(name),
+                                 '%s: %.3f s from the %s failure to vision_lost' % (name, latency, self.mode))
+
+    def test_the_right_detector_fired(self):
+        deadline = time.time() + WALL_TIMEOUT
+        while len(self.reasons) < len(self.monitors) and time.time() < deadline:
+            time.sleep(0.01)
+        for name, (_topic, expected) in self.monitors.items():
+            self.assertIn(name, self.reasons, '%s published no ~loss reason' % name)
+            detector = self.reasons[name].split(':')[0]
+            allowed = CAN_FIRE[self.mode] if expected == 'any' else {expected}
+            self.assertIn(detector, allowed, '%s: %s' % (name, self.reasons[name]))
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_detection')
+    rostest.rosrun('blind_navigation', 'detection', DetectionTest)
