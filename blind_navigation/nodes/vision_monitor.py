@@ -64,7 +64,7 @@ class VisionMonitorNode(object):
         self.lock = threading.Lock()
         self.done = False
         self.warned = set()
-        self.started = rospy.Time.now().to_sec()
+        self.started = None  # first timer tick: sim time may not have arrived yet here
         self.lost_pub = rospy.Publisher(p.vision_lost_topic, Empty, queue_size=1)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.subscribers = [rospy.Subscriber(p.vision_lost_topic, Empty, self.on_vision_lost)]
@@ -120,8 +120,10 @@ class VisionMonitorNode(object):
             self.feed(self.monitor.manual, caller)
 
     def on_timer(self, _event):
-        if not self.monitor.stall.armed and 'stall' in self.monitor.enabled:
-            waited = rospy.Time.now().to_sec() - self.started
+        now = rospy.Time.now().to_sec()
+        self.started = now if self.started is None else self.started
+        if not self.monitor.stall.armed and self.monitor.enabled & {'stall', 'dark'}:
+            waited = now - self.started
             if waited >= self.params.no_image_warning:
                 self.warn_once('no_image', 'no image on %s after %.1f s: stall and dark detectors '
                                'are not armed until the first image' % (self.params.camera_topic, waited))

@@ -2,17 +2,21 @@
 """rostest: vision_monitor detects each vision failure mode once, within its latency,
 and ignores a flicker shorter than its debounce.
 
-This node is its own small fake sensor rig under sim time: it publishes /clock
-(100 Hz ticks of 10 ms at real-time factor ~param rtf), a 20 Hz camera
-(sensor_msgs/Image rgb8), RTAB-Map-like visual odometry (nav_msgs/Odometry with
-RTAB-Map's lost convention) and RTAB-Map-like odom_info (a runtime-generated
-rtabmap_msgs/OdomInfo, so no rtabmap package is needed). ~mode picks what
+With ~source ``own`` (default) this node is its own small sensor rig under sim
+time: it publishes /clock (100 Hz ticks of 10 ms at real-time factor ~rtf), a
+20 Hz camera (sensor_msgs/Image rgb8), RTAB-Map-like visual odometry
+(nav_msgs/Odometry with RTAB-Map's lost convention) and RTAB-Map-like odom_info
+(a runtime-generated rtabmap_msgs/OdomInfo, so no rtabmap package is needed).
+With ~source ``fake_turtlebot`` the sensors are launch/fake_turtlebot.launch's,
+failed and restored through /fake_turtlebot/set_vision. ~mode picks what
 fails: ``dark`` (images black, VO lost), ``stall`` (camera and VO stop),
 ``lost`` (camera fine, VO lost), ``manual`` (this node publishes
 /blind_navigation/vision_lost by hand, then camera and VO stop: the monitor
 must report ``manual`` and never add a vision_lost of its own). ~monitors maps
 each vision_monitor node under test to [its vision_lost topic, the detector
-expected to fire or ``any``].
+expected to fire or ``any``]; ~blind_monitors maps monitors whose topics nobody
+publishes (a robot without a camera) to their vision_lost topic: they must stay
+quiet all along and warn that their detectors are not armed.
 """
 import threading
 import time
@@ -24,9 +28,10 @@ import rosgraph
 import rospy
 import rostest
 from nav_msgs.msg import Odometry
-from rosgraph_msgs.msg import Clock
+from rosgraph_msgs.msg import Clock, Log
 from sensor_msgs.msg import Image
 from std_msgs.msg import Empty, String
+from std_srvs.srv import SetBool
 
 from blind_navigation.nodes.vision_monitor import VisionMonitorNode
 
@@ -55,7 +60,19 @@ CAN_FIRE = {'dark': {'dark', 'vo_lost', 'odom_info'}, 'stall': {'stall', 'vo_sta
             'lost': {'vo_lost', 'odom_info'}, 'manual': {'manual'}}
 
 
-class FakeSensors(object):
+class SensorRig(object):
+    """What the scenario needs from the sensors: ``now`` (sim s), ``set_failed``, ``wait_until``."""
+
+    def wait_until(self, sim_time, why):
+        deadline = time.time() + WALL_TIMEOUT
+        while self.now < sim_time:
+            if time.time() > deadline or rospy.is_shutdown():
+                raise AssertionError('sim time did not reach %.2f s (%s) within %.0f s wall'
+                                     % (sim_time, why, WALL_TIMEOUT))
+            time.sleep(0.01)
+
+
+class OwnSensors(SensorRig):
     """/clock, camera, RTAB-Map VO and odom_info; ``failed`` switches to the failure mode."""
 
     def __init__(self, mode, rtf):
@@ -73,6 +90,8 @@ class FakeSensors(object):
         self.image_pub = rospy.Publisher('/camera/rgb/image_rect_color', Image, queue_size=5)
         self.vo_pub = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=5)
         self.info_pub = rospy.Publisher('/rtabmap/odom_info', ODOM_INFO, queue_size=5)
+        self.sensor_topics = {pub.resolved_name
+                              for pub in (self.image_pub, self.vo_pub, self.info_pub)}
         self.thread = threading.Thread(target=self.run, daemon=True)
         self.thread.start()
 
@@ -124,13 +143,31 @@ class FakeSensors(object):
             self.vo_pub.publish(odom)
             self.info_pub.publish(info)
 
-    def wait_until(self, sim_time, why):
-        deadline = time.time() + WALL_TIMEOUT
-        while self.now < sim_time:
-            if time.time() > deadline or rospy.is_shutdown():
-                raise AssertionError('sim time did not reach %.2f s (%s) within %.0f s wall'
-                                     % (sim_time, why, WALL_TIMEOUT))
-            time.sleep(0.01)
+
+class FakeTurtleBotSensors(SensorRig):
+    """launch/fake_turtlebot.launch's camera and VO, failed through /fake_turtlebot/set_vision."""
+
+    sensor_topics = {'/camera/rgb/image_rect_color', '/rtabmap/odom'}
+
+    def __init__(self, _mode, _rtf):
+        rospy.wait_for_service('/fake_turtlebot/set_vision', timeout=WALL_TIMEOUT)
+        self.set_vision = rospy.ServiceProxy('/fake_turtlebot/set_vision', SetBool)
+        rospy.wait_for_message('/camera/rgb/image_rect_color', Image, timeout=WALL_TIMEOUT)
+
+    @property
+    def now(self):
+        return rospy.Time.now().to_sec()
+
+    def set_failed(self, failed):
+        """Fail/restore vision; returns the sim time just before the request (conservative)."""
+        before = self.now
+        response = self.set_vision(not failed)
+        if not response.success:
+            raise AssertionError('/fake_turtlebot/set_vision refused: %s' % response.message)
+        return before
+
+
+SOURCES = {'own': OwnSensors, 'fake_turtlebot': FakeTurtleBotSensors}
 
 
 class DetectionTest(unittest.TestCase):
@@ -141,12 +178,19 @@ class DetectionTest(unittest.TestCase):
         cls.mode = rospy.get_param('~mode')
         cls.flicker = rospy.get_param('~flicker')
         cls.monitors = rospy.get_param('~monitors')
-        cls.sensors = FakeSensors(cls.mode, rospy.get_param('~rtf', 1.0))
+        cls.sensors = SOURCES[rospy.get_param('~source', 'own')](cls.mode, rospy.get_param('~rtf', 1.0))
         cls.received = {name: [] for name in cls.monitors}
         cls.reasons = {}
         for name, (topic, _expected) in cls.monitors.items():
             rospy.Subscriber(topic, Empty, cls.on_lost, callback_args=name)
             rospy.Subscriber('/%s/loss' % name, String, cls.on_reason, callback_args=name)
+        cls.blind = rospy.get_param('~blind_monitors', {})
+        cls.blind_received = {name: [] for name in cls.blind}
+        cls.blind_warnings = {name: [] for name in cls.blind}
+        for name, topic in cls.blind.items():
+            rospy.Subscriber(topic, Empty, lambda _msg, name=name: cls.blind_received[name].append(
+                cls.sensors.now))
+        rospy.Subscriber('/rosout', Log, cls.on_log)
         cls.wait_for_monitors()
         cls.sensors.wait_until(cls.sensors.now + 2.0, 'warm-up')
         flicker_at = cls.sensors.set_failed(True)
@@ -167,8 +211,7 @@ class DetectionTest(unittest.TestCase):
     @classmethod
     def wait_for_monitors(cls):
         """Until every monitor node subscribes to a sensor topic (its detectors exist)."""
-        sensor_topics = {cls.sensors.image_pub.resolved_name, cls.sensors.vo_pub.resolved_name,
-                         cls.sensors.info_pub.resolved_name}
+        sensor_topics = cls.sensors.sensor_topics
         master = rosgraph.Master(rospy.get_name())
         deadline = time.time() + WALL_TIMEOUT
         while time.time() < deadline and not rospy.is_shutdown():
@@ -188,6 +231,12 @@ class DetectionTest(unittest.TestCase):
     @classmethod
     def on_reason(cls, msg, name):
         cls.reasons[name] = msg.data
+
+    @classmethod
+    def on_log(cls, msg):
+        name = msg.name.lstrip('/')
+        if name in cls.blind_warnings:
+            cls.blind_warnings[name].append(msg.msg)
 
     def latency_bound(self, name):
         def param(key):
@@ -211,6 +260,14 @@ class DetectionTest(unittest.TestCase):
             self.assertGreaterEqual(latency, 0.0)
             self.assertLessEqual(latency, self.latency_bound(name),
                                  '%s: %.3f s from the %s failure to vision_lost' % (name, latency, self.mode))
+
+    def test_monitor_without_sensors_stays_quiet_and_warns(self):
+        for name in self.blind:
+            self.assertEqual(self.blind_received[name], [],
+                             '%s fired although it never saw an image' % name)
+            self.assertTrue(any('not armed' in text for text in self.blind_warnings[name]),
+                            '%s did not warn about the missing camera: %s'
+                            % (name, self.blind_warnings[name]))
 
     def test_the_right_detector_fired(self):
         deadline = time.time() + WALL_TIMEOUT
