@@ -1,0 +1,84 @@
+"""Closed-loop in-place rotation by pi on odometry yaw (paper section 3.4: after
+vision loss the robot turns by pi radians before retracing its path).
+
+:class:`Rotation` accumulates the yaw turned since :meth:`Rotation.start`
+(differences wrapped, so crossing +-pi is harmless) and commands an angular
+velocity that decelerates as the remaining angle shrinks::
+
+    w = sign(remaining) * clamp(min(gain * |remaining|, sqrt(2 * decel * |remaining|)), min_w, max_w)
+
+Inside ``tolerance`` it commands zero and waits until the measured turn rate
+has settled below ``settle_w``; if the robot coasted out of the tolerance it
+corrects (either direction). It is done when settled inside the tolerance,
+and failed when ``time_allowance`` has passed since :meth:`start`.
+"""
+import math
+
+from .geometry import wrap_angle
+
+#: Defaults; the rotate_pi node exposes each one as a ~private param.
+ROTATION_DEFAULTS = {
+    'angle': math.pi,        # rad to turn; positive = counter-clockwise
+    'max_w': 0.6,            # rad/s, cruise turn rate
+    'min_w': 0.08,           # rad/s, slowest useful command (overcomes deadband/friction)
+    'gain': 1.5,             # 1/s, proportional part of the deceleration
+    'decel': 0.5,            # rad/s^2, braking the profile plans for
+    'tolerance': 0.01,       # rad, |angle - turned| accepted
+    'settle_w': 0.02,        # rad/s, measured |w| below which the robot counts as stopped
+    'time_allowance': 30.0,  # s from start to done, else failed
+}
+
+
+class Rotation(object):
+    """Turn in place by ``angle`` (rad) using odometry yaw; see module docstring.
+
+    ``params`` is any object with the attributes of :data:`ROTATION_DEFAULTS`
+    (missing ones take the default).
+    """
+
+    def __init__(self, params=None):
+        for name, default in ROTATION_DEFAULTS.items():
+            setattr(self, name, float(getattr(params, name, default)))
+        if self.max_w <= 0 or self.min_w < 0 or self.min_w > self.max_w:
+            raise ValueError('rotation: need 0 <= min_w <= max_w and max_w > 0 (min_w %r, max_w %r)'
+                             % (self.min_w, self.max_w))
+        if self.tolerance <= 0 or self.time_allowance <= 0:
+            raise ValueError('rotation: tolerance and time_allowance must be positive (%r, %r)'
+                             % (self.tolerance, self.time_allowance))
+        self.turned = 0.0
+        self.done = False
+        self.failed = False
+        self._last_yaw = None
+        self._start_stamp = None
+
+    @property
+    def remaining(self):
+        """Angle still to turn, rad (signed)."""
+        return self.angle - self.turned
+
+    def start(self, odom_state):
+        """Begin the turn from the pose in ``odom_state``."""
+        self.turned = 0.0
+        self.done = self.failed = False
+        self._last_yaw = odom_state.yaw
+        self._start_stamp = odom_state.stamp
+
+    def step(self, odom_state):
+        """Return ``(v, w)`` for this cycle (v is always 0); sets done/failed."""
+        if self._start_stamp is None:
+            raise RuntimeError('Rotation.step called before start')
+        self.turned += wrap_angle(odom_state.yaw - self._last_yaw)
+        self._last_yaw = odom_state.yaw
+        if self.done or self.failed:
+            return 0.0, 0.0
+        if odom_state.stamp - self._start_stamp > self.time_allowance:
+            self.failed = True
+            return 0.0, 0.0
+        error = self.remaining
+        if abs(error) <= self.tolerance:
+            if abs(odom_state.w) <= self.settle_w:
+                self.done = True
+            return 0.0, 0.0
+        speed = min(self.gain * abs(error), math.sqrt(2.0 * self.decel * abs(error)))
+        speed = min(self.max_w, max(self.min_w, speed))
+        return 0.0, math.copysign(speed, error)

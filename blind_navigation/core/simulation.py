@@ -1,0 +1,165 @@
+"""Plain-Python mission harness for Monte-Carlo evaluation of the whole layer.
+
+One run = what the ROS graph does, over the same core objects, at a fixed
+control step: a scripted operator (core/mission.py) drives a SimulatedKobuki
+(core/kobuki.py) while the two-rate SamplingSchedule and the PathRecorder take
+landmarks from its odometry; the mission ends, the robot is left to stop,
+vision is lost (a final landmark covers the partial cycle, the return route is
+anchored at the odometry position), core/rotation.py turns by pi, and the
+core/back_travel.py controllers drive the landmarks back in reverse order.
+Between goals the last command holds; after the last goal it is dropped after
+``handover_timeout`` (as back_travel_server does). The landmark store is
+written for real (core/store.LandmarkWriter) to measure its size, and landmarks
+are read back from it, so the return uses the stored (rounded) numbers.
+
+The result holds the ground-truth final position error (the paper's "position
+error": distance between the start and where the robot stopped), odometry's
+own view of it, the recorded distance, samples, bytes, and both true paths.
+"""
+import math
+import os
+import tempfile
+from collections import namedtuple
+
+from .back_travel import ReturnRoute, make_controller
+from .geometry import distance
+from .kobuki import SimulatedKobuki, load_profile, make_profile
+from .mission import load_mission
+from .recorder import PathRecorder
+from .rotation import Rotation
+from .segment import SamplingSchedule
+from .store import LandmarkWriter, load_landmarks
+
+#: Harness settings (keyword arguments of :func:`run_mission`).
+SIMULATION_DEFAULTS = {
+    'control_dt': 0.02,        # s, control and sampling step (the nodes run at 50 Hz)
+    'straight_period': 2.0,    # s, sampling period on straight segments (paper: 0.5 Hz)
+    'curved_period': 1.0,      # s, on curves (paper: 1 Hz)
+    'deadband': 0.01,          # rad, classifier dead-band (core/segment.py)
+    'settle_time': 2.0,        # s between the mission's end and the vision loss
+    'handover_timeout': 0.1,   # s the last command holds after the last goal
+    'stop_time': 2.0,          # s left for the robot to stop at the end
+}
+
+MissionResult = namedtuple('MissionResult', [
+    'mission', 'profile', 'mode', 'seed', 'status', 'reason',
+    'distance', 'samples', 'bytes', 'position_error', 'odom_error',
+    'forward_path', 'return_path', 'duration'])
+MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
+                         'samples, bytes (landmark file), position_error (m, ground truth), '
+                         'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s).')
+
+
+class _Run(object):
+    """The robot, its clock and the recorded true path of one mission."""
+
+    def __init__(self, profile, seed, dt):
+        self.base = SimulatedKobuki(profile, seed=seed)
+        self.dt = dt
+        self.path = []
+
+    def advance(self, command=None):
+        if command is not None:
+            self.base.command(*command)
+        self.base.step(self.dt)
+        pose = self.base.true_pose
+        if not self.path or distance(self.path[-1][0], self.path[-1][1], pose.x, pose.y) > 0.005:
+            self.path.append((pose.x, pose.y))
+
+
+def _record(run, mission, settings, store_path):
+    """Drive the mission while sampling; returns the loaded store and the anchor."""
+    base, dt = run.base, run.dt
+    schedule = SamplingSchedule(settings['straight_period'], settings['curved_period'],
+                                settings['deadband'])
+    recorder = PathRecorder()
+    recorder.start(base.odom)
+    period = schedule.update(base.odom.yaw)
+    next_tick, last_tick = period, 0.0
+    operator_every = max(1, int(round(1.0 / (mission.rate * dt))))
+    steps = int(round((mission.duration + settings['settle_time']) / dt))
+    with LandmarkWriter(store_path, fsync=False, metadata={'mission': mission.name}) as writer:
+        for k in range(steps):
+            command = mission.command_at(k * dt) if k % operator_every == 0 else None
+            run.advance(command)
+            if base.t >= next_tick - 1e-9:
+                writer.append(recorder.take(base.odom, base.odom.yaw, period))
+                last_tick = base.t
+                period = schedule.update(base.odom.yaw)
+                next_tick = base.t + period
+        if base.t - last_tick > 1e-9:   # vision lost: the final partial cycle
+            writer.append(recorder.take(base.odom, base.odom.yaw, base.t - last_tick))
+    return load_landmarks(store_path), (base.odom.x, base.odom.y)
+
+
+def _turn(run, params):
+    rotation = Rotation(params)
+    rotation.start(run.base.odom)
+    while True:
+        command = rotation.step(run.base.odom)
+        if rotation.done or rotation.failed:
+            run.base.command(0.0, 0.0)
+            return rotation.done
+        run.advance(command)
+
+
+def _return(run, landmarks, anchor, mode, params, settings):
+    route = ReturnRoute(anchor, settings['straight_period'])
+    command = (0.0, 0.0)
+    for index, landmark in enumerate(reversed(landmarks)):
+        controller = make_controller(mode, landmark, params, route)
+        controller.start(run.base.odom)
+        while True:
+            v, w = controller.step(run.base.odom)
+            if controller.failed:
+                run.base.command(0.0, 0.0)
+                return 'goal %d: time allowance %.1f s exceeded' % (index + 1, controller.allowance)
+            if controller.done:
+                break
+            command = (v, w)
+            run.advance(command)
+    for _ in range(int(round(settings['handover_timeout'] / run.dt))):
+        run.advance(command)
+    run.base.command(0.0, 0.0)
+    return ''
+
+
+def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=None,
+                store_dir=None, **settings):
+    """Simulate one mission end to end; returns a :class:`MissionResult`.
+
+    ``mission``/``profile``: names (config/missions, config/noise) or paths;
+    ``params``: controller/rotation params (object with attributes; defaults
+    otherwise); ``settings``: any of :data:`SIMULATION_DEFAULTS`.
+    """
+    unknown = set(settings) - set(SIMULATION_DEFAULTS)
+    if unknown:
+        raise ValueError('run_mission: unknown settings %s' % ', '.join(sorted(unknown)))
+    settings = dict(SIMULATION_DEFAULTS, **settings)
+    mission = load_mission(mission) if isinstance(mission, str) else mission
+    profile_name = profile if isinstance(profile, str) else 'custom'
+    profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
+    if params is None:
+        # stop_lead: the handover timeout plus the base's velocity time constant.
+        params = type('Params', (object,), {
+            'straight_period': settings['straight_period'],
+            'stop_lead': settings['handover_timeout'] + profile['motor_time_constant'],
+        })()
+    run = _Run(profile, seed, settings['control_dt'])
+    start = run.base.true_pose
+    with tempfile.TemporaryDirectory(dir=store_dir) as directory:
+        store_path = os.path.join(directory, 'landmarks.yaml')
+        loaded, anchor = _record(run, mission, settings, store_path)
+        size = os.path.getsize(store_path)
+    forward_path, run.path = run.path, [run.path[-1]] if run.path else []
+    reason = '' if _turn(run, params) else 'pi rotation failed'
+    if not reason:
+        reason = _return(run, loaded.landmarks, anchor, mode, params, settings)
+    for _ in range(int(round(settings['stop_time'] / run.dt))):
+        run.advance()
+    end, odom = run.base.true_pose, run.base.odom
+    return MissionResult(
+        mission.name, profile_name, mode, seed,
+        'aborted' if reason else 'home', reason, loaded.total_distance, len(loaded.landmarks),
+        size, distance(start.x, start.y, end.x, end.y), math.hypot(odom.x, odom.y),
+        forward_path, run.path, run.base.t)

@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""rotate_pi: after vision loss, turn the robot by pi on odometry yaw (paper 3.4).
+
+On /blind_navigation/vision_lost (std_msgs/Empty), while the mission state is
+``recording`` (or already ``rotating``), runs core/rotation.Rotation in closed
+loop on odometry, publishing on ``cmd_vel_topic``; then publishes
+std_msgs/Bool on /blind_navigation/rotation_done: true when turned within the
+tolerance, false on failure (time allowance, odometry lost). Zero velocity on
+failure and shutdown.
+"""
+import threading
+
+import rospy
+from std_msgs.msg import Bool, Empty, String
+
+from blind_navigation.back_travel_ros import (ROTATION_DONE_TOPIC, STATE_TOPIC, VISION_LOST_TOPIC,
+                                              LatestOdom, VelocityOutput)
+from blind_navigation.core import state
+from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
+from blind_navigation.ros_common import load_params, start_node
+
+ACCEPTING_STATES = (state.RECORDING, state.ROTATING)
+
+
+class RotatePi(object):
+    """Turns by ``angle`` when vision is lost.
+
+    Params (DEFAULTS): ``cmd_vel_topic`` ('/cmd_vel_mux/input/teleop'),
+    ``odom_topic`` ('/odom'), ``control_rate`` (Hz, 50), ``odom_timeout``
+    (s, 0.5), and core/rotation.py's ROTATION_DEFAULTS: ``angle`` (pi rad),
+    ``max_w`` (0.6 rad/s, also the output clamp; linear velocity is clamped
+    to 0), ``min_w`` (0.08 rad/s), ``gain`` (1.5 1/s), ``decel`` (0.5 rad/s^2),
+    ``tolerance`` (0.01 rad), ``settle_w`` (0.02 rad/s), ``time_allowance`` (30 s).
+    """
+
+    DEFAULTS = dict(ROTATION_DEFAULTS, cmd_vel_topic='/cmd_vel_mux/input/teleop', odom_topic='/odom',
+                    control_rate=50.0, odom_timeout=0.5)
+
+    def __init__(self):
+        p = self.params = load_params(self.DEFAULTS)
+        if p.control_rate <= 0 or p.odom_timeout <= 0:
+            raise ValueError('~control_rate and ~odom_timeout must be positive')
+        Rotation(p)  # validates the rotation params now, not at the first vision loss
+        self.output = VelocityOutput(p.cmd_vel_topic, 0.0, p.max_w)
+        self.odom = LatestOdom(p.odom_topic)
+        self.mission_state = None
+        self._trigger = threading.Event()
+        self._busy = False
+        self.done_pub = rospy.Publisher(ROTATION_DONE_TOPIC, Bool, queue_size=1)
+        rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=5)
+        rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost, queue_size=1)
+
+    def _on_state(self, msg):
+        self.mission_state = msg.data
+
+    def _on_vision_lost(self, _msg):
+        if self._busy:
+            return
+        if self.mission_state not in ACCEPTING_STATES:
+            rospy.logwarn('%s: vision_lost ignored: mission state is %r (turns only while %s)',
+                          rospy.get_name(), self.mission_state, ' or '.join(ACCEPTING_STATES))
+            return
+        self._busy = True
+        self._trigger.set()
+
+    def spin(self):
+        while not rospy.is_shutdown():
+            if self._trigger.wait(0.2):
+                self._trigger.clear()
+                ok = self.rotate()
+                self.done_pub.publish(Bool(data=ok))
+                self._busy = False
+
+    def rotate(self):
+        """Run one rotation; True on success. Always ends with zero velocity."""
+        p = self.params
+        rotation = Rotation(p)
+        odom = self.odom.fresh(p.odom_timeout)
+        if odom is None:
+            rospy.logerr('%s: cannot turn: %s', rospy.get_name(), self.odom.describe_missing(p.odom_timeout))
+            return False
+        rospy.loginfo('%s: turning by %.3f rad from yaw %.3f', rospy.get_name(), rotation.angle, odom.yaw)
+        rotation.start(odom)
+        rate = rospy.Rate(p.control_rate)
+        try:
+            while not rospy.is_shutdown():
+                odom = self.odom.fresh(p.odom_timeout)
+                if odom is None:
+                    rospy.logerr('%s: turn stopped: %s', rospy.get_name(),
+                                 self.odom.describe_missing(p.odom_timeout))
+                    return False
+                v, w = rotation.step(odom)
+                if rotation.done or rotation.failed:
+                    break
+                self.output.publish(v, w)
+                rate.sleep()
+        except rospy.ROSInterruptException:
+            return False
+        finally:
+            self.output.stop()
+        if rotation.failed:
+            rospy.logerr('%s: turn failed: %.3f of %.3f rad after the %.0f s allowance',
+                         rospy.get_name(), rotation.turned, rotation.angle, rotation.time_allowance)
+        elif rotation.done:
+            rospy.loginfo('%s: turned %.4f rad (tolerance %.3f)', rospy.get_name(), rotation.turned,
+                          rotation.tolerance)
+        return rotation.done
+
+
+def main():
+    node = start_node('rotate_pi', RotatePi)
+    node.spin()
+
+
+if __name__ == '__main__':
+    main()

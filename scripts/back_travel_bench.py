@@ -1,0 +1,58 @@
+#!/usr/bin/env python3
+"""Back-travel benchmark (plain Python, core/simulation.py): final position error
+of each control mode on the paper's Table VI missions, over seeds.
+
+    /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]
+        [--modes time distance closed_loop] [--out results/back_travel_bench.md]
+
+Prints and writes a Markdown table: per mission, profile and mode the median,
+max and mean error (m), the median as % of the recorded length, and the
+paper's Table VI error for comparison.
+"""
+import argparse
+import os
+import statistics
+import sys
+
+sys.path.insert(0, os.path.abspath(os.path.join(os.path.dirname(__file__), '..')))
+from blind_navigation.core.simulation import run_mission  # noqa: E402
+
+PAPER_TABLE6 = {'table6_test1': 0.56, 'table6_test2': 0.28, 'table6_test3': 0.48,
+                'table6_test4': 0.39, 'table6_test5': 0.93, 'table6_test6': 1.3}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--seeds', type=int, default=10)
+    parser.add_argument('--profiles', nargs='+', default=['ideal', 'paper'])
+    parser.add_argument('--modes', nargs='+', default=['time', 'distance', 'closed_loop'])
+    parser.add_argument('--missions', nargs='+', default=sorted(PAPER_TABLE6))
+    parser.add_argument('--out', default='results/back_travel_bench.md')
+    args = parser.parse_args()
+    lines = ['| mission | profile | mode | length m | samples | KB | median err m | max err m | '
+             'median % of length | aborted | paper err m |', '|' + '---|' * 11]
+    for mission in args.missions:
+        for profile in args.profiles:
+            seeds = range(1) if profile == 'ideal' else range(args.seeds)
+            for mode in args.modes:
+                runs = [run_mission(mission, profile, mode, seed) for seed in seeds]
+                errors = [r.position_error for r in runs]
+                length = statistics.median(r.distance for r in runs)
+                median = statistics.median(errors)
+                line = '| %s | %s | %s | %.2f | %d | %.1f | %.3f | %.3f | %.2f | %d | %s |' % (
+                    mission, profile, mode, length, statistics.median(r.samples for r in runs),
+                    statistics.median(r.bytes for r in runs) / 1024.0, median, max(errors),
+                    100.0 * median / length, sum(r.status != 'home' for r in runs),
+                    PAPER_TABLE6.get(mission, ''))
+                print(line, flush=True)
+                lines.append(line)
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    with open(args.out, 'w') as stream:
+        stream.write('Back-travel benchmark: %s, seeds 0..%d (ideal: seed 0)\n\n'
+                     % (' '.join(sys.argv[1:]) or 'defaults', args.seeds - 1))
+        stream.write('\n'.join(lines[:2] + lines[2:]) + '\n')
+    print('wrote %s' % args.out)
+
+
+if __name__ == '__main__':
+    main()
