@@ -4,7 +4,7 @@ import math
 import rospy
 from geometry_msgs.msg import Twist
 
-from .core.geometry import OdomState, yaw_from_quaternion
+from .core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 
 
 def load_params(defaults):
@@ -37,3 +37,21 @@ def twist(v=0.0, w=0.0):
     msg.linear.x = v
     msg.angular.z = w
     return msg
+
+
+def start_node(name, node_class):
+    """``rospy.init_node(name)`` then ``node_class()``; a ValueError from the
+    constructor (a bad param) is logged as fatal and exits with status 1."""
+    rospy.init_node(name)
+    try:
+        return node_class()
+    except ValueError as error:
+        rospy.logfatal('%s: %s', rospy.get_name(), error)
+        raise SystemExit(1)
+
+
+def set_pose(pose_msg, x, y, yaw):
+    """Fill a geometry_msgs/Pose in place from a planar pose (x, y in m, yaw in rad)."""
+    pose_msg.position.x, pose_msg.position.y = x, y
+    q = pose_msg.orientation
+    q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)

@@ -1,0 +1,389 @@
+#!/usr/bin/env python3
+"""rostest: the recording layer (launch/recording.launch) on scripted odometry.
+
+This test node owns sim time: it publishes /clock and nav_msgs/Odometry for a
+scripted straight/arc/straight path (test/scripted_path.py) at ``~rtf`` times
+real time, so its expectations are exact. Scenarios (``~scenario``):
+
+- ``compare``: the topic variant (landmark_saver) and the service variant
+  (record_server + record_client) record the same sampling publisher at once;
+  vision is lost mid-cycle. Checks the sample stream against the plain-Python
+  model (core/recorder.record_path), the files against the truth and each
+  other, the footprint and recorded-path topics, refusals of bad commands, and
+  that the yaml-cpp reader (landmark_info) reads the numbers PyYAML reads.
+- ``kill``: the saver is killed with SIGKILL mid-mission; its file must load
+  with every landmark it reported saved before the kill.
+"""
+import math
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+import time
+import unittest
+import xmlrpc.client
+
+import rosgraph
+import roslib.packages
+import rosnode
+import rospy
+import rostest
+import yaml
+from nav_msgs.msg import Odometry, Path
+from rosgraph_msgs.msg import Clock
+from std_msgs.msg import Empty
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from scripted_path import ASV, LSV, STRAIGHT_ARC_STRAIGHT, ScriptedPath  # noqa: E402
+
+from blind_navigation.core.geometry import quaternion_from_yaw  # noqa: E402
+from blind_navigation.core.recorder import record_path  # noqa: E402
+from blind_navigation.core.segment import SamplingSchedule  # noqa: E402
+from blind_navigation.core.store import load_landmarks  # noqa: E402
+from blind_navigation.msg import Footprint, PathSample  # noqa: E402
+from blind_navigation.recording import (FOOTPRINT_TOPIC, RECORD_SERVICE,  # noqa: E402
+                                        RECORDED_PATH_TOPIC, SAMPLE_TOPIC, VISION_LOST_TOPIC)
+from blind_navigation.srv import RecordLandmark  # noqa: E402
+
+WALL_TIMEOUT = 30.0         # s, for anything that waits on the graph
+SIM_BASE = 100.0            # sim time when the clock starts (non-zero: rospy treats 0 as unset)
+PREROLL = 2.0               # s standing still before the path starts
+CLOCK_STEP = 0.01           # s of sim time per /clock message
+ODOM_PERIOD = 0.02          # s, 50 Hz like kobuki_node
+VISION_LOST_AT = 39.5       # s into the path: mid-cycle of the last straight
+KILL_AT = 25.0              # s into the path (kill scenario)
+#: A tick fires on the first /clock at or after its time and reads the latest
+#: odometry: periods and yaws may be late by a clock step plus scheduling delay.
+#: Scheduling delay under a loaded 2-core machine, in sim time at rtf 2: < 0.1 s.
+TICK_JITTER = 0.1
+STRAIGHT_T, CURVED_T = 2.0, 1.0
+
+
+def wait_for(condition, message, timeout=WALL_TIMEOUT):
+    """Wait (wall time: the clock may not run) until ``condition()``; fail with ``message``."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            raise AssertionError('%s (waited %.0f s wall)' % (message, timeout))
+        time.sleep(0.05)
+
+
+def subscribers_of(topic):
+    _, subscribers, _ = rosgraph.Master('/test_recording').getSystemState()
+    return {node for name, nodes in subscribers if name == topic for node in nodes}
+
+
+class SimWorld(object):
+    """Publishes /clock and /odom for the scripted path; runs events at sim times."""
+
+    def __init__(self, path, rtf):
+        self.path, self.rtf = path, rtf
+        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
+        self.odom_pub = rospy.Publisher('/odom', Odometry, queue_size=50)
+        self.vision_lost_pub = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1)
+        self.t = 0.0                    # s since the clock started
+
+    def path_time(self):
+        return self.t - PREROLL
+
+    def odometry(self):
+        state = self.path.state(self.path_time())
+        msg = Odometry()
+        msg.header.stamp = rospy.Time.from_sec(SIM_BASE + self.t)
+        msg.header.frame_id, msg.child_frame_id = 'odom', 'base_footprint'
+        msg.pose.pose.position.x, msg.pose.pose.position.y = state.x, state.y
+        q = msg.pose.pose.orientation
+        q.x, q.y, q.z, q.w = quaternion_from_yaw(state.yaw)
+        msg.twist.twist.linear.x, msg.twist.twist.angular.z = state.v, state.w
+        return msg
+
+    def run_until(self, path_time, events=()):
+        """Advance sim time to ``path_time`` s into the path, firing ``events``
+        [(path time, callable)] when reached."""
+        events = sorted(events, key=lambda event: event[0])
+        start_wall, start_t = time.monotonic(), self.t
+        steps_per_odom = int(round(ODOM_PERIOD / CLOCK_STEP))
+        step = int(round(self.t / CLOCK_STEP))
+        while self.path_time() < path_time and not rospy.is_shutdown():
+            step += 1
+            self.t = step * CLOCK_STEP
+            lag = start_wall + (self.t - start_t) / self.rtf - time.monotonic()
+            if lag > 0:
+                time.sleep(lag)
+            self.clock_pub.publish(Clock(clock=rospy.Time.from_sec(SIM_BASE + self.t)))
+            if step % steps_per_odom == 0:
+                self.odom_pub.publish(self.odometry())
+            while events and self.path_time() >= events[0][0]:
+                events.pop(0)[1]()
+
+
+class Collector(object):
+    """Keeps every message of one topic, thread-safe."""
+
+    def __init__(self, topic, msg_type):
+        self.messages, self._lock = [], threading.Lock()
+        self.sub = rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
+
+    def _on_msg(self, msg):
+        with self._lock:
+            self.messages.append(msg)
+
+    def snapshot(self):
+        with self._lock:
+            return list(self.messages)
+
+
+def landmark_info(path):
+    """Run the yaml-cpp reader; its YAML output as a dict."""
+    found = roslib.packages.find_node('blind_navigation', 'landmark_info')
+    if not found:
+        raise AssertionError('landmark_info is not built (tools/landmark_info.cpp)')
+    output = subprocess.run([found[0], '--list', path],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True,
+                            timeout=WALL_TIMEOUT)
+    if output.returncode != 0:
+        raise AssertionError('landmark_info %s failed (%d): %s' % (path, output.returncode,
+                                                                   output.stderr))
+    return yaml.safe_load(output.stdout)
+
+
+def kill_node(name):
+    """SIGKILL the process of ROS node ``name`` (its pid from its own XML-RPC API)."""
+    uri = rosnode.get_api_uri(rosgraph.Master('/test_recording'), name)
+    code, message, pid = xmlrpc.client.ServerProxy(uri).getPid('/test_recording')
+    if code != 1:
+        raise AssertionError('getPid of %s failed: %s' % (name, message))
+    os.kill(pid, signal.SIGKILL)
+    return pid
+
+
+class RecordingTestBase(unittest.TestCase):
+    """Runs the scenario once (setUpClass); the test methods check its results."""
+
+    expected_subscribers = ()
+
+    @classmethod
+    def setUpClass(cls):
+        cls.path = ScriptedPath(STRAIGHT_ARC_STRAIGHT)
+        cls.world = SimWorld(cls.path, rospy.get_param('~rtf', 2.0))
+        cls.samples = Collector(SAMPLE_TOPIC, PathSample)
+        cls.footprints = Collector(FOOTPRINT_TOPIC, Footprint)
+        cls.paths = Collector(RECORDED_PATH_TOPIC, Path)
+        for topic, nodes in cls.expected_subscribers:
+            wait_for(lambda: set(nodes) <= subscribers_of(topic),
+                     '%s not all subscribed to %s' % (', '.join(nodes), topic))
+        wait_for(lambda: cls.samples.sub.get_num_connections() > 0,
+                 'the sampling publisher never connected to %s' % SAMPLE_TOPIC)
+        cls.run_scenario()
+
+    @classmethod
+    def tearDownClass(cls):
+        directory = os.path.dirname(rospy.get_param('~topic_file'))
+        if directory.endswith('-recording-test'):       # only the launch's private directory
+            shutil.rmtree(directory, ignore_errors=True)
+
+    @classmethod
+    def wait_for_footprints(cls, count, message):
+        wait_for(lambda: len(cls.footprints.snapshot()) >= count, message)
+
+
+class CompareTest(RecordingTestBase):
+    """Topic and service variants side by side, vision lost mid-cycle."""
+
+    expected_subscribers = ((SAMPLE_TOPIC, ('/landmark_saver', '/record_client')),
+                            ('/odom', ('/landmark_saver', '/record_server', '/sampling_publisher')))
+
+    @classmethod
+    def run_scenario(cls):
+        cls.bad_sample_pub = rospy.Publisher(SAMPLE_TOPIC, PathSample, queue_size=1)
+        wait_for(lambda: cls.bad_sample_pub.get_num_connections() >= 3,
+                 'the saver, the record client and this test are not all connected to %s'
+                 % SAMPLE_TOPIC)
+        bad_samples = threading.Thread(target=cls.send_bad_samples)   # not blocking the clock
+        events = [(10.0, bad_samples.start),
+                  (VISION_LOST_AT, lambda: cls.world.vision_lost_pub.publish(Empty()))]
+        cls.world.run_until(VISION_LOST_AT + 2.0, events)
+        bad_samples.join(WALL_TIMEOUT)
+        samples = cls.samples.snapshot()
+        cls.wait_for_footprints(2 * sum(s.command in ('sample', 'final') for s in samples),
+                                'not every sample was saved by both variants')
+        cls.files = {variant: load_landmarks(rospy.get_param('~%s_file' % variant))
+                     for variant in ('topic', 'service')}
+        cls.vision_lost_t = SIM_BASE + PREROLL + VISION_LOST_AT
+
+    @classmethod
+    def send_bad_samples(cls):
+        """A sample with an unknown command, on the topic and to the service, and a
+        zero period to the service: all refused, nothing saved."""
+        bad = PathSample(command='bogus', yaw=0.0, period=2.0)
+        cls.bad_sample_pub.publish(bad)
+        cls.bad_response = rospy.ServiceProxy(RECORD_SERVICE, RecordLandmark)(
+            command=bad.command, yaw=bad.yaw, period=bad.period)
+        cls.bad_response_period = rospy.ServiceProxy(RECORD_SERVICE, RecordLandmark)(
+            command='sample', yaw=0.0, period=0.0)
+
+    def ticks(self):
+        samples = [s for s in self.samples.snapshot() if s.command == 'sample']
+        finals = [s for s in self.samples.snapshot() if s.command == 'final']
+        return samples, finals
+
+    def test_sample_stream_follows_the_core_model(self):
+        samples, finals = self.ticks()
+        self.assertEqual(len(finals), 1, 'expected exactly one final sample')
+        stamps = [s.header.stamp.to_sec() for s in samples]
+        start = stamps[0] - samples[0].period            # the publisher's start tick
+        model = record_path(lambda t: self.path.state(start + t - SIM_BASE - PREROLL),
+                            self.vision_lost_t - start, SamplingSchedule(STRAIGHT_T, CURVED_T))
+        model_ticks, model_final = model[:-1], model[-1]
+        self.assertEqual([s.period for s in samples], [lm.T for _, lm in model_ticks],
+                         'the sampling periods differ from the core model')
+        self.assertEqual(set(s.period for s in samples), {STRAIGHT_T, CURVED_T})
+        for sample, (t, landmark) in zip(samples, model_ticks):
+            self.assertAlmostEqual(sample.header.stamp.to_sec(), start + t, delta=TICK_JITTER)
+            self.assertAlmostEqual(sample.yaw, landmark.psi, delta=ASV * TICK_JITTER)
+        final = finals[0]
+        self.assertAlmostEqual(final.header.stamp.to_sec(), self.vision_lost_t, delta=TICK_JITTER)
+        self.assertAlmostEqual(final.period, model_final[1].T, delta=TICK_JITTER)
+        self.assertAlmostEqual(final.period, final.header.stamp.to_sec() - stamps[-1], places=6)
+
+    def test_periods_in_the_file_are_the_configured_ones_and_follow_the_curve(self):
+        samples, finals = self.ticks()
+        for variant, loaded in self.files.items():
+            periods = [lm.T for lm in loaded.landmarks]
+            self.assertEqual(periods[:-1], [s.period for s in samples], variant)
+            self.assertEqual(periods[-1], finals[0].period, variant)
+            runs = [periods[0]]
+            for period in periods[1:-1]:
+                if period != runs[-1]:
+                    runs.append(period)
+            self.assertEqual(runs, [STRAIGHT_T, CURVED_T, STRAIGHT_T], variant)
+
+    def test_landmarks_match_the_scripted_odometry(self):
+        samples, finals = self.ticks()
+        stamps = [s.header.stamp.to_sec() for s in samples + finals]
+        for variant, loaded in self.files.items():
+            self.assertEqual(len(loaded.landmarks), len(stamps), variant)
+            self.assertEqual(loaded.warnings, [], variant)
+            for stamp, sample, landmark in zip(stamps, samples + finals, loaded.landmarks):
+                truth = self.path.state(stamp - SIM_BASE - PREROLL)
+                self.assertAlmostEqual(landmark.psi, sample.yaw, delta=1e-5)
+                if not self.near_segment_change(stamp):
+                    self.assertAlmostEqual(landmark.v, truth.v, delta=1e-6)
+                    self.assertAlmostEqual(landmark.w, truth.w, delta=1e-6)
+            # d sums to the chords between the true positions at the ticks, from
+            # the start (the first odometry, standing still at the origin); each
+            # landmark's odometry may be late by up to a tick's jitter.
+            points = [self.path.state(0.0)] + [self.path.state(stamp - SIM_BASE - PREROLL)
+                                               for stamp in stamps]
+            chords = sum(math.hypot(b.x - a.x, b.y - a.y) for a, b in zip(points, points[1:]))
+            self.assertAlmostEqual(loaded.total_distance, chords,
+                                   delta=LSV * (TICK_JITTER + ODOM_PERIOD), msg=variant)
+
+    def near_segment_change(self, stamp):
+        t = stamp - SIM_BASE - PREROLL
+        changes = [start for start, _, _, _ in self.path.starts] + [self.path.duration]
+        return any(abs(t - change) <= TICK_JITTER for change in changes)
+
+    def test_topic_and_service_variants_record_the_same_landmarks(self):
+        topic, service = self.files['topic'].landmarks, self.files['service'].landmarks
+        self.assertEqual(len(topic), len(service))
+        # Both read the same odometry stream for the same sample; they may pick
+        # odometry one or two messages apart at each end of a landmark.
+        tolerance_d = 2 * 2 * LSV * ODOM_PERIOD + 1e-5
+        for index, (a, b) in enumerate(zip(topic, service)):
+            self.assertEqual((a.T, a.psi), (b.T, b.psi), 'landmark %d' % (index + 1))
+            self.assertAlmostEqual(a.d, b.d, delta=tolerance_d, msg='landmark %d' % (index + 1))
+            self.assertAlmostEqual(a.v, b.v, delta=1e-6, msg='landmark %d' % (index + 1))
+            self.assertAlmostEqual(a.w, b.w, delta=ASV + 1e-6, msg='landmark %d' % (index + 1))
+        self.assertAlmostEqual(sum(a.d for a in topic), sum(b.d for b in service),
+                               delta=tolerance_d)
+
+    def test_unknown_command_and_bad_period_are_refused(self):
+        self.assertFalse(self.bad_response.saved)
+        self.assertIn('unknown command', self.bad_response.message)
+        self.assertFalse(self.bad_response_period.saved)
+        self.assertIn('T must be positive', self.bad_response_period.message)
+
+    def test_footprint_topic_matches_the_files(self):
+        by_file = {}
+        for msg in self.footprints.snapshot():
+            by_file[os.path.realpath(msg.file)] = msg
+        self.assertEqual(len(by_file), 2, 'expected footprints from both variants')
+        for variant, loaded in self.files.items():
+            last = by_file.get(os.path.realpath(loaded.path))
+            self.assertIsNotNone(last, '%s: no footprint names %s (got %s)'
+                                 % (variant, os.path.realpath(loaded.path), sorted(by_file)))
+            self.assertEqual(last.landmarks, len(loaded.landmarks), variant)
+            self.assertEqual(last.bytes, os.path.getsize(loaded.path), variant)
+            self.assertAlmostEqual(last.distance, loaded.total_distance, delta=1e-4)
+            self.assertAlmostEqual(last.bytes_per_metre, last.bytes / last.distance, places=6)
+
+    def test_recorded_path_has_the_start_and_every_landmark(self):
+        paths = self.paths.snapshot()
+        self.assertTrue(paths, 'no nav_msgs/Path on %s' % RECORDED_PATH_TOPIC)
+        longest = max(len(p.poses) for p in paths)
+        self.assertEqual(longest, len(self.files['topic'].landmarks) + 1)
+        self.assertEqual(paths[-1].header.frame_id, 'odom')
+
+    def test_mission_files_are_new_time_stamped_files_behind_the_symlink(self):
+        for variant in ('topic', 'service'):
+            link = rospy.get_param('~%s_file' % variant)
+            self.assertTrue(os.path.islink(link), link)
+            target = os.path.realpath(link)
+            self.assertEqual(os.path.dirname(target), os.path.dirname(link))
+            self.assertRegex(os.path.basename(target), r'-\d{8}-\d{6}(-\d+)?\.yaml$')
+            self.assertEqual(self.files[variant].metadata['recorder'], variant)
+
+    def test_yaml_cpp_reader_reads_what_pyyaml_reads(self):
+        for variant, loaded in self.files.items():
+            info = landmark_info(loaded.path)
+            self.assertEqual(info['landmarks'], len(loaded.landmarks))
+            self.assertEqual(list(info['data']), loaded.labels)
+            self.assertEqual([tuple(values) for values in info['data'].values()],
+                             [tuple(lm) for lm in loaded.landmarks], variant)
+            self.assertAlmostEqual(info['distance_m'], loaded.total_distance, places=9)
+            self.assertAlmostEqual(info['duration_s'], loaded.total_duration, places=9)
+            self.assertEqual(info['bytes'], os.path.getsize(loaded.path))
+
+
+class KillTest(RecordingTestBase):
+    """SIGKILL of the saver mid-mission leaves a loadable file with every landmark it saved."""
+
+    expected_subscribers = ((SAMPLE_TOPIC, ('/landmark_saver',)),
+                            ('/odom', ('/landmark_saver', '/sampling_publisher')))
+
+    @classmethod
+    def run_scenario(cls):
+        cls.killed = {}
+
+        def kill():
+            cls.killed['footprints'] = len(cls.footprints.snapshot())
+            cls.killed['samples'] = len(cls.samples.snapshot())
+            cls.killed['pid'] = kill_node('/landmark_saver')
+        cls.world.run_until(KILL_AT + 4.0, [(KILL_AT, kill)])
+
+    def test_file_survives_kill_9(self):
+        self.assertIn('pid', self.killed, 'the saver was not killed')
+        loaded = load_landmarks(rospy.get_param('~topic_file'))
+        saved_before_kill = self.killed['footprints']
+        self.assertGreater(saved_before_kill, 10, 'too few landmarks before the kill to mean much')
+        # Every landmark reported saved is in the file; at most the ones whose
+        # report was still in flight at the kill come on top (never more than
+        # the samples published before it).
+        self.assertGreaterEqual(len(loaded.landmarks), saved_before_kill)
+        self.assertLessEqual(len(loaded.landmarks), self.killed['samples'])
+        self.assertEqual(loaded.labels, ['landmark_%06d' % i
+                                         for i in range(1, len(loaded.landmarks) + 1)])
+        self.assertLessEqual(len(loaded.warnings), 1)
+        info = landmark_info(loaded.path)
+        self.assertEqual(info['landmarks'], len(loaded.landmarks))
+
+
+SCENARIOS = {'compare': CompareTest, 'kill': KillTest}
+
+if __name__ == '__main__':
+    rospy.init_node('test_recording')
+    scenario = rospy.get_param('~scenario')
+    rostest.rosrun('blind_navigation', 'recording_' + scenario, SCENARIOS[scenario])
