@@ -1,0 +1,40 @@
+"""Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs.
+
+Debian has no kobuki_msgs. If the package is installed (a real TurtleBot2
+workspace) its classes are used; otherwise identical classes are generated at
+import time from the same definitions, with the same type names and MD5 sums,
+so nodes using them interoperate with a real Kobuki's ``/mobile_base/events/*``
+and ``commands/motor_power`` topics either way.
+"""
+import genpy.dynamic
+
+DEFINITIONS = {
+    'BumperEvent': 'uint8 LEFT=0\nuint8 CENTER=1\nuint8 RIGHT=2\n'
+                   'uint8 RELEASED=0\nuint8 PRESSED=1\nuint8 bumper\nuint8 state\n',
+    'CliffEvent': 'uint8 LEFT=0\nuint8 CENTER=1\nuint8 RIGHT=2\n'
+                  'uint8 FLOOR=0\nuint8 CLIFF=1\nuint8 sensor\nuint8 state\nuint16 bottom\n',
+    'WheelDropEvent': 'uint8 LEFT=0\nuint8 RIGHT=1\nuint8 RAISED=0\nuint8 DROPPED=1\n'
+                      'uint8 wheel\nuint8 state\n',
+    'MotorPower': 'uint8 OFF=0\nuint8 ON=1\nuint8 state\n',
+}
+
+
+def _load():
+    try:
+        import kobuki_msgs.msg as real
+        return {name: getattr(real, name) for name in DEFINITIONS}
+    except ImportError:
+        return {name: genpy.dynamic.generate_dynamic('kobuki_msgs/' + name, text)['kobuki_msgs/' + name]
+                for name, text in DEFINITIONS.items()}
+
+
+_CLASSES = _load()
+BumperEvent = _CLASSES['BumperEvent']
+CliffEvent = _CLASSES['CliffEvent']
+WheelDropEvent = _CLASSES['WheelDropEvent']
+MotorPower = _CLASSES['MotorPower']
+
+#: Kobuki sensor names (core/arena.py) -> message index constants.
+BUMPER_INDEX = {'left': 0, 'center': 1, 'right': 2}
+CLIFF_INDEX = {'left': 0, 'center': 1, 'right': 2}
+WHEEL_INDEX = {'left': 0, 'right': 1}

@@ -1,0 +1,206 @@
+#!/usr/bin/env python3
+"""Fake Kobuki base node: runs core/kobuki.SimulatedKobuki and owns the sim clock.
+
+Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
+(Twist), ``commands/motor_power``, ``commands/reset_odometry``; publishes at
+50 Hz ``odom`` (+ TF ``odom`` -> ``base_footprint``), ``mobile_base/sensors/imu_data``,
+``joint_states``, ``ground_truth/odom`` (frame ``world``), Kobuki safety events on
+``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and
+``/clock`` at ``rtf`` x wall time. Stamps are sim time (launch with use_sim_time).
+"""
+import sys
+import threading
+import time
+import warnings
+
+import rospy
+import tf2_ros
+import yaml
+from geometry_msgs.msg import TransformStamped, Twist
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import Imu, JointState
+from std_msgs.msg import Empty
+
+from blind_navigation import kobuki_msgs_compat as kobuki_msgs
+from blind_navigation.core.arena import arena_from_dict
+from blind_navigation.core.kobuki import SENSOR_PERIOD, SimulatedKobuki, load_profile
+from blind_navigation.ros_common import load_params, set_pose
+
+DBL_MAX = sys.float_info.max
+# The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
+# mode): a queue thread per connection costs more CPU than the write itself.
+SYNCHRONOUS = None
+warnings.filterwarnings('ignore', message='The publisher should be created with an explicit')
+ODOM_POSE_COVARIANCE = {0: 0.1, 7: 0.1, 14: 1e10, 21: 1e10, 28: 1e10, 35: 0.05}   # kobuki_node
+
+
+class FakeKobuki(object):
+    """The base and the clock. Params (DEFAULTS): ``rtf`` real-time factor; ``seed``; ``noise``
+    profile name or path; ``world`` YAML with ``arena``/``obstacles`` ('' = open floor);
+    ``clock_period`` s of sim time per /clock message (divides 0.02); ``odom_frame``,
+    ``base_frame``, ``world_frame``, ``imu_frame``; ``publish_tf``; ``stats_period`` s of wall
+    time between CPU/rtf log lines (0 = never).
+    """
+    DEFAULTS = {'rtf': 1.0, 'seed': 0, 'noise': 'ideal', 'world': '', 'clock_period': 0.01,
+                'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
+                'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0}
+
+    def __init__(self):
+        self.params = p = load_params(self.DEFAULTS)
+        if not p.rtf > 0:
+            raise ValueError('~rtf must be > 0, got %r' % p.rtf)
+        ticks = SENSOR_PERIOD / p.clock_period
+        if p.clock_period <= 0 or abs(ticks - round(ticks)) > 1e-6:
+            raise ValueError('~clock_period %r must divide %.2f s' % (p.clock_period, SENSOR_PERIOD))
+        self.sensor_every = int(round(ticks))
+        arena = None
+        if p.world:
+            with open(p.world) as stream:
+                arena = arena_from_dict(yaml.safe_load(stream), p.world)
+        self.base = SimulatedKobuki(load_profile(p.noise), seed=int(p.seed), arena=arena)
+        self.lock = threading.Lock()
+        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS)
+        self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=SYNCHRONOUS)
+        self.truth_pub = rospy.Publisher('ground_truth/odom', Odometry, queue_size=SYNCHRONOUS)
+        self.imu_pub = rospy.Publisher('mobile_base/sensors/imu_data', Imu, queue_size=SYNCHRONOUS)
+        self.joint_pub = rospy.Publisher('joint_states', JointState, queue_size=SYNCHRONOUS)
+        self.event_pubs = {
+            'bumper': rospy.Publisher('mobile_base/events/bumper', kobuki_msgs.BumperEvent, queue_size=10),
+            'cliff': rospy.Publisher('mobile_base/events/cliff', kobuki_msgs.CliffEvent, queue_size=10),
+            'wheel_drop': rospy.Publisher('mobile_base/events/wheel_drop', kobuki_msgs.WheelDropEvent,
+                                          queue_size=10)}
+        self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
+        self._messages()
+        self._contacts = self.base.contacts
+        rospy.Subscriber('mobile_base/commands/velocity', Twist, self.on_velocity, queue_size=10)
+        rospy.Subscriber('mobile_base/commands/motor_power', kobuki_msgs.MotorPower, self.on_motor_power)
+        rospy.Subscriber('mobile_base/commands/reset_odometry', Empty, self.on_reset_odometry)
+
+    def _messages(self):
+        """Build the periodic messages once; the loop only updates their fields."""
+        p = self.params
+        self.odom_msg = Odometry()
+        self.odom_msg.header.frame_id, self.odom_msg.child_frame_id = p.odom_frame, p.base_frame
+        for index, value in ODOM_POSE_COVARIANCE.items():
+            self.odom_msg.pose.covariance[index] = value
+        self.truth_msg = Odometry()
+        self.truth_msg.header.frame_id, self.truth_msg.child_frame_id = p.world_frame, p.base_frame
+        self.imu_msg = Imu()
+        self.imu_msg.header.frame_id = p.imu_frame
+        self.imu_msg.orientation_covariance = [DBL_MAX, 0, 0, 0, DBL_MAX, 0, 0, 0, 0.05]
+        self.imu_msg.angular_velocity_covariance = [DBL_MAX, 0, 0, 0, DBL_MAX, 0, 0, 0, 0.05]
+        self.imu_msg.linear_acceleration_covariance = [-1.0, 0, 0, 0, 0, 0, 0, 0, 0]
+        self.joint_msg = JointState(name=['wheel_left_joint', 'wheel_right_joint'])
+        self.transform = TransformStamped()
+        self.transform.header.frame_id, self.transform.child_frame_id = p.odom_frame, p.base_frame
+
+    # ---------------------------------------------------------------- inputs
+    def on_velocity(self, msg):
+        try:
+            with self.lock:
+                self.base.command(msg.linear.x, msg.angular.z)
+        except ValueError as error:
+            rospy.logerr_throttle(1.0, 'fake_kobuki: ignored velocity command: %s' % error)
+
+    def on_motor_power(self, msg):
+        with self.lock:
+            self.base.set_motor_power(msg.state == kobuki_msgs.MotorPower.ON)
+        rospy.loginfo('fake_kobuki: motors %s', 'on' if self.base.motor_power else 'off')
+
+    def on_reset_odometry(self, _msg):
+        with self.lock:
+            self.base.reset_odometry()
+        rospy.loginfo('fake_kobuki: odometry reset')
+
+    # ---------------------------------------------------------------- output
+    def publish_sensors(self, stamp):
+        base = self.base
+        odom, truth = base.odom, base.true_pose
+        msg = self.odom_msg
+        msg.header.stamp = stamp
+        set_pose(msg.pose.pose, odom.x, odom.y, odom.yaw)
+        msg.twist.twist.linear.x, msg.twist.twist.angular.z = odom.v, odom.w
+        self.odom_pub.publish(msg)
+        if self.tf is not None:
+            t = self.transform
+            t.header.stamp = stamp
+            t.transform.translation.x, t.transform.translation.y = odom.x, odom.y
+            t.transform.rotation = msg.pose.pose.orientation
+            self.tf.sendTransform(t)
+        imu = self.imu_msg
+        imu.header.stamp = stamp
+        imu.orientation = msg.pose.pose.orientation
+        imu.angular_velocity.z = base.gyro_rate
+        self.imu_pub.publish(imu)
+        joints = self.joint_msg
+        joints.header.stamp = stamp
+        joints.position, joints.velocity = list(base.wheel_angles), list(base.wheel_speeds)
+        self.joint_pub.publish(joints)
+        gt = self.truth_msg
+        gt.header.stamp = stamp
+        set_pose(gt.pose.pose, truth.x, truth.y, truth.yaw)
+        gt.twist.twist.linear.x, gt.twist.twist.angular.z = base.true_twist
+        self.truth_pub.publish(gt)
+        self.publish_events()
+
+    def publish_events(self):
+        """One event message per sensor whose state changed, as kobuki_node does."""
+        old, new = self._contacts, self.base.contacts
+        if new is None or old == new:
+            return
+        specs = (('bumper', kobuki_msgs.BumperEvent, kobuki_msgs.BUMPER_INDEX, 'bumper'),
+                 ('cliff', kobuki_msgs.CliffEvent, kobuki_msgs.CLIFF_INDEX, 'sensor'),
+                 ('wheel_drop', kobuki_msgs.WheelDropEvent, kobuki_msgs.WHEEL_INDEX, 'wheel'))
+        for field, cls, index, slot in specs:
+            before, after = getattr(old, field), getattr(new, field)
+            for name in sorted(before ^ after):
+                event = cls(state=1 if name in after else 0)
+                setattr(event, slot, index[name])
+                self.event_pubs[field].publish(event)
+                rospy.logwarn('fake_kobuki: %s %s %s', field, name, 'on' if name in after else 'off')
+        self._contacts = new
+
+    def run(self):
+        """Step physics and publish the clock, paced to rtf x wall time."""
+        p = self.params
+        wall_period = p.clock_period / p.rtf
+        start = time.monotonic()
+        tick = 0
+        stats_start, cpu_start = start, time.process_time()
+        while not rospy.is_shutdown():
+            tick += 1
+            with self.lock:
+                self.base.step(p.clock_period)
+                now = rospy.Time.from_sec(self.base.t)
+                if tick % self.sensor_every == 0:
+                    self.publish_sensors(now)
+            self.clock_pub.publish(Clock(clock=now))
+            delay = start + tick * wall_period - time.monotonic()
+            if delay > 0:
+                time.sleep(delay)
+            elif delay < -0.5:                       # cannot keep up: do not try to catch up later
+                start -= delay
+                rospy.logwarn_throttle(10.0, 'fake_kobuki: behind real time x %.1f' % p.rtf)
+            if p.stats_period > 0 and time.monotonic() - stats_start >= p.stats_period:
+                stats_start, cpu_start = self.log_stats(stats_start, cpu_start)
+
+    def log_stats(self, wall_start, cpu_start):
+        wall, cpu = time.monotonic(), time.process_time()
+        rospy.loginfo('fake_kobuki: sim t %.1f s, cpu %.0f %% of one core over %.1f s wall',
+                      self.base.t, 100.0 * (cpu - cpu_start) / (wall - wall_start), wall - wall_start)
+        return wall, cpu
+
+
+def main():
+    rospy.init_node('mobile_base')
+    try:
+        node = FakeKobuki()
+    except (ValueError, OSError) as error:
+        rospy.logfatal('fake_kobuki: %s', error)
+        sys.exit(1)
+    node.run()
+
+
+if __name__ == '__main__':
+    main()

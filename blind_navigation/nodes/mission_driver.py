@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""Scripted operator: plays a mission (core/mission.py) as teleop commands.
+
+Publishes the mission's (v, w) on ``cmd_vel`` (remap to
+``/cmd_vel_mux/input/teleop``) at the mission's rate, starting ``start_delay``
+s of sim time after the clock starts; then sends zero velocity and latches
+``~done`` true. Zero velocity also on shutdown.
+"""
+import rospy
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Bool
+
+from blind_navigation.core.kobuki import MAX_V, MAX_W, clamp
+from blind_navigation.core.mission import load_mission
+from blind_navigation.ros_common import load_params, twist
+
+STOP_MESSAGES = 3
+
+
+class MissionDriver(object):
+    """Params (DEFAULTS): ``mission`` name in config/missions/ or path; ``start_delay`` s;
+    ``max_v`` m/s, ``max_w`` rad/s (commands are clamped to these)."""
+    DEFAULTS = {'mission': '', 'start_delay': 1.0, 'max_v': MAX_V, 'max_w': MAX_W}
+
+    def __init__(self):
+        self.params = p = load_params(self.DEFAULTS)
+        if not p.mission:
+            raise ValueError('~mission is required (a name in config/missions/ or a path)')
+        self.mission = load_mission(p.mission)
+        self.cmd = rospy.Publisher('cmd_vel', Twist, queue_size=10)
+        self.done = rospy.Publisher('~done', Bool, queue_size=1, latch=True)
+        self.done.publish(Bool(False))
+        rospy.on_shutdown(self.stop)
+
+    def stop(self):
+        self.cmd.publish(Twist())
+
+    def run(self):
+        while not rospy.is_shutdown() and rospy.Time.now().is_zero():
+            rospy.sleep(0.01)          # wait for /clock
+        start = rospy.Time.now() + rospy.Duration(self.params.start_delay)
+        rospy.loginfo('mission_driver: %s (%.1f s, %.2f m nominal) starts at sim t %.2f s',
+                      self.mission.name, self.mission.duration, self.mission.nominal_length(), start.to_sec())
+        rospy.sleep(start - rospy.Time.now())
+        rate = rospy.Rate(self.mission.rate)
+        while not rospy.is_shutdown():
+            command = self.mission.command_at(max(0.0, (rospy.Time.now() - start).to_sec()))
+            if command is None:
+                break
+            v, w = command
+            self.cmd.publish(twist(clamp(v, self.params.max_v), clamp(w, self.params.max_w)))
+            rate.sleep()
+        for _ in range(STOP_MESSAGES):
+            self.stop()
+            rate.sleep()
+        self.done.publish(Bool(True))
+        rospy.loginfo('mission_driver: %s done at sim t %.2f s', self.mission.name, rospy.Time.now().to_sec())
+
+
+def main():
+    rospy.init_node('mission_driver')
+    try:
+        driver = MissionDriver()
+    except ValueError as error:
+        rospy.logfatal('mission_driver: %s', error)
+        raise SystemExit(1)
+    try:
+        driver.run()
+        rospy.spin()
+    except rospy.ROSInterruptException:
+        pass
+
+
+if __name__ == '__main__':
+    main()
