@@ -6,12 +6,14 @@ the paper's recorder variants (section 3.3.3, Figure 4).
 - service variant: ``nodes/record_server.py`` calls it for each
   RecordLandmark request (sent by ``nodes/record_client.py``).
 
-Either way the saver reads odometry itself, makes the landmark with
+Either way the saver reads odometry itself (the state at the tick's stamp:
+the latest odometry stamped no later than the tick), makes the landmark with
 core/recorder.PathRecorder and appends it durably with core/store.LandmarkWriter
 to a new time-stamped mission file that the ``landmark_file`` param (a symlink)
 points at. Only that param chooses the file: nothing received over ROS names a
 path. After each landmark it publishes the footprint and the recorded path.
 """
+import math
 import os
 import threading
 
@@ -20,7 +22,7 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry, Path
 
 from blind_navigation.core.geometry import quaternion_from_yaw
-from blind_navigation.core.recorder import PathRecorder, footprint
+from blind_navigation.core.recorder import OdometryHistory, PathRecorder, footprint
 from blind_navigation.core.store import LandmarkWriter, start_mission_file
 from blind_navigation.msg import Footprint
 from blind_navigation.ros_common import load_params, odom_state_from_msg
@@ -55,6 +57,7 @@ class LandmarkSaving(object):
         'landmark_file': DEFAULT_LANDMARK_FILE,
         'fsync': True,
         'odom_timeout': 1.0,
+        'odom_wait': 0.2,
     }
 
     def __init__(self, variant):
@@ -63,8 +66,8 @@ class LandmarkSaving(object):
             raise ValueError('~landmark_file must be a file path, got %r' % (p.landmark_file,))
         if not isinstance(p.fsync, bool):
             raise ValueError('~fsync must be true or false, got %r' % (p.fsync,))
-        self._lock = threading.Lock()
-        self._odom = None
+        self._lock = threading.Condition()
+        self._history = OdometryHistory()
         self._odom_received = None
         self._frame = 'odom'
         self._start = None
@@ -80,7 +83,7 @@ class LandmarkSaving(object):
         self.path_msg = Path()
         self.footprint_pub = rospy.Publisher(FOOTPRINT_TOPIC, Footprint, queue_size=10)
         self.path_pub = rospy.Publisher(RECORDED_PATH_TOPIC, Path, queue_size=1, latch=True)
-        self.odom_sub = rospy.Subscriber(p.odom_topic, Odometry, self._on_odom, queue_size=10)
+        self.odom_sub = rospy.Subscriber(p.odom_topic, Odometry, self._on_odom, queue_size=100)
 
     def _on_odom(self, msg):
         try:
@@ -90,28 +93,37 @@ class LandmarkSaving(object):
                                    % (rospy.get_name(), self.params.odom_topic, error))
             return
         with self._lock:
-            self._odom = state
+            self._history.append(state)
             self._odom_received = rospy.Time.now()
             self._frame = msg.header.frame_id or self._frame
-            if not self.recorder.started:       # the first odometry seen: recording starts here
-                self.recorder.start(state)
-                self._start = state
+            self._lock.notify_all()
 
-    def save(self, command, yaw, period):
-        """Save the landmark of one tick; return ``(label, '')`` or ``('', why not)``."""
+    def save(self, command, yaw, period, stamp):
+        """Save the landmark of the tick at ``stamp`` (s); return ``(label, '')`` or
+        ``('', why not)``. The first tick's start is the odometry at ``stamp - period``
+        (when the publisher started), or the first odometry seen if that is later."""
         with self._lock:
             if command not in COMMANDS:
                 return self._refuse('unknown command %r (expected one of %s)'
                                     % (command, ', '.join(COMMANDS)))
             if self.finished:
                 return self._refuse('recording has finished (a final sample was saved)')
-            if self._odom is None:
+            if self._history.latest is None:
                 return self._refuse('no valid odometry received on %s yet' % self.params.odom_topic)
             age = (rospy.Time.now() - self._odom_received).to_sec()
             if age > self.params.odom_timeout:
                 rospy.logwarn_throttle(5.0, '%s: odometry on %s is %.1f s old' %
                                        (rospy.get_name(), self.params.odom_topic, age))
-            odom = self._odom
+            if stamp > 0:
+                self._lock.wait_for(lambda: self._history.latest.stamp >= stamp,
+                                    timeout=self.params.odom_wait)
+                odom = self._history.at(stamp)
+            else:                               # an unstamped request: the latest odometry
+                odom = self._history.latest
+            if not self.recorder.started:
+                valid = stamp > 0 and math.isfinite(period) and period > 0
+                self._start = self._history.at(stamp - period) if valid else odom
+                self.recorder.start(self._start)
             try:
                 landmark = self.recorder.take(odom, yaw, period)
             except ValueError as error:

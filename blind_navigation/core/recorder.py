@@ -10,7 +10,8 @@ period in force and the yaw the publisher read).
 Also the memory footprint of a recorded path (section 5: count, bytes, bytes
 per metre), shared by the ROS nodes and the evaluation.
 """
-from collections import namedtuple
+import bisect
+from collections import deque, namedtuple
 
 from .geometry import distance, wrap_angle
 from .landmark import Limits, landmark_from_values
@@ -24,6 +25,42 @@ def footprint(landmarks, size_bytes, total_distance):
     """Footprint of ``landmarks`` landmarks stored in ``size_bytes`` bytes over ``total_distance`` m."""
     per_metre = size_bytes / total_distance if total_distance > 0.0 else 0.0
     return Footprint(int(landmarks), int(size_bytes), float(total_distance), per_metre)
+
+
+class OdometryHistory(object):
+    """The last ``span`` seconds of odometry, to read the odometry *at a tick's
+    stamp* (the latest state stamped no later than the tick) however late the
+    tick's message arrives. Both recorder variants then read the same state
+    for the same tick, and the start is where the robot was when the
+    publisher started, whenever the saver itself started."""
+
+    def __init__(self, span=10.0):
+        if not span > 0:
+            raise ValueError('odometry history span must be > 0 s, got %r' % (span,))
+        self.span = float(span)
+        self._states = deque()
+
+    def append(self, state):
+        """Add an OdomState; a stamp older than the last one restarts the history
+        (sim time was reset)."""
+        if self._states and state.stamp < self._states[-1].stamp:
+            self._states.clear()
+        self._states.append(state)
+        while self._states[-1].stamp - self._states[0].stamp > self.span:
+            self._states.popleft()
+
+    @property
+    def latest(self):
+        return self._states[-1] if self._states else None
+
+    def at(self, stamp):
+        """The latest state stamped at or before ``stamp``; the oldest kept if all
+        are newer; None if empty."""
+        if not self._states:
+            return None
+        stamps = [state.stamp for state in self._states]
+        index = bisect.bisect_right(stamps, stamp) - 1
+        return self._states[max(index, 0)]
 
 
 class PathRecorder(object):

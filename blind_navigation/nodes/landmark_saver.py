@@ -26,7 +26,7 @@ class LandmarkSaver(object):
         self.sample_sub = rospy.Subscriber(SAMPLE_TOPIC, PathSample, self.on_sample, queue_size=20)
 
     def on_sample(self, msg):
-        self.saving.save(msg.command, msg.yaw, msg.period)
+        self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec())
 
 
 def main():

@@ -27,7 +27,8 @@ class RecordServer(object):
         self.service = rospy.Service(RECORD_SERVICE, RecordLandmark, self.on_request)
 
     def on_request(self, request):
-        label, why_not = self.saving.save(request.command, request.yaw, request.period)
+        label, why_not = self.saving.save(request.command, request.yaw, request.period,
+                                            request.header.stamp.to_sec())
         return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
 
 

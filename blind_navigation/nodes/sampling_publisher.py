@@ -44,7 +44,9 @@ class SamplingPublisher(object):
     Params (DEFAULTS): ``odom_topic`` (nav_msgs/Odometry, '/odom'),
     ``pose2d_topic`` (if set, the yaw comes from geometry_msgs/Pose2D on this
     topic instead, ''), ``straight_rate`` (Hz, 0.5), ``curved_rate`` (Hz, 1.0),
-    ``deadband`` (rad per yaw difference, see core/segment.py, 0.01).
+    ``deadband`` (rad per yaw difference, see core/segment.py, 0.01),
+    ``min_subscribers`` (recording starts once this many nodes subscribe to the
+    samples: the saver, or the record client, is up, 1).
     """
 
     DEFAULTS = {
@@ -53,6 +55,7 @@ class SamplingPublisher(object):
         'straight_rate': 0.5,
         'curved_rate': 1.0,
         'deadband': 0.01,
+        'min_subscribers': 1,
     }
 
     def __init__(self):
@@ -139,12 +142,14 @@ class SamplingPublisher(object):
             with self._lock:
                 if self.stopped:
                     return False
-                if self._yaw is not None and self._state not in NOT_RECORDING:
+                ready = self.sample_pub.get_num_connections() >= self.params.min_subscribers
+                if ready and self._yaw is not None and self._state not in NOT_RECORDING:
                     self._last_tick = rospy.Time.now()
                     self.schedule.update(self._yaw)
                     return True
             if not logged:
-                rospy.loginfo('%s: waiting for a valid yaw on %s', rospy.get_name(), self.source)
+                rospy.loginfo('%s: waiting for a valid yaw on %s and %d subscriber(s) of %s',
+                              rospy.get_name(), self.source, self.params.min_subscribers, SAMPLE_TOPIC)
                 logged = True
             rospy.sleep(0.05)
         return False

@@ -17,25 +17,19 @@ real time, so its expectations are exact. Scenarios (``~scenario``):
 import math
 import os
 import shutil
-import signal
-import subprocess
 import sys
 import threading
 import time
 import unittest
-import xmlrpc.client
 
-import rosgraph
-import roslib.packages
-import rosnode
 import rospy
 import rostest
-import yaml
 from nav_msgs.msg import Odometry, Path
 from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Empty
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path[:0] = [HERE, os.path.join(HERE, '..')]
 from scripted_path import ASV, LSV, STRAIGHT_ARC_STRAIGHT, ScriptedPath  # noqa: E402
 
 from blind_navigation.core.geometry import quaternion_from_yaw  # noqa: E402
@@ -46,8 +40,9 @@ from blind_navigation.msg import Footprint, PathSample  # noqa: E402
 from blind_navigation.recording import (FOOTPRINT_TOPIC, RECORD_SERVICE,  # noqa: E402
                                         RECORDED_PATH_TOPIC, SAMPLE_TOPIC, VISION_LOST_TOPIC)
 from blind_navigation.srv import RecordLandmark  # noqa: E402
+from recording_tools import (WALL_TIMEOUT, Collector, kill_node, landmark_info,  # noqa: E402
+                             subscribers_of, wait_for)
 
-WALL_TIMEOUT = 30.0         # s, for anything that waits on the graph
 SIM_BASE = 100.0            # sim time when the clock starts (non-zero: rospy treats 0 as unset)
 PREROLL = 2.0               # s standing still before the path starts
 CLOCK_STEP = 0.01           # s of sim time per /clock message
@@ -59,20 +54,6 @@ KILL_AT = 25.0              # s into the path (kill scenario)
 #: Scheduling delay under a loaded 2-core machine, in sim time at rtf 2: < 0.1 s.
 TICK_JITTER = 0.1
 STRAIGHT_T, CURVED_T = 2.0, 1.0
-
-
-def wait_for(condition, message, timeout=WALL_TIMEOUT):
-    """Wait (wall time: the clock may not run) until ``condition()``; fail with ``message``."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            raise AssertionError('%s (waited %.0f s wall)' % (message, timeout))
-        time.sleep(0.05)
-
-
-def subscribers_of(topic):
-    _, subscribers, _ = rosgraph.Master('/test_recording').getSystemState()
-    return {node for name, nodes in subscribers if name == topic for node in nodes}
 
 
 class SimWorld(object):
@@ -117,46 +98,6 @@ class SimWorld(object):
                 self.odom_pub.publish(self.odometry())
             while events and self.path_time() >= events[0][0]:
                 events.pop(0)[1]()
-
-
-class Collector(object):
-    """Keeps every message of one topic, thread-safe."""
-
-    def __init__(self, topic, msg_type):
-        self.messages, self._lock = [], threading.Lock()
-        self.sub = rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
-
-    def _on_msg(self, msg):
-        with self._lock:
-            self.messages.append(msg)
-
-    def snapshot(self):
-        with self._lock:
-            return list(self.messages)
-
-
-def landmark_info(path):
-    """Run the yaml-cpp reader; its YAML output as a dict."""
-    found = roslib.packages.find_node('blind_navigation', 'landmark_info')
-    if not found:
-        raise AssertionError('landmark_info is not built (tools/landmark_info.cpp)')
-    output = subprocess.run([found[0], '--list', path],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True,
-                            timeout=WALL_TIMEOUT)
-    if output.returncode != 0:
-        raise AssertionError('landmark_info %s failed (%d): %s' % (path, output.returncode,
-                                                                   output.stderr))
-    return yaml.safe_load(output.stdout)
-
-
-def kill_node(name):
-    """SIGKILL the process of ROS node ``name`` (its pid from its own XML-RPC API)."""
-    uri = rosnode.get_api_uri(rosgraph.Master('/test_recording'), name)
-    code, message, pid = xmlrpc.client.ServerProxy(uri).getPid('/test_recording')
-    if code != 1:
-        raise AssertionError('getPid of %s failed: %s' % (name, message))
-    os.kill(pid, signal.SIGKILL)
-    return pid
 
 
 class RecordingTestBase(unittest.TestCase):

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 from blind_navigation.core.geometry import OdomState, distance, wrap_angle
-from blind_navigation.core.recorder import PathRecorder, footprint, record_path
+from blind_navigation.core.recorder import OdometryHistory, PathRecorder, footprint, record_path
 from blind_navigation.core.segment import SamplingSchedule
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
@@ -144,3 +144,20 @@ def test_bad_tick_raises_and_keeps_the_previous_position(v, yaw, period, field):
 def test_footprint():
     assert footprint(10, 800, 2.0) == (10, 800, 2.0, 400.0)
     assert footprint(0, 150, 0.0).bytes_per_metre == 0.0
+
+
+def test_odometry_history_reads_the_state_at_a_stamp():
+    history = OdometryHistory(span=1.0)
+    assert history.at(5.0) is None and history.latest is None
+    states = [OdomState(0.1 * i, 0.0, 0.0, 0.1, 0.0, 10.0 + 0.02 * i) for i in range(100)]
+    for state in states:
+        history.append(state)
+    assert history.latest == states[-1]
+    assert history.at(11.0) == states[50]                 # stamped exactly at the tick
+    assert history.at(11.01) == states[50]                # the latest not after the tick
+    assert history.at(99.0) == states[-1]                 # newer than all: the latest
+    assert history.at(0.0) == states[49]                  # older than kept (1 s): the oldest kept
+    history.append(OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 1.0))   # sim time reset
+    assert history.at(11.0).stamp == 1.0
+    with pytest.raises(ValueError):
+        OdometryHistory(span=0.0)

@@ -1,0 +1,71 @@
+"""Helpers shared by the recording rostests (test_recording_*.py): graph waits,
+topic collectors, the yaml-cpp reader, SIGKILL of a node by name."""
+import os
+import signal
+import subprocess
+import threading
+import time
+import xmlrpc.client
+
+import rosgraph
+import roslib.packages
+import rosnode
+import rospy
+import yaml
+
+WALL_TIMEOUT = 30.0         # s, for anything that waits on the graph
+CALLER = '/recording_test'
+
+
+def wait_for(condition, message, timeout=WALL_TIMEOUT):
+    """Wait (wall time: the clock may not run) until ``condition()``; fail with ``message``."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            raise AssertionError('%s (waited %.0f s wall)' % (message, timeout))
+        time.sleep(0.05)
+
+
+def subscribers_of(topic):
+    _, subscribers, _ = rosgraph.Master(CALLER).getSystemState()
+    return {node for name, nodes in subscribers if name == topic for node in nodes}
+
+
+class Collector(object):
+    """Keeps every message of one topic, thread-safe."""
+
+    def __init__(self, topic, msg_type):
+        self.messages, self._lock = [], threading.Lock()
+        self.sub = rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
+
+    def _on_msg(self, msg):
+        with self._lock:
+            self.messages.append(msg)
+
+    def snapshot(self):
+        with self._lock:
+            return list(self.messages)
+
+
+def landmark_info(path):
+    """Run the yaml-cpp reader; its YAML output as a dict."""
+    found = roslib.packages.find_node('blind_navigation', 'landmark_info')
+    if not found:
+        raise AssertionError('landmark_info is not built (tools/landmark_info.cpp)')
+    output = subprocess.run([found[0], '--list', path],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True,
+                            timeout=WALL_TIMEOUT)
+    if output.returncode != 0:
+        raise AssertionError('landmark_info %s failed (%d): %s' % (path, output.returncode,
+                                                                   output.stderr))
+    return yaml.safe_load(output.stdout)
+
+
+def kill_node(name):
+    """SIGKILL the process of ROS node ``name`` (its pid from its own XML-RPC API)."""
+    uri = rosnode.get_api_uri(rosgraph.Master(CALLER), name)
+    code, message, pid = xmlrpc.client.ServerProxy(uri).getPid(CALLER)
+    if code != 1:
+        raise AssertionError('getPid of %s failed: %s' % (name, message))
+    os.kill(pid, signal.SIGKILL)
+    return pid
