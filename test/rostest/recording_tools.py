@@ -4,7 +4,6 @@ import os
 import signal
 import subprocess
 import threading
-import time
 import xmlrpc.client
 
 import rosgraph
@@ -13,17 +12,15 @@ import rosnode
 import rospy
 import yaml
 
+import waiting
+
 WALL_TIMEOUT = 30.0         # s, for anything that waits on the graph
 CALLER = '/recording_test'
 
 
 def wait_for(condition, message, timeout=WALL_TIMEOUT):
-    """Wait (wall time: the clock may not run) until ``condition()``; fail with ``message``."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            raise AssertionError('%s (waited %.0f s wall)' % (message, timeout))
-        time.sleep(0.05)
+    """Wait until ``condition()``; fail with ``message`` (see waiting.wait_for)."""
+    waiting.wait_for(condition, message, timeout, poll=0.05)
 
 
 def subscribers_of(topic):

@@ -15,16 +15,13 @@ from std_msgs.msg import String
 
 from blind_navigation.ros_common import twist
 
+import waiting
+
 TIMEOUT = 20.0       # s of wall time for any wait
 
 
 def wait_for(condition, what, timeout=TIMEOUT):
-    """Poll ``condition`` (wall time) until true; fail the test naming ``what`` otherwise."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            raise AssertionError('timed out after %.0f s waiting for %s' % (timeout, what))
-        time.sleep(0.01)
+    waiting.wait_for(condition, 'waiting for ' + what, timeout)
 
 
 class Recorder(object):

@@ -2,7 +2,6 @@
 """rostest: each vision-failure mode of the fake TurtleBot looks as specified (``~mode``):
 dark = black images + lost VO, stall = nothing published, lost = good images + lost VO;
 failure comes at ``vision_fail_at`` and /fake_turtlebot/set_vision restores and fails it."""
-import time
 import unittest
 
 import rospy
@@ -11,17 +10,15 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image
 from std_srvs.srv import SetBool
 
+import waiting
+
 TIMEOUT = 20.0
 LOST_DIAGONAL = [9999.0] * 6
 DIAGONAL = (0, 7, 14, 21, 28, 35)
 
 
 def wait_for(condition, what, timeout=TIMEOUT):
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline or rospy.is_shutdown():
-            raise AssertionError('timed out after %.0f s waiting for %s' % (timeout, what))
-        time.sleep(0.01)
+    waiting.wait_for(condition, 'waiting for ' + what, timeout)
 
 
 def is_lost(odom):

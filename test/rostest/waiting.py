@@ -1,0 +1,14 @@
+"""The one polling wait of the rostest nodes: wall-clock bounded, so a stalled sim
+clock fails the test with a message instead of hanging it."""
+import time
+
+import rospy
+
+
+def wait_for(condition, what, timeout=30.0, poll=0.01):
+    """Poll ``condition()`` until true; AssertionError naming ``what`` after ``timeout`` s wall."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            raise AssertionError('gave up after %.0f s (wall): %s' % (timeout, what))
+        time.sleep(poll)
