@@ -1,0 +1,317 @@
+"""`make bench`: the whole evaluation, written to results/ (Markdown, CSV, PNG, TUM, bags).
+
+    /usr/bin/python3 -m blind_navigation.evaluation.bench [--seeds 10] [--processes 2]
+        [--no-ros] [--ros-seeds 3] [--rtf 5] [--out results]
+
+Sections (docs/evaluation.md says what each number means):
+1. Tables III-VI re-measured on the plain-Python harness (paper profile, every
+   control mode, --seeds seeds), paper's values beside ours;
+2. reconstruction: adaptive two-rate vs uniform sampling at the same count;
+3. footprint: landmark file vs a rosbag of /odom (harness, real bags);
+4. TUM trajectories and the figures;
+5. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
+   CPU/RSS of the layer vs rosbag record, detection and rotation latency.
+"""
+import argparse
+import os
+import shutil
+import sys
+import time
+
+from ..core.back_travel import MODES
+from ..core.mission import load_mission
+from . import paper, plots, tables
+from .footprint import write_odom_bag
+from .forward import record_forward
+from .montecarlo import jobs_for, run_jobs
+from .reconstruction import compare_sampling, rebuild_path
+from .report import group, markdown_table, med_range, med_worst, median, num, write_csv
+from .tum import forward_trajectories, write_tum
+
+TABLE3 = sorted(paper.TABLE3)
+TABLE5 = sorted(paper.TABLE5)
+TABLE6 = sorted(paper.TABLE6)
+ROS_AGREEMENT = [('table6_test1', 'time'), ('table6_test1', 'closed_loop')]
+LATENCY_MISSION = 'table3_test5'
+DETECTORS = ('dark', 'stall', 'lost')
+
+
+def log(message):
+    print('bench: %s' % message, flush=True)
+
+
+def _of(rows, prefix):
+    return [r for r in rows if r['mission'].startswith(prefix)]
+
+
+# --------------------------------------------------------------- sections
+def montecarlo(args):
+    missions = TABLE3 + TABLE5 + TABLE6
+    jobs = jobs_for(missions, range(args.seeds), 'paper', MODES)
+    started = time.time()
+    rows = run_jobs(jobs, args.processes,
+                    lambda done, total: log('Monte-Carlo %d/%d jobs (%.0f s)' % (done, total, time.time() - started))
+                    if done % 20 == 0 or done == total else None)
+    write_csv(os.path.join(args.out, 'montecarlo.csv'), rows)
+    return rows
+
+
+def _reconstruction_job(job):
+    mission, profile, seed = job
+    out = compare_sampling(mission, profile, seed)
+    return [dict(out[kind], mission=mission, profile=profile, seed=seed, sampling=kind)
+            for kind in ('adaptive', 'uniform')]
+
+
+def reconstruction(args):
+    jobs = [(m, 'paper', s) for m in TABLE5 + TABLE6 for s in range(args.seeds)]
+    jobs += [(m, 'ideal', 0) for m in TABLE5 + TABLE6]
+    if args.processes > 1:
+        import multiprocessing
+        with multiprocessing.Pool(args.processes) as pool:
+            rows = [r for job_rows in pool.map(_reconstruction_job, jobs) for r in job_rows]
+    else:
+        rows = [r for job in jobs for r in _reconstruction_job(job)]
+    write_csv(os.path.join(args.out, 'reconstruction.csv'), rows)
+    lines = []
+    for (mission, profile), runs in group(rows, 'mission', 'profile').items():
+        by = {k[0]: v for k, v in group(runs, 'sampling').items()}
+        a, u = by['adaptive'], by['uniform']
+        lines.append([mission, profile, len(a), '%s / %s' % (num(median([r['samples'] for r in a]), 0),
+                                                             num(median([r['samples'] for r in u]), 0)),
+                      num(median([r['period'] for r in u]), 2)]
+                     + ['%s / %s' % (med_worst([r[key] * 100 for r in a], 1), med_worst([r[key] * 100 for r in u], 1))
+                        for key in ('truth_mean', 'truth_max', 'odom_mean', 'odom_max')])
+    return markdown_table(['mission', 'profile', 'seeds', 'samples (adaptive / uniform)', 'uniform period s',
+                           'mean dev. from truth cm (adaptive / uniform)', 'max dev. from truth cm',
+                           'mean dev. from odometry cm', 'max dev. from odometry cm'], lines), rows
+
+
+def footprint_and_tum(args):
+    """Landmark file vs a real rosbag of /odom (50 Hz), and TUM files, Table VI seed 0."""
+    bag_dir = os.path.join(args.out, 'footprint')
+    os.makedirs(bag_dir, exist_ok=True)
+    lines, rows = [], []
+    for mission in TABLE6:
+        forward = record_forward(mission, 'paper', 0)
+        bag_bytes = write_odom_bag(os.path.join(bag_dir, '%s_odom.bag' % mission), forward)
+        length = sum(lm.d for lm in forward.landmarks)
+        p = paper.TABLE6[mission]
+        paper_per_m = p['kb'] * 1024.0 / p['distance']
+        rows.append({'mission': mission, 'length': length, 'landmarks': len(forward.landmarks),
+                     'landmark_bytes': forward.bytes, 'bag_bytes': bag_bytes,
+                     'odom_messages': len(forward.odometry), 'paper_kb': p['kb']})
+        lines.append([mission, num(length, 2), len(forward.landmarks), forward.bytes,
+                      num(forward.bytes / length, 0), bag_bytes, num(bag_bytes / length, 0),
+                      num(bag_bytes / float(forward.bytes), 0), '%d KB / %.1f m' % (p['kb'], p['distance']),
+                      num(paper_per_m, 0)])
+        rebuilt = rebuild_path(forward.landmarks, forward.anchor)
+        for kind, poses in forward_trajectories(forward, rebuilt).items():
+            write_tum(os.path.join(args.out, 'trajectories', mission, '%s.tum' % kind), poses)
+    write_csv(os.path.join(args.out, 'footprint.csv'), rows)
+    return markdown_table(['mission (seed 0)', 'length m', 'landmarks', 'landmark file B', 'B/m',
+                           'rosbag /odom B', 'bag B/m', 'bag / landmarks', 'paper memory',
+                           'paper B/m (KB = 1024 B)'], lines)
+
+
+def figures(args, rows):
+    out = {}
+    seed0 = [r for r in rows if r['seed'] == 0 and 'forward_path' in r]
+
+    def panels(missions):
+        result = []
+        for mission in missions:
+            runs = [r for r in seed0 if r['mission'] == mission]
+            if runs:
+                world = load_mission(mission).world or {}
+                obstacles = [(o['x'], o['y'], o['radius']) for o in world.get('obstacles', [])]
+                result.append(('%s (seed 0): %s' % (mission, ', '.join(
+                    '%s %.2f m' % (r['mode'], r['error']) for r in runs)),
+                    runs[0]['forward_path'], {r['mode']: r['return_path'] for r in runs}, obstacles))
+        return result
+    out['fig12'] = plots.forward_return(
+        panels(['table3_test1', 'table3_test4']), os.path.join(args.out, 'fig12_straight.png'),
+        'Like the paper\'s Figure 12: straight line, forward vs back travel (ground truth)')
+    out['fig13'] = plots.forward_return(
+        panels(TABLE5), os.path.join(args.out, 'fig13_curved.png'),
+        'Like the paper\'s Figure 13: curved paths around an obstacle (grey; the harness has no collisions)')
+    out['error'] = plots.error_vs_length(
+        _of(rows, 'table6'), [(p['distance'], p['error']) for p in paper.TABLE6.values()],
+        os.path.join(args.out, 'error_vs_length.png'),
+        'Table VI missions, paper noise profile, %d seeds per point' % args.seeds)
+    shutil.copyfile(out['error'], os.path.join(args.out, 'headline.png'))
+    return out
+
+
+# --------------------------------------------------------------- ROS runs
+def ros_section(args, mc_rows):
+    from .ros_runs import run_ros
+    runs = []
+    for mission, mode in ROS_AGREEMENT:
+        for seed in range(args.ros_seeds):
+            log('ROS run %s %s seed %d (rtf %g)' % (mission, mode, seed, args.rtf))
+            runs.append(run_ros(os.path.join(args.out, 'ros'), mission, mode, seed, args.rtf))
+    for detector in DETECTORS:
+        log('ROS latency run %s, vision failure %s (rtf %g)' % (LATENCY_MISSION, detector, args.latency_rtf))
+        runs.append(run_ros(os.path.join(args.out, 'ros'), LATENCY_MISSION, 'closed_loop', 0,
+                            args.latency_rtf, detector))
+    write_csv(os.path.join(args.out, 'ros_runs.csv'), runs,
+              ['mission', 'mode', 'seed', 'vision_failure', 'rtf_requested', 'rtf', 'state', 'failed',
+               'length', 'samples', 'stationary_samples', 'bytes', 'error', 'detector',
+               'failure_to_trigger', 'trigger_to_rotation', 'wall_s'])
+    ok = [r for r in runs if 'failed' not in r]
+    failed = [r for r in runs if 'failed' in r]
+    text = ''
+    if failed:
+        text += '**Failed ROS runs:** ' + '; '.join(
+            '%s %s seed %s: %s' % (r['mission'], r['mode'], r['seed'], r['failed']) for r in failed) + '\n\n'
+    text += '### ROS vs plain-Python harness (same missions, modes, seeds; paper profile)\n\n'
+    text += agreement_table(ok, mc_rows)
+    text += '\n### Footprint of the running layer vs `rosbag record /odom` (one ROS run each, recording phase)\n\n'
+    text += cpu_table(ok)
+    text += '\n### Latency (sim time, ROS runs on the fake TurtleBot)\n\n'
+    text += latency_table(ok)
+    return text, runs
+
+
+def agreement_table(ros, mc_rows):
+    harness = {(r['mission'], r['mode'], r['seed']): r for r in mc_rows}
+    lines = []
+    for r in ros:
+        if r['vision_failure'] != 'dark' or r['mission'] == LATENCY_MISSION:
+            continue
+        h = harness.get((r['mission'], r['mode'], r['seed']))
+        moving = r['samples'] - (r['stationary_samples'] or 0)
+        lines.append([r['mission'], r['mode'], r['seed'], r['state'],
+                      '%d (+%d before the start)' % (moving, r['stationary_samples'] or 0),
+                      h['samples'] if h else '—', num(r['length'], 2), num(h['length'], 2) if h else '—',
+                      num(r['error']), num(h['error']) if h else '—', num(r['rtf'], 1)])
+    return markdown_table(['mission', 'mode', 'seed', 'ROS state', 'ROS samples', 'harness samples',
+                           'ROS length m', 'harness length m', 'ROS error m', 'harness error m',
+                           'achieved rtf'], lines)
+
+
+RECORDING_NODES = ('sampling_publisher', 'landmark_saver')
+
+
+def cpu_table(ros):
+    with_bag = [r for r in ros if 'odom_bag' in r.get('nodes', {})]
+    if not with_bag:
+        return 'no run measured rosbag record\n'
+    names = [n for n in with_bag[0]['nodes']]
+    lines = []
+    for name in names:
+        cpu = [r['nodes'][name]['cpu_pct'] for r in with_bag if name in r['nodes']]
+        rss = [r['nodes'][name]['rss_peak_mb'] for r in with_bag if name in r['nodes']]
+        lines.append([name, med_range(cpu, 1), med_range(rss, 1)])
+
+    def ratio(nodes, key):
+        values = []
+        for r in with_bag:
+            bag = r['nodes']['odom_bag'][key]
+            values.append(sum(r['nodes'][n][key] for n in nodes if n in r['nodes']) / bag if bag else float('nan'))
+        return med_range(values, 2)
+    layer = [n for n in names if n != 'odom_bag']
+    lines.append(['**ratio recording nodes (%s) / rosbag record**' % ' + '.join(RECORDING_NODES),
+                  ratio(RECORDING_NODES, 'cpu_pct'), ratio(RECORDING_NODES, 'rss_peak_mb')])
+    lines.append(['**ratio all layer nodes / rosbag record**', ratio(layer, 'cpu_pct'), ratio(layer, 'rss_peak_mb')])
+    table = markdown_table(['process', 'CPU % of one core (wall), median [range]', 'peak RSS MB'], lines)
+    disk = []
+    for r in with_bag:
+        if r.get('bag') and r.get('length'):
+            disk.append([r['mission'], r['mode'], r['seed'], num(r['rtf'], 1), r['bytes'],
+                         num(r['bytes'] / r['length'], 0), r['bag']['bytes'], r['bag']['messages'],
+                         num(r['bag']['bytes'] / r['length'], 0), num(r['bag']['bytes'] / float(r['bytes']), 0)])
+    table += '\nOn disk, same runs (the bag spans launch to vision loss, the landmark file the layer\'s recording):\n\n'
+    table += markdown_table(['mission', 'mode', 'seed', 'rtf', 'landmark file B', 'B/m', 'bag B', 'bag messages',
+                             'bag B/m', 'bag / landmarks'], disk)
+    return table
+
+
+def latency_table(ros):
+    lines = []
+    for (failure, rtf), runs in group(ros, 'vision_failure', 'rtf_requested').items():
+        lines.append([failure, ', '.join(sorted(set(r['detector'] for r in runs))), num(rtf, 0), len(runs),
+                      med_range([r['failure_to_trigger'] for r in runs], 2),
+                      med_range([r['trigger_to_rotation'] for r in runs], 2)])
+    return markdown_table(['vision failure', 'detector that fired', 'rtf', 'runs',
+                           'failure -> vision_lost s', 'vision_lost -> first rotation command s'], lines)
+
+
+# --------------------------------------------------------------- report
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument('--seeds', type=int, default=10, help='Monte-Carlo seeds per mission (>= 10 for the tables)')
+    parser.add_argument('--processes', type=int, default=2)
+    parser.add_argument('--no-ros', action='store_true', help='skip the ROS runs')
+    parser.add_argument('--ros-seeds', type=int, default=3)
+    parser.add_argument('--rtf', type=float, default=5.0, help='real-time factor of the agreement runs')
+    parser.add_argument('--latency-rtf', type=float, default=2.0, help='real-time factor of the latency runs')
+    parser.add_argument('--out', default='results')
+    args = parser.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    started = time.time()
+    timings = {}
+
+    def timed(name, function, *a):
+        t = time.time()
+        value = function(*a)
+        timings[name] = time.time() - t
+        log('%s done in %.0f s' % (name, timings[name]))
+        return value
+
+    rows = timed('Monte-Carlo', montecarlo, args)
+    recon_text, _ = timed('reconstruction', reconstruction, args)
+    foot_text = timed('footprint + TUM', footprint_and_tum, args)
+    timed('figures', figures, args, rows)
+    ros_text = ''
+    if not args.no_ros:
+        ros_text, _ = timed('ROS runs', ros_section, args, rows)
+        with open(os.path.join(args.out, 'ros.md'), 'w') as stream:
+            stream.write('## ROS runs\n\n' + ros_text)
+    sections = [
+        ('table_iii', 'Table III: straight lines (paper / ours)', tables.table3(_of(rows, 'table3'))),
+        ('table_iv', 'Table IV: back travel on the straight lines, by forward velocity',
+         tables.table4(_of(rows, 'table3'))),
+        ('table_v', 'Table V: curved paths with obstacles (paper / ours)', tables.table5(_of(rows, 'table5'))),
+        ('table_vi', 'Table VI: six paths, samples, memory, position error per mode',
+         tables.table6(_of(rows, 'table6'))),
+        ('table_vi_recorded', 'Table VI: recorded velocities (paper / ours)',
+         tables.table6_recorded(_of(rows, 'table6'))),
+        ('reconstruction', 'Reconstruction: adaptive two-rate vs uniform sampling, same sample count', recon_text),
+        ('footprint', 'Footprint: landmark file vs rosbag of /odom (harness, 50 Hz, real bags)', foot_text),
+    ]
+    headline = tables.headline(_of(rows, 'table6'))
+    with open(os.path.join(args.out, 'headline.md'), 'w') as stream:
+        stream.write(headline_text(args, headline))
+    for slug, title, text in sections:
+        with open(os.path.join(args.out, '%s.md' % slug), 'w') as stream:
+            stream.write('## %s\n\n%s' % (title, text))
+    total = time.time() - started
+    with open(os.path.join(args.out, 'report.md'), 'w') as stream:
+        stream.write('# blind_navigation evaluation (`make bench`)\n\n')
+        stream.write('Generated by `%s`; %d Monte-Carlo seeds per mission, paper noise profile; '
+                     'wall time %.0f s (%s). What each number means: docs/evaluation.md.\n\n'
+                     % (' '.join(['make bench'] + (argv or sys.argv[1:])), args.seeds, total,
+                        ', '.join('%s %.0f s' % kv for kv in timings.items())))
+        stream.write('## Headline\n\n' + headline_text(args, headline) + '\n')
+        for _, title, text in sections:
+            stream.write('## %s\n\n%s\n' % (title, text))
+        if ros_text:
+            stream.write('## ROS runs\n\n' + ros_text)
+        stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
+                     'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
+                     'CSV: montecarlo.csv, reconstruction.csv, footprint.csv, ros_runs.csv.\n')
+    print(open(os.path.join(args.out, 'report.md')).read())
+    log('wrote %s/report.md in %.0f s' % (args.out, total))
+
+
+def headline_text(args, table):
+    return ('Position error at the end of back travel (ground truth, m), median (worst) over %d seeds '
+            'on the fake TurtleBot with the paper noise profile; `time` is the paper\'s sampled-time '
+            'method, `closed_loop` this package\'s default. Regenerate: `make bench`.\n\n%s\n'
+            '![error vs path length](headline.png)\n' % (args.seeds, table))
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,200 @@
+#!/usr/bin/env python3
+"""bench_probe: the demo observer (demo_observer.py) plus what `make bench` measures in a ROS run.
+
+Runs the demo's script (mission, vision failure via /fake_turtlebot/set_vision,
+wait for home/aborted, row + plot) and also measures:
+
+* latency: sim time from the failure (just before the set_vision call) to
+  /blind_navigation/vision_lost (the trigger), and from the trigger to the first
+  non-zero rotation command of rotate_pi on the teleop topic; the detector that
+  fired (vision_monitor's latched ~loss);
+* footprint: CPU time and peak RSS (psutil; PIDs asked from each node's
+  XML-RPC getPid) of the layer's nodes and of ``rosbag record`` over the
+  recording phase (state ``recording`` -> vision failure); then stops the
+  recorder with SIGINT so its bag covers the same mission;
+* the achieved real-time factor;
+* how the recording lines up with the mission: sim time of the mission's
+  first command (mission_driver on the teleop topic) and of the layer's
+  ``recording`` state, and the landmarks of ``landmark_file`` taken before
+  the robot moved (``v = 0``, ``d < 1 mm``; the layer starts before the
+  scripted operator, the harness starts both together).
+
+Writes everything as JSON to ``out``. Params (DEFAULTS): those of DemoObserver
+plus ``out`` (JSON path, '' = none), ``layer_nodes`` (names), ``bag_node``
+(name of the rosbag recorder, '' = none), ``cmd_vel_topic``, ``rotation_node``,
+``monitor_node``, ``landmark_file``, ``seed``.
+"""
+import json
+import signal
+import time
+import xmlrpc.client
+
+import psutil
+import rosgraph
+import rospy
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Empty, String
+
+from blind_navigation.back_travel_ros import VISION_LOST_TOPIC
+from blind_navigation.core.geometry import distance
+from blind_navigation.core.store import load_landmarks
+from blind_navigation.nodes.demo_observer import DemoObserver
+from blind_navigation.ros_common import start_node
+
+LAYER_NODES = ['sampling_publisher', 'landmark_saver', 'back_travel_client', 'back_travel_server',
+               'rotate_pi', 'vision_monitor']
+
+
+class BenchProbe(DemoObserver):
+    __doc__ = __doc__
+    DEFAULTS = dict(DemoObserver.DEFAULTS, out='', layer_nodes=LAYER_NODES, bag_node='odom_bag',
+                    cmd_vel_topic='/cmd_vel_mux/input/teleop', rotation_node='/rotate_pi',
+                    monitor_node='/vision_monitor', mission_node='/mission_driver',
+                    landmark_file='', seed=0)
+
+    def __init__(self):
+        super(BenchProbe, self).__init__()
+        p = self.params
+        self.times = {}
+        self.detector = ''
+        self.processes = {}
+        self.peak_rss = {}
+        rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost)
+        rospy.Subscriber(p.cmd_vel_topic, Twist, self._on_cmd_vel)
+        rospy.Subscriber(p.monitor_node + '/loss', String, self._on_loss)
+
+    def _stamp(self, key):
+        if key not in self.times:
+            self.times[key] = rospy.Time.now().to_sec()
+
+    def _on_vision_lost(self, _msg):
+        self._stamp('trigger')
+
+    def _on_loss(self, msg):
+        self.detector = msg.data.split(':', 1)[0]
+
+    def _on_cmd_vel(self, msg):
+        caller = msg._connection_header.get('callerid', '')
+        if caller == self.params.mission_node and (msg.linear.x != 0.0 or msg.angular.z != 0.0):
+            self._stamp('mission_start')
+        if caller == self.params.rotation_node and msg.angular.z != 0.0 and 'trigger' in self.times:
+            self._stamp('rotation')
+
+    # ------------------------------------------------------------ processes
+    def find_processes(self):
+        """{node name: psutil.Process} of the layer's nodes and the bag recorder."""
+        master = rosgraph.Master(rospy.get_name())
+        names = list(self.params.layer_nodes) + ([self.params.bag_node] if self.params.bag_node else [])
+        for name in names:
+            try:
+                uri = master.lookupNode('/' + name.lstrip('/'))
+                _, _, pid = xmlrpc.client.ServerProxy(uri).getPid(rospy.get_name())
+                self.processes[name] = psutil.Process(pid)
+            except (rosgraph.MasterError, OSError, psutil.Error) as error:
+                rospy.logwarn('bench_probe: no process for node %s: %s', name, error)
+
+    def cpu_snapshot(self):
+        """{name: CPU seconds (user + system)}, and the peak RSS updated."""
+        out = {}
+        for name, process in self.processes.items():
+            try:
+                times = process.cpu_times()
+                out[name] = times.user + times.system
+                self._sample_rss(name, process)
+            except psutil.Error:
+                pass
+        return out
+
+    def _sample_rss(self, name, process):
+        self.peak_rss[name] = max(self.peak_rss.get(name, 0), process.memory_info().rss)
+
+    def _sample_all_rss(self, _event=None):
+        for name, process in list(self.processes.items()):
+            try:
+                self._sample_rss(name, process)
+            except psutil.Error:
+                pass
+
+    # ------------------------------------------------------------------ run
+    def run(self):
+        p = self.params
+        self.wait(lambda: self.state == 'recording', 600.0, 'state recording')
+        self._stamp('recording_state')
+        self.find_processes()
+        rss_timer = rospy.Timer(rospy.Duration(0.5), self._sample_all_rss)
+        cpu_start, wall_start, sim_start = self.cpu_snapshot(), time.time(), rospy.Time.now().to_sec()
+        self.wait(lambda: self.mission_done, 3600.0, 'the scripted mission to finish')
+        rospy.sleep(p.settle)
+        cpu_end, wall_end = self.cpu_snapshot(), time.time()
+        self.times['recording_start'], self.times['failure'] = sim_start, rospy.Time.now().to_sec()
+        self.stop_bag()
+        rospy.wait_for_service('/fake_turtlebot/set_vision', timeout=30.0)
+        from std_srvs.srv import SetBool
+        rospy.ServiceProxy('/fake_turtlebot/set_vision', SetBool)(False)
+        self.wait(lambda: self.state in ('home', 'aborted'), p.timeout, 'state home or aborted')
+        rss_timer.shutdown()
+        rospy.sleep(p.settle)
+        self.report()
+        self.write_json(cpu_start, cpu_end, wall_end - wall_start,
+                        self.times['failure'] - sim_start)
+
+    def stop_bag(self):
+        process = self.processes.get(self.params.bag_node)
+        if process is not None:
+            try:
+                process.send_signal(signal.SIGINT)
+            except psutil.Error as error:
+                rospy.logwarn('bench_probe: could not stop the bag recorder: %s', error)
+
+    def stationary_landmarks(self):
+        """Landmarks recorded before the robot first moved, or None without a file."""
+        if not self.params.landmark_file:
+            return None
+        count = 0
+        for landmark in load_landmarks(self.params.landmark_file).landmarks:
+            if landmark.v != 0.0 or landmark.d >= 1e-3:
+                break
+            count += 1
+        return count
+
+    def write_json(self, cpu_start, cpu_end, wall, sim):
+        p = self.params
+        if not p.out:
+            return
+        forward, back = self.paths['forward'], self.paths['return']
+        start, end = forward[0], (back or forward)[-1]
+        fp = self.footprint
+        t = self.times
+        nodes = {name: {'cpu_s': cpu_end[name] - cpu_start[name],
+                        'cpu_pct': 100.0 * (cpu_end[name] - cpu_start[name]) / wall if wall > 0 else None,
+                        'rss_peak_mb': self.peak_rss.get(name, 0) / 1e6}
+                 for name in cpu_start if name in cpu_end}
+        result = {
+            'mission': p.scenario, 'mode': p.control, 'seed': p.seed, 'state': self.state,
+            'length': fp.distance if fp else None, 'samples': fp.landmarks if fp else None,
+            'bytes': fp.bytes if fp else None,
+            'error': distance(start[0], start[1], end[0], end[1]),
+            'stationary_samples': self.stationary_landmarks(),
+            'mission_start': t.get('mission_start'), 'recording_state': t.get('recording_state'),
+            'detector': self.detector,
+            'failure_to_trigger': t['trigger'] - t['failure'] if 'trigger' in t else None,
+            'trigger_to_rotation': t['rotation'] - t['trigger'] if 'rotation' in t and 'trigger' in t else None,
+            'recording_wall_s': wall, 'recording_sim_s': sim, 'rtf': sim / wall if wall > 0 else None,
+            'nodes': nodes, 'forward_path': forward, 'return_path': back,
+        }
+        with open(p.out, 'w') as stream:
+            json.dump(result, stream)
+        rospy.loginfo('bench_probe: wrote %s', p.out)
+
+
+def main():
+    node = start_node('bench_probe', BenchProbe)
+    try:
+        node.run()
+    except (RuntimeError, rospy.ROSException) as error:
+        rospy.logerr('%s', error)
+        raise SystemExit(1)
+
+
+if __name__ == '__main__':
+    main()
