@@ -1,12 +1,15 @@
 """rospy glue shared by the back-travel nodes (rotate_pi, back_travel_server,
 back_travel_client): topic names, the latest-odometry holder with a staleness
-check, and a clamped velocity output that stops the robot on shutdown."""
+check, a clamped velocity output that can be halted and stops the robot on
+shutdown, and the Kobuki safety-event watcher (core/safety.py rules)."""
 import threading
 
 import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
+from blind_navigation import kobuki_msgs_compat as kobuki
+from blind_navigation.core.safety import SafetyEvents, VelocityLimits
 from blind_navigation.ros_common import odom_state_from_msg, twist
 
 VISION_LOST_TOPIC = '/blind_navigation/vision_lost'
@@ -15,6 +18,12 @@ STATE_TOPIC = '/blind_navigation/state'
 FOOTPRINT_TOPIC = '/blind_navigation/footprint'
 RETURN_PATH_TOPIC = '/blind_navigation/return_path'
 BACK_TRAVEL_ACTION = '/blind_navigation/back_travel'
+RETURN_ROUTE_SERVICE = '/blind_navigation/set_return_route'
+#: Kobuki's safety events (kobuki_node names), remappable by their ~params.
+EVENT_TOPICS = {'bumper': '/mobile_base/events/bumper', 'cliff': '/mobile_base/events/cliff',
+                'wheel_drop': '/mobile_base/events/wheel_drop'}
+EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
+               'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
 
 
 class LatestOdom(object):
@@ -58,9 +67,44 @@ class LatestOdom(object):
         return 'odometry on %s is older than %.2f s' % (self.topic, timeout)
 
 
+class SafetyMonitor(object):
+    """Watches Kobuki's bumper, cliff and wheel-drop events (``topics``: kind ->
+    topic); ``on_trip(reason)`` is called from the subscriber thread when a
+    sensor becomes active. ``active`` lists the conditions active now."""
+
+    def __init__(self, topics, on_trip=None):
+        self._events = SafetyEvents()
+        self._lock = threading.Lock()
+        self._on_trip = on_trip
+        self.last_reason = None
+        for kind, topic in topics.items():
+            msg_type, index_field = EVENT_TYPES[kind]
+            rospy.Subscriber(topic, msg_type, self._on_event, (kind, index_field), queue_size=10)
+
+    def _on_event(self, msg, args):
+        kind, index_field = args
+        with self._lock:
+            reason = self._events.update(kind, getattr(msg, index_field), msg.state)
+            if reason:
+                self.last_reason = reason
+        if reason:
+            rospy.logerr('%s: SAFETY STOP: %s', rospy.get_name(), reason)
+            if self._on_trip:
+                self._on_trip(reason)
+
+    @property
+    def active(self):
+        with self._lock:
+            return self._events.active
+
+
 class VelocityOutput(object):
-    """Publishes geometry_msgs/Twist on ``topic`` clamped to ``max_v``/``max_w``;
-    publishes zero on :meth:`stop` and on node shutdown."""
+    """Publishes geometry_msgs/Twist on ``topic`` within ``max_v``/``max_w`` and
+    the current goal's :meth:`limit` (core/safety.VelocityLimits.clamp: v and w
+    scaled together); publishes zero on :meth:`stop` and on node shutdown.
+    :meth:`halt` stops at once and turns every later :meth:`publish` into zero
+    until :meth:`release`, so a control loop that computed its command before a
+    cancel or a safety event cannot move the robot again."""
 
     def __init__(self, topic, max_v, max_w):
         if max_v < 0 or max_w <= 0:
@@ -68,16 +112,38 @@ class VelocityOutput(object):
                              % (max_v, max_w))
         self.topic = topic
         self.max_v, self.max_w = float(max_v), float(max_w)
+        self.limits = VelocityLimits(self.max_v, self.max_w)
+        self.halted = None          # why, while halted
+        self._lock = threading.Lock()
         self._pub = rospy.Publisher(topic, Twist, queue_size=1)
-        rospy.on_shutdown(self.stop)
+        rospy.on_shutdown(lambda: self.halt('node shutdown'))
+
+    def limit(self, limits=None):
+        """Clamp to ``limits`` (a goal's) as well as the configured ones; None resets."""
+        with self._lock:
+            self.limits = VelocityLimits(min(self.max_v, limits.max_v), min(self.max_w, limits.max_w)) \
+                if limits else VelocityLimits(self.max_v, self.max_w)
 
     def publish(self, v, w):
-        v = max(-self.max_v, min(self.max_v, v))
-        w = max(-self.max_w, min(self.max_w, w))
-        self._pub.publish(twist(v, w))
+        with self._lock:
+            v, w = self.limits.clamp(v, w) if self.halted is None else (0.0, 0.0)
+            self._send(v, w)
 
     def stop(self):
+        with self._lock:
+            self._send(0.0, 0.0)
+
+    def halt(self, reason):
+        with self._lock:
+            self.halted = reason
+            self._send(0.0, 0.0)
+
+    def release(self):
+        with self._lock:
+            self.halted = None
+
+    def _send(self, v, w):
         try:
-            self._pub.publish(twist(0.0, 0.0))
+            self._pub.publish(twist(v, w))
         except rospy.ROSException:
             pass  # publisher already closed at shutdown

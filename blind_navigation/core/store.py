@@ -211,7 +211,8 @@ def load_landmarks(path, limits=Limits(), allow_empty=False):
             raise LandmarkFileError(path, str(error), key)
         labels.append(key)
     if not landmarks and not allow_empty:
-        raise LandmarkFileError(path, 'no landmarks in the file (empty path)')
+        raise LandmarkFileError(path, 'no landmarks in the file (empty path)%s'
+                                % ''.join('; ' + warning for warning in warnings))
     return LoadedPath(path, landmarks, labels, metadata.get(METADATA_KEY, {}) or {}, warnings)
 
 

@@ -6,16 +6,32 @@ State walk, published latched on /blind_navigation/state (std_msgs/String):
 ``idle`` -> ``recording`` (first /blind_navigation/footprint seen) ->
 ``rotating`` (/blind_navigation/vision_lost) -> ``returning``
 (/blind_navigation/rotation_done true) -> ``home`` (every goal succeeded) or
-``aborted`` (rotation failed, bad landmark file, no server, a goal failed).
+``aborted`` (with the reason logged: rotation failed, bad landmark file, no
+server, a goal failed, a Kobuki safety event, a time allowance exceeded).
 
-When returning: loads ``landmark_file`` with core/store.load_landmarks (a bad
-file aborts with the file and entry named; nothing is driven), waits for the
-/blind_navigation/back_travel server (``server_timeout``), then sends the
-landmarks in reverse order, one goal at a time, waiting for each result.
-Publishes the odometry poses of the return on /blind_navigation/return_path.
+At vision loss it takes the anchor (odometry position where recording
+stopped) and the landmark file's real path (``landmark_file`` is the
+recorder's symlink). When returning: loads that file with
+core/store.load_landmarks (a bad file aborts with the file and entry named;
+nothing is driven), waits for the /blind_navigation/back_travel server
+(``server_timeout``), sets the route (/blind_navigation/set_return_route), then
+sends the landmarks in reverse order, one goal at a time, each within its
+allowance and the whole return within ``return_timeout_factor`` x the expected
+time + ``return_timeout_margin``. Publishes the odometry poses of the return on
+/blind_navigation/return_path.
+
+Progress (core/safety.ReturnProgress: real path and sha256 of the landmark
+file, anchor, landmarks completed, position) is written atomically to
+``<landmark_file stem>.progress.yaml`` next to ``landmark_file`` at vision loss
+and after each goal. A client restarted while a return was under way
+(progress ``returning``, updated within ``resume_timeout`` wall seconds, file
+unchanged, robot within ``resume_max_offset`` of where it stopped) resumes
+with the next landmark instead of starting over; otherwise it aborts or, for a
+finished or old return, starts ``idle``. The landmark file is only read.
 """
 import os
 import threading
+import time
 
 import actionlib
 import rospy
@@ -25,14 +41,24 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 from std_msgs.msg import Bool, Empty, String
 
-from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, FOOTPRINT_TOPIC,
-                                              RETURN_PATH_TOPIC, ROTATION_DONE_TOPIC, STATE_TOPIC,
-                                              VISION_LOST_TOPIC, LatestOdom)
+from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, EVENT_TOPICS, FOOTPRINT_TOPIC,
+                                              RETURN_PATH_TOPIC, RETURN_ROUTE_SERVICE,
+                                              ROTATION_DONE_TOPIC, STATE_TOPIC,
+                                              VISION_LOST_TOPIC, LatestOdom, SafetyMonitor)
 from blind_navigation.core import state
 from blind_navigation.core.geometry import distance, quaternion_from_yaw
+from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
+from blind_navigation.core.safety import (SAFETY_DEFAULTS, ProgressError, ReturnProgress,
+                                          expected_duration, file_digest, load_progress,
+                                          position_check, progress_path, resume_check,
+                                          return_allowance, save_progress)
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal, Footprint
 from blind_navigation.ros_common import load_params, start_node
+from blind_navigation.srv import SetReturnRoute
+
+#: How often the goal wait checks safety events and allowances, s.
+WAIT_SLICE = 0.02
 
 
 class BackTravelClient(object):
@@ -40,47 +66,78 @@ class BackTravelClient(object):
 
     Params (DEFAULTS): ``landmark_file``
     ('~/.ros/blind_navigation/landmarks.yaml', the recorder's symlink),
-    ``odom_topic`` ('/odom', for return_path only), ``server_timeout`` (s, 10:
-    wait for the action server), ``goal_timeout_factor`` (5) and
-    ``goal_timeout_margin`` (s, 10): a goal's result is awaited at most
-    factor * max(T, d / slowest_v) + margin, ``slowest_v`` (m/s, 0.03),
-    ``path_spacing`` (m, 0.02 between return_path poses).
+    ``odom_topic`` ('/odom': anchor, progress, return_path), ``odom_timeout``
+    (s, 0.5: odometry older than this is not used for the anchor),
+    ``server_timeout`` (s, 10: wait for the action server),
+    ``goal_timeout_factor`` (5) and ``goal_timeout_margin`` (s, 10): a goal's
+    result is awaited at most factor * max(T, d / max(|v|, slowest_v)) + margin
+    (a backstop: the server's own allowance is tighter),
+    ``return_timeout_factor`` (3) and ``return_timeout_margin`` (s, 30): the
+    whole return's allowance, ``slowest_v`` (m/s, 0.03), ``max_v`` / ``max_w``
+    (0.7 m/s, pi rad/s, Kobuki's limits: a landmark beyond them is a bad
+    file), ``resume_timeout`` (s wall, 600) and ``resume_max_offset`` (m, 0.5):
+    when a restarted client resumes, ``path_spacing`` (m, 0.02 between
+    return_path poses), ``bumper_topic`` / ``cliff_topic`` / ``wheel_drop_topic``.
     """
 
-    DEFAULTS = {
+    DEFAULTS = dict({
         'landmark_file': os.path.join('~', '.ros', 'blind_navigation', 'landmarks.yaml'),
         'odom_topic': '/odom',
+        'odom_timeout': 0.5,
         'server_timeout': 10.0,
         'goal_timeout_factor': 5.0,
         'goal_timeout_margin': 10.0,
-        'slowest_v': 0.03,
+        'return_timeout_factor': 3.0,
+        'return_timeout_margin': 30.0,
+        'slowest_v': SAFETY_DEFAULTS['slowest_v'],
+        'max_v': KOBUKI_MAX_V,
+        'max_w': KOBUKI_MAX_W,
+        'resume_timeout': SAFETY_DEFAULTS['resume_timeout'],
+        'resume_max_offset': SAFETY_DEFAULTS['resume_max_offset'],
         'path_spacing': 0.02,
-    }
+    }, **{kind + '_topic': topic for kind, topic in EVENT_TOPICS.items()})
 
     def __init__(self):
         p = self.params = load_params(self.DEFAULTS)
         if not isinstance(p.landmark_file, str) or not p.landmark_file.strip():
             raise ValueError('~landmark_file must be a file path, got %r' % (p.landmark_file,))
-        for name in ('server_timeout', 'goal_timeout_factor', 'slowest_v', 'path_spacing'):
+        for name in ('odom_timeout', 'server_timeout', 'goal_timeout_factor', 'return_timeout_factor',
+                     'slowest_v', 'max_v', 'max_w', 'resume_timeout', 'resume_max_offset',
+                     'path_spacing'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
+        self.limits = Limits(p.max_v, p.max_w)
+        self.progress_file = progress_path(p.landmark_file)
+        self.progress = None
         self.state = None
         self._lock = threading.Lock()
         self._return = threading.Event()
+        self._trip = None
         self.state_pub = rospy.Publisher(STATE_TOPIC, String, queue_size=1, latch=True)
         self.path_pub = rospy.Publisher(RETURN_PATH_TOPIC, Path, queue_size=1, latch=True)
         self.path = Path()
-        self.client = actionlib.SimpleActionClient(BACK_TRAVEL_ACTION, BackTravelAction)
-        self.set_state(state.IDLE)
+        # Made when the return starts, not here: rospy drops a publisherUpdate that
+        # arrives while registerSubscriber is in flight (RegManager keeps only the
+        # newest update per topic, the call's stale empty list), so subscribing at
+        # start-up, while the server registers, can leave feedback/result unconnected
+        # for good ("action server not available"). By the return the server is known.
+        self.client = None
+        self._start_from_progress()
         self.odom = LatestOdom(p.odom_topic, self._on_odom)
+        self.safety = SafetyMonitor({kind: getattr(p, kind + '_topic') for kind in EVENT_TOPICS},
+                                    self._on_trip)
         rospy.Subscriber(FOOTPRINT_TOPIC, Footprint, self._on_footprint, queue_size=5)
         rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost, queue_size=1)
         rospy.Subscriber(ROTATION_DONE_TOPIC, Bool, self._on_rotation_done, queue_size=1)
         rospy.on_shutdown(self._on_shutdown)
 
+    # --- state ---------------------------------------------------------------
+
     def set_state(self, new_state, reason=''):
         with self._lock:
             old, self.state = self.state, new_state
+        if self.progress is not None and new_state in (state.HOME, state.ABORTED):
+            self._save_progress(status=new_state)   # persisted before it is announced
         log = rospy.logerr if new_state == state.ABORTED else rospy.loginfo
         log('%s: state %s -> %s%s', rospy.get_name(), old, new_state, ': ' + reason if reason else '')
         self.state_pub.publish(String(data=new_state))
@@ -96,19 +153,77 @@ class BackTravelClient(object):
         self.set_state(new_state)
         return True
 
+    def _start_from_progress(self):
+        """First state: ``returning`` to resume an unfinished return, ``aborted``
+        if one was under way but cannot continue, else ``idle``."""
+        try:
+            progress = load_progress(self.progress_file)
+        except ProgressError as error:
+            rospy.logerr('%s: %s; not resuming anything', rospy.get_name(), error)
+            progress = None
+        if progress is None:
+            self.set_state(state.IDLE)
+            return
+        try:
+            digest = file_digest(progress.landmark_file)
+        except OSError:
+            digest = None
+        decision, why = resume_check(progress, time.time(), digest, self.params.resume_timeout)
+        if decision == 'ignore':
+            rospy.loginfo('%s: %s (%s)', rospy.get_name(), why, self.progress_file)
+            self.set_state(state.IDLE)
+            return
+        self.progress = progress
+        if decision == 'abort':
+            self.set_state(state.ABORTED, why)
+            return
+        rospy.logwarn('%s: %s (%s)', rospy.get_name(), why, self.progress_file)
+        self.set_state(state.RETURNING, 'resume after a restart')
+        self._return.set()
+
+    def _save_progress(self, **changes):
+        """Update and persist the progress (atomically, next to the landmark file)."""
+        odom = self.odom.fresh(self.params.odom_timeout) if hasattr(self, 'odom') else None
+        if odom is not None:
+            changes.setdefault('position', [odom.x, odom.y])
+        self.progress = self.progress._replace(updated=time.time(), **changes)
+        try:
+            save_progress(self.progress_file, self.progress)
+        except OSError as error:
+            rospy.logerr('%s: cannot write the return progress %s: %s', rospy.get_name(),
+                         self.progress_file, error)
+
+    # --- events --------------------------------------------------------------
+
     def _on_footprint(self, _msg):
         self._transition(state.IDLE, state.RECORDING, 'footprint')
 
     def _on_vision_lost(self, _msg):
-        self._transition(state.RECORDING, state.ROTATING, 'vision_lost')
+        if self._transition(state.RECORDING, state.ROTATING, 'vision_lost'):
+            odom = self.odom.fresh(self.params.odom_timeout)
+            anchor = [odom.x, odom.y] if odom else None
+            self.progress = ReturnProgress(
+                landmark_file=os.path.realpath(os.path.expanduser(self.params.landmark_file)),
+                digest='', landmarks=0, anchor=anchor, frame_id=self.odom.frame_id, completed=0,
+                position=anchor, status=state.ROTATING, updated=time.time())
+            self._save_progress()
 
     def _on_rotation_done(self, msg):
         if not msg.data:
-            if self._transition(state.ROTATING, state.ABORTED, 'rotation_done false'):
-                rospy.logerr('%s: the pi rotation failed; not travelling back', rospy.get_name())
+            safety = self._trip or ', '.join(self.safety.active)
+            reason = 'the pi rotation failed%s; not travelling back' % (
+                ' (safety stop: %s)' % safety if safety else '')
+            with self._lock:
+                rotating = self.state == state.ROTATING
+            if rotating:
+                self.set_state(state.ABORTED, reason)
             return
         if self._transition(state.ROTATING, state.RETURNING, 'rotation_done true'):
             self._return.set()
+
+    def _on_trip(self, reason):
+        if self.state in (state.ROTATING, state.RETURNING):
+            self._trip = reason
 
     def _on_odom(self, odom, msg):
         if self.state != state.RETURNING:
@@ -127,8 +242,10 @@ class BackTravelClient(object):
         self.path_pub.publish(self.path)
 
     def _on_shutdown(self):
-        if self.state == state.RETURNING:
+        if self.state == state.RETURNING and self.client is not None:
             self.client.cancel_all_goals()
+
+    # --- the return ------------------------------------------------------------
 
     def spin(self):
         while not rospy.is_shutdown():
@@ -139,37 +256,114 @@ class BackTravelClient(object):
                     self.set_state(state.HOME if ok else state.ABORTED, reason)
 
     def travel_back(self):
-        """Figure 6: load, reverse, send goal by goal. Returns (ok, reason)."""
+        """Figure 6: load, reverse, send goal by goal (from the first landmark not
+        completed yet). Returns (ok, reason)."""
         p = self.params
+        resuming = self.progress.status == state.RETURNING
+        path = self.progress.landmark_file
         try:
-            loaded = load_landmarks(os.path.expanduser(p.landmark_file))
+            loaded = load_landmarks(path, limits=self.limits)
+            digest = file_digest(path)
+        except OSError as error:
+            return False, 'landmark file unusable: %s: cannot read: %s' % (path, error.strerror)
         except LandmarkFileError as error:
             return False, 'landmark file unusable: %s' % error
         for warning in loaded.warnings:
             rospy.logwarn('%s: %s', rospy.get_name(), warning)
-        rospy.loginfo('%s: %d landmarks, %.2f m, from %s; waiting for %s', rospy.get_name(),
-                      len(loaded.landmarks), loaded.total_distance, loaded.path, BACK_TRAVEL_ACTION)
+        goals = list(zip(loaded.labels, loaded.landmarks))[::-1]
+        if resuming:
+            if digest != self.progress.digest or len(goals) != self.progress.landmarks:
+                return False, 'landmark file %s changed since the return started' % path
+            problem = self._wait_for_position()
+            if problem:
+                return False, 'cannot resume: %s' % problem
+        elif self.progress.anchor is None:
+            odom = self.odom.fresh(p.odom_timeout)
+            if odom is None:
+                return False, 'no odometry for the return: %s' % self.odom.describe_missing(
+                    p.odom_timeout)
+            self.progress = self.progress._replace(anchor=[odom.x, odom.y])
+        done = self.progress.completed if resuming else 0
+        self._save_progress(status=state.RETURNING, digest=digest, landmarks=len(goals),
+                            completed=done)
+        rospy.loginfo('%s: %d landmarks, %.2f m, from %s; %s; waiting for %s', rospy.get_name(),
+                      len(goals), loaded.total_distance, path,
+                      'resuming after %d' % done if done else 'starting', BACK_TRAVEL_ACTION)
+        if self.client is None:
+            self.client = actionlib.SimpleActionClient(BACK_TRAVEL_ACTION, BackTravelAction)
         if not self.client.wait_for_server(rospy.Duration(p.server_timeout)):
             return False, ('action server %s not available after %.0f s (is back_travel_server '
                            'running?)' % (BACK_TRAVEL_ACTION, p.server_timeout))
-        goals = list(zip(loaded.labels, loaded.landmarks))[::-1]
+        problem = self._set_route([landmark for _, landmark in goals[:done]])
+        if problem:
+            return False, problem
+        remaining = [landmark for _, landmark in goals[done:]]
+        allowance = return_allowance(remaining, p.return_timeout_factor, p.return_timeout_margin,
+                                     p.slowest_v)
+        deadline = rospy.get_time() + allowance
         travelled = 0.0
-        for number, (label, landmark) in enumerate(goals, 1):
-            goal = BackTravelGoal(*landmark.as_list())
-            self.client.send_goal(goal)
-            allowed = (p.goal_timeout_factor * max(landmark.T, landmark.d / p.slowest_v)
-                       + p.goal_timeout_margin)
-            if not self.client.wait_for_result(rospy.Duration(allowed)):
-                self.client.cancel_goal()
-                return False, 'goal %d/%d (%s): no result within %.0f s' % (number, len(goals),
-                                                                             label, allowed)
+        for number, (label, landmark) in enumerate(goals[done:], done + 1):
+            where = 'goal %d/%d (%s)' % (number, len(goals), label)
+            self.client.send_goal(BackTravelGoal(*landmark.as_list()))
+            problem = self._wait_for_goal(where, landmark, deadline, allowance)
+            if problem:
+                return False, problem
             status = self.client.get_state()
             if status != GoalStatus.SUCCEEDED:
-                return False, 'goal %d/%d (%s) ended %s: %s' % (
-                    number, len(goals), label, get_name_of_constant(GoalStatus, status),
-                    self.client.get_goal_status_text())
+                return False, '%s ended %s: %s' % (where, get_name_of_constant(GoalStatus, status),
+                                                    self.client.get_goal_status_text())
             travelled += self.client.get_result().distance
-        return True, 'travelled %.3f m over %d landmarks' % (travelled, len(goals))
+            self._save_progress(completed=number)
+        return True, 'travelled %.3f m over %d landmarks%s' % (
+            travelled, len(goals) - done, ' (resumed after %d)' % done if done else '')
+
+    def _wait_for_position(self):
+        """Resuming: wait (wall-bounded) for odometry, check the robot is where the
+        return stopped; None if fine, else why not."""
+        deadline = time.monotonic() + self.params.server_timeout
+        odom = None
+        while odom is None and time.monotonic() < deadline and not rospy.is_shutdown():
+            odom = self.odom.fresh(self.params.odom_timeout)
+            time.sleep(0.05)
+        return position_check(self.progress, [odom.x, odom.y] if odom else None,
+                              self.params.resume_max_offset)
+
+    def _set_route(self, completed):
+        """Give the server the route: anchor + completed landmarks. None if set."""
+        request_timeout = self.params.server_timeout
+        try:
+            rospy.wait_for_service(RETURN_ROUTE_SERVICE, request_timeout)
+            set_route = rospy.ServiceProxy(RETURN_ROUTE_SERVICE, SetReturnRoute)
+            response = set_route(header=rospy.Header(stamp=rospy.Time.now(),
+                                                     frame_id=self.progress.frame_id or ''),
+                                 anchor_x=self.progress.anchor[0], anchor_y=self.progress.anchor[1],
+                                 completed=[value for lm in completed for value in lm.as_list()])
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            return 'cannot set the return route on %s: %s' % (RETURN_ROUTE_SERVICE, error)
+        return None if response.ok else 'return route refused: %s' % response.message
+
+    def _wait_for_goal(self, where, landmark, deadline, allowance):
+        """Wait for the goal's result; cancel it and say why on a safety event, the
+        goal's backstop or the whole return's allowance. None once it ended."""
+        p = self.params
+        goal_allowance = (p.goal_timeout_factor * expected_duration(landmark, p.slowest_v)
+                          + p.goal_timeout_margin)
+        goal_deadline = rospy.get_time() + goal_allowance
+        while not self.client.wait_for_result(rospy.Duration(WAIT_SLICE)):
+            now = rospy.get_time()
+            if self._trip:
+                problem = '%s: safety stop: %s' % (where, self._trip)
+            elif now > goal_deadline:
+                problem = '%s: no result within %.0f s' % (where, goal_allowance)
+            elif now > deadline:
+                problem = '%s: the return exceeded its time allowance of %.0f s' % (where, allowance)
+            elif rospy.is_shutdown():
+                problem = '%s: node shutting down' % where
+            else:
+                continue
+            self.client.cancel_goal()
+            return problem
+        return None
 
 
 def main():

@@ -13,23 +13,34 @@ milliseconds); if no new goal starts within ``handover_timeout`` of a success,
 zero velocity is published, so the robot stops after the last landmark.
 
 closed_loop: the goals of one return share a core/back_travel.ReturnRoute,
-anchored at the odometry position where the state became ``rotating`` (where
-recording stopped); without that state, at the start of the first goal.
+set by back_travel_client through /blind_navigation/set_return_route
+(blind_navigation/SetReturnRoute: the anchor where recording stopped and the
+landmarks already completed, so a restarted layer resumes on the same route);
+without it, anchored at the start of the first goal.
+
+Safety (core/safety.py, docs/safety.md): each goal is clamped to ``max_v`` /
+``max_w`` and to what was recorded (goal_limits); odometry older than
+``odom_timeout`` aborts the goal with zero velocity; a Kobuki bumper, cliff or
+wheel-drop event halts the output at once (zero velocity, from the event
+callback) and aborts the goal naming the sensor; while a sensor is still
+active no goal starts. Cancel, error and shutdown publish zero velocity.
 """
 import threading
+import types
 
 import actionlib
 import rospy
-from std_msgs.msg import String
 
-from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, STATE_TOPIC, LatestOdom,
+from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, EVENT_TOPICS,
+                                              RETURN_ROUTE_SERVICE, LatestOdom, SafetyMonitor,
                                               VelocityOutput)
-from blind_navigation.core import state
 from blind_navigation.core.back_travel import (BACK_TRAVEL_DEFAULTS, MODES, ReturnRoute,
                                                make_controller)
 from blind_navigation.core.landmark import landmark_from_values
+from blind_navigation.core.safety import SAFETY_DEFAULTS, goal_limits, landmarks_from_flat
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros_common import load_params, start_node
+from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
 
 
 class BackTravelServer(object):
@@ -37,8 +48,11 @@ class BackTravelServer(object):
 
     Params (DEFAULTS): ``control`` ('closed_loop'), ``cmd_vel_topic``
     ('/cmd_vel_mux/input/teleop'), ``odom_topic`` ('/odom'), ``control_rate``
-    (Hz, 50), ``feedback_rate`` (Hz, 5), ``odom_timeout`` (s, 0.5),
-    ``handover_timeout`` (s, 0.1), and core/back_travel.py's
+    (Hz, 50), ``feedback_rate`` (Hz, 5), ``odom_timeout`` (s, 0.4: older
+    odometry stops the robot), ``handover_timeout`` (s, 0.1),
+    ``correction_w`` (rad/s, 0.3: a goal may turn this much beyond its
+    recorded |w|), ``bumper_topic`` / ``cliff_topic`` / ``wheel_drop_topic``
+    (Kobuki's /mobile_base/events/*), and core/back_travel.py's
     BACK_TRAVEL_DEFAULTS: ``straight_period`` (s, 2.0: must equal the sampling
     publisher's straight period), ``max_v`` (0.5 m/s), ``max_w`` (1.0 rad/s),
     ``timeout_factor`` (3), ``timeout_margin`` (2 s), ``lookahead`` (0.1 m),
@@ -47,7 +61,9 @@ class BackTravelServer(object):
 
     DEFAULTS = dict(BACK_TRAVEL_DEFAULTS, control='closed_loop',
                     cmd_vel_topic='/cmd_vel_mux/input/teleop', odom_topic='/odom',
-                    control_rate=50.0, feedback_rate=5.0, odom_timeout=0.5, handover_timeout=0.1)
+                    control_rate=50.0, feedback_rate=5.0, odom_timeout=0.4, handover_timeout=0.1,
+                    correction_w=SAFETY_DEFAULTS['correction_w'],
+                    **{kind + '_topic': topic for kind, topic in EVENT_TOPICS.items()})
 
     def __init__(self):
         p = self.params = load_params(self.DEFAULTS)
@@ -57,13 +73,18 @@ class BackTravelServer(object):
                      'straight_period'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
+        if not p.correction_w >= 0:
+            raise ValueError('~correction_w must be >= 0, got %r' % (p.correction_w,))
         self.output = VelocityOutput(p.cmd_vel_topic, p.max_v, p.max_w)
         self.odom = LatestOdom(p.odom_topic)
         self._lock = threading.Lock()
         self._active = False
         self._handover = None
+        self._tripped = None        # safety reason that stopped the current goal
         self.route = None
-        rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=5)
+        self.safety = SafetyMonitor({kind: getattr(p, kind + '_topic') for kind in EVENT_TOPICS},
+                                    self._on_trip)
+        rospy.Service(RETURN_ROUTE_SERVICE, SetReturnRoute, self._on_set_route)
         self.server = actionlib.SimpleActionServer(BACK_TRAVEL_ACTION, BackTravelAction,
                                                    execute_cb=self.execute, auto_start=False)
         self.server.register_preempt_callback(self._on_preempt)
@@ -71,17 +92,31 @@ class BackTravelServer(object):
         rospy.loginfo('%s: serving %s in %s mode on %s', rospy.get_name(), BACK_TRAVEL_ACTION,
                       p.control, p.cmd_vel_topic)
 
-    def _on_state(self, msg):
-        if msg.data == state.ROTATING:
-            odom = self.odom.fresh(self.params.odom_timeout)
-            with self._lock:
-                self.route = ReturnRoute((odom.x, odom.y) if odom else None,
-                                         self.params.straight_period)
-            rospy.loginfo('%s: new return route anchored at %s', rospy.get_name(),
-                          '(%.3f, %.3f)' % (odom.x, odom.y) if odom else 'the first goal')
+    def _on_set_route(self, request):
+        """A new return route: anchor + the landmarks already completed."""
+        try:
+            completed = landmarks_from_flat(request.completed)
+        except ValueError as error:
+            return SetReturnRouteResponse(ok=False, message=str(error))
+        route = ReturnRoute((request.anchor_x, request.anchor_y), self.params.straight_period)
+        for landmark in completed:
+            route.add(landmark)
+            route.locate(*route.points[-1])   # progress tracking follows the rebuilt route
+        with self._lock:
+            self.route = route
+        rospy.loginfo('%s: return route anchored at (%.3f, %.3f) in %s, %d landmarks completed',
+                      rospy.get_name(), request.anchor_x, request.anchor_y,
+                      request.header.frame_id or '?', len(completed))
+        return SetReturnRouteResponse(ok=True, message='')
+
+    def _on_trip(self, reason):
+        with self._lock:
+            if self._active:
+                self._tripped = reason
+                self.output.halt('safety: ' + reason)  # at once, from the event callback
 
     def _on_preempt(self):
-        self.output.stop()  # at once, not at the next control cycle
+        self.output.halt('cancel')  # at once, not at the next control cycle
 
     def _on_handover_timeout(self, _event):
         with self._lock:
@@ -91,6 +126,7 @@ class BackTravelServer(object):
     def execute(self, goal):
         with self._lock:
             self._active = True
+            self._tripped = None
             if self._handover is not None:
                 self._handover.shutdown()
                 self._handover = None
@@ -100,9 +136,11 @@ class BackTravelServer(object):
             outcome = self._run(goal)
         except Exception as error:  # never leave the robot moving or the goal hanging
             rospy.logerr('%s: goal failed: %s', rospy.get_name(), error)
-            self.output.stop()
+            self.output.halt('error')
             outcome = ('aborted', BackTravelResult(), 'internal error: %s' % error)
         kind, result, text = outcome
+        if kind == 'aborted':
+            rospy.logerr('%s: goal aborted: %s', rospy.get_name(), text)
         with self._lock:
             self._active = False
             if kind == 'succeeded':
@@ -119,11 +157,19 @@ class BackTravelServer(object):
         except ValueError as error:
             self.output.stop()
             return 'aborted', BackTravelResult(), 'bad goal %r: %s' % (values, error)
+        if self.safety.active:
+            self.output.halt('safety')
+            return 'aborted', BackTravelResult(), 'safety stop: %s' % ', '.join(self.safety.active)
         odom = self.odom.fresh(p.odom_timeout)
         if odom is None:
-            self.output.stop()
+            self.output.halt('odometry')
             return 'aborted', BackTravelResult(), self.odom.describe_missing(p.odom_timeout)
-        controller = make_controller(p.control, landmark, p, self.route)
+        limits = goal_limits(landmark, p.max_v, p.max_w, p.correction_w)
+        self.output.limit(limits)
+        self.output.release()
+        goal_params = types.SimpleNamespace(**dict(
+            {name: getattr(p, name) for name in self.DEFAULTS}, max_v=limits.max_v))
+        controller = make_controller(p.control, landmark, goal_params, self.route)
         controller.start(odom)
         started = odom.stamp
         result = lambda: BackTravelResult(distance=controller.travelled,
@@ -131,16 +177,20 @@ class BackTravelServer(object):
         rate = rospy.Rate(p.control_rate)
         next_feedback = started
         while True:
+            if self._tripped:
+                self.output.halt('safety')
+                return 'aborted', result(), 'safety stop: %s after %.3f m' % (self._tripped,
+                                                                              controller.travelled)
             if self.server.is_preempt_requested() or rospy.is_shutdown():
-                self.output.stop()
+                self.output.halt('cancel')
                 return 'preempted', result(), 'preempted after %.3f m' % controller.travelled
             odom = self.odom.fresh(p.odom_timeout)
             if odom is None:
-                self.output.stop()
+                self.output.halt('odometry')
                 return 'aborted', result(), self.odom.describe_missing(p.odom_timeout)
             v, w = controller.step(odom)
             if controller.failed:
-                self.output.stop()
+                self.output.halt('time allowance')
                 return 'aborted', result(), ('time allowance %.1f s exceeded after %.3f m of %.3f m'
                                              % (controller.allowance, controller.travelled, landmark.d))
             if controller.done:
@@ -152,7 +202,7 @@ class BackTravelServer(object):
             try:
                 rate.sleep()
             except rospy.ROSInterruptException:
-                self.output.stop()
+                self.output.halt('node shutdown')
                 return 'preempted', result(), 'node shutting down'
 
 

@@ -5,16 +5,19 @@ On /blind_navigation/vision_lost (std_msgs/Empty), while the mission state is
 ``recording`` (or already ``rotating``), runs core/rotation.Rotation in closed
 loop on odometry, publishing on ``cmd_vel_topic``; then publishes
 std_msgs/Bool on /blind_navigation/rotation_done: true when turned within the
-tolerance, false on failure (time allowance, odometry lost). Zero velocity on
-failure and shutdown.
+tolerance, false on failure (time allowance, odometry older than
+``odom_timeout``, a Kobuki bumper/cliff/wheel-drop event). Zero velocity on
+failure and shutdown; a safety event halts the output from its callback at
+once, and no turn starts while a sensor is active.
 """
 import threading
 
 import rospy
 from std_msgs.msg import Bool, Empty, String
 
-from blind_navigation.back_travel_ros import (ROTATION_DONE_TOPIC, STATE_TOPIC, VISION_LOST_TOPIC,
-                                              LatestOdom, VelocityOutput)
+from blind_navigation.back_travel_ros import (EVENT_TOPICS, ROTATION_DONE_TOPIC, STATE_TOPIC,
+                                              VISION_LOST_TOPIC, LatestOdom, SafetyMonitor,
+                                              VelocityOutput)
 from blind_navigation.core import state
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.ros_common import load_params, start_node
@@ -27,14 +30,16 @@ class RotatePi(object):
 
     Params (DEFAULTS): ``cmd_vel_topic`` ('/cmd_vel_mux/input/teleop'),
     ``odom_topic`` ('/odom'), ``control_rate`` (Hz, 50), ``odom_timeout``
-    (s, 0.5), and core/rotation.py's ROTATION_DEFAULTS: ``angle`` (pi rad),
+    (s, 0.4), ``bumper_topic`` / ``cliff_topic`` / ``wheel_drop_topic``
+    (Kobuki's /mobile_base/events/*), and core/rotation.py's ROTATION_DEFAULTS: ``angle`` (pi rad),
     ``max_w`` (0.6 rad/s, also the output clamp; linear velocity is clamped
     to 0), ``min_w`` (0.08 rad/s), ``gain`` (1.5 1/s), ``decel`` (0.5 rad/s^2),
     ``tolerance`` (0.01 rad), ``settle_w`` (0.02 rad/s), ``time_allowance`` (30 s).
     """
 
     DEFAULTS = dict(ROTATION_DEFAULTS, cmd_vel_topic='/cmd_vel_mux/input/teleop', odom_topic='/odom',
-                    control_rate=50.0, odom_timeout=0.5)
+                    control_rate=50.0, odom_timeout=0.4,
+                    **{kind + '_topic': topic for kind, topic in EVENT_TOPICS.items()})
 
     def __init__(self):
         p = self.params = load_params(self.DEFAULTS)
@@ -46,12 +51,20 @@ class RotatePi(object):
         self.mission_state = None
         self._trigger = threading.Event()
         self._busy = False
+        self._tripped = None
+        self.safety = SafetyMonitor({kind: getattr(p, kind + '_topic') for kind in EVENT_TOPICS},
+                                    self._on_trip)
         self.done_pub = rospy.Publisher(ROTATION_DONE_TOPIC, Bool, queue_size=1)
         rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=5)
         rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost, queue_size=1)
 
     def _on_state(self, msg):
         self.mission_state = msg.data
+
+    def _on_trip(self, reason):
+        if self._busy:
+            self._tripped = reason
+            self.output.halt('safety: ' + reason)
 
     def _on_vision_lost(self, _msg):
         if self._busy:
@@ -75,6 +88,11 @@ class RotatePi(object):
         """Run one rotation; True on success. Always ends with zero velocity."""
         p = self.params
         rotation = Rotation(p)
+        self._tripped = None
+        if self.safety.active:
+            rospy.logerr('%s: cannot turn: safety stop: %s', rospy.get_name(),
+                         ', '.join(self.safety.active))
+            return False
         odom = self.odom.fresh(p.odom_timeout)
         if odom is None:
             rospy.logerr('%s: cannot turn: %s', rospy.get_name(), self.odom.describe_missing(p.odom_timeout))
@@ -82,8 +100,12 @@ class RotatePi(object):
         rospy.loginfo('%s: turning by %.3f rad from yaw %.3f', rospy.get_name(), rotation.angle, odom.yaw)
         rotation.start(odom)
         rate = rospy.Rate(p.control_rate)
+        self.output.release()
         try:
             while not rospy.is_shutdown():
+                if self._tripped:
+                    rospy.logerr('%s: turn stopped: safety stop: %s', rospy.get_name(), self._tripped)
+                    return False
                 odom = self.odom.fresh(p.odom_timeout)
                 if odom is None:
                     rospy.logerr('%s: turn stopped: %s', rospy.get_name(),
@@ -97,7 +119,7 @@ class RotatePi(object):
         except rospy.ROSInterruptException:
             return False
         finally:
-            self.output.stop()
+            self.output.halt('turn over')
         if rotation.failed:
             rospy.logerr('%s: turn failed: %.3f of %.3f rad after the %.0f s allowance',
                          rospy.get_name(), rotation.turned, rotation.angle, rotation.time_allowance)

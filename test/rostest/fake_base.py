@@ -1,6 +1,8 @@
 """rostest helper: an ideal differential base inside the test process. It
 integrates the latest Twist on ``cmd_topic`` (dropped after 0.6 s, as Kobuki)
-and publishes nav_msgs/Odometry on /odom at 50 Hz; it records every Twist."""
+and publishes nav_msgs/Odometry on /odom at 50 Hz; it records every Twist.
+``publish_odom = False`` cuts the odometry; ``stuck = True`` stops the wheels
+(commands are still recorded)."""
 import math
 import threading
 
@@ -18,6 +20,9 @@ class FakeBase(object):
     def __init__(self, cmd_topic='/cmd_vel_mux/input/teleop', x=0.0, y=0.0, yaw=0.0):
         self.x, self.y, self.yaw = x, y, yaw
         self.v = self.w = 0.0
+        self.publish_odom = True
+        self.stuck = False
+        self.odom_stamps = []       # sim time of each odometry published
         self.commands = []          # (receipt time s, v, w)
         self._lock = threading.Lock()
         self._pub = rospy.Publisher('/odom', Odometry, queue_size=5)
@@ -32,7 +37,7 @@ class FakeBase(object):
         dt = 1.0 / RATE
         now = rospy.get_time()
         with self._lock:
-            if self.commands and now - self.commands[-1][0] < COMMAND_TIMEOUT:
+            if self.commands and now - self.commands[-1][0] < COMMAND_TIMEOUT and not self.stuck:
                 self.v, self.w = self.commands[-1][1:]
             else:
                 self.v = self.w = 0.0
@@ -46,6 +51,9 @@ class FakeBase(object):
             q = msg.pose.pose.orientation
             q.x, q.y, q.z, q.w = quaternion_from_yaw(self.yaw)
             msg.twist.twist.linear.x, msg.twist.twist.angular.z = self.v, self.w
+            if not self.publish_odom:
+                return
+            self.odom_stamps.append(now)
         try:
             self._pub.publish(msg)
         except rospy.ROSException:

@@ -1,0 +1,177 @@
+"""Shared rig of the safety rostests (test_safety_*.py): a sim clock owned by the
+test, a straight recorded path (landmarks written by the test, the ideal
+FakeBase at its end already turned), layer nodes started and killed by the
+test (rosrun), state and /rosout collectors, and the walk to ``returning``."""
+import math
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import roslib.packages
+import rospy
+from rosgraph_msgs.msg import Clock, Log
+from std_msgs.msg import Bool, Empty, String
+
+from blind_navigation.core.landmark import Landmark
+from blind_navigation.core.store import LandmarkWriter
+from blind_navigation.msg import Footprint
+
+from waiting import wait_for
+
+SIM_BASE = 100.0       # s, sim time at the start (rospy treats 0 as unset)
+CLOCK_STEP = 0.01      # s of sim time per /clock message
+
+
+class SimClock(object):
+    """Publishes /clock in a thread, ``rtf`` x real time."""
+
+    def __init__(self, rtf=1.0):
+        self._pub = rospy.Publisher('/clock', Clock, queue_size=10)
+        self.t = SIM_BASE
+        self.rtf = rtf
+        threading.Thread(target=self._run, daemon=True).start()
+        wait_for(lambda: rospy.get_time() >= SIM_BASE, 'the test sees its own /clock')
+
+    def _run(self):
+        next_wall = time.monotonic()
+        while not rospy.is_shutdown():
+            self.t += CLOCK_STEP
+            try:
+                self._pub.publish(Clock(clock=rospy.Time.from_sec(self.t)))
+            except rospy.ROSException:
+                return
+            next_wall += CLOCK_STEP / self.rtf
+            time.sleep(max(0.0, next_wall - time.monotonic()))
+
+
+def straight_landmarks(speeds, period=2.0):
+    """A straight path along +x, one landmark per speed (d = v T)."""
+    return [Landmark(v, 0.0, v * period, period, 0.0) for v in speeds]
+
+
+def write_mission(directory, landmarks, name='landmarks'):
+    """A recorder-like mission: a time-stamped file and the ``<name>.yaml``
+    symlink to it. Returns (symlink path, real file path)."""
+    os.makedirs(directory, exist_ok=True)
+    real = os.path.join(directory, '%s-20240101-000000.yaml' % name)
+    link = os.path.join(directory, name + '.yaml')
+    for path in (real, link):
+        if os.path.lexists(path):
+            os.remove(path)
+    with LandmarkWriter(real, fsync=False) as writer:
+        for landmark in landmarks:
+            writer.append(landmark)
+    os.symlink(os.path.basename(real), link)
+    return link, real
+
+
+def path_length(landmarks):
+    return sum(landmark.d for landmark in landmarks)
+
+
+class Node(object):
+    """A layer node started by the test (the package's executable, params as
+    ``_name:=value``, remaps as ``from:=to``); :meth:`kill` ends it with a signal
+    and waits."""
+
+    def __init__(self, node_type, name, params=None, remaps=None):
+        found = roslib.packages.find_node('blind_navigation', node_type)
+        if not found:
+            raise AssertionError('node %s not found in the workspace' % node_type)
+        args = [found[0], '__name:=' + name]
+        args += ['_%s:=%s' % (key, value) for key, value in (params or {}).items()]
+        args += ['%s:=%s' % item for item in (remaps or {}).items()]
+        self.name = name
+        self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                        start_new_session=True)
+
+    def kill(self, sig=signal.SIGINT, timeout=20.0):
+        if self.process.poll() is None:
+            os.killpg(self.process.pid, sig)
+            try:
+                self.process.wait(timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.process.pid, signal.SIGKILL)
+                self.process.wait(timeout)
+
+
+class Collector(object):
+    """Every message of a topic as (sim time, msg), thread-safe."""
+
+    def __init__(self, topic, msg_type):
+        self.items, self._lock = [], threading.Lock()
+        self.sub = rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
+
+    def _on_msg(self, msg):
+        with self._lock:
+            self.items.append((rospy.get_time(), msg))
+
+    def since(self, index=0):
+        with self._lock:
+            return [msg for _, msg in self.items[index:]]
+
+    def __len__(self):
+        with self._lock:
+            return len(self.items)
+
+
+class Layer(object):
+    """The mission-state side of a test: state and /rosout collectors and the
+    publishers that walk a fresh client from idle to returning."""
+
+    def __init__(self, prefix='/blind_navigation'):
+        self.prefix = prefix
+        self.states = Collector(prefix + '/state', String)
+        self.rosout = Collector('/rosout', Log)
+        self.footprint = rospy.Publisher(prefix + '/footprint', Footprint, queue_size=1)
+        self.vision_lost = rospy.Publisher(prefix + '/vision_lost', Empty, queue_size=1)
+        self.rotation_done = rospy.Publisher(prefix + '/rotation_done', Bool, queue_size=1)
+
+    def state_list(self, since=0):
+        return [msg.data for msg in self.states.since(since)]
+
+    def walk_to_returning(self, since, timeout=60.0):
+        """idle -> recording -> rotating -> returning, publishing each trigger until
+        the client (started after ``since`` states) has moved on."""
+        wait_for(lambda: 'idle' in self.state_list(since), 'the new client publishes idle', timeout)
+        for publisher, msg, target in ((self.footprint, Footprint(file='x'), 'recording'),
+                                       (self.vision_lost, Empty(), 'rotating'),
+                                       (self.rotation_done, Bool(data=True), 'returning')):
+            deadline = time.monotonic() + timeout
+            while target not in self.state_list(since):
+                if time.monotonic() > deadline:
+                    raise AssertionError('state %s not reached (states %s)'
+                                         % (target, self.state_list(since)))
+                publisher.publish(msg)
+                time.sleep(0.2)
+
+    def wait_final(self, since, timeout=120.0):
+        wait_for(lambda: set(self.state_list(since)) & {'home', 'aborted'},
+                 'state home or aborted', timeout)
+        return self.state_list(since)[-1]
+
+    def logged(self, node, text):
+        """/rosout lines of ``node`` containing ``text``."""
+        return [m.msg for m in self.rosout.since() if m.name == node and text in m.msg]
+
+    def abort_reason(self, node):
+        lines = self.logged(node, '-> aborted')
+        return lines[-1] if lines else ''
+
+
+def first_zero_after(commands, t0):
+    """(time, index) of the first zero command received at or after t0, or None."""
+    for index, (stamp, v, w) in enumerate(commands):
+        if stamp >= t0 and v == 0.0 and w == 0.0:
+            return stamp, index
+    return None
+
+
+def moving(base):
+    return abs(base.v) > 1e-6 or abs(base.w) > 1e-6
+
+
+def distance_from_origin(base):
+    return math.hypot(base.x, base.y)

@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""rostest: each bad landmark file is refused when the return starts: state
+``aborted``, the reason names the file and the entry, no goal is sent and no
+velocity is published. One client per case (topics remapped under /bad_<case>),
+all in parallel, against one back_travel_server and the ideal base."""
+import os
+import shutil
+import unittest
+
+import rospy
+import rostest
+
+from blind_navigation.core.safety import load_progress, progress_path
+from blind_navigation.msg import BackTravelActionGoal
+
+from fake_base import FakeBase
+from safety_rig import Collector, Layer, Node, SimClock
+
+HEADER = "blind_navigation: {format: 1, fields: [v, w, d, T, psi]}\n"
+GOOD = "landmark_000001: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n"
+
+#: case -> (file text, None = no file; substrings the abort reason must hold)
+CASES = {
+    'missing': (None, ['cannot read']),
+    'empty': ('', ['no landmarks']),
+    'not_yaml': ('blind_navigation: [unclosed\n' + GOOD, ['not valid YAML']),
+    'truncated': (HEADER + 'landmark_000001: {data: [0.1, 0.0', ['no landmarks', 'torn']),
+    'wrong_type': (HEADER + GOOD + "landmark_000002: {data: [fast, 0.0, 0.2, 2.0, 0.0]}\n",
+                   ['landmark_000002', 'v is not a number']),
+    'not_a_list': (HEADER + GOOD + "landmark_000002: {data: 0.2}\n",
+                   ['landmark_000002', 'five numbers']),
+    'nan': (HEADER + GOOD + "landmark_000002: {data: [.nan, 0.0, 0.2, 2.0, 0.0]}\n",
+            ['landmark_000002', 'v is not finite']),
+    'inf': (HEADER + GOOD + "landmark_000002: {data: [0.1, .inf, 0.2, 2.0, 0.0]}\n",
+            ['landmark_000002', 'w is not finite']),
+    'negative_d': (HEADER + GOOD + "landmark_000002: {data: [0.1, 0.0, -0.2, 2.0, 0.0]}\n",
+                   ['landmark_000002', 'd is negative']),
+    'zero_T': (HEADER + GOOD + "landmark_000002: {data: [0.1, 0.0, 0.2, 0.0, 0.0]}\n",
+               ['landmark_000002', 'T must be positive']),
+    'too_fast': (HEADER + GOOD + "landmark_000002: {data: [0.9, 0.0, 1.8, 2.0, 0.0]}\n",
+                 ['landmark_000002', '|v| = 0.9 exceeds the limit 0.7']),
+    'spinning': (HEADER + GOOD + "landmark_000002: {data: [0.1, 4.0, 0.2, 1.0, 0.0]}\n",
+                 ['landmark_000002', '|w| = 4 exceeds the limit']),
+}
+TOPICS = ('state', 'footprint', 'vision_lost', 'rotation_done')
+
+
+class BadFilesTest(unittest.TestCase):
+
+    def test_each_bad_file_is_refused_with_its_message_and_no_motion(self):
+        rospy.init_node('test_safety_bad_files')
+        SimClock(rtf=1.0)
+        directory = rospy.get_param('~directory')
+        shutil.rmtree(directory, ignore_errors=True)
+        os.makedirs(directory)
+        base = FakeBase()
+        goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
+        layers, nodes, files = {}, [], {}
+        for case, (text, _) in CASES.items():
+            files[case] = os.path.join(directory, case + '.yaml')
+            if text is not None:
+                with open(files[case], 'w') as stream:
+                    stream.write(text)
+            prefix = '/bad_' + case
+            layers[case] = Layer(prefix)
+            nodes.append(Node('back_travel_client.py', 'client_' + case,
+                              {'landmark_file': files[case]},
+                              {'/blind_navigation/' + t: prefix + '/' + t for t in TOPICS}))
+        try:
+            for case, layer in layers.items():
+                self.walk(layer)
+            for case, layer in layers.items():
+                self.assertEqual(layer.wait_final(0, timeout=60.0), 'aborted', case)
+                reason = layer.abort_reason('/client_' + case)
+                print('BAD FILE %s: %s' % (case, reason), flush=True)
+                for text in [files[case]] + CASES[case][1]:
+                    self.assertIn(text, reason, 'case %s' % case)
+        finally:
+            for node in nodes:
+                node.kill()
+        self.assertEqual(len(goals), 0, 'a goal was sent for a bad file')
+        self.assertEqual(base.commands, [], 'a velocity was published for a bad file')
+        progress = {case + '.progress.yaml' for case in CASES}      # next to each landmark file
+        recorded = {os.path.basename(f) for c, f in files.items() if CASES[c][0] is not None}
+        self.assertEqual(set(os.listdir(directory)), recorded | progress,
+                         'the layer wrote something besides its progress files')
+        for case in CASES:
+            self.assertEqual(load_progress(progress_path(files[case])).status, 'aborted', case)
+
+    @staticmethod
+    def walk(layer):
+        """idle -> recording -> rotating -> returning (the return then loads the file)."""
+        layer.walk_to_returning(0, timeout=90.0)
+
+
+if __name__ == '__main__':
+    rostest.rosrun('blind_navigation', 'safety_bad_files', BadFilesTest)

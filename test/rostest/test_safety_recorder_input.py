@@ -1,0 +1,135 @@
+#!/usr/bin/env python3
+"""rostest: bad input to the recording layer. Odometry with NaN or a zero
+quaternion (bursts between good messages, with absurd positions) is never
+recorded and is warned about at a limited rate; path-like strings in
+PathSample.command, RecordLandmark.command, Footprint.file and the state
+topic never make the layer write outside its directory; a restarted saver
+starts a new file behind the symlink and keeps the old one unchanged."""
+import math
+import os
+import subprocess
+import threading
+import unittest
+
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Empty, Header, String
+
+from blind_navigation.core.safety import file_digest
+from blind_navigation.core.store import load_landmarks
+from blind_navigation.msg import Footprint, PathSample
+from blind_navigation.srv import RecordLandmark
+
+from safety_rig import Collector, Node, SimClock
+from waiting import wait_for
+
+SPEED = 0.1             # m/s along +x
+RECORD_TIME = 12.0      # s of sim time recorded
+TOKEN = 'bn_escape_%d' % os.getpid()
+EVIL = ['../../../../../../tmp/%s/a.yaml' % TOKEN, '/tmp/%s/b.yaml' % TOKEN,
+        '~/%s.yaml' % TOKEN, '../%s.yaml' % TOKEN, 'sample/../../%s' % TOKEN]
+
+
+class Odometer(object):
+    """Good odometry at 50 Hz (sim) along +x; every 10th message is NaN and every
+    10th+5 has a zero quaternion, both with an absurd position."""
+
+    def __init__(self):
+        self.pub = rospy.Publisher('/odom', Odometry, queue_size=50)
+        self.count = self.bad = 0
+        self.timer = rospy.Timer(rospy.Duration(0.02), self._tick)
+        self.t0 = rospy.get_time()
+
+    def _tick(self, _event):
+        msg = Odometry()
+        msg.header.stamp = rospy.Time.now()
+        msg.header.frame_id = 'odom'
+        msg.pose.pose.position.x = SPEED * (rospy.get_time() - self.t0)
+        msg.pose.pose.orientation.w = 1.0
+        msg.twist.twist.linear.x = SPEED
+        self.count += 1
+        if self.count % 10 == 0:
+            msg.pose.pose.position.x, msg.twist.twist.linear.x = float('nan'), 5.0
+            self.bad += 1
+        elif self.count % 10 == 5:
+            msg.pose.pose.position.x = 1e6
+            msg.pose.pose.orientation.w = 0.0
+            self.bad += 1
+        try:
+            self.pub.publish(msg)
+        except rospy.ROSException:
+            pass
+
+
+class RecorderInputTest(unittest.TestCase):
+
+    def test_bad_odometry_and_path_like_strings(self):
+        rospy.init_node('test_safety_recorder_input')
+        clock = SimClock(rtf=2.0)
+        directory = rospy.get_param('~directory')
+        link = os.path.join(directory, 'landmarks.yaml')
+        rosout = Collector('/rosout', __import__('rosgraph_msgs.msg', fromlist=['Log']).Log)
+        wait_for(lambda: os.path.islink(link), 'the saver created its mission file', 60.0)
+        first_file = os.path.realpath(link)
+        odometer = Odometer()
+        samples = rospy.Publisher('/blind_navigation/sample', PathSample, queue_size=10)
+        footprint = rospy.Publisher('/blind_navigation/footprint', Footprint, queue_size=10)
+        state = rospy.Publisher('/blind_navigation/state', String, queue_size=10)
+        rospy.wait_for_service('/blind_navigation/record_landmark', 60.0)
+        record = rospy.ServiceProxy('/blind_navigation/record_landmark', RecordLandmark)
+        start = rospy.get_time()
+        refusals = []
+        while rospy.get_time() - start < RECORD_TIME:
+            for text in EVIL:
+                samples.publish(PathSample(header=Header(stamp=rospy.Time.now()), command=text,
+                                           yaw=0.0, period=1.0))
+                refusals.append(record(header=Header(stamp=rospy.Time.now()), command=text,
+                                       yaw=0.0, period=1.0))
+                footprint.publish(Footprint(file=text, landmarks=1))
+                state.publish(String(data=text))
+            rospy.sleep(1.0)
+        rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1, latch=True).publish(Empty())
+        wait_for(lambda: any('recording finished' in m.msg for _, m in rosout.items
+                             if m.name == '/landmark_saver'), 'the saver finished', 60.0)
+
+        self.assertTrue(refusals and not any(r.saved for r in refusals))
+        self.assertTrue(all('unknown command' in r.message for r in refusals), refusals[0])
+        loaded = load_landmarks(first_file)
+        self.assertGreaterEqual(len(loaded.landmarks), 4, 'too few landmarks recorded')
+        for label, lm in zip(loaded.labels, loaded.landmarks):
+            self.assertTrue(all(math.isfinite(value) for value in lm), label)
+            self.assertAlmostEqual(lm.v, SPEED, delta=1e-6, msg='%s: bad odometry used' % label)
+            self.assertLessEqual(lm.d, SPEED * lm.T + 0.03, '%s: bad odometry used' % label)
+        warnings = [m.msg for _, m in rosout.items if m.name == '/landmark_saver' and 'not used' in m.msg]
+        elapsed = rospy.get_time() - start
+        print('RECORDER INPUT: %d bad odometry messages of %d, %d throttled warnings in %.0f s sim, '
+              '%d landmarks' % (odometer.bad, odometer.count, len(warnings), elapsed,
+                                len(loaded.landmarks)), flush=True)
+        self.assertGreaterEqual(len(warnings), 1, 'bad odometry was not warned about')
+        self.assertLessEqual(len(warnings), elapsed / 5.0 + 2, 'warnings not rate-limited')
+
+        digest = file_digest(first_file)
+        saver2 = Node('landmark_saver.py', 'landmark_saver_restarted',
+                      {'landmark_file': link, 'fsync': 'false'})
+        try:
+            wait_for(lambda: os.path.realpath(link) != first_file, 'the restarted saver starts a new file',
+                     60.0)
+        finally:
+            saver2.kill()
+        self.assertEqual(file_digest(first_file), digest, 'the old mission file changed')
+        self.assertEqual(sorted(os.listdir(directory)), sorted(
+            ['landmarks.yaml', 'service', os.path.basename(first_file),
+             os.path.basename(os.path.realpath(link))]))
+        self.assertEqual(len(os.listdir(os.path.join(directory, 'service'))), 2,
+                         'the record server wrote more than its mission file and symlink')
+        escaped = subprocess.run(['find', '/tmp', os.environ.get('ROS_HOME', '/tmp'),
+                                  os.path.dirname(directory), '-maxdepth', '8', '-name', '*%s*' % TOKEN],
+                                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                 universal_newlines=True, timeout=120).stdout.split()
+        self.assertEqual(escaped, [], 'files written outside the landmark directory')
+        del clock
+
+
+if __name__ == '__main__':
+    rostest.rosrun('blind_navigation', 'safety_recorder_input', RecorderInputTest)

@@ -1,0 +1,173 @@
+#!/usr/bin/env python3
+"""rostest: what stops the robot during a return (sim time, ideal base in the
+test, back_travel_server with max_v 0.15 launched by the .test, a fresh
+back_travel_client per case): every command within the configured and the
+recorded speed; odometry cut -> zero within 0.5 s, aborted; a bumper event ->
+zero at once, aborted naming it, no goal while pressed; a cancel -> zero
+within one control cycle; a goal's and the whole return's time allowance;
+server shutdown -> zero."""
+import os
+import unittest
+
+import actionlib
+import rosnode
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalID, GoalStatus
+
+from blind_navigation import kobuki_msgs_compat as kobuki
+from blind_navigation.core.safety import recorded_speed
+from blind_navigation.msg import BackTravelAction, BackTravelActionGoal, BackTravelGoal
+
+from fake_base import FakeBase
+from safety_rig import (Collector, Layer, Node, SimClock, first_zero_after, moving,
+                        distance_from_origin, path_length, straight_landmarks, write_mission)
+from waiting import wait_for
+
+CONTROL_PERIOD = 0.02   # s, the server's control_rate 50 Hz
+MAX_V = 0.15            # the server's ~max_v in safety_stops.test
+ODOM_TIMEOUT = 0.5      # the issue's bound: older odometry -> zero velocity
+
+
+class SafetyStopsTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node('test_safety_stops')
+        cls.clock = SimClock(rtf=1.0)
+        cls.root = rospy.get_param('~directory')
+        cls.base = FakeBase(yaw=3.141592653589793)
+        cls.layer = Layer()
+        cls.goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
+        cls.cancel = rospy.Publisher('/blind_navigation/back_travel/cancel', GoalID, queue_size=1)
+        cls.bumper = rospy.Publisher('/mobile_base/events/bumper', kobuki.BumperEvent, queue_size=5)
+        cls.action = actionlib.SimpleActionClient('/blind_navigation/back_travel', BackTravelAction)
+        assert cls.action.wait_for_server(rospy.Duration(60.0)), 'back_travel_server did not come up'
+        cls.client = None
+
+    def start_return(self, case, speeds, **params):
+        """A fresh client for ``case`` returning over a straight path of ``speeds``,
+        the base at the path's end; waits until the base moves."""
+        self.landmarks = straight_landmarks(speeds)
+        link, self.recorded = write_mission(os.path.join(self.root, case), self.landmarks)
+        self.base.x, self.base.y = path_length(self.landmarks), 0.0
+        since = len(self.layer.states)
+        params.update(landmark_file=link)
+        self.client = Node('back_travel_client.py', 'client_' + case, params)
+        self.client_name = '/client_' + case
+        self.layer.walk_to_returning(since)
+        wait_for(lambda: moving(self.base), 'the base moves on the return')
+        return since
+
+    def tearDown(self):
+        if self.client:
+            self.client.kill()
+            self.client = None
+        wait_for(lambda: not moving(self.base), 'the base stops after the case')
+
+    def commands_after(self, t0):
+        return [c for c in list(self.base.commands) if c[0] >= t0]
+
+    def assert_stopped_after(self, t0, bound, what):
+        commands = list(self.base.commands)
+        found = first_zero_after(commands, t0)
+        self.assertIsNotNone(found, 'no zero velocity after %s' % what)
+        stamp, index = found
+        latency = stamp - t0
+        print("STOP LATENCY %s: %.3f s sim" % (what, latency), flush=True)
+        self.assertLessEqual(latency, bound, 'zero velocity %.3f s after %s (bound %.3f s)'
+                             % (latency, what, bound))
+        later = [c for c in commands[index:] if c[1:] != (0.0, 0.0)]
+        self.assertFalse(later, 'non-zero commands after the stop for %s: %s' % (what, later[:3]))
+
+    def test_1_commands_within_configured_and_recorded_speed_and_home(self):
+        goal_index = len(self.goals)
+        since = self.start_return('home', [0.08, 0.08, 0.2, 0.2, 0.05, 0.05])
+        self.assertEqual(self.layer.wait_final(since), 'home', self.layer.abort_reason(self.client_name))
+        goals = [(t, g.goal) for t, g in self.goals.items[goal_index:]]
+        self.assertEqual(len(goals), 6)
+        checked = 0
+        for t, v, w in self.commands_after(goals[0][0]):
+            active = [goal for start, goal in goals if start <= t]
+            settled = [goal for start, goal in goals if start <= t - 0.1]
+            if not settled or active[-1] is not settled[-1]:
+                continue        # just after a goal switch: the previous goal's command may be in flight
+            limit = min(MAX_V, recorded_speed(active[-1]))
+            self.assertLessEqual(abs(v), limit + 1e-9, 'v %.4f above %.4f' % (v, limit))
+            self.assertLessEqual(abs(w), 0.3 + 1e-9, 'w %.4f above the correction allowance' % w)
+            checked += 1
+        self.assertGreater(checked, 300, 'too few commands checked')
+        self.assertLess(distance_from_origin(self.base), 0.05, 'ended %.3f m from the start'
+                        % distance_from_origin(self.base))
+
+    def test_2_odometry_cut_stops_within_half_a_second(self):
+        since = self.start_return('odom_cut', [0.1] * 5)
+        rospy.sleep(1.0)
+        self.base.publish_odom = False
+        try:
+            last_odom = self.base.odom_stamps[-1]
+            self.assertEqual(self.layer.wait_final(since), 'aborted')
+            self.assert_stopped_after(last_odom, ODOM_TIMEOUT, 'the odometry cut')
+            self.assertIn('odometry', self.layer.abort_reason(self.client_name))
+        finally:
+            self.base.publish_odom = True
+
+    def test_3_bumper_event_aborts_and_blocks_goals_while_pressed(self):
+        since = self.start_return('bumper', [0.1] * 5)
+        rospy.sleep(0.5)
+        pressed = rospy.get_time()
+        self.bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
+                                               state=kobuki.BumperEvent.PRESSED))
+        try:
+            self.assertEqual(self.layer.wait_final(since), 'aborted')
+            self.assert_stopped_after(pressed, CONTROL_PERIOD, 'the bumper event')
+            self.assertIn('bumper center pressed', self.layer.abort_reason(self.client_name))
+            before = len(self.base.commands)
+            self.action.send_goal(BackTravelGoal(v=0.1, w=0.0, d=0.2, T=2.0, psi=0.0))
+            self.assertTrue(self.action.wait_for_result(rospy.Duration(10.0)), 'no result')
+            self.assertEqual(self.action.get_state(), GoalStatus.ABORTED)
+            self.assertIn('bumper center pressed', self.action.get_goal_status_text())
+            self.assertFalse([c for c in self.base.commands[before:] if c[1:] != (0.0, 0.0)],
+                             'a goal moved the robot while the bumper was pressed')
+        finally:
+            self.bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
+                                                   state=kobuki.BumperEvent.RELEASED))
+
+    def test_4_cancel_stops_within_one_control_cycle(self):
+        since = self.start_return('cancel', [0.1] * 5)
+        rospy.sleep(0.5)
+        cancelled = rospy.get_time()
+        self.cancel.publish(GoalID())          # cancel every goal, as `rostopic pub` would
+        self.assertEqual(self.layer.wait_final(since), 'aborted')
+        self.assert_stopped_after(cancelled, CONTROL_PERIOD, 'the cancel')
+        self.assertIn('PREEMPTED', self.layer.abort_reason(self.client_name))
+
+    def test_5_goal_time_allowance(self):
+        since = self.start_return('stuck', [0.1] * 3)
+        self.base.stuck = True                 # wheels blocked: no progress
+        try:
+            self.assertEqual(self.layer.wait_final(since, timeout=60.0), 'aborted')
+            self.assertIn('time allowance', self.layer.abort_reason(self.client_name))
+            self.assertEqual(self.base.commands[-1][1:], (0.0, 0.0))
+        finally:
+            self.base.stuck = False
+
+    def test_6_whole_return_time_allowance(self):
+        since = self.start_return('return_allowance', [0.1] * 5, return_timeout_factor=0.2,
+                                  return_timeout_margin=0.5)
+        self.assertEqual(self.layer.wait_final(since), 'aborted')
+        reason = self.layer.abort_reason(self.client_name)
+        self.assertIn('exceeded its time allowance of 2 s', reason)
+        wait_for(lambda: self.base.commands[-1][1:] == (0.0, 0.0), 'zero velocity after the abort')
+
+    def test_9_server_shutdown_publishes_zero(self):
+        self.action.send_goal(BackTravelGoal(v=0.1, w=0.0, d=2.0, T=2.0, psi=3.14159))
+        wait_for(lambda: moving(self.base), 'the goal drives the base')
+        stopped = rospy.get_time()
+        killed, failed = rosnode.kill_nodes(['/back_travel_server'])   # its shutdown API, as rosnode kill
+        self.assertEqual((killed, failed), (['/back_travel_server'], []))
+        self.assert_stopped_after(stopped, 0.1, 'the server shutdown')
+
+
+if __name__ == '__main__':
+    rostest.rosrun('blind_navigation', 'safety_stops', SafetyStopsTest)
