@@ -9,7 +9,7 @@ the same object. What it reproduces (numbers from the Kobuki and kobuki_node):
 * motors: each wheel's rim speed follows its target through a first-order lag
   (``motor_time_constant``, momentum), reaches only ``u (1 - speed_droop |u|)
   - friction_speed`` in steady state, and ripples (an Ornstein-Uhlenbeck process,
-  larger at low speed) around it.
+  larger at low speed, a share ``ripple_common`` of it common to both wheels) around it.
 * ground truth: wheels of unequal diameter (UMBmark's ``E_d``), a scale error of
   the mean diameter (``E_s``) and slip proportional to speed turn wheel rotation
   into true motion.
@@ -47,6 +47,8 @@ PROFILE_DEFAULTS = {
     'ripple_std': 0.0,             # m/s, wheel speed ripple std at zero speed
     'ripple_knee': 0.1,            # m/s, ripple std = ripple_std / (1 + |u| / knee)
     'ripple_time': 0.3,            # s, ripple correlation time
+    'ripple_common': 0.0,          # share of the ripple common to both wheels (0..1): moves
+                                   # the robot's speed but not its heading
     'wheel_diameter_ratio': 1.0,   # UMBmark E_d = D_right / D_left
     'distance_scale': 1.0,         # UMBmark E_s = actual mean diameter / nominal
     'slip_per_speed': 0.0,         # fraction of rim speed lost per m/s of rim speed
@@ -97,6 +99,8 @@ def make_profile(values, where='profile'):
     for key in ('wheel_diameter_ratio', 'distance_scale', 'physics_dt', 'ripple_knee', 'ripple_time'):
         if profile[key] <= 0:
             raise ValueError('%s: %s must be > 0, got %r' % (where, key, profile[key]))
+    if profile['ripple_common'] > 1.0:
+        raise ValueError('%s: ripple_common must be in [0, 1], got %r' % (where, profile['ripple_common']))
     ratio = SENSOR_PERIOD / profile['physics_dt']
     if abs(ratio - round(ratio)) > 1e-6:
         raise ValueError('%s: physics_dt %r must divide %.2f s' % (where, profile['physics_dt'], SENSOR_PERIOD))
@@ -149,6 +153,7 @@ class SimulatedKobuki(object):
         self._left = _Wheel(2.0 * mean_radius / (ratio + 1.0))
         self._right = _Wheel(2.0 * mean_radius * ratio / (ratio + 1.0))
         self._gyro_bias = self._rng.uniform(-p['gyro_bias_max'], p['gyro_bias_max'])
+        self._common_ripple = 0.0
         self._steps = 0
         self._sensor_every = int(round(SENSOR_PERIOD / p['physics_dt']))
         self._timeout_every = int(round(TIMEOUT_CHECK_PERIOD / p['physics_dt']))
@@ -226,6 +231,9 @@ class SimulatedKobuki(object):
                       _ramp(self._limited[1], target[1], lim['w_up'], lim['w_down'], h))
         self._limited = target
         v, w = target
+        if p['ripple_common'] > 0.0 and p['ripple_std'] > 0.0 and (v != 0.0 or w != 0.0):
+            a = math.exp(-h / p['ripple_time'])
+            self._common_ripple = self._common_ripple * a + self._rng.gauss(0.0, math.sqrt(1.0 - a * a))
         half = w * WHEEL_SEPARATION / 2.0
         self._drive_wheel(self._left, v - half, h)
         self._drive_wheel(self._right, v + half, h)
@@ -242,7 +250,9 @@ class SimulatedKobuki(object):
             if p['ripple_std'] > 0.0:
                 a = math.exp(-h / p['ripple_time'])
                 wheel.ripple = wheel.ripple * a + self._rng.gauss(0.0, math.sqrt(1.0 - a * a))
-                steady += wheel.ripple * p['ripple_std'] / (1.0 + abs(target) / p['ripple_knee'])
+                common = p['ripple_common']
+                ripple = math.sqrt(1.0 - common) * wheel.ripple + math.sqrt(common) * self._common_ripple
+                steady += ripple * p['ripple_std'] / (1.0 + abs(target) / p['ripple_knee'])
         tau = p['motor_time_constant']
         wheel.speed = steady if tau <= 0.0 else wheel.speed + (steady - wheel.speed) * (1.0 - math.exp(-h / tau))
         wheel.angle += wheel.speed / WHEEL_RADIUS * h

@@ -12,9 +12,14 @@ profile or waypoints, plus optional metadata and a world (``arena``,
       - {v: 0.0, duration: 2.0}    #   or duration (s)
     # or: waypoints: {v: 0.086, w: 0.097, points: [[1, 0], [1, 1]]}
     #     from (0, 0, yaw 0): turn on the spot toward each point, then drive to it.
+    operator: {max_w: 0.097}        # optional: a person drives it (core/operator.py
+                                    # parameters, or true for the defaults); absent or
+                                    # false = the open-loop script
 
-``command_at(t)`` is open loop on purpose (an operator's stick, not a
-controller): where the robot really ends up is the base's business.
+``command_at(t)`` is the open-loop script (the keys as planned). A person
+driving it watches the robot and corrects its heading: ``make_operator()``
+gives that person (core/operator.Operator, on ground truth), which the mission
+driver node and the plain-Python harness both use.
 """
 import math
 import os
@@ -22,6 +27,7 @@ import os
 import yaml
 
 from .geometry import wrap_angle
+from .operator import Operator, operator_params
 
 MISSION_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'missions'))
 DEFAULT_RATE = 10.0
@@ -30,7 +36,8 @@ DEFAULT_RATE = 10.0
 class Mission(object):
     """Segments ``[(v, w, duration)]`` played back to back; ``rate`` Hz; ``world`` dict; ``name``."""
 
-    def __init__(self, segments, rate=DEFAULT_RATE, world=None, name='mission', description=''):
+    def __init__(self, segments, rate=DEFAULT_RATE, world=None, name='mission', description='',
+                 operator=None):
         if not segments:
             raise ValueError('%s: a mission needs at least one segment' % name)
         if not (rate > 0):
@@ -41,6 +48,12 @@ class Mission(object):
         self.name = name
         self.description = description
         self.duration = sum(s[2] for s in self.segments)
+        #: operator parameters (core/operator.py) or None for the open-loop script
+        self.operator = None if operator is None else operator_params(operator, name)
+
+    def make_operator(self):
+        """A fresh core/operator.Operator for this mission, or None (open-loop script)."""
+        return None if self.operator is None else Operator(self, self.operator)
 
     def command_at(self, t):
         """(v, w) the operator sends ``t`` s after the mission start; None once it is over."""
@@ -106,7 +119,13 @@ def mission_from_dict(data, name='mission'):
     else:
         segments = _waypoint_segments(data['waypoints'], '%s: waypoints' % name)
     world = {k: data[k] for k in ('arena', 'obstacles') if k in data}
-    return Mission(segments, data.get('rate', DEFAULT_RATE), world, name, data.get('description', ''))
+    operator = data.get('operator', False)
+    if operator is True:
+        operator = {}
+    elif operator is False:
+        operator = None
+    return Mission(segments, data.get('rate', DEFAULT_RATE), world, name, data.get('description', ''),
+                   operator)
 
 
 def load_mission(name_or_path):

@@ -44,10 +44,11 @@ SIMULATION_DEFAULTS = {
 MissionResult = namedtuple('MissionResult', [
     'mission', 'profile', 'mode', 'seed', 'status', 'reason',
     'distance', 'samples', 'bytes', 'position_error', 'odom_error',
-    'forward_path', 'return_path', 'duration'])
+    'forward_path', 'return_path', 'duration', 'landmarks'])
 MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
                          'samples, bytes (landmark file), position_error (m, ground truth), '
-                         'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s).')
+                         'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s), '
+                         'landmarks (as stored and read back).')
 
 
 class _Run(object):
@@ -77,11 +78,22 @@ def _record(run, mission, settings, store_path):
     period = schedule.update(base.odom.yaw)
     next_tick, last_tick = period, 0.0
     operator_every = max(1, int(round(1.0 / (mission.rate * dt))))
-    steps = int(round((mission.duration + settings['settle_time']) / dt))
+    operator = mission.make_operator()
+    if operator is not None:
+        operator.start(base.true_pose)
+    settle_steps = int(round(settings['settle_time'] / dt))
     with LandmarkWriter(store_path, fsync=False, metadata={'mission': mission.name}) as writer:
-        for k in range(steps):
-            command = mission.command_at(k * dt) if k % operator_every == 0 else None
+        k, finished_at = 0, None
+        while finished_at is None or k < finished_at + settle_steps:
+            command = None
+            if finished_at is None and k % operator_every == 0:
+                command = (mission.command_at(k * dt) if operator is None else operator.command(k * dt))
+                if command is None:
+                    finished_at, command = k, (0.0, 0.0)
             run.advance(command)
+            k += 1
+            if operator is not None:
+                operator.observe(k * dt, base.true_pose)
             if base.t >= next_tick - 1e-9:
                 writer.append(recorder.take(base.odom, base.odom.yaw, period))
                 last_tick = base.t
@@ -162,4 +174,4 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
         mission.name, profile_name, mode, seed,
         'aborted' if reason else 'home', reason, loaded.total_distance, len(loaded.landmarks),
         size, distance(start.x, start.y, end.x, end.y), math.hypot(odom.x, odom.y),
-        forward_path, run.path, run.base.t)
+        forward_path, run.path, run.base.t, loaded.landmarks)

@@ -4,15 +4,21 @@
 Publishes the mission's (v, w) on ``cmd_vel`` (remap to
 ``/cmd_vel_mux/input/teleop``) at the mission's rate, starting ``start_delay``
 s of sim time after the clock starts; then sends zero velocity and latches
-``~done`` true. Zero velocity also on shutdown.
+``~done`` true. Zero velocity also on shutdown. A mission with an ``operator``
+(core/operator.py: a person watching the robot and tapping the turn keys)
+watches the true pose on ``ground_truth`` (nav_msgs/Odometry, remap to
+``/ground_truth/odom``) and ends when the person sees the robot at the end of
+the route; the same core runs in the plain-Python harness (core/simulation.py).
 """
 import rospy
 from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 
 from blind_navigation.core.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.core.mission import load_mission
-from blind_navigation.ros_common import load_params, twist
+from blind_navigation.core.geometry import Pose2D
+from blind_navigation.ros_common import load_params, odom_state_from_msg, twist
 
 STOP_MESSAGES = 3
 
@@ -30,7 +36,18 @@ class MissionDriver(object):
         self.cmd = rospy.Publisher('cmd_vel', Twist, queue_size=10)
         self.done = rospy.Publisher('~done', Bool, queue_size=1, latch=True)
         self.done.publish(Bool(False))
+        self.operator = self.mission.make_operator()
+        self.start = None
+        self.latest_pose = None
+        if self.operator is not None:
+            rospy.Subscriber('ground_truth', Odometry, self._on_ground_truth, queue_size=50)
         rospy.on_shutdown(self.stop)
+
+    def _on_ground_truth(self, msg):
+        state = odom_state_from_msg(msg)
+        self.latest_pose = Pose2D(state.x, state.y, state.yaw)
+        if self.start is not None and self.operator.started:
+            self.operator.observe((msg.header.stamp - self.start).to_sec(), self.latest_pose)
 
     def stop(self):
         self.cmd.publish(Twist())
@@ -42,9 +59,18 @@ class MissionDriver(object):
         rospy.loginfo('mission_driver: %s (%.1f s, %.2f m nominal) starts at sim t %.2f s',
                       self.mission.name, self.mission.duration, self.mission.nominal_length(), start.to_sec())
         rospy.sleep(start - rospy.Time.now())
+        if self.operator is not None:
+            while not rospy.is_shutdown() and self.latest_pose is None:
+                rospy.logwarn_throttle(5.0, 'mission_driver: waiting for ground_truth (%s)',
+                                       rospy.resolve_name('ground_truth'))
+                rospy.sleep(0.05)
+            start = rospy.Time.now()
+            self.operator.start(self.latest_pose)
+        self.start = start
         rate = rospy.Rate(self.mission.rate)
         while not rospy.is_shutdown():
-            command = self.mission.command_at(max(0.0, (rospy.Time.now() - start).to_sec()))
+            t = max(0.0, (rospy.Time.now() - start).to_sec())
+            command = self.mission.command_at(t) if self.operator is None else self.operator.command(t)
             if command is None:
                 break
             v, w = command
