@@ -200,17 +200,23 @@ class ReturnRoute(object):
 
     def locate(self, x, y):
         """Along-route distance of the point of the route closest to (x, y),
-        searched near the last segment found (progress only moves locally)."""
+        searched near the last segment found (progress only moves locally).
+        Zero-length segments (landmarks recorded standing still) do not count
+        towards that window, so a pause cannot hide the route beyond it."""
         best = None
         last = len(self.points) - 2
-        for i in range(max(0, self._segment - 1), min(last, self._segment + 3) + 1):
+        i, end = max(0, self._segment - 1), min(last, self._segment + 3)
+        while i <= end:
             (ax, ay), (bx, by) = self.points[i], self.points[i + 1]
             length_sq = (bx - ax) ** 2 + (by - ay) ** 2
+            if length_sq < 1e-12:
+                end = min(last, end + 1)
             t = 0.0 if length_sq < 1e-12 else ((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / length_sq
             t = max(0.0, min(1.0, t)) if i < last else max(0.0, t)
             gap = distance(x, y, ax + t * (bx - ax), ay + t * (by - ay))
             if best is None or gap < best[0] - 1e-9:
                 best = (gap, i, t)
+            i += 1
         _, self._segment, t = best
         seg_length = distance(*(self.points[self._segment] + self.points[self._segment + 1]))
         return self.length_to(self._segment) + t * seg_length

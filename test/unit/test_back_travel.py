@@ -82,6 +82,18 @@ def test_closed_loop_corrects_a_poor_turn():
     assert distance(robot.x, robot.y, 0.0, 0.0) < 0.03
 
 
+def test_closed_loop_retraces_a_path_recorded_with_pauses():
+    # The robot stood still for 6 ticks before vision was lost and for 5 ticks
+    # mid-path (zero-length landmarks): the route search must look past them.
+    landmarks, end = record(S_CURVE)
+    standing = lambda lm: Landmark(0.0, 0.0, 0.0, 2.0, lm.psi)
+    half = len(landmarks) // 2
+    paused = (landmarks[:half] + [standing(landmarks[half - 1])] * 5 + landmarks[half:]
+              + [standing(landmarks[-1])] * 6)
+    robot = go_home(paused, end, 'closed_loop')
+    assert distance(robot.x, robot.y, 0.0, 0.0) < 0.02, (robot.x, robot.y)
+
+
 def test_time_mode_ends_after_T_and_distance_mode_after_d():
     landmark = Landmark(0.1, 0.0, 0.15, 2.0, 0.0)
     for mode, expected in (('time', 0.2), ('distance', 0.15)):

@@ -1,0 +1,207 @@
+"""Helpers of the full-mission rostests (test_mission*.py): the fake TurtleBot and
+the whole blind navigation layer run in one launch; a MissionRun watches the
+graph, starts the scripted operator once the layer records, triggers the vision
+loss and measures where the robot ends on /ground_truth/odom.
+
+The operator (the fake's mission_driver node) is started by the test, not by the
+launch, once the layer records: the fake's clock starts with the launch, and a
+mission started before the sampling publisher would be partly unrecorded.
+"""
+import math
+import os
+import shutil
+import subprocess
+import sys
+import threading
+
+import roslib.packages
+import rospy
+from actionlib_msgs.msg import GoalID
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Bool, Empty, String
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from recording_tools import Collector, subscribers_of  # noqa: E402
+from waiting import wait_for  # noqa: E402
+
+from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, FOOTPRINT_TOPIC,  # noqa: E402
+                                              STATE_TOPIC, VISION_LOST_TOPIC)
+from blind_navigation.core.store import load_landmarks  # noqa: E402
+from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
+                                  Footprint, PathSample)
+from blind_navigation.recording import SAMPLE_TOPIC  # noqa: E402
+
+#: The state walk of a mission that comes home (back_travel_client owns it).
+HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
+FINAL_STATES = ('home', 'aborted')
+TELEOP_TOPIC = '/cmd_vel_mux/input/teleop'
+MISSION_DONE_TOPIC = '/mission_driver/done'
+VISION_LOSS_TOPIC = '/vision_monitor/loss'
+#: s of sim time: the operator has stopped sending; the base stops (paper profile's
+#: motor time constant 0.25 s) before vision is lost, as in demo_observer.
+SETTLE = 2.0
+#: s wall for the layer to come up (node start-up, graph connections).
+STARTUP_TIMEOUT = 30.0
+#: m/s on /ground_truth/odom that counts as standing still (encoder-free truth:
+#: exactly 0 on a stopped base; margin for the ripple of the paper profile).
+STOPPED_SPEED = 0.005
+
+
+class GroundTruth(object):
+    """Latest /ground_truth/odom pose and speed (m, m/s), thread-safe."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._latest = None
+        self.sub = rospy.Subscriber('/ground_truth/odom', Odometry, self._on_msg, queue_size=1)
+
+    def _on_msg(self, msg):
+        p, t = msg.pose.pose.position, msg.twist.twist
+        with self._lock:
+            self._latest = (p.x, p.y, math.hypot(t.linear.x, t.linear.y), msg.header.stamp.to_sec())
+
+    def latest(self):
+        with self._lock:
+            return self._latest
+
+    def position(self):
+        x, y, _, _ = self.latest()
+        return x, y
+
+    def speed(self):
+        return self.latest()[2]
+
+
+class MissionRun(object):
+    """One mission on the fake TurtleBot, watched from the test node.
+
+    ``wall_timeout`` (s) bounds each wait; the launch sets
+    ``sampling_publisher/min_subscribers`` to 2 (recorder + this test), so the
+    recording cannot start before :meth:`wait_for_layer` has seen ``idle``.
+    """
+
+    def __init__(self, wall_timeout):
+        self.wall_timeout = wall_timeout
+        self.states = Collector(STATE_TOPIC, String)
+        self.truth = GroundTruth()
+        self.goals = Collector(BACK_TRAVEL_ACTION + '/goal', BackTravelActionGoal)
+        self.results = Collector(BACK_TRAVEL_ACTION + '/result', BackTravelActionResult)
+        self.footprints = Collector(FOOTPRINT_TOPIC, Footprint)
+        self.mission_done = Collector(MISSION_DONE_TOPIC, Bool)
+        self.samples = None
+        self.operator = None
+        self.start = None
+
+    def state_names(self):
+        return [msg.data for msg in self.states.snapshot()]
+
+    def wait(self, condition, message, timeout=None):
+        wait_for(condition, message, timeout or self.wall_timeout)
+
+    def wait_sim(self, seconds, what):
+        """Let ``seconds`` of sim time pass (bounded in wall time)."""
+        until = rospy.Time.now().to_sec() + seconds
+        self.wait(lambda: rospy.Time.now().to_sec() >= until,
+                  'sim time did not advance %.1f s (%s): is the fake clock running?' % (seconds, what))
+
+    def wait_for_layer(self):
+        """Idle layer and ground truth; then take the samples, which starts the recording."""
+        self.wait(lambda: self.state_names()[:1] == ['idle'], 'back_travel_client never published idle',
+                  STARTUP_TIMEOUT)
+        self.wait(lambda: self.truth.latest() is not None, 'no /ground_truth/odom from the fake base',
+                  STARTUP_TIMEOUT)
+        self.samples = Collector(SAMPLE_TOPIC, PathSample)
+        self.wait(lambda: 'recording' in self.state_names(),
+                  'state never became recording (no footprint from the recorder reached the client)',
+                  STARTUP_TIMEOUT)
+        self.start = self.truth.position()
+
+    def play_mission(self, mission):
+        """Start the fake's scripted operator now and wait until it is done and the robot stopped."""
+        self.start_operator(mission)
+        self.wait_for_operator(mission)
+
+    def wait_for_operator(self, mission):
+        """Wait until the operator (started here or by the launch) is done and the robot stopped;
+        returns the states seen when the operator was done."""
+        self.wait(lambda: any(msg.data for msg in self.mission_done.snapshot()),
+                  'mission_driver never finished %s' % mission)
+        states = self.state_names()
+        self.wait_sim(SETTLE, 'robot settling after the mission')
+        return states
+
+    def start_operator(self, mission):
+        found = roslib.packages.find_node('blind_navigation', 'mission_driver.py')
+        if not found:
+            raise AssertionError('mission_driver.py not found in package blind_navigation')
+        self.operator = subprocess.Popen([found[0], '__name:=mission_driver', '_mission:=%s' % mission,
+                                          'cmd_vel:=%s' % TELEOP_TOPIC, 'ground_truth:=/ground_truth/odom'])
+
+    def wait_for_trigger_subscribers(self):
+        self.wait(lambda: {'/back_travel_client', '/rotate_pi'} <= subscribers_of(VISION_LOST_TOPIC),
+                  'back_travel_client and rotate_pi do not subscribe %s' % VISION_LOST_TOPIC)
+
+    def trigger_by_rostopic(self):
+        """The paper's manual trigger, exactly as typed in a shell."""
+        self.wait_for_trigger_subscribers()
+        subprocess.run(['rostopic', 'pub', '-1', VISION_LOST_TOPIC, 'std_msgs/Empty', '{}'],
+                       check=True, timeout=self.wall_timeout)
+
+    def trigger_by_publisher(self):
+        """The same message from this node (latched: late subscribers get it too)."""
+        self.wait_for_trigger_subscribers()
+        self.trigger = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1, latch=True)
+        self.wait(lambda: self.trigger.get_num_connections() >= 2,
+                  'no connection to the %s subscribers' % VISION_LOST_TOPIC)
+        self.trigger.publish(Empty())
+
+    def wait_until_final(self):
+        self.wait(lambda: self.state_names()[-1:] in ([name] for name in FINAL_STATES),
+                  'the mission never ended (state home or aborted); states so far %s'
+                  % self.state_names())
+        self.wait_sim(SETTLE, 'robot stopping after the last goal')
+
+    def error(self):
+        """Ground-truth distance (m) between the mission's start and the robot now."""
+        x, y = self.truth.position()
+        return math.hypot(x - self.start[0], y - self.start[1])
+
+    def recorded(self):
+        """The landmark file the recorder reported last (core/store.LoadedPath)."""
+        footprints = self.footprints.snapshot()
+        if not footprints:
+            raise AssertionError('no footprint was published: nothing recorded')
+        return load_landmarks(footprints[-1].file)
+
+    def goal_values(self):
+        """The goals seen on the action's goal topic. The client publishes them from
+        the return's start (it makes its action client then), so this node may see
+        only those after its subscription connected: the first, standing ones."""
+        return [(g.goal.v, g.goal.w, g.goal.d, g.goal.T, g.goal.psi) for g in self.goals.snapshot()]
+
+    def goal_outcomes(self):
+        """GoalStatus codes of the results the server published, in order."""
+        return [r.status.status for r in self.results.snapshot()]
+
+    def cancel_all_goals(self):
+        """What `rostopic pub .../back_travel/cancel actionlib_msgs/GoalID {}` does: cancel every goal."""
+        publisher = rospy.Publisher(BACK_TRAVEL_ACTION + '/cancel', GoalID, queue_size=1)
+        self.wait(lambda: publisher.get_num_connections() >= 1,
+                  'back_travel_server does not subscribe %s/cancel' % BACK_TRAVEL_ACTION)
+        publisher.publish(GoalID())
+
+    def remove_recording(self):
+        """Delete the mission's private landmark directory (mission_rig.launch's ``dir``)."""
+        for msg in self.footprints.snapshot()[:1]:
+            directory = os.path.dirname(msg.file)
+            if directory.endswith('-mission-test'):
+                shutil.rmtree(directory, ignore_errors=True)
+
+    def stop_operator(self):
+        if self.operator and self.operator.poll() is None:
+            self.operator.terminate()
+            try:
+                self.operator.wait(timeout=10.0)
+            except subprocess.TimeoutExpired:
+                self.operator.kill()
+

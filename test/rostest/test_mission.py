@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""rostest: one whole mission on the fake TurtleBot (mission_*.test).
+
+The layer (blind_navigation.launch) records while the fake's scripted operator
+plays ``~mission`` (``~operator``: ``test`` = started by this node once the
+layer records; ``launch`` = the fake's own, started by the launch with a
+``start_delay``); then vision is lost, by ``~trigger``:
+
+- ``rostopic``: `rostopic pub -1 /blind_navigation/vision_lost std_msgs/Empty "{}"`
+  run as a subprocess, as in the paper's experiments;
+- ``publisher``: the same message published by this node;
+- ``auto``: the fake's camera fails (``vision_fail_at``) and vision_monitor
+  detects it (its latched ~loss names a detector other than ``manual``).
+
+Asserted: the state walks idle -> recording -> rotating -> returning -> home;
+the goals sent are the recorder's (``~recorder`` variant) landmarks in reverse
+order, every one of them; the robot ends within ``~max_error`` m of its start
+on /ground_truth/odom and stands still there.
+"""
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalStatus
+from std_msgs.msg import String
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mission_tools import HOME_WALK, STOPPED_SPEED, VISION_LOSS_TOPIC, MissionRun  # noqa: E402
+from recording_tools import Collector  # noqa: E402
+
+from blind_navigation.core.mission import load_mission  # noqa: E402
+
+
+class MissionTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mission = rospy.get_param('~mission')
+        cls.trigger = rospy.get_param('~trigger')
+        cls.recorder = rospy.get_param('~recorder')
+        operator = rospy.get_param('~operator', 'test')
+        triggers = {'rostopic': MissionRun.trigger_by_rostopic,
+                    'publisher': MissionRun.trigger_by_publisher, 'auto': None}
+        if cls.trigger not in triggers or operator not in ('test', 'launch'):
+            raise ValueError('~trigger must be one of %s and ~operator test or launch, got %r, %r'
+                             % (', '.join(triggers), cls.trigger, operator))
+        cls.max_error = float(rospy.get_param('~max_error'))
+        cls.mission_run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
+        cls.loss = Collector(VISION_LOSS_TOPIC, String)
+        try:
+            cls.mission_run.wait_for_layer()
+            if operator == 'test':
+                cls.mission_run.start_operator(cls.mission)
+            cls.states_at_mission_end = cls.mission_run.wait_for_operator(cls.mission)
+            if triggers[cls.trigger]:
+                triggers[cls.trigger](cls.mission_run)
+            cls.mission_run.wait_until_final()
+            cls.error = cls.mission_run.error()
+            cls.speed = cls.mission_run.truth.speed()
+            cls.loaded = cls.mission_run.recorded()
+        finally:
+            cls.mission_run.stop_operator()
+        rospy.loginfo('MISSION %s (%s, %s recorder, %s trigger): state %s, final error %.3f m '
+                      '(limit %.3f m), %d landmarks, %.2f m recorded, speed %.4f m/s',
+                      cls.mission, rospy.get_param('/back_travel_server/control'), cls.recorder,
+                      cls.trigger, cls.mission_run.state_names()[-1], cls.error, cls.max_error,
+                      len(cls.loaded.landmarks), cls.loaded.total_distance, cls.speed)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.mission_run.remove_recording()
+
+    def test_state_walks_to_home(self):
+        self.assertEqual(self.mission_run.state_names(), HOME_WALK)
+
+    def test_the_whole_mission_was_recorded_before_vision_was_lost(self):
+        # Recording began with the robot at its start (the fake's ground truth
+        # starts at the origin), and vision was lost after the operator was done
+        # (the operator and the back travel both drive the teleop input).
+        self.assertLess(abs(self.mission_run.start[0]) + abs(self.mission_run.start[1]), 0.001,
+                        'the robot had moved before the recording started')
+        self.assertEqual(self.states_at_mission_end, ['idle', 'recording'])
+        if self.trigger == 'auto':
+            losses = [msg.data for msg in self.loss.snapshot()]
+            self.assertTrue(losses, 'vision_monitor published no ~loss')
+            self.assertFalse(losses[0].startswith('manual'), losses[0])
+
+    def test_every_recorded_landmark_is_driven_back_in_reverse(self):
+        self.assertEqual(self.loaded.metadata.get('recorder'), self.recorder)
+        self.assertGreater(len(self.loaded.landmarks), 5)
+        # One succeeded result per landmark: each one was sent and driven...
+        self.assertEqual(self.mission_run.goal_outcomes(),
+                         [GoalStatus.SUCCEEDED] * len(self.loaded.landmarks))
+        # ... in reverse order, as recorded (the goals seen: at least the moving ones).
+        expected = [tuple(landmark) for landmark in reversed(self.loaded.landmarks)]
+        seen = self.mission_run.goal_values()
+        moving = sum(1 for landmark in self.loaded.landmarks if landmark.d > 0)
+        self.assertGreaterEqual(len(seen), moving)
+        self.assertEqual(seen, expected[len(expected) - len(seen):])
+
+    def test_the_operator_drove_the_mission(self):
+        # The limits are set for the mission's path: on a machine too loaded for the rtf,
+        # the operator's commands lapse (the base's 0.6 s watchdog stops it) and the robot
+        # drives another, shorter path. The recorded chord sum is within 1 % of the
+        # drive on these paths; the paper profile's speed droop costs up to 4 %.
+        nominal = load_mission(self.mission).nominal_length()
+        self.assertGreater(self.loaded.total_distance, 0.9 * nominal,
+                           'recorded %.2f m of the %.2f m mission: the operator lapsed (rtf too '
+                           'high for the machine load?)' % (self.loaded.total_distance, nominal))
+
+    def test_robot_ends_near_its_start(self):
+        self.assertLessEqual(self.error, self.max_error,
+                             '%s: ended %.3f m from its start (limit %.3f m)'
+                             % (self.mission, self.error, self.max_error))
+
+    def test_robot_stands_still_at_home(self):
+        self.assertLess(self.speed, STOPPED_SPEED)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_mission')
+    rostest.rosrun('blind_navigation', 'mission', MissionTest)
