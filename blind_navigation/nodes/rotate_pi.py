@@ -9,17 +9,25 @@ tolerance, false on failure (time allowance, odometry older than
 ``odom_timeout``, a Kobuki bumper/cliff/wheel-drop event). Zero velocity on
 failure and shutdown; a safety event halts the output from its callback at
 once, and no turn starts while a sensor is active.
+
+The turn waits for the recorder's ``final`` sample (at most
+``recording_end_timeout``), so the last landmark is taken before the robot
+turns: `rostopic pub -1` reaches each subscriber at its own moment, and a turn
+that started first would be recorded as part of the path.
 """
 import threading
 
 import rospy
 from std_msgs.msg import Bool, Empty, String
 
+from blind_navigation.msg import PathSample
+
 from blind_navigation.back_travel_ros import (EVENT_TOPICS, ROTATION_DONE_TOPIC, STATE_TOPIC,
                                               VISION_LOST_TOPIC, LatestOdom, SafetyMonitor,
                                               VelocityOutput)
 from blind_navigation.core import state
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
+from blind_navigation.recording import FINAL, SAMPLE_TOPIC
 from blind_navigation.ros_common import load_params, start_node
 
 ACCEPTING_STATES = (state.RECORDING, state.ROTATING)
@@ -34,17 +42,19 @@ class RotatePi(object):
     (Kobuki's /mobile_base/events/*), and core/rotation.py's ROTATION_DEFAULTS: ``angle`` (pi rad),
     ``max_w`` (0.6 rad/s, also the output clamp; linear velocity is clamped
     to 0), ``min_w`` (0.08 rad/s), ``gain`` (1.5 1/s), ``decel`` (0.5 rad/s^2),
-    ``tolerance`` (0.01 rad), ``settle_w`` (0.02 rad/s), ``time_allowance`` (30 s).
+    ``tolerance`` (0.01 rad), ``settle_w`` (0.02 rad/s), ``time_allowance`` (30 s);
+    ``recording_end_timeout`` (s, 1.0): longest wait for the recorder's final sample.
     """
 
     DEFAULTS = dict(ROTATION_DEFAULTS, cmd_vel_topic='/cmd_vel_mux/input/teleop', odom_topic='/odom',
-                    control_rate=50.0, odom_timeout=0.4,
+                    control_rate=50.0, odom_timeout=0.4, recording_end_timeout=1.0,
                     **{kind + '_topic': topic for kind, topic in EVENT_TOPICS.items()})
 
     def __init__(self):
         p = self.params = load_params(self.DEFAULTS)
-        if p.control_rate <= 0 or p.odom_timeout <= 0:
-            raise ValueError('~control_rate and ~odom_timeout must be positive')
+        if p.control_rate <= 0 or p.odom_timeout <= 0 or p.recording_end_timeout < 0:
+            raise ValueError('~control_rate and ~odom_timeout must be positive, '
+                             '~recording_end_timeout not negative')
         Rotation(p)  # validates the rotation params now, not at the first vision loss
         self.output = VelocityOutput(p.cmd_vel_topic, 0.0, p.max_w)
         self.odom = LatestOdom(p.odom_topic)
@@ -52,14 +62,31 @@ class RotatePi(object):
         self._trigger = threading.Event()
         self._busy = False
         self._tripped = None
+        self._recording_ended = threading.Event()
         self.safety = SafetyMonitor({kind: getattr(p, kind + '_topic') for kind in EVENT_TOPICS},
                                     self._on_trip)
         self.done_pub = rospy.Publisher(ROTATION_DONE_TOPIC, Bool, queue_size=1)
         rospy.Subscriber(STATE_TOPIC, String, self._on_state, queue_size=5)
         rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost, queue_size=1)
+        rospy.Subscriber(SAMPLE_TOPIC, PathSample, self._on_sample, queue_size=10)
 
     def _on_state(self, msg):
         self.mission_state = msg.data
+
+    def _on_sample(self, msg):
+        if msg.command == FINAL:
+            self._recording_ended.set()
+
+    def _wait_for_recording_end(self):
+        """Until the recorder's final sample is seen or ``recording_end_timeout`` (sim) passes."""
+        deadline = rospy.Time.now() + rospy.Duration(self.params.recording_end_timeout)
+        while not self._recording_ended.is_set() and rospy.Time.now() < deadline:
+            if rospy.is_shutdown():
+                return
+            rospy.sleep(0.01)
+        if not self._recording_ended.is_set():
+            rospy.logwarn('%s: no final sample from the recorder within %.1f s; turning anyway',
+                          rospy.get_name(), self.params.recording_end_timeout)
 
     def _on_trip(self, reason):
         if self._busy:
@@ -80,6 +107,7 @@ class RotatePi(object):
         while not rospy.is_shutdown():
             if self._trigger.wait(0.2):
                 self._trigger.clear()
+                self._wait_for_recording_end()
                 ok = self.rotate()
                 self.done_pub.publish(Bool(data=ok))
                 self._busy = False

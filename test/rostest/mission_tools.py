@@ -76,7 +76,7 @@ class MissionRun(object):
     """One mission on the fake TurtleBot, watched from the test node.
 
     ``wall_timeout`` (s) bounds each wait; the launch sets
-    ``sampling_publisher/min_subscribers`` to 2 (recorder + this test), so the
+    ``sampling_publisher/min_subscribers`` to 3 (recorder, rotate_pi, this test), so the
     recording cannot start before :meth:`wait_for_layer` has seen ``idle``.
     """
 

@@ -30,6 +30,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import HOME_WALK, STOPPED_SPEED, VISION_LOSS_TOPIC, MissionRun  # noqa: E402
 from recording_tools import Collector  # noqa: E402
 
+from blind_navigation.core.geometry import wrap_angle  # noqa: E402
 from blind_navigation.core.mission import load_mission  # noqa: E402
 
 
@@ -99,6 +100,17 @@ class MissionTest(unittest.TestCase):
         moving = sum(1 for landmark in self.loaded.landmarks if landmark.d > 0)
         self.assertGreaterEqual(len(seen), moving)
         self.assertEqual(seen, expected[len(expected) - len(seen):])
+
+    def test_the_last_landmark_was_taken_before_the_turn(self):
+        # rotate_pi waits for the recorder's final sample before turning, so no part of
+        # the pi turn (up to 0.6 rad/s) is recorded: the robot is at rest when vision is
+        # lost after the operator's last (straight) segment, so |w| is gyro noise and the
+        # yaw has not moved since the previous landmark.
+        previous, last = self.loaded.landmarks[-2:]
+        self.assertLess(abs(last.w), 0.05, 'last landmark %r has a turn rate: the pi turn '
+                        'was recorded' % (tuple(last),))
+        self.assertLess(abs(wrap_angle(last.psi - previous.psi)), 0.05,
+                        'yaw moved %.3f rad in the last landmark' % (last.psi - previous.psi))
 
     def test_the_operator_drove_the_mission(self):
         # The limits are set for the mission's path: on a machine too loaded for the rtf,
