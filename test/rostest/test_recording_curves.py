@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""rostest: the two-rate sampling follows the path (paper section 3.3.2) on the fake
+TurtleBot with the paper noise profile and the default dead-band.
+
+The mission is a long straight, a quarter-turn arc at the paper's set velocities and
+a long straight. Each tick's period is the cycle that just ended, decided from the
+four yaws before it, so a change of segment shows at most DETECTION_LAG after it.
+Checked: straight period on the straights, curved period on the arc, the same
+periods in the file, and no other period but the final partial cycle's.
+"""
+import os
+import shutil
+import sys
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Bool, Empty
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from recording_tools import Collector, wait_for  # noqa: E402
+
+from blind_navigation.core.mission import load_mission  # noqa: E402
+from blind_navigation.core.store import load_landmarks  # noqa: E402
+from blind_navigation.msg import PathSample  # noqa: E402
+from blind_navigation.recording import SAMPLE_TOPIC, VISION_LOST_TOPIC  # noqa: E402
+
+STRAIGHT_T, CURVED_T = 2.0, 1.0
+#: Four yaws (three straight cycles) to see a change, one more cycle to act on it.
+DETECTION_LAG = 3 * STRAIGHT_T + STRAIGHT_T
+MISSION_WALL_TIMEOUT = 120.0    # s wall (the mission is ~75 s of sim time at rtf 10)
+
+
+class RecordingCurvesTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mission = load_mission(rospy.get_param('~mission'))
+        cls.landmark_file = rospy.get_param('~landmark_file')
+        cls.samples = Collector(SAMPLE_TOPIC, PathSample)
+        cls.operator_start = []
+        rospy.Subscriber('/cmd_vel_mux/input/teleop', Twist, cls.on_teleop)
+        done = Collector('/mission_driver/done', Bool)
+        lost = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1, latch=True)
+        wait_for(lambda: any(msg.data for msg in done.snapshot()), 'the mission never finished',
+                 timeout=MISSION_WALL_TIMEOUT)
+        lost.publish(Empty())
+        wait_for(lambda: any(s.command == 'final' for s in cls.samples.snapshot()),
+                 'no final sample after vision_lost')
+        cls.ticks = [s for s in cls.samples.snapshot() if s.command == 'sample']
+        wait_for(lambda: cls.saved() >= len(cls.ticks), 'the saver did not save every tick')
+        cls.loaded = load_landmarks(cls.landmark_file)
+        moving = [(t0, t0 + duration, w) for t0, (v, w, duration)
+                  in zip(cls.segment_starts(), cls.mission.segments)]
+        cls.arc = next((t0, t1) for t0, t1, w in moving if w)
+
+    @classmethod
+    def on_teleop(cls, msg):
+        if not cls.operator_start and (msg.linear.x or msg.angular.z):
+            cls.operator_start.append(rospy.Time.now().to_sec())
+
+    @classmethod
+    def saved(cls):
+        try:
+            return len(load_landmarks(cls.landmark_file, allow_empty=True).landmarks)
+        except Exception:           # not created yet
+            return 0
+
+    @classmethod
+    def segment_starts(cls):
+        starts, t = [], 0.0
+        for _, _, duration in cls.mission.segments:
+            starts.append(t)
+            t += duration
+        return starts
+
+    @classmethod
+    def tearDownClass(cls):
+        directory = os.path.dirname(cls.landmark_file)
+        if directory.endswith('-recording-test'):       # only the launch's private directory
+            shutil.rmtree(directory, ignore_errors=True)
+
+    def mission_time(self, sample):
+        self.assertTrue(self.operator_start, 'the operator never drove')
+        return sample.header.stamp.to_sec() - self.operator_start[0]
+
+    def periods_between(self, start, end):
+        return [(round(self.mission_time(s), 1), s.period) for s in self.ticks
+                if start < self.mission_time(s) <= end]
+
+    def test_straight_period_before_the_arc(self):
+        before = self.periods_between(-1e9, self.arc[0])
+        self.assertGreaterEqual(len(before), 5, before)
+        self.assertTrue(all(period == STRAIGHT_T for _, period in before), before)
+
+    def test_curved_period_on_the_arc(self):
+        on_arc = self.periods_between(self.arc[0] + DETECTION_LAG, self.arc[1])
+        self.assertGreaterEqual(len(on_arc), 5, on_arc)
+        self.assertTrue(all(period == CURVED_T for _, period in on_arc), on_arc)
+
+    def test_straight_period_again_after_the_arc(self):
+        after = self.periods_between(self.arc[1] + DETECTION_LAG, 1e9)
+        self.assertGreaterEqual(len(after), 5, after)
+        self.assertTrue(all(period == STRAIGHT_T for _, period in after), after)
+
+    def test_file_holds_the_published_periods(self):
+        periods = [landmark.T for landmark in self.loaded.landmarks]
+        self.assertEqual(periods[:len(self.ticks)], [s.period for s in self.ticks])
+        self.assertTrue(set(periods[:-1]) <= {STRAIGHT_T, CURVED_T}, sorted(set(periods)))
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_recording_curves')
+    rostest.rosrun('blind_navigation', 'recording_curves', RecordingCurvesTest)
