@@ -12,6 +12,8 @@ from nav_msgs.msg import Odometry
 
 from blind_navigation.core.geometry import quaternion_from_yaw, wrap_angle
 
+import waiting
+
 RATE = 50.0
 COMMAND_TIMEOUT = 0.6
 
@@ -28,6 +30,13 @@ class FakeBase(object):
         self._pub = rospy.Publisher('/odom', Odometry, queue_size=5)
         rospy.Subscriber(cmd_topic, Twist, self._on_cmd, queue_size=10)
         self._timer = rospy.Timer(rospy.Duration(1.0 / RATE), self._tick)
+
+    def wait_for_listeners(self, count=1, timeout=20.0):
+        """Until ``count`` nodes subscribe to its /odom, then a few odometry periods, so
+        they hold odometry before a test drives them (a goal sent earlier is refused)."""
+        waiting.wait_for(lambda: self._pub.get_num_connections() >= count,
+                         '%d subscriber(s) of the fake base\'s /odom' % count, timeout)
+        rospy.sleep(3.0 / RATE)
 
     def _on_cmd(self, msg):
         with self._lock:

@@ -25,6 +25,7 @@ class BackTravelServerTest(unittest.TestCase):
         cls.base = FakeBase()
         cls.client = actionlib.SimpleActionClient('/blind_navigation/back_travel', BackTravelAction)
         assert cls.client.wait_for_server(rospy.Duration(TIMEOUT)), 'server did not come up'
+        cls.base.wait_for_listeners(1, TIMEOUT)     # the server's odometry subscription
 
     def send(self, **goal):
         feedback = []
