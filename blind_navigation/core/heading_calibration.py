@@ -19,9 +19,10 @@ recording period:
   significant (at least ``significance`` standard errors from zero; sqrt 2
   is the break-even: correcting by an estimate of standard error sigma leaves
   an error of variance sigma^2, not correcting leaves the term itself, whose
-  square is estimated without bias by estimate^2 - sigma^2) and sane (``|b| <= max_bias``, ``|s| <= max_scale``); the scale
-  also only when known to ``max_scale_std`` (pi x 0.003 = 0.01 rad, the pi
-  turn's own tolerance: a path that hardly turns does not determine it).
+  square is estimated without bias by estimate^2 - sigma^2) and sane
+  (``|b| <= max_bias``, ``|s| <= max_scale``); the scale also only when
+  known to ``max_scale_std`` (pi x 0.003 = 0.01 rad, the pi turn's own
+  tolerance: a path that hardly turns does not determine it).
   Without the scale the bias alone is fitted; without a usable bias, or with
   fewer than ``min_windows`` windows, there is no correction (the identity).
 * :class:`HeadingCorrection` is the result (``status``: ``full``, ``bias`` or
