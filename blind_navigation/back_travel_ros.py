@@ -19,6 +19,7 @@ FOOTPRINT_TOPIC = '/blind_navigation/footprint'
 RETURN_PATH_TOPIC = '/blind_navigation/return_path'
 BACK_TRAVEL_ACTION = '/blind_navigation/back_travel'
 RETURN_ROUTE_SERVICE = '/blind_navigation/set_return_route'
+HEADING_CORRECTION_TOPIC = '/blind_navigation/heading_correction'
 #: Kobuki's safety events (kobuki_node names), remappable by their ~params.
 EVENT_TOPICS = {'bumper': '/mobile_base/events/bumper', 'cliff': '/mobile_base/events/cliff',
                 'wheel_drop': '/mobile_base/events/wheel_drop'}
@@ -38,7 +39,7 @@ class LatestOdom(object):
         self._state = None
         self._received = None
         self._on_state = on_state
-        self._sub = rospy.Subscriber(topic, Odometry, self._on_msg, queue_size=5)
+        self._sub = rospy.Subscriber(topic, Odometry, self._on_msg, queue_size=5, tcp_nodelay=True)
 
     def _on_msg(self, msg):
         try:

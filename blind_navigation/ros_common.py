@@ -6,6 +6,9 @@ from geometry_msgs.msg import Twist
 
 from .core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 
+#: Indices of the diagonal of a 6x6 row-major covariance (x, y, z, roll, pitch, yaw).
+COVARIANCE_DIAGONAL = (0, 7, 14, 21, 28, 35)
+
 
 def load_params(defaults):
     """Read each ``~name`` private param, falling back to ``defaults[name]``.
@@ -29,6 +32,18 @@ def odom_state_from_msg(msg):
         raise ValueError('non-finite odometry (x, y, v, w) = %r' % (values,))
     return OdomState(pose.position.x, pose.position.y, yaw, twist.linear.x,
                      twist.angular.z, msg.header.stamp.to_sec())
+
+
+def odometry_lost_reason(msg):
+    """Why a visual-odometry nav_msgs/Odometry means lost (RTAB-Map's convention,
+    core/vision.vo_lost_reason), or None when it is valid."""
+    from .core.vision import vo_lost_reason  # here: core.vision loads numpy, most nodes need neither
+    pose = msg.pose.pose
+    return vo_lost_reason((pose.position.x, pose.position.y, pose.position.z),
+                          (pose.orientation.x, pose.orientation.y, pose.orientation.z,
+                           pose.orientation.w),
+                          [msg.pose.covariance[i] for i in COVARIANCE_DIAGONAL],
+                          [msg.twist.covariance[i] for i in COVARIANCE_DIAGONAL])
 
 
 def twist(v=0.0, w=0.0):

@@ -3,14 +3,19 @@
 of each control mode on the paper's Table VI missions, over seeds.
 
     /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]
-        [--modes time distance closed_loop] [--out results/back_travel_bench.md]
+        [--modes time distance closed_loop] [--heading-calibration off|on]
+        [--out results/back_travel_bench.md]
 
 Prints and writes a Markdown table: per mission, profile and mode the median
 and worst error (m), the median as % of the recorded length, and the paper's
 Table VI error. Each mode runs in its launch configuration: ``time`` and
 ``distance`` with the paper's recording (launch/paper.launch: dead-band 0),
-``closed_loop`` with blind_navigation.launch's (dead-band 0.01). Same seeds for
-every mode and profile (on ``ideal`` the seed changes nothing).
+``closed_loop`` with blind_navigation.launch's (dead-band 0.01). The gyro
+heading calibration against visual odometry (blind_navigation.launch
+``heading_correction``, off by default) is ``--heading-calibration on``. Same seeds for
+every mode and profile (on ``ideal`` the seed changes nothing). The
+``calibration`` column counts the runs whose estimate was used in full (bias
+and scale), for the bias only, or not at all.
 """
 import argparse
 import os
@@ -31,23 +36,31 @@ def main():
     parser.add_argument('--profiles', nargs='+', default=['ideal', 'paper'])
     parser.add_argument('--modes', nargs='+', default=['time', 'distance', 'closed_loop'])
     parser.add_argument('--missions', nargs='+', default=sorted(PAPER_TABLE6))
+    parser.add_argument('--heading-calibration', choices=('off', 'on'), default='off',
+                        help='calibrate the gyro against visual odometry while recording')
     parser.add_argument('--out', default='results/back_travel_bench.md')
     args = parser.parse_args()
     lines = ['| mission | profile | mode | length m | samples | KB | median err m | max err m | '
-             'median % of length | aborted | paper err m |', '|' + '---|' * 11]
+             'median % of length | aborted | calibration full/bias/none | paper err m |',
+             '|' + '---|' * 12]
     for mission in args.missions:
         for profile in args.profiles:
             seeds = range(args.seeds)
             for mode in args.modes:
-                deadband = 0.0 if mode in ('time', 'distance') else DEFAULT_DEADBAND
-                runs = [run_mission(mission, profile, mode, seed, deadband=deadband) for seed in seeds]
+                paper_mode = mode in ('time', 'distance')
+                deadband = 0.0 if paper_mode else DEFAULT_DEADBAND
+                calibrate = args.heading_calibration == 'on'
+                runs = [run_mission(mission, profile, mode, seed, deadband=deadband,
+                                    heading_calibration=calibrate) for seed in seeds]
+                statuses = [r.heading_correction.status for r in runs]
                 errors = [r.position_error for r in runs]
                 length = statistics.median(r.distance for r in runs)
                 median = statistics.median(errors)
-                line = '| %s | %s | %s | %.2f | %d | %.1f | %.3f | %.3f | %.2f | %d | %s |' % (
+                line = '| %s | %s | %s | %.2f | %d | %.1f | %.3f | %.3f | %.2f | %d | %s | %s |' % (
                     mission, profile, mode, length, statistics.median(r.samples for r in runs),
                     statistics.median(r.bytes for r in runs) / 1024.0, median, max(errors),
                     100.0 * median / length, sum(r.status != 'home' for r in runs),
+                    '/'.join(str(statuses.count(k)) for k in ('full', 'bias', 'none')),
                     PAPER_TABLE6.get(mission, ''))
                 print(line, flush=True)
                 lines.append(line)

@@ -12,6 +12,13 @@ Between goals the last command holds; after the last goal it is dropped after
 written for real (core/store.LandmarkWriter) to measure its size, and landmarks
 are read back from it, so the return uses the stored (rounded) numbers.
 
+With ``heading_calibration`` (blind_navigation.launch's ``heading_correction:=true``), the fake
+TurtleBot's visual odometry (core/visual_odometry.py, fake_vision's drift and
+30 Hz rate and seed + 1) runs while recording, core/heading_calibration.py
+estimates the gyro bias and scale from it at vision loss, and the pi turn and
+the return run on the corrected odometry with the landmarks expressed in the
+same frame, as the heading_correction node and back_travel_client do.
+
 The result holds the ground-truth final position error (the paper's "position
 error": distance between the start and where the robot stopped), odometry's
 own view of it, the recorded distance, samples, bytes, and both true paths.
@@ -23,12 +30,15 @@ from collections import namedtuple
 
 from .back_travel import ReturnRoute, make_controller
 from .geometry import distance
+from .heading_calibration import (CorrectedOdometry, HeadingCalibrator, correct_landmarks,
+                                  no_correction)
 from .kobuki import SimulatedKobuki, load_profile, make_profile
 from .mission import load_mission
 from .recorder import PathRecorder
 from .rotation import Rotation
 from .segment import SamplingSchedule
 from .store import LandmarkWriter, load_landmarks
+from .visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 
 #: Harness settings (keyword arguments of :func:`run_mission`).
 SIMULATION_DEFAULTS = {
@@ -39,25 +49,32 @@ SIMULATION_DEFAULTS = {
     'settle_time': 2.0,        # s between the mission's end and the vision loss
     'handover_timeout': 0.1,   # s the last command holds after the last goal
     'stop_time': 2.0,          # s left for the robot to stop at the end
+    'heading_calibration': False,  # gyro bias/scale from visual odometry while recording
 }
 
 MissionResult = namedtuple('MissionResult', [
     'mission', 'profile', 'mode', 'seed', 'status', 'reason',
     'distance', 'samples', 'bytes', 'position_error', 'odom_error',
-    'forward_path', 'return_path', 'duration', 'landmarks'])
+    'forward_path', 'return_path', 'duration', 'landmarks', 'heading_correction'])
 MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
                          'samples, bytes (landmark file), position_error (m, ground truth), '
                          'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s), '
-                         'landmarks (as stored and read back).')
+                         'landmarks (as stored and read back), heading_correction (core/heading_calibration).')
 
 
 class _Run(object):
-    """The robot, its clock and the recorded true path of one mission."""
+    """The robot, its clock and the recorded true path of one mission; while
+    ``calibrator`` is set, visual odometry and odometry feed it; once
+    ``corrector`` is set, :meth:`odom` is the corrected odometry."""
 
-    def __init__(self, profile, seed, dt):
+    def __init__(self, profile, seed, dt, calibrate=False):
         self.base = SimulatedKobuki(profile, seed=seed)
         self.dt = dt
         self.path = []
+        self.calibrator = HeadingCalibrator() if calibrate else None
+        self.vision = DriftingOdometry(seed + 1, **VO_DRIFT_DEFAULTS)
+        self.next_frame = 0.0
+        self.corrector = None
 
     def advance(self, command=None):
         if command is not None:
@@ -66,6 +83,28 @@ class _Run(object):
         pose = self.base.true_pose
         if not self.path or distance(self.path[-1][0], self.path[-1][1], pose.x, pose.y) > 0.005:
             self.path.append((pose.x, pose.y))
+        if self.calibrator is not None:
+            self.calibrator.add_odometry(self.base.odom.stamp, self.base.odom.yaw)
+            while self.next_frame <= self.base.t + 1e-9:   # as fake_vision clocks its frames
+                self.calibrator.add_visual(self.next_frame, self.vision.update(pose).yaw)
+                self.next_frame += 1.0 / VO_RATE
+
+    def lose_vision(self):
+        """Vision fails: the correction is estimated and the corrected frame starts here."""
+        correction = self.calibrator.estimate() if self.calibrator is not None else \
+            no_correction('heading calibration off')
+        self.calibrator = None
+        self.corrector = CorrectedOdometry(correction)
+        return correction
+
+    def odom(self):
+        """Odometry as the return sees it (corrected once vision is lost)."""
+        raw = self.base.odom
+        if self.corrector is None:
+            return raw
+        if self.corrector.state is None or self.corrector.state.stamp != raw.stamp:
+            self.corrector.update(raw)
+        return self.corrector.state
 
 
 def _record(run, mission, settings, store_path):
@@ -106,9 +145,9 @@ def _record(run, mission, settings, store_path):
 
 def _turn(run, params):
     rotation = Rotation(params)
-    rotation.start(run.base.odom)
+    rotation.start(run.odom())
     while True:
-        command = rotation.step(run.base.odom)
+        command = rotation.step(run.odom())
         if rotation.done or rotation.failed:
             run.base.command(0.0, 0.0)
             return rotation.done
@@ -120,9 +159,9 @@ def _return(run, landmarks, anchor, mode, params, settings):
     command = (0.0, 0.0)
     for index, landmark in enumerate(reversed(landmarks)):
         controller = make_controller(mode, landmark, params, route)
-        controller.start(run.base.odom)
+        controller.start(run.odom())
         while True:
-            v, w = controller.step(run.base.odom)
+            v, w = controller.step(run.odom())
             if controller.failed:
                 run.base.command(0.0, 0.0)
                 return 'goal %d: time allowance %.1f s exceeded' % (index + 1, controller.allowance)
@@ -157,16 +196,18 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
             'straight_period': settings['straight_period'],
             'stop_lead': settings['handover_timeout'] + profile['motor_time_constant'],
         })()
-    run = _Run(profile, seed, settings['control_dt'])
+    run = _Run(profile, seed, settings['control_dt'], settings['heading_calibration'])
     start = run.base.true_pose
     with tempfile.TemporaryDirectory(dir=store_dir) as directory:
         store_path = os.path.join(directory, 'landmarks.yaml')
         loaded, anchor = _record(run, mission, settings, store_path)
         size = os.path.getsize(store_path)
     forward_path, run.path = run.path, [run.path[-1]] if run.path else []
+    correction = run.lose_vision()
+    landmarks = correct_landmarks(loaded.landmarks, correction)
     reason = '' if _turn(run, params) else 'pi rotation failed'
     if not reason:
-        reason = _return(run, loaded.landmarks, anchor, mode, params, settings)
+        reason = _return(run, landmarks, anchor, mode, params, settings)
     for _ in range(int(round(settings['stop_time'] / run.dt))):
         run.advance()
     end, odom = run.base.true_pose, run.base.odom
@@ -174,4 +215,4 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
         mission.name, profile_name, mode, seed,
         'aborted' if reason else 'home', reason, loaded.total_distance, len(loaded.landmarks),
         size, distance(start.x, start.y, end.x, end.y), math.hypot(odom.x, odom.y),
-        forward_path, run.path, run.base.t, loaded.landmarks)
+        forward_path, run.path, run.base.t, loaded.landmarks, correction)

@@ -10,6 +10,12 @@ import random
 
 from .geometry import Pose2D, wrap_angle
 
+#: The fake TurtleBot's visual-odometry drift (fake_vision's defaults; the harness uses them too).
+VO_DRIFT_DEFAULTS = {'scale_error_std': 0.01, 'yaw_drift_per_metre': 0.005,
+                     'yaw_drift_per_radian': 0.005}
+#: RTAB-Map's odometry rate on the fake TurtleBot, Hz.
+VO_RATE = 30.0
+
 
 class DriftingOdometry(object):
     """``scale_error_std`` (fraction), ``yaw_drift_per_metre`` and ``yaw_drift_per_radian``

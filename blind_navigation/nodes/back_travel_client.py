@@ -20,6 +20,14 @@ allowance and the whole return within ``return_timeout_factor`` x the expected
 time + ``return_timeout_margin``. Publishes the odometry poses of the return on
 /blind_navigation/return_path.
 
+Gyro heading correction (docs/back_travel.md): with ``heading_correction``
+true, ``odom_topic`` is heading_correction's corrected odometry, and the
+landmarks are expressed in its frame before they are sent
+(core/heading_calibration.correct_landmarks with the latched
+/blind_navigation/heading_correction, awaited at most ``correction_timeout``
+when the return starts; none: aborted, as the frames would not agree). The
+landmark file itself is not changed.
+
 Progress (core/safety.ReturnProgress: real path and sha256 of the landmark
 file, anchor, landmarks completed, position) is written atomically to
 ``<landmark_file stem>.progress.yaml`` next to ``landmark_file`` at vision loss
@@ -42,11 +50,12 @@ from nav_msgs.msg import Path
 from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, EVENT_TOPICS, FOOTPRINT_TOPIC,
-                                              RETURN_PATH_TOPIC, RETURN_ROUTE_SERVICE,
-                                              ROTATION_DONE_TOPIC, STATE_TOPIC,
+                                              HEADING_CORRECTION_TOPIC, RETURN_PATH_TOPIC,
+                                              RETURN_ROUTE_SERVICE, ROTATION_DONE_TOPIC, STATE_TOPIC,
                                               VISION_LOST_TOPIC, LatestOdom, SafetyMonitor)
 from blind_navigation.core import state
 from blind_navigation.core.geometry import distance, quaternion_from_yaw
+from blind_navigation.core.heading_calibration import HeadingCorrection, correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 from blind_navigation.core.safety import (SAFETY_DEFAULTS, ProgressError, ReturnProgress,
                                           expected_duration, file_digest, load_progress,
@@ -54,6 +63,7 @@ from blind_navigation.core.safety import (SAFETY_DEFAULTS, ProgressError, Return
                                           return_allowance, save_progress)
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal, Footprint
+from blind_navigation.msg import HeadingCorrection as HeadingCorrectionMsg
 from blind_navigation.ros_common import load_params, start_node
 from blind_navigation.srv import SetReturnRoute
 
@@ -77,7 +87,10 @@ class BackTravelClient(object):
     (0.7 m/s, pi rad/s, Kobuki's limits: a landmark beyond them is a bad
     file), ``resume_timeout`` (s wall, 600) and ``resume_max_offset`` (m, 0.5):
     when a restarted client resumes, ``path_spacing`` (m, 0.02 between
-    return_path poses), ``bumper_topic`` / ``cliff_topic`` / ``wheel_drop_topic``.
+    return_path poses), ``heading_correction`` (false: landmarks as recorded;
+    true: in the frame of /blind_navigation/heading_correction),
+    ``correction_timeout`` (s, 5), ``bumper_topic`` / ``cliff_topic`` /
+    ``wheel_drop_topic``.
     """
 
     DEFAULTS = dict({
@@ -95,6 +108,8 @@ class BackTravelClient(object):
         'resume_timeout': SAFETY_DEFAULTS['resume_timeout'],
         'resume_max_offset': SAFETY_DEFAULTS['resume_max_offset'],
         'path_spacing': 0.02,
+        'heading_correction': False,
+        'correction_timeout': 5.0,
     }, **{kind + '_topic': topic for kind, topic in EVENT_TOPICS.items()})
 
     def __init__(self):
@@ -103,7 +118,7 @@ class BackTravelClient(object):
             raise ValueError('~landmark_file must be a file path, got %r' % (p.landmark_file,))
         for name in ('odom_timeout', 'server_timeout', 'goal_timeout_factor', 'return_timeout_factor',
                      'slowest_v', 'max_v', 'max_w', 'resume_timeout', 'resume_max_offset',
-                     'path_spacing'):
+                     'path_spacing', 'correction_timeout'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
         self.limits = Limits(p.max_v, p.max_w)
@@ -113,6 +128,7 @@ class BackTravelClient(object):
         self._lock = threading.Lock()
         self._return = threading.Event()
         self._trip = None
+        self.correction = None
         self.state_pub = rospy.Publisher(STATE_TOPIC, String, queue_size=1, latch=True)
         self.path_pub = rospy.Publisher(RETURN_PATH_TOPIC, Path, queue_size=1, latch=True)
         self.path = Path()
@@ -129,6 +145,9 @@ class BackTravelClient(object):
         rospy.Subscriber(FOOTPRINT_TOPIC, Footprint, self._on_footprint, queue_size=5)
         rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost, queue_size=1)
         rospy.Subscriber(ROTATION_DONE_TOPIC, Bool, self._on_rotation_done, queue_size=1)
+        if p.heading_correction:
+            rospy.Subscriber(HEADING_CORRECTION_TOPIC, HeadingCorrectionMsg, self._on_correction,
+                             queue_size=1)
         rospy.on_shutdown(self._on_shutdown)
 
     # --- state ---------------------------------------------------------------
@@ -221,6 +240,30 @@ class BackTravelClient(object):
         if self._transition(state.ROTATING, state.RETURNING, 'rotation_done true'):
             self._return.set()
 
+    def _on_correction(self, msg):
+        self.correction = msg
+
+    def _wait_for_correction(self):
+        """The latched heading correction (wall-bounded wait), or None."""
+        deadline = time.monotonic() + self.params.correction_timeout
+        while self.correction is None and time.monotonic() < deadline and not rospy.is_shutdown():
+            time.sleep(0.05)
+        return self.correction
+
+    def _in_corrected_frame(self, landmarks):
+        """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""
+        if not self.params.heading_correction:
+            return landmarks, None
+        msg = self._wait_for_correction()
+        if msg is None:
+            return None, ('no heading correction on %s within %.0f s (is heading_correction '
+                          'running?)' % (HEADING_CORRECTION_TOPIC, self.params.correction_timeout))
+        correction = HeadingCorrection(msg.bias, msg.scale, msg.bias_std, msg.scale_std,
+                                       msg.windows, msg.status, msg.reason)
+        rospy.loginfo('%s: landmarks in the corrected odometry frame: %s', rospy.get_name(),
+                      correction.describe())
+        return correct_landmarks(landmarks, correction, msg.reference_yaw), None
+
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
@@ -270,7 +313,10 @@ class BackTravelClient(object):
             return False, 'landmark file unusable: %s' % error
         for warning in loaded.warnings:
             rospy.logwarn('%s: %s', rospy.get_name(), warning)
-        goals = list(zip(loaded.labels, loaded.landmarks))[::-1]
+        landmarks, problem = self._in_corrected_frame(loaded.landmarks)
+        if problem:
+            return False, problem
+        goals = list(zip(loaded.labels, landmarks))[::-1]
         if resuming:
             if digest != self.progress.digest or len(goals) != self.progress.landmarks:
                 return False, 'landmark file %s changed since the return started' % path

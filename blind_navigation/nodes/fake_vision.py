@@ -26,7 +26,7 @@ from sensor_msgs.msg import Image
 from std_srvs.srv import SetBool, SetBoolResponse
 
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
-from blind_navigation.core.visual_odometry import DriftingOdometry
+from blind_navigation.core.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 from blind_navigation.ros_common import load_params, set_pose
 
 MODES = ('dark', 'stall', 'lost')
@@ -42,11 +42,10 @@ class FakeVision(object):
     ``yaw_drift_per_radian`` (core/visual_odometry); ``odom_frame``, ``base_frame``,
     ``camera_frame``; ``publish_tf``.
     """
-    DEFAULTS = {'rate': 30.0, 'width': 80, 'height': 60, 'seed': 0, 'vision_fail_at': '',
-                'vision_failure': 'dark', 'scale_error_std': 0.01, 'yaw_drift_per_metre': 0.005,
-                'yaw_drift_per_radian': 0.005, 'odom_frame': 'vo_odom',
-                'base_frame': 'vo_base_footprint', 'camera_frame': 'camera_rgb_optical_frame',
-                'publish_tf': True}
+    DEFAULTS = dict(VO_DRIFT_DEFAULTS, rate=VO_RATE, width=80, height=60, seed=0,
+                    vision_fail_at='', vision_failure='dark', odom_frame='vo_odom',
+                    base_frame='vo_base_footprint', camera_frame='camera_rgb_optical_frame',
+                    publish_tf=True)
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)

@@ -16,11 +16,9 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import Image
 from std_msgs.msg import Empty, String
 
-from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensity, odom_info_lost,
-                                          vo_lost_reason)
-from blind_navigation.ros_common import load_params
+from blind_navigation.core.vision import VisionLossMonitor, image_mean_intensity, odom_info_lost
+from blind_navigation.ros_common import load_params, odometry_lost_reason
 
-_COV_DIAGONAL = (0, 7, 14, 21, 28, 35)
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 
 
@@ -93,13 +91,7 @@ class VisionMonitorNode(object):
         self.feed(self.monitor.image, mean)
 
     def on_vo(self, msg):
-        pose, cov = msg.pose.pose, msg.pose.covariance
-        reason = vo_lost_reason((pose.position.x, pose.position.y, pose.position.z),
-                                (pose.orientation.x, pose.orientation.y, pose.orientation.z,
-                                 pose.orientation.w),
-                                [cov[i] for i in _COV_DIAGONAL],
-                                [msg.twist.covariance[i] for i in _COV_DIAGONAL])
-        self.feed(self.monitor.vo_odometry, reason)
+        self.feed(self.monitor.vo_odometry, odometry_lost_reason(msg))
 
     def on_odom_info(self, msg):
         msg_type = msg._connection_header.get('type', '')
