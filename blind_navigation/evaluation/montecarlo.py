@@ -1,10 +1,12 @@
 """Monte-Carlo runs of the paper's missions on the plain-Python harness.
 
-One job = one mission and one seed: the forward part is recorded once
-(:func:`.forward.record_forward`, for the landmark statistics of Tables III, V
-and VI) and the whole mission is run by ``core.simulation.run_mission`` once per
-control mode (same seed, so the same forward run). Each job returns one row
-(a dict of plain numbers) per mode; :func:`run_jobs` spreads jobs over processes.
+One job = one mission and one seed: the whole mission is run by
+``core.simulation.run_mission`` once per control mode, each mode in the
+recording configuration it is launched with (:func:`recording_settings`), and
+the forward part is recorded once per configuration
+(:func:`.forward.record_forward`, the same forward run as run_mission's) for
+the landmark statistics of Tables III, V and VI. Each job returns one row (a
+dict of plain numbers) per mode; :func:`run_jobs` spreads jobs over processes.
 """
 import math
 import multiprocessing
@@ -14,6 +16,17 @@ from ..core.geometry import distance, wrap_angle
 from ..core.mission import load_mission
 from ..core.simulation import run_mission
 from .forward import harness_settings, record_forward
+
+
+#: Modes launched in the paper's configuration (launch/paper.launch: the paper's
+#: classifier rule without a dead-band); the others run blind_navigation.launch's
+#: (config/recording.yaml, dead-band 0.01 rad).
+PAPER_CONFIGURATION_MODES = ('time', 'distance')
+
+
+def recording_settings(mode):
+    """Harness settings of the recording configuration ``mode`` is launched with."""
+    return {'deadband': 0.0} if mode in PAPER_CONFIGURATION_MODES else {}
 
 
 def set_velocities(mission):
@@ -74,18 +87,22 @@ def run_job(job):
     mission_name, profile, seed, modes, keep_paths = job
     mission = load_mission(mission_name)
     sv, asv = set_velocities(mission)
-    forward = record_forward(mission, profile, seed)
-    stats = landmark_stats(forward.landmarks, sv, asv, harness_settings()['settle_time'])
-    rows = []
+    stats, rows = {}, []
     for mode in modes:
-        result = run_mission(mission, profile, mode, seed)
+        settings = recording_settings(mode)
+        key = tuple(sorted(settings.items()))
+        if key not in stats:
+            forward = record_forward(mission, profile, seed, **settings)
+            stats[key] = landmark_stats(forward.landmarks, sv, asv, harness_settings()['settle_time'])
+        result = run_mission(mission, profile, mode, seed, **settings)
         row = {'mission': mission_name, 'profile': profile, 'mode': mode, 'seed': seed,
                'sv': sv, 'asv': asv, 'status': result.status, 'reason': result.reason,
                'length': result.distance, 'samples': result.samples, 'bytes': result.bytes,
                'error': result.position_error, 'odom_error': result.odom_error,
                'duration': result.duration}
         row['error_pct'] = 100.0 * result.position_error / result.distance if result.distance else float('nan')
-        row.update(stats)
+        row['deadband'] = harness_settings(**settings)['deadband']
+        row.update(stats[key])
         row.update(return_geometry(result.forward_path, result.return_path))
         if keep_paths:
             row['forward_path'] = result.forward_path

@@ -40,8 +40,9 @@ def _summary(values):
     return float(numpy.mean(values)), float(numpy.max(values))
 
 
-def compare_sampling(mission, profile='paper', seed=0, step=5):
-    """Adaptive vs uniform sampling of the same run (same mission, profile, seed).
+def compare_sampling(mission, profile='paper', seed=0, step=5, deadband=0.0):
+    """Adaptive vs uniform sampling of the same run (same mission, profile, seed);
+    the adaptive schedule's classifier dead-band is ``deadband`` (the paper's: 0).
 
     Returns {'adaptive'|'uniform': {'samples', 'period', 'truth_mean', 'truth_max',
     'odom_mean', 'odom_max'}}: mean and max distance (m) of every ``step``-th
@@ -49,7 +50,7 @@ def compare_sampling(mission, profile='paper', seed=0, step=5):
     """
     mission = load_mission(mission) if isinstance(mission, str) else mission
     defaults = harness_settings()
-    adaptive = record_forward(mission, profile, seed)
+    adaptive = record_forward(mission, profile, seed, deadband=deadband)
     period = sum(lm.T for lm in adaptive.landmarks) / len(adaptive.landmarks)
     uniform = record_forward(mission, profile, seed, straight_period=period, curved_period=period)
     out = {}

@@ -8,6 +8,8 @@ import socket
 import subprocess
 import time
 
+from .montecarlo import recording_settings
+
 
 def free_port():
     with socket.socket() as sock:
@@ -25,10 +27,27 @@ def bag_summary(path):
                 'duration': bag.get_end_time() - bag.get_start_time()}
 
 
+def log_findings(path):
+    """From a launch log: the back-travel client's abort reason ('' if none), how
+    often the fake base logged that it fell behind real time (machine overload),
+    and the last state the client logged."""
+    reason, behind, state = '', 0, ''
+    with open(path, errors='replace') as stream:
+        for line in stream:
+            if 'behind real time' in line:
+                behind += 1
+            if 'back_travel_client: state ' in line and ' -> ' in line:
+                state = line.split(' -> ', 1)[1].split(':')[0].strip()
+            if '-> aborted:' in line and not reason:
+                reason = line.split('-> aborted:', 1)[1].strip()
+    return reason, behind, state
+
+
 def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', start_delay=None,
-            bag=True, timeout=600.0):
-    """One bench.launch run; returns the probe's result dict (+ 'bag', 'wall_s', 'log')
-    or {'failed': reason, ...} if the launch did not produce a result."""
+            bag=True, timeout=600.0, return_timeout=300.0):
+    """One bench.launch run, the mode in its launch configuration
+    (montecarlo.recording_settings); returns the probe's result dict (+ 'bag',
+    'wall_s', 'log') or {'failed': reason, ...} if the launch produced no result."""
     name = '%s_%s_s%d_%s' % (scenario, control, seed, vision_failure)
     run_dir = os.path.join(out_dir, name)
     os.makedirs(run_dir, exist_ok=True)
@@ -42,7 +61,10 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
                'rtf:=%g' % rtf, 'vision_failure:=%s' % vision_failure,
                'start_delay:=%g' % start_delay, 'out:=%s' % out, 'results_dir:=%s' % run_dir,
                'landmark_file:=%s' % os.path.join(run_dir, 'landmarks', 'landmarks.yaml'),
-               'bag:=%s' % (bag_path if bag else '')]
+               'return_timeout:=%g' % return_timeout, 'bag:=%s' % (bag_path if bag else '')]
+    deadband = recording_settings(control).get('deadband')
+    if deadband is not None:
+        command.append('deadband:=%g' % deadband)
     started = time.time()
     with open(log, 'w') as stream:
         process = subprocess.Popen(command, stdout=stream, stderr=subprocess.STDOUT,
@@ -57,12 +79,15 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
                 os.killpg(process.pid, signal.SIGKILL)
                 process.wait()
     wall = time.time() - started
+    reason, behind, state = log_findings(log)
     if not os.path.exists(out):
-        return {'failed': 'no result after %.0f s (exit %s), see %s' % (wall, process.returncode, log),
+        return {'failed': 'no result after %.0f s wall (exit %s), last state %r, see %s'
+                          % (wall, process.returncode, state, log),
                 'mission': scenario, 'mode': control, 'seed': seed, 'detector': vision_failure,
                 'wall_s': wall, 'log': log}
     with open(out) as stream:
         result = json.load(stream)
     result.update({'bag': bag_summary(bag_path) if bag else None, 'wall_s': wall, 'log': log,
+                   'abort_reason': reason, 'behind_real_time': behind,
                    'vision_failure': vision_failure, 'rtf_requested': rtf})
     return result

@@ -81,9 +81,10 @@ def test_compare_sampling_same_count_and_small_error_on_ideal_robot():
 
 
 def test_run_job_rows_per_mode():
-    rows = run_job(('table3_test5', 'paper', 1, ('time', 'closed_loop'), True))
-    assert [r['mode'] for r in rows] == ['time', 'closed_loop']
-    assert rows[0]['samples'] == rows[1]['samples']          # same forward run
+    rows = run_job(('table3_test5', 'paper', 1, ('time', 'distance', 'closed_loop'), True))
+    assert [r['mode'] for r in rows] == ['time', 'distance', 'closed_loop']
+    assert [r['deadband'] for r in rows] == [0.0, 0.0, 0.01]  # paper.launch vs blind_navigation.launch
+    assert rows[0]['samples'] == rows[1]['samples']          # same configuration: same forward run
     assert rows[0]['rlv_max'] == rows[1]['rlv_max']
     assert all(r['status'] == 'home' and r['error'] >= 0 and 'return_path' in r for r in rows)
 
@@ -142,3 +143,25 @@ def test_odom_bag_has_one_message_per_step(tmp_path):
     assert msg.pose.pose.position.x == pytest.approx(0.1)
     assert msg.header.stamp.to_sec() == pytest.approx(0.22)
     assert msg.pose.covariance[35] == 0.05
+
+
+def test_agreement_table_sets_ros_beside_the_same_harness_seed():
+    from blind_navigation.evaluation.bench import agreement_table
+    ros = [{'mission': 'table6_test1', 'mode': 'time', 'seed': s, 'state': 'home', 'samples': 24,
+            'stationary_samples': 6, 'length': 2.6, 'error': e, 'rtf': 5.0, 'vision_failure': 'dark'}
+           for s, e in ((0, 0.05), (1, 0.31))]
+    harness = [{'mission': 'table6_test1', 'mode': 'time', 'seed': s, 'samples': 18, 'length': 2.64,
+                'error': 0.1 + s} for s in range(4)]
+    text = agreement_table(ros, harness)
+    assert '| table6_test1 | time | 1 | home | 18 (+6 before the start) | 18 | 2.60 | 2.64 | 0.310 | 1.100 | 5.0 |' in text
+    assert '| table6_test1 | time | 2 | 0.180 [0.050..0.310] | 0.600 [0.100..1.100] | 1.600 [0.100..3.100] (4 seeds) |' in text
+
+
+def test_log_findings_reads_the_abort_reason_and_overload(tmp_path):
+    from blind_navigation.evaluation.ros_runs import log_findings
+    log = tmp_path / 'launch.log'
+    log.write_text('[INFO] /back_travel_client: state rotating -> returning\n'
+                   '[WARN] fake_kobuki: behind real time x 5.0\n'
+                   '[ERROR] /back_travel_client: state returning -> aborted: goal 11/72 ended ABORTED: stale\n'
+                   '[WARN] fake_kobuki: behind real time x 5.0\n')
+    assert log_findings(str(log)) == ('goal 11/72 ended ABORTED: stale', 2, 'aborted')
