@@ -4,6 +4,7 @@ import math
 import rospy
 from geometry_msgs.msg import Twist
 
+from . import subscription_watchdog
 from .core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 
 #: Indices of the diagonal of a 6x6 row-major covariance (x, y, z, roll, pitch, yaw).
@@ -56,8 +57,10 @@ def twist(v=0.0, w=0.0):
 
 def start_node(name, node_class):
     """``rospy.init_node(name)`` then ``node_class()``; a ValueError from the
-    constructor (a bad param) is logged as fatal and exits with status 1."""
+    constructor (a bad param) is logged as fatal and exits with status 1. Every
+    node gets the subscription watchdog (missed registrations are healed)."""
     rospy.init_node(name)
+    subscription_watchdog.start()
     try:
         return node_class()
     except ValueError as error:

@@ -16,6 +16,7 @@ from std_msgs.msg import String
 
 from blind_navigation.core.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
 from blind_navigation.ros_common import load_params
+from blind_navigation import subscription_watchdog
 
 
 class CmdVelMuxNode(object):
@@ -54,6 +55,7 @@ class CmdVelMuxNode(object):
 
 def main():
     rospy.init_node('cmd_vel_mux')
+    subscription_watchdog.start()
     CmdVelMuxNode()
     rospy.spin()
 

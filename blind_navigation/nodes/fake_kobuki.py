@@ -26,6 +26,7 @@ from blind_navigation import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.core.arena import arena_from_dict
 from blind_navigation.core.kobuki import SENSOR_PERIOD, SimulatedKobuki, load_profile
 from blind_navigation.ros_common import load_params, set_pose
+from blind_navigation import subscription_watchdog
 
 DBL_MAX = sys.float_info.max
 # The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
@@ -194,6 +195,7 @@ class FakeKobuki(object):
 
 def main():
     rospy.init_node('mobile_base')
+    subscription_watchdog.start()
     try:
         node = FakeKobuki()
     except (ValueError, OSError) as error:

@@ -28,6 +28,7 @@ from std_srvs.srv import SetBool, SetBoolResponse
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.core.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 from blind_navigation.ros_common import load_params, set_pose
+from blind_navigation import subscription_watchdog
 
 MODES = ('dark', 'stall', 'lost')
 LOST_COVARIANCE = 9999.0
@@ -143,6 +144,7 @@ class FakeVision(object):
 
 def main():
     rospy.init_node('fake_vision')
+    subscription_watchdog.start()
     try:
         FakeVision()
     except ValueError as error:

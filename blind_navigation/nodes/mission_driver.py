@@ -19,6 +19,7 @@ from blind_navigation.core.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.core.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
 from blind_navigation.ros_common import load_params, odom_state_from_msg, twist
+from blind_navigation import subscription_watchdog
 
 STOP_MESSAGES = 3
 
@@ -85,6 +86,7 @@ class MissionDriver(object):
 
 def main():
     rospy.init_node('mission_driver')
+    subscription_watchdog.start()
     try:
         driver = MissionDriver()
     except ValueError as error:

@@ -18,6 +18,7 @@ from std_msgs.msg import Empty, String
 
 from blind_navigation.core.vision import VisionLossMonitor, image_mean_intensity, odom_info_lost
 from blind_navigation.ros_common import load_params, odometry_lost_reason
+from blind_navigation import subscription_watchdog
 
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 
@@ -63,7 +64,9 @@ class VisionMonitorNode(object):
         self.done = False
         self.warned = set()
         self.started = None  # first timer tick: sim time may not have arrived yet here
-        self.lost_pub = rospy.Publisher(p.vision_lost_topic, Empty, queue_size=1)
+        # Latched, as `rostopic pub -1` is: a node whose subscription connects late (the
+        # subscription watchdog heals a missed registration) still gets the one loss.
+        self.lost_pub = rospy.Publisher(p.vision_lost_topic, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.subscribers = [rospy.Subscriber(p.vision_lost_topic, Empty, self.on_vision_lost)]
         if enabled & {'stall', 'dark'}:
@@ -150,6 +153,7 @@ class VisionMonitorNode(object):
 
 def main():
     rospy.init_node('vision_monitor')
+    subscription_watchdog.start()
     VisionMonitorNode()
     rospy.spin()
 
