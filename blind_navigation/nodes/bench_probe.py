@@ -38,8 +38,8 @@ from std_msgs.msg import Empty, String
 from blind_navigation.back_travel_ros import VISION_LOST_TOPIC
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.store import load_landmarks
+from blind_navigation.nodes import demo_observer
 from blind_navigation.nodes.demo_observer import DemoObserver
-from blind_navigation.ros_common import start_node
 
 LAYER_NODES = ['sampling_publisher', 'landmark_saver', 'back_travel_client', 'back_travel_server',
                'rotate_pi', 'vision_monitor']
@@ -188,12 +188,7 @@ class BenchProbe(DemoObserver):
 
 
 def main():
-    node = start_node('bench_probe', BenchProbe)
-    try:
-        node.run()
-    except (RuntimeError, rospy.ROSException) as error:
-        rospy.logerr('%s', error)
-        raise SystemExit(1)
+    demo_observer.main('bench_probe', BenchProbe)
 
 
 if __name__ == '__main__':

@@ -111,8 +111,9 @@ class DemoObserver(object):
         figure.savefig(path, dpi=120, bbox_inches='tight')
 
 
-def main():
-    node = start_node('demo_observer', DemoObserver)
+def main(name='demo_observer', node_class=DemoObserver):
+    """Run an observer node (``node_class``: DemoObserver or a subclass) until its report is out."""
+    node = start_node(name, node_class)
     try:
         node.run()
     except (RuntimeError, rospy.ROSException) as error:
