@@ -29,19 +29,24 @@ def subscribers_of(topic):
 
 
 class Collector(object):
-    """Keeps every message of one topic, thread-safe."""
+    """Keeps every message of one topic, thread-safe; ``items`` holds (sim receive time, msg)."""
 
     def __init__(self, topic, msg_type):
-        self.messages, self._lock = [], threading.Lock()
+        self.items, self._lock = [], threading.Lock()
         self.sub = rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
 
     def _on_msg(self, msg):
         with self._lock:
-            self.messages.append(msg)
+            self.items.append((rospy.get_time(), msg))
 
-    def snapshot(self):
+    def snapshot(self, since=0):
+        """The messages from the ``since``-th on."""
         with self._lock:
-            return list(self.messages)
+            return [msg for _, msg in self.items[since:]]
+
+    def __len__(self):
+        with self._lock:
+            return len(self.items)
 
 
 def landmark_info(path):

@@ -18,6 +18,7 @@ from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.store import LandmarkWriter
 from blind_navigation.msg import Footprint
 
+from recording_tools import Collector  # noqa: F401 (the safety tests import it from here)
 from waiting import wait_for
 
 SIM_BASE = 100.0       # s, sim time at the start (rospy treats 0 as unset)
@@ -97,26 +98,6 @@ class Node(object):
                 self.process.wait(timeout)
 
 
-class Collector(object):
-    """Every message of a topic as (sim time, msg), thread-safe."""
-
-    def __init__(self, topic, msg_type):
-        self.items, self._lock = [], threading.Lock()
-        self.sub = rospy.Subscriber(topic, msg_type, self._on_msg, queue_size=100)
-
-    def _on_msg(self, msg):
-        with self._lock:
-            self.items.append((rospy.get_time(), msg))
-
-    def since(self, index=0):
-        with self._lock:
-            return [msg for _, msg in self.items[index:]]
-
-    def __len__(self):
-        with self._lock:
-            return len(self.items)
-
-
 class Layer(object):
     """The mission-state side of a test: state and /rosout collectors and the
     publishers that walk a fresh client from idle to returning."""
@@ -130,7 +111,7 @@ class Layer(object):
         self.rotation_done = rospy.Publisher(prefix + '/rotation_done', Bool, queue_size=1)
 
     def state_list(self, since=0):
-        return [msg.data for msg in self.states.since(since)]
+        return [msg.data for msg in self.states.snapshot(since)]
 
     def walk_to_returning(self, since, timeout=60.0):
         """idle -> recording -> rotating -> returning, publishing each trigger until
@@ -154,7 +135,7 @@ class Layer(object):
 
     def logged(self, node, text):
         """/rosout lines of ``node`` containing ``text``."""
-        return [m.msg for m in self.rosout.since() if m.name == node and text in m.msg]
+        return [m.msg for m in self.rosout.snapshot() if m.name == node and text in m.msg]
 
     def abort_reason(self, node):
         lines = self.logged(node, '-> aborted')
