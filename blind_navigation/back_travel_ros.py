@@ -10,7 +10,7 @@ from nav_msgs.msg import Odometry
 
 from blind_navigation import kobuki_msgs_compat as kobuki
 from blind_navigation.core.safety import SafetyEvents, VelocityLimits
-from blind_navigation.ros_common import odom_state_from_msg, twist
+from blind_navigation.ros_common import twist, usable_odom_state
 
 VISION_LOST_TOPIC = '/blind_navigation/vision_lost'
 ROTATION_DONE_TOPIC = '/blind_navigation/rotation_done'
@@ -42,11 +42,8 @@ class LatestOdom(object):
         self._sub = rospy.Subscriber(topic, Odometry, self._on_msg, queue_size=5, tcp_nodelay=True)
 
     def _on_msg(self, msg):
-        try:
-            state = odom_state_from_msg(msg)
-        except ValueError as error:
-            rospy.logwarn_throttle(5.0, '%s: odometry on %s ignored: %s'
-                                   % (rospy.get_name(), self.topic, error))
+        state = usable_odom_state(msg, self.topic)
+        if state is None:
             return
         with self._lock:
             self._state, self._received = state, rospy.Time.now()

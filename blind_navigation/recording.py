@@ -25,7 +25,7 @@ from blind_navigation.core.geometry import quaternion_from_yaw
 from blind_navigation.core.recorder import OdometryHistory, PathRecorder, footprint
 from blind_navigation.core.store import LandmarkWriter, start_mission_file
 from blind_navigation.msg import Footprint
-from blind_navigation.ros_common import load_params, odom_state_from_msg
+from blind_navigation.ros_common import load_params, usable_odom_state
 
 SAMPLE_TOPIC = '/blind_navigation/sample'
 RECORD_SERVICE = '/blind_navigation/record_landmark'
@@ -86,11 +86,8 @@ class LandmarkSaving(object):
         self.odom_sub = rospy.Subscriber(p.odom_topic, Odometry, self._on_odom, queue_size=100)
 
     def _on_odom(self, msg):
-        try:
-            state = odom_state_from_msg(msg)
-        except ValueError as error:
-            rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s'
-                                   % (rospy.get_name(), self.params.odom_topic, error))
+        state = usable_odom_state(msg, self.params.odom_topic)
+        if state is None:
             return
         with self._lock:
             self._history.append(state)

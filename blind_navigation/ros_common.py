@@ -47,6 +47,16 @@ def odometry_lost_reason(msg):
                           [msg.twist.covariance[i] for i in COVARIANCE_DIAGONAL])
 
 
+def usable_odom_state(msg, topic):
+    """OdomState of ``msg``, or None after a throttled warning naming ``topic`` when the
+    odometry is NaN or its quaternion null (such odometry is never used)."""
+    try:
+        return odom_state_from_msg(msg)
+    except ValueError as error:
+        rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s' % (rospy.get_name(), topic, error))
+        return None
+
+
 def twist(v=0.0, w=0.0):
     """geometry_msgs/Twist with linear.x = v and angular.z = w."""
     msg = Twist()

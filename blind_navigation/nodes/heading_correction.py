@@ -29,7 +29,7 @@ from blind_navigation.core.heading_calibration import (HEADING_CALIBRATION_DEFAU
                                                        CorrectedOdometry, HeadingCalibrator)
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros_common import (load_params, odom_state_from_msg, odometry_lost_reason,
-                                         set_pose, start_node)
+                                         set_pose, start_node, usable_odom_state)
 
 
 class HeadingCorrectionNode(object):
@@ -72,11 +72,8 @@ class HeadingCorrectionNode(object):
                 self.calibrator.add_visual(msg.header.stamp.to_sec(), yaw)
 
     def _on_odom(self, msg):
-        try:
-            raw = odom_state_from_msg(msg)
-        except ValueError as error:
-            rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s'
-                                   % (rospy.get_name(), self.params.odom_topic, error))
+        raw = usable_odom_state(msg, self.params.odom_topic)
+        if raw is None:
             return
         with self._lock:
             self._last_raw, self._frame_id = raw, msg.header.frame_id or self._frame_id
