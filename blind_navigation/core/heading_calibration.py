@@ -11,22 +11,30 @@ recording period:
   seconds between visual-odometry samples, each giving the gyro's yaw increment
   (odometry yaw interpolated at the VO stamps) and VO's over the same interval;
   windows that contain a lost VO message or a gap longer than ``max_gap`` are
-  not used. Least squares of ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt``
+  not used. The model is ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt``
   (visual-odometry drift is a random walk, so the increments of separate
-  windows are independent), with one pass that drops windows whose residual is
-  beyond ``outlier_k`` robust standard deviations (a VO jump), gives ``b``,
-  ``s`` and their standard errors. A term is used only when it is
-  significant (at least ``significance`` standard errors from zero; sqrt 2
-  is the break-even: correcting by an estimate of standard error sigma leaves
-  an error of variance sigma^2, not correcting leaves the term itself, whose
-  square is estimated without bias by estimate^2 - sigma^2) and sane
-  (``|b| <= max_bias``, ``|s| <= max_scale``); the scale also only when
-  known to ``max_scale_std`` (pi x 0.003 = 0.01 rad, the pi turn's own
-  tolerance: a path that hardly turns does not determine it).
-  Without the scale the bias alone is fitted; without a usable bias, or with
-  fewer than ``min_windows`` windows, there is no correction (the identity).
-* :class:`HeadingCorrection` is the result (``status``: ``full``, ``bias`` or
-  ``none``, with the reason).
+  windows are independent); least squares, with one pass that drops windows
+  whose residual is beyond ``outlier_k`` robust standard deviations (a VO
+  jump), gives ``b``, ``s`` and their standard errors.
+* The scale ``s``: a mission's path hardly turns, so it rarely determines
+  it; the gyro's calibrated scale (core/gyro_calibration.py, a one-off spin
+  under visual odometry) is used instead when there is one. Otherwise the fit's
+  scale, when known to ``max_scale_std`` (pi x 0.003 = 0.01 rad, the pi
+  turn's own tolerance) and sane (``|s| <= max_scale``).
+* The bias ``b``: the visual-odometry windows (with ``s`` fixed) and, after
+  vision loss, :class:`StandstillBias` (the robot standing still: the gyro's
+  heading change is its bias) are fused by inverse variance
+  (:func:`fuse_bias`). Visual odometry drifts a little with every metre, which
+  limits it on short missions; the standstill is limited by the gyro's white
+  noise (std noise / sqrt(samples)).
+* A term is used only when it is significant (more than ``significance``
+  standard errors from zero; sqrt 2 is the break-even: correcting by an
+  estimate of standard error sigma leaves an error of variance sigma^2, not
+  correcting leaves the term itself, whose square is estimated without bias
+  by estimate^2 - sigma^2) and the bias only when sane (``|b| <= max_bias``).
+  Fewer than ``min_windows`` windows: no visual-odometry bias.
+* :class:`HeadingCorrection` is the result (``status``: ``full``, ``bias``,
+  ``scale`` or ``none``: which terms are used, with the reason for the others).
 * :class:`CorrectedOdometry` turns the raw odometry stream into the corrected
   frame: heading increments ``(dpsi - b dt) / (1 + s)``, position increments
   rotated by the heading correction accumulated so far, turn rate
@@ -57,6 +65,15 @@ HEADING_CALIBRATION_DEFAULTS = {
     'outlier_k': 5.0,            # windows beyond this many robust std of the residuals are dropped
 }
 
+#: Defaults of the standstill bias measurement after vision loss (heading_correction node params).
+STANDSTILL_DEFAULTS = {
+    'standstill_time': 60.0,     # s of standing still to measure (0: none); bias std = gyro
+                                 # noise / sqrt(samples): 0.003 rad/s at 50 Hz -> 5.5e-5 rad/s
+    'still_speed': 0.002,        # m/s, wheel speed below which the robot counts as still
+    'still_rate': 0.03,          # rad/s, gyro rate below which it counts as not turning
+    'still_settle': 0.5,         # s skipped at the start of each still spell
+}
+
 #: How much odometry history is kept to interpolate at visual-odometry stamps, s.
 HISTORY = 5.0
 #: Visual-odometry samples kept while waiting for odometry to cover their stamps.
@@ -66,7 +83,7 @@ MAX_PENDING = 300
 class HeadingCorrection(namedtuple('HeadingCorrection',
                                    'bias scale bias_std scale_std windows status reason')):
     """Estimated gyro ``bias`` (rad/s) and ``scale`` error (fraction) with their
-    standard errors; ``windows`` used; ``status`` ``full`` | ``bias`` | ``none``;
+    standard errors; ``windows`` used; ``status`` ``full`` | ``bias`` | ``scale`` | ``none``;
     ``reason`` says why a term was left out."""
 
     __slots__ = ()
@@ -168,40 +185,134 @@ class HeadingCalibrator(object):
             self.rows.append((gyro - gyro0, unwrapped - vo0, stamp - t0))
             self._start = (stamp, unwrapped, gyro)
 
-    def estimate(self):
-        """The :class:`HeadingCorrection` the data support (see module docstring)."""
+    def estimate(self, standstill=None, scale_prior=None):
+        """The :class:`HeadingCorrection` the data support (see module docstring).
+
+        ``standstill``: a :class:`BiasEstimate` from :class:`StandstillBias`
+        (or None), fused with the visual-odometry bias by inverse variance.
+        ``scale_prior``: the gyro's calibrated scale error (a
+        core/gyro_calibration.GyroCalibration, or None): used instead of
+        fitting the scale, when significant."""
         rows = list(self.rows)
+        notes = []
+        scale, scale_std = self._scale(rows, scale_prior, notes)
+        estimates = [] if standstill is None else [standstill]
         if len(rows) < self.min_windows:
-            return no_correction('only %d windows with valid visual odometry (need %d)'
-                                 % (len(rows), int(self.min_windows)), len(rows))
-        fit = _robust_fit(rows, True, self.outlier_k)
-        reason = ''
-        if fit is None:
-            reason = 'scale not determined (no rotation seen)'
+            notes.append('only %d windows with valid visual odometry (need %d)'
+                         % (len(rows), int(self.min_windows)))
+            used = len(rows)
         else:
-            bias, scale, bias_std, scale_std, used = fit
-            if abs(scale) > self.max_scale:
-                reason = 'scale estimate %+.4f beyond %.3f' % (scale, self.max_scale)
-            elif scale_std > self.max_scale_std:
-                reason = 'scale %+.4f not determined (std %.4f > %.4f)' % (scale, scale_std,
-                                                                          self.max_scale_std)
-            elif abs(scale) < self.significance * scale_std:
-                reason = 'scale %+.4f not significant (std %.4f)' % (scale, scale_std)
-            elif self._bias_problem(bias, bias_std) is None:
-                return HeadingCorrection(bias, scale, bias_std, scale_std, used, 'full', '')
-        bias, _, bias_std, _, used = _robust_fit(rows, False, self.outlier_k)
-        problem = self._bias_problem(bias, bias_std)
+            shifted = [(g - scale * v, v, dt) for g, v, dt in rows]
+            bias, _, bias_std, _, used = robust_fit(shifted, False, self.outlier_k)
+            estimates.append(BiasEstimate(bias, bias_std, 'visual odometry'))
+        bias, bias_std = fuse_bias(estimates)
+        problem = self._bias_problem(bias, bias_std) if estimates else 'no bias measurement'
         if problem:
-            return no_correction('%s; %s' % (problem, reason) if reason else problem, used)
-        return HeadingCorrection(bias, 0.0, bias_std, float('inf'), used, 'bias', reason)
+            notes.insert(0, problem)
+            bias, bias_std = 0.0, float('inf')
+        status = {(True, True): 'full', (True, False): 'bias',
+                  (False, True): 'scale', (False, False): 'none'}[(not problem, scale != 0.0)]
+        return HeadingCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
+
+    def _scale(self, rows, prior, notes):
+        """(scale, std) to correct by: the calibrated ``prior`` when significant,
+        else a fit of ``rows`` that passes the module docstring's checks, else
+        (0, inf) with the reason appended to ``notes``."""
+        if prior is not None:
+            if abs(prior.scale) <= self.significance * prior.scale_std:
+                notes.append('calibrated scale %+.4f not significant (std %.4f)'
+                             % (prior.scale, prior.scale_std))
+                return 0.0, float('inf')
+            return prior.scale, prior.scale_std
+        fit = robust_fit(rows, True, self.outlier_k) if len(rows) >= self.min_windows else None
+        if fit is None:
+            notes.append('scale not determined (no rotation seen)')
+            return 0.0, float('inf')
+        _, scale, _, scale_std, _ = fit
+        if abs(scale) > self.max_scale:
+            notes.append('scale estimate %+.4f beyond %.3f' % (scale, self.max_scale))
+        elif scale_std > self.max_scale_std:
+            notes.append('scale %+.4f not determined (std %.4f > %.4f)'
+                         % (scale, scale_std, self.max_scale_std))
+        elif abs(scale) < self.significance * scale_std:
+            notes.append('scale %+.4f not significant (std %.4f)' % (scale, scale_std))
+        else:
+            return scale, scale_std
+        return 0.0, float('inf')
 
     def _bias_problem(self, bias, bias_std):
         """Why the bias estimate is not used, or None."""
         if abs(bias) > self.max_bias:
             return 'bias estimate %.2e rad/s beyond %.2e' % (bias, self.max_bias)
-        if abs(bias) < self.significance * bias_std:
+        if abs(bias) <= self.significance * bias_std:
             return 'bias %.2e rad/s not significant (std %.1e)' % (bias, bias_std)
         return None
+
+
+class BiasEstimate(namedtuple('BiasEstimate', 'bias std source')):
+    """One measurement of the gyro bias (rad/s) with its standard error and where it came from."""
+
+    __slots__ = ()
+
+
+def fuse_bias(estimates):
+    """Inverse-variance mean of :class:`BiasEstimate` s: (bias, std); (0, inf)
+    for none. Exact ones (std 0, e.g. a noiseless gyro standing still) win."""
+    exact = [e.bias for e in estimates if e.std == 0.0]
+    if exact:
+        return sum(exact) / len(exact), 0.0
+    weights = [(1.0 / (e.std * e.std), e.bias) for e in estimates if math.isfinite(e.std)]
+    if not weights:
+        return 0.0, float('inf')
+    total = sum(w for w, _ in weights)
+    return sum(w * b for w, b in weights) / total, math.sqrt(1.0 / total)
+
+
+class StandstillBias(object):
+    """Gyro bias measured while the robot stands still (after vision loss,
+    before the pi turn): the wheels say it is not moving (``|v| <=
+    still_speed``) and the gyro that it is not turning (``|w| <=
+    still_rate``), so any heading change is the bias. The first ``settle``
+    seconds of each still spell are skipped (the base is still stopping).
+    ``params``: any object with the attributes of :data:`STANDSTILL_DEFAULTS`.
+    The estimate is the heading change over the time still; its standard
+    error comes from the spread of the per-sample rates."""
+
+    def __init__(self, params=None):
+        self.still_speed, self.still_rate, self.settle = (
+            float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
+            for name in ('still_speed', 'still_rate', 'still_settle'))
+        self.duration = 0.0        # s counted so far
+        self._turned = 0.0         # rad of heading change over that time
+        self._rates = []           # per-interval rates, rad/s
+        self._last = None          # last still OdomState
+        self._still_since = None   # stamp the current still spell began
+
+    def add_odometry(self, state):
+        """One OdomState (stamp in s); motion ends the current spell."""
+        if abs(state.v) > self.still_speed or abs(state.w) > self.still_rate:
+            self._last = self._still_since = None
+            return
+        if self._still_since is None:
+            self._still_since = state.stamp
+        last, self._last = self._last, state
+        if last is None or state.stamp <= last.stamp or last.stamp - self._still_since < self.settle:
+            return
+        dt = state.stamp - last.stamp
+        turned = wrap_angle(state.yaw - last.yaw)
+        self.duration += dt
+        self._turned += turned
+        self._rates.append(turned / dt)
+
+    def estimate(self):
+        """:class:`BiasEstimate`, or None before two intervals were counted."""
+        n = len(self._rates)
+        if n < 2:
+            return None
+        mean = sum(self._rates) / n
+        spread = sum((r - mean) ** 2 for r in self._rates) / (n - 1)
+        return BiasEstimate(self._turned / self.duration, math.sqrt(spread / n),
+                            'standstill %.1f s' % self.duration)
 
 
 def _fit(rows, with_scale):
@@ -229,7 +340,7 @@ def _fit(rows, with_scale):
     return bias, scale, math.sqrt(sigma2 * svv / det), math.sqrt(sigma2 * stt / det), residuals
 
 
-def _robust_fit(rows, with_scale, outlier_k):
+def robust_fit(rows, with_scale, outlier_k):
     """:func:`_fit`, then again without the windows whose residual exceeds
     ``outlier_k`` x 1.4826 x the median absolute residual. Returns
     (b, s, std_b, std_s, windows used) or None when singular."""

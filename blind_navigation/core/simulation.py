@@ -30,8 +30,9 @@ from collections import namedtuple
 
 from .back_travel import ReturnRoute, make_controller
 from .geometry import distance
-from .heading_calibration import (CorrectedOdometry, HeadingCalibrator, correct_landmarks,
-                                  no_correction)
+from .gyro_calibration import CalibrationError, SpinCalibration
+from .heading_calibration import (STANDSTILL_DEFAULTS, CorrectedOdometry, HeadingCalibrator,
+                                  StandstillBias, correct_landmarks, no_correction)
 from .kobuki import SimulatedKobuki, load_profile, make_profile
 from .mission import load_mission
 from .recorder import PathRecorder
@@ -50,6 +51,9 @@ SIMULATION_DEFAULTS = {
     'handover_timeout': 0.1,   # s the last command holds after the last goal
     'stop_time': 2.0,          # s left for the robot to stop at the end
     'heading_calibration': False,  # gyro bias/scale from visual odometry while recording
+    'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s standing still measuring
+                               # the gyro bias after vision loss (with heading_calibration)
+    'gyro_calibration': None,  # the gyro's calibrated scale (core/gyro_calibration.GyroCalibration)
 }
 
 MissionResult = namedtuple('MissionResult', [
@@ -89,12 +93,23 @@ class _Run(object):
                 self.calibrator.add_visual(self.next_frame, self.vision.update(pose).yaw)
                 self.next_frame += 1.0 / VO_RATE
 
-    def lose_vision(self):
-        """Vision fails: the correction is estimated and the corrected frame starts here."""
-        correction = self.calibrator.estimate() if self.calibrator is not None else \
-            no_correction('heading calibration off')
-        self.calibrator = None
+    def lose_vision(self, standstill_time, scale_prior):
+        """Vision fails: with calibration the robot stands still ``standstill_time``
+        s measuring the gyro bias, then the correction is estimated; the corrected
+        frame starts where vision was lost."""
+        if self.calibrator is None:
+            self.corrector = CorrectedOdometry(no_correction('heading calibration off'))
+            return self.corrector.correction
+        calibrator, self.calibrator = self.calibrator, None
+        reference = self.base.odom
+        standstill = StandstillBias()
+        while standstill.duration < standstill_time - 1e-9 and self.base.t < reference.stamp + \
+                2.0 * standstill_time:
+            self.advance()
+            standstill.add_odometry(self.base.odom)
+        correction = calibrator.estimate(standstill.estimate(), scale_prior)
         self.corrector = CorrectedOdometry(correction)
+        self.corrector.update(reference)
         return correction
 
     def odom(self):
@@ -175,6 +190,22 @@ def _return(run, landmarks, anchor, mode, params, settings):
     return ''
 
 
+def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0.02):
+    """Run core/gyro_calibration.SpinCalibration on a fake Kobuki (``seed``: its
+    gyro bias; visual odometry from ``seed`` + 1, as in a mission) and return
+    the :class:`GyroCalibration` (CalibrationError if not determined)."""
+    profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
+    run = _Run(profile, seed, control_dt)
+    spin = SpinCalibration(params)
+    run.calibrator = spin.calibrator
+    while not spin.done:
+        command = spin.step(run.base.odom)
+        if spin.failed:
+            raise CalibrationError(spin.failed)
+        run.advance(command)
+    return spin.result()
+
+
 def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=None,
                 store_dir=None, **settings):
     """Simulate one mission end to end; returns a :class:`MissionResult`.
@@ -203,7 +234,7 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
         loaded, anchor = _record(run, mission, settings, store_path)
         size = os.path.getsize(store_path)
     forward_path, run.path = run.path, [run.path[-1]] if run.path else []
-    correction = run.lose_vision()
+    correction = run.lose_vision(settings['standstill_time'], settings['gyro_calibration'])
     landmarks = correct_landmarks(loaded.landmarks, correction)
     reason = '' if _turn(run, params) else 'pi rotation failed'
     if not reason:

@@ -1,0 +1,187 @@
+"""One-off gyro scale calibration: spin in place under visual odometry, both ways.
+
+The gyro's scale error is a property of the robot's sensor, the same on every
+mission, and a mission's path hardly turns, so the mission cannot measure it
+(core/heading_calibration.py); yet it costs the pi turn ``scale x pi`` of
+heading, which the whole return then carries. So it is measured once, the way
+turtlebot_calibration measured the TurtleBot's gyro against the Kinect: the
+robot turns ``turns`` full turns counter-clockwise, pauses, and as many
+clockwise, in front of a textured scene, while
+:class:`core.heading_calibration.HeadingCalibrator` compares gyro yaw with
+visual-odometry yaw. Turning both ways separates the scale (which follows the
+direction) from the bias (which does not). The result (:class:`GyroCalibration`)
+is kept in a small YAML file that the heading_correction node reads at every
+mission start (``gyro_calibration_file``).
+
+:class:`SpinCalibration` is the routine (plain Python: the calibrate_gyro node
+and the simulation harness drive the same object); :func:`save_calibration`
+and :func:`load_calibration` are the file.
+"""
+import datetime
+import math
+import os
+from collections import namedtuple
+from types import SimpleNamespace
+
+import yaml
+
+from .heading_calibration import HeadingCalibrator, robust_fit
+from .rotation import Rotation
+
+#: Defaults; the calibrate_gyro node exposes each one as a ~private param.
+SPIN_DEFAULTS = {
+    'turns': 3.0,          # full turns each way
+    'max_w': 0.6,          # rad/s, cruise turn rate (as the pi turn)
+    'pause': 3.0,          # s standing still before, between and after the spins
+    'required_scale_std': 0.002,  # a calibration less certain than this is refused
+}
+
+#: Keys of the calibration file, in the order written.
+FILE_KEYS = ('gyro_scale_error', 'gyro_scale_error_std', 'gyro_bias', 'gyro_bias_std',
+             'windows', 'turns', 'calibrated')
+
+
+class GyroCalibration(namedtuple('GyroCalibration', 'scale scale_std bias bias_std windows')):
+    """Gyro ``scale`` error (measured rate = (1 + scale) true rate + bias) and
+    its standard error; the ``bias`` seen during the calibration (rad/s; it
+    changes from run to run, so only informative); ``windows`` used."""
+
+    __slots__ = ()
+
+    def describe(self):
+        return 'scale error %+.5f +- %.5f, bias %.2e +- %.1e rad/s over %d windows' % self
+
+
+class CalibrationError(Exception):
+    """A calibration that could not be made or a calibration file that cannot be used."""
+
+
+class SpinCalibration(object):
+    """Drives the spins and collects the yaw data; see the module docstring.
+
+    Feed its :attr:`calibrator` odometry and visual odometry as they come;
+    :meth:`step` returns the command for the latest odometry; when
+    :attr:`done`, :meth:`result` gives the
+    :class:`GyroCalibration` (CalibrationError if the data do not determine it);
+    :attr:`failed` names what went wrong (a turn's time allowance).
+    """
+
+    def __init__(self, params=None):
+        for name, default in SPIN_DEFAULTS.items():
+            setattr(self, name, float(getattr(params, name, default)))
+        if self.turns <= 0 or self.max_w <= 0 or self.pause < 0:
+            raise ValueError('gyro calibration: need turns > 0, max_w > 0, pause >= 0 '
+                             '(turns %r, max_w %r, pause %r)' % (self.turns, self.max_w, self.pause))
+        self.calibrator = HeadingCalibrator(params)
+        angle = 2.0 * math.pi * self.turns
+        self._allowance = 2.0 * angle / self.max_w + 20.0
+        self._legs = [('pause', self.pause), ('turn', angle), ('pause', self.pause),
+                      ('turn', -angle), ('pause', self.pause)]
+        self._leg = -1
+        self._leg_started = None
+        self._rotation = None
+        self.done = False
+        self.failed = ''
+
+    @property
+    def progress(self):
+        """What the routine is doing, for logs."""
+        if self.done or self.failed:
+            return 'finished' if self.done else 'failed'
+        kind, amount = self._legs[max(self._leg, 0)]
+        return 'turning %+.1f rad' % amount if kind == 'turn' else 'standing still'
+
+    def step(self, odom):
+        """Command ``(v, w)`` for this cycle, given the latest OdomState."""
+        if self.done or self.failed:
+            return 0.0, 0.0
+        if self._leg < 0 or self._leg_finished(odom):
+            self._leg += 1
+            if self._leg == len(self._legs):
+                self.done = True
+                return 0.0, 0.0
+            self._leg_started = odom.stamp
+            kind, amount = self._legs[self._leg]
+            self._rotation = None
+            if kind == 'turn':
+                self._rotation = Rotation(SimpleNamespace(angle=amount, max_w=self.max_w,
+                                                          time_allowance=self._allowance))
+                self._rotation.start(odom)
+        if self._rotation is None:
+            return 0.0, 0.0
+        command = self._rotation.step(odom)
+        if self._rotation.failed:
+            self.failed = 'turn of %.1f rad not finished within %.0f s (turned %.2f rad)' % (
+                self._rotation.angle, self._rotation.time_allowance, self._rotation.turned)
+        return command
+
+    def _leg_finished(self, odom):
+        kind, amount = self._legs[self._leg]
+        if kind == 'pause':
+            return odom.stamp - self._leg_started >= amount - 1e-9
+        return self._rotation.done
+
+    def result(self):
+        """The :class:`GyroCalibration`; CalibrationError if not determined."""
+        rows = self.calibrator.rows
+        if len(rows) < self.calibrator.min_windows:
+            raise CalibrationError('only %d windows with valid visual odometry (need %d): is '
+                                   'visual odometry running and tracking?'
+                                   % (len(rows), int(self.calibrator.min_windows)))
+        fit = robust_fit(rows, True, self.calibrator.outlier_k)
+        if fit is None:
+            raise CalibrationError('the scale is not determined: no rotation seen by visual odometry')
+        bias, scale, bias_std, scale_std, used = fit
+        calibration = GyroCalibration(scale, scale_std, bias, bias_std, used)
+        if scale_std > self.required_scale_std or abs(scale) > self.calibrator.max_scale:
+            raise CalibrationError('%s: not usable (std above %.4f or |scale| above %.3f); '
+                                   'more turns or a more textured scene' % (
+                                       calibration.describe(), self.required_scale_std,
+                                       self.calibrator.max_scale))
+        return calibration
+
+
+def save_calibration(path, calibration, turns, when=None):
+    """Write ``calibration`` to ``path`` (atomically: a crash leaves the old file)."""
+    path = os.path.abspath(os.path.expanduser(path))
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    values = {'gyro_scale_error': float(calibration.scale),
+              'gyro_scale_error_std': float(calibration.scale_std),
+              'gyro_bias': float(calibration.bias), 'gyro_bias_std': float(calibration.bias_std),
+              'windows': int(calibration.windows), 'turns': float(turns),
+              'calibrated': (when or datetime.datetime.now()).isoformat(timespec='seconds')}
+    text = '# blind_navigation gyro calibration (roslaunch blind_navigation calibrate_gyro.launch)\n'
+    text += ''.join('%s: %s\n' % (key, yaml.safe_dump(values[key], default_flow_style=True)
+                                  .strip().replace('\n...', '')) for key in FILE_KEYS)
+    temporary = path + '.tmp'
+    with open(temporary, 'w') as stream:
+        stream.write(text)
+        stream.flush()
+        os.fsync(stream.fileno())
+    os.replace(temporary, path)
+    return path
+
+
+def load_calibration(path):
+    """The :class:`GyroCalibration` in ``path``; CalibrationError naming the file
+    and key when it is missing, unreadable or out of range."""
+    path = os.path.abspath(os.path.expanduser(path))
+    try:
+        with open(path) as stream:
+            data = yaml.safe_load(stream)
+    except (OSError, yaml.YAMLError) as error:
+        raise CalibrationError('%s: cannot read the gyro calibration: %s' % (path, error))
+    if not isinstance(data, dict):
+        raise CalibrationError('%s: a gyro calibration is a mapping of %s' % (path, ', '.join(FILE_KEYS)))
+    values = []
+    for key, low, high in (('gyro_scale_error', -0.1, 0.1), ('gyro_scale_error_std', 0.0, 0.1),
+                           ('gyro_bias', -0.1, 0.1), ('gyro_bias_std', 0.0, 0.1),
+                           ('windows', 0, 1e9)):
+        value = data.get(key)
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+                or not low <= value <= high:
+            raise CalibrationError('%s: %s must be a number in [%g, %g], got %r'
+                                   % (path, key, low, high, value))
+        values.append(value)
+    return GyroCalibration(float(values[0]), float(values[1]), float(values[2]), float(values[3]),
+                           int(values[4]))
