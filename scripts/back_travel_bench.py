@@ -3,19 +3,21 @@
 of each control mode on the paper's Table VI missions, over seeds.
 
     /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]
-        [--modes time distance closed_loop] [--heading-calibration off|on]
-        [--out results/back_travel_bench.md]
+        [--modes time distance closed_loop] [--heading-calibration on|off]
+        [--standstill-time 60] [--out results/back_travel_bench.md]
 
 Prints and writes a Markdown table: per mission, profile and mode the median
 and worst error (m), the median as % of the recorded length, and the paper's
-Table VI error. Each mode runs in its launch configuration: ``time`` and
-``distance`` with the paper's recording (launch/paper.launch: dead-band 0),
-``closed_loop`` with blind_navigation.launch's (dead-band 0.01). The gyro
-heading calibration against visual odometry (blind_navigation.launch
-``heading_correction``, off by default) is ``--heading-calibration on``. Same seeds for
-every mode and profile (on ``ideal`` the seed changes nothing). The
-``calibration`` column counts the runs whose estimate was used in full (bias
-and scale), for the bias only, or not at all.
+Table VI error. Each mode runs in its launch configuration
+(evaluation/montecarlo.recording_settings): ``time`` and ``distance`` with
+launch/paper.launch's (dead-band 0, no heading correction), ``closed_loop``
+with blind_navigation.launch's (dead-band 0.01, heading correction with a gyro
+calibration made on another seed: evaluation/montecarlo.gyro_calibration_for).
+``--heading-calibration off`` turns the heading correction off for
+``closed_loop`` too; ``--standstill-time`` sets its standstill after vision
+loss. Same seeds for every mode and profile (on ``ideal`` the seed changes
+nothing). The ``calibration`` column counts the runs whose correction used
+bias and scale, the bias only, the scale only, or nothing.
 """
 import argparse
 import os
@@ -23,11 +25,24 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.abspath(os.path.join(os.path.dirname(__file__), '..')))
-from blind_navigation.core.segment import DEFAULT_DEADBAND  # noqa: E402
-from blind_navigation.core.simulation import run_mission  # noqa: E402
+from blind_navigation.core.simulation import SIMULATION_DEFAULTS, run_mission  # noqa: E402
+from blind_navigation.evaluation.montecarlo import (gyro_calibration_for,  # noqa: E402
+                                                    recording_settings)
 
 PAPER_TABLE6 = {'table6_test1': 0.56, 'table6_test2': 0.28, 'table6_test3': 0.48,
                 'table6_test4': 0.39, 'table6_test5': 0.93, 'table6_test6': 1.3}
+STATUSES = ('full', 'bias', 'scale', 'none')
+
+
+def settings_for(mode, profile, seed, args):
+    """run_mission settings of ``mode``'s launch configuration, as the options change it."""
+    settings = recording_settings(mode)
+    if args.heading_calibration == 'off':
+        settings['heading_calibration'] = False
+    if settings.get('heading_calibration', SIMULATION_DEFAULTS['heading_calibration']):
+        settings['gyro_calibration'] = gyro_calibration_for(profile, seed)
+        settings['standstill_time'] = args.standstill_time
+    return settings
 
 
 def main():
@@ -36,22 +51,22 @@ def main():
     parser.add_argument('--profiles', nargs='+', default=['ideal', 'paper'])
     parser.add_argument('--modes', nargs='+', default=['time', 'distance', 'closed_loop'])
     parser.add_argument('--missions', nargs='+', default=sorted(PAPER_TABLE6))
-    parser.add_argument('--heading-calibration', choices=('off', 'on'), default='off',
-                        help='calibrate the gyro against visual odometry while recording')
+    parser.add_argument('--heading-calibration', choices=('off', 'on'), default='on',
+                        help='closed_loop with (launch default) or without the heading correction')
+    parser.add_argument('--standstill-time', type=float,
+                        default=SIMULATION_DEFAULTS['standstill_time'],
+                        help='s standing still after vision loss to measure the gyro bias')
     parser.add_argument('--out', default='results/back_travel_bench.md')
     args = parser.parse_args()
     lines = ['| mission | profile | mode | length m | samples | KB | median err m | max err m | '
-             'median % of length | aborted | calibration full/bias/none | paper err m |',
+             'median % of length | aborted | correction full/bias/scale/none | paper err m |',
              '|' + '---|' * 12]
     for mission in args.missions:
         for profile in args.profiles:
             seeds = range(args.seeds)
             for mode in args.modes:
-                paper_mode = mode in ('time', 'distance')
-                deadband = 0.0 if paper_mode else DEFAULT_DEADBAND
-                calibrate = args.heading_calibration == 'on'
-                runs = [run_mission(mission, profile, mode, seed, deadband=deadband,
-                                    heading_calibration=calibrate) for seed in seeds]
+                runs = [run_mission(mission, profile, mode, seed,
+                                    **settings_for(mode, profile, seed, args)) for seed in seeds]
                 statuses = [r.heading_correction.status for r in runs]
                 errors = [r.position_error for r in runs]
                 length = statistics.median(r.distance for r in runs)
@@ -60,7 +75,7 @@ def main():
                     mission, profile, mode, length, statistics.median(r.samples for r in runs),
                     statistics.median(r.bytes for r in runs) / 1024.0, median, max(errors),
                     100.0 * median / length, sum(r.status != 'home' for r in runs),
-                    '/'.join(str(statuses.count(k)) for k in ('full', 'bias', 'none')),
+                    '/'.join(str(statuses.count(k)) for k in STATUSES),
                     PAPER_TABLE6.get(mission, ''))
                 print(line, flush=True)
                 lines.append(line)

@@ -30,7 +30,7 @@ from .rotation import Rotation
 
 #: Defaults; the calibrate_gyro node exposes each one as a ~private param.
 SPIN_DEFAULTS = {
-    'turns': 3.0,          # full turns each way
+    'turns': 5.0,          # full turns each way: scale std ~0.005 / sqrt(2 pi turns x 2)
     'max_w': 0.6,          # rad/s, cruise turn rate (as the pi turn)
     'pause': 3.0,          # s standing still before, between and after the spins
     'required_scale_std': 0.002,  # a calibration less certain than this is refused

@@ -32,6 +32,10 @@ recording period:
   estimate of standard error sigma leaves an error of variance sigma^2, not
   correcting leaves the term itself, whose square is estimated without bias
   by estimate^2 - sigma^2) and the bias only when sane (``|b| <= max_bias``).
+  The calibrated scale needs ``scale_significance`` (3) standard errors: it
+  is one measurement applied to every mission until the next calibration, so a
+  chance false positive would bias them all (sqrt 2 would pass one perfect
+  gyro in six).
   Fewer than ``min_windows`` windows: no visual-odometry bias.
 * :class:`HeadingCorrection` is the result (``status``: ``full``, ``bias``,
   ``scale`` or ``none``: which terms are used, with the reason for the others).
@@ -60,15 +64,16 @@ HEADING_CALIBRATION_DEFAULTS = {
     'min_windows': 10,           # fewer usable windows: no correction
     'max_bias': 0.01,            # rad/s, a larger bias estimate is rejected (Kobuki gyro: ~6e-4)
     'max_scale': 0.05,           # a larger |scale error| estimate is rejected
-    'significance': math.sqrt(2.0),  # a term is used only if |estimate| >= this many standard errors
+    'significance': math.sqrt(2.0),  # a term is used only if |estimate| > this many standard errors
+    'scale_significance': 3.0,   # the same for the calibrated scale (core/gyro_calibration.py)
     'max_scale_std': 0.003,      # scale used only if known to this (pi x 0.003 = the turn's 0.01 rad)
     'outlier_k': 5.0,            # windows beyond this many robust std of the residuals are dropped
 }
 
 #: Defaults of the standstill bias measurement after vision loss (heading_correction node params).
 STANDSTILL_DEFAULTS = {
-    'standstill_time': 60.0,     # s of standing still to measure (0: none); bias std = gyro
-                                 # noise / sqrt(samples): 0.003 rad/s at 50 Hz -> 5.5e-5 rad/s
+    'standstill_time': 90.0,     # s of standing still to measure (0: none); bias std = gyro
+                                 # noise / sqrt(samples): 0.003 rad/s at 50 Hz -> 4.5e-5 rad/s
     'still_speed': 0.002,        # m/s, wheel speed below which the robot counts as still
     'still_rate': 0.03,          # rad/s, gyro rate below which it counts as not turning
     'still_settle': 0.5,         # s skipped at the start of each still spell
@@ -219,7 +224,7 @@ class HeadingCalibrator(object):
         else a fit of ``rows`` that passes the module docstring's checks, else
         (0, inf) with the reason appended to ``notes``."""
         if prior is not None:
-            if abs(prior.scale) <= self.significance * prior.scale_std:
+            if abs(prior.scale) <= self.scale_significance * prior.scale_std:
                 notes.append('calibrated scale %+.4f not significant (std %.4f)'
                              % (prior.scale, prior.scale_std))
                 return 0.0, float('inf')

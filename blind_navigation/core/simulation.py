@@ -12,12 +12,16 @@ Between goals the last command holds; after the last goal it is dropped after
 written for real (core/store.LandmarkWriter) to measure its size, and landmarks
 are read back from it, so the return uses the stored (rounded) numbers.
 
-With ``heading_calibration`` (blind_navigation.launch's ``heading_correction:=true``), the fake
-TurtleBot's visual odometry (core/visual_odometry.py, fake_vision's drift and
-30 Hz rate and seed + 1) runs while recording, core/heading_calibration.py
-estimates the gyro bias and scale from it at vision loss, and the pi turn and
-the return run on the corrected odometry with the landmarks expressed in the
-same frame, as the heading_correction node and back_travel_client do.
+With ``heading_calibration`` (blind_navigation.launch's ``heading_correction``,
+on by default), the fake TurtleBot's visual odometry (core/visual_odometry.py,
+fake_vision's drift and 30 Hz rate and seed + 1) runs while recording; at
+vision loss the robot stands still ``standstill_time`` s, and
+core/heading_calibration.py estimates the gyro bias from both and takes the
+scale from ``gyro_calibration`` (what calibrate_gyro.launch measured; make one
+with :func:`simulate_gyro_calibration`, on another seed: another power-up of the
+same robot). The pi turn and the return then run on the corrected odometry with
+the landmarks expressed in the same frame, as the heading_correction node and
+back_travel_client do.
 
 The result holds the ground-truth final position error (the paper's "position
 error": distance between the start and where the robot stopped), odometry's
@@ -50,7 +54,7 @@ SIMULATION_DEFAULTS = {
     'settle_time': 2.0,        # s between the mission's end and the vision loss
     'handover_timeout': 0.1,   # s the last command holds after the last goal
     'stop_time': 2.0,          # s left for the robot to stop at the end
-    'heading_calibration': False,  # gyro bias/scale from visual odometry while recording
+    'heading_calibration': True,  # blind_navigation.launch's heading_correction (default on)
     'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s standing still measuring
                                # the gyro bias after vision loss (with heading_calibration)
     'gyro_calibration': None,  # the gyro's calibrated scale (core/gyro_calibration.GyroCalibration)

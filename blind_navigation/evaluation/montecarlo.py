@@ -14,19 +14,29 @@ import multiprocessing
 from ..core.back_travel import MODES
 from ..core.geometry import distance, wrap_angle
 from ..core.mission import load_mission
-from ..core.simulation import run_mission
+from ..core.simulation import run_mission, simulate_gyro_calibration
 from .forward import harness_settings, record_forward
 
 
 #: Modes launched in the paper's configuration (launch/paper.launch: the paper's
-#: classifier rule without a dead-band); the others run blind_navigation.launch's
-#: (config/recording.yaml, dead-band 0.01 rad).
+#: classifier rule without a dead-band, no heading correction); the others run
+#: blind_navigation.launch's (config/recording.yaml, dead-band 0.01 rad, heading
+#: correction with a gyro calibration).
 PAPER_CONFIGURATION_MODES = ('time', 'distance')
+#: The gyro calibration used with seed s is made on seed s + this: another
+#: power-up (gyro bias) and another visual-odometry drift of the same robot.
+CALIBRATION_SEED_OFFSET = 10000
 
 
 def recording_settings(mode):
-    """Harness settings of the recording configuration ``mode`` is launched with."""
-    return {'deadband': 0.0} if mode in PAPER_CONFIGURATION_MODES else {}
+    """Harness settings of the configuration ``mode`` is launched with."""
+    return {'deadband': 0.0, 'heading_calibration': False} if mode in PAPER_CONFIGURATION_MODES else {}
+
+
+def gyro_calibration_for(profile, seed):
+    """The gyro calibration (calibrate_gyro.launch, simulated) the user of the
+    robot of ``profile`` made before mission ``seed``."""
+    return simulate_gyro_calibration(profile, seed + CALIBRATION_SEED_OFFSET)
 
 
 def set_velocities(mission):
@@ -87,13 +97,16 @@ def run_job(job):
     mission_name, profile, seed, modes, keep_paths = job
     mission = load_mission(mission_name)
     sv, asv = set_velocities(mission)
-    stats, rows = {}, []
+    stats, rows, calibration = {}, [], None
     for mode in modes:
         settings = recording_settings(mode)
         key = tuple(sorted(settings.items()))
         if key not in stats:
             forward = record_forward(mission, profile, seed, **settings)
             stats[key] = landmark_stats(forward.landmarks, sv, asv, harness_settings()['settle_time'])
+        if harness_settings(**settings)['heading_calibration']:
+            calibration = calibration or gyro_calibration_for(profile, seed)
+            settings['gyro_calibration'] = calibration
         result = run_mission(mission, profile, mode, seed, **settings)
         row = {'mission': mission_name, 'profile': profile, 'mode': mode, 'seed': seed,
                'sv': sv, 'asv': asv, 'status': result.status, 'reason': result.reason,

@@ -12,7 +12,7 @@ from blind_navigation.core.heading_calibration import (CorrectedOdometry, Headin
                                                        no_correction)
 from blind_navigation.core.kobuki import SimulatedKobuki, load_profile
 from blind_navigation.core.landmark import Landmark
-from blind_navigation.core.simulation import run_mission
+from blind_navigation.core.simulation import run_mission, simulate_gyro_calibration
 
 ODOM_DT = 0.02
 VO_DT = 1.0 / 30.0
@@ -163,19 +163,23 @@ def test_insignificant_bias_is_not_applied():
     assert 'not significant' in correction.reason
 
 
-def test_harness_estimates_the_fake_gyro_bias():
-    """paper profile, seed 2: the fake Kobuki's gyro bias is 5.3e-4 rad/s."""
+def test_harness_estimates_the_fake_gyro_bias_and_uses_the_calibration():
+    """paper profile, seed 2: the fake Kobuki's gyro bias is 5.3e-4 rad/s; the
+    calibration is made on another seed (another power-up, same gyro scale)."""
     true_bias = SimulatedKobuki(load_profile('paper'), seed=2)._gyro_bias
-    on = run_mission('table6_test3', 'paper', 'closed_loop', 2, heading_calibration=True)
-    off = run_mission('table6_test3', 'paper', 'closed_loop', 2)
+    calibration = simulate_gyro_calibration('paper', seed=102)
+    on = run_mission('table6_test3', 'paper', 'closed_loop', 2, gyro_calibration=calibration)
+    off = run_mission('table6_test3', 'paper', 'closed_loop', 2, heading_calibration=False)
     assert off.heading_correction.status == 'none'
-    assert on.heading_correction.status in ('full', 'bias')
+    assert on.heading_correction.status == 'full', on.heading_correction.describe()
+    assert on.heading_correction.scale == calibration.scale
     assert on.heading_correction.bias == pytest.approx(true_bias, abs=3 * on.heading_correction.bias_std)
     assert on.forward_path == off.forward_path       # calibration only watches the recording
     assert on.status == off.status == 'home'
+    assert on.heading_correction.bias_std < 5e-5     # 90 s standstill: 0.003 / sqrt(4500) rad/s
 
 
 def test_harness_on_ideal_stays_home_without_correction():
-    on = run_mission('table6_test1', 'ideal', 'closed_loop', 0, heading_calibration=True)
-    assert on.heading_correction.status == 'none'   # no bias: the estimate is noise
+    on = run_mission('table6_test1', 'ideal', 'closed_loop', 0)
+    assert on.heading_correction.status == 'none'   # the standstill shows no bias at all
     assert on.status == 'home' and on.position_error < 0.05
