@@ -1,13 +1,32 @@
 #!/usr/bin/env python3
-"""rostest: heading_correction on sim time. 60 s of a weaving robot whose odometry
-heading is a gyro with bias 2e-3 rad/s, visual odometry at 30 Hz (lost for 5 s);
-before vision_lost the corrected topic repeats /odom; after it the latched
-HeadingCorrection carries the bias and the corrected heading and turn rate
-follow the true ones while /odom keeps drifting."""
+"""rostest: heading_correction on sim time (heading_correction.test).
+
+60 s of a weaving robot whose odometry heading is a gyro with bias 2e-3 rad/s and
+scale error 1 %, visual odometry at 30 Hz (lost for 5 s); then vision_lost and the
+robot stands still (gyro noise 0.003 rad/s per sample) for ``standstill_time`` (the
+.test sets 5 s) plus slack, then weaves on for 20 s. Two nodes hear the same data:
+``/heading_correction`` (started by the .test, no calibration file: the scale is the
+mission's own fit) and ``/heading_correction_calibrated`` (started here, after this
+test wrote a gyro calibration file with core/gyro_calibration.save_calibration to a
+temporary directory; its topics remapped under /calibrated).
+
+Asserted: before vision_lost and during the standstill the corrected topic repeats
+/odom; no correction is published before the standstill is over, and it is
+published once it is; the bias (visual odometry and standstill fused) is the gyro's
+within 4 of its stated standard errors; the calibrated node uses the file's scale
+(status full, scale equal to the file's); afterwards the corrected heading and turn
+rate follow the true ones while /odom keeps drifting.
+"""
 import math
+import os
+import random
+import shutil
+import subprocess
+import tempfile
 import time
 import unittest
 
+import roslib.packages
 import rospy
 import rostest
 from nav_msgs.msg import Odometry
@@ -15,21 +34,27 @@ from rosgraph_msgs.msg import Clock
 from std_msgs.msg import Empty
 
 from blind_navigation.core.geometry import wrap_angle, yaw_from_quaternion
+from blind_navigation.core.gyro_calibration import GyroCalibration, load_calibration, save_calibration
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros_common import set_pose
 
 from waiting import wait_for
 
-BIAS = 2e-3
+BIAS = 2e-3          # rad/s
+SCALE = 0.01         # gyro scale error: measured rate = (1 + SCALE) true rate + BIAS
+NOISE = 0.003        # rad/s per sample while standing still (the Kobuki gyro's datasheet level)
 DT = 0.02
 LOST = (20.0, 25.0)
+CALIBRATED = '/calibrated'
+#: Calibration written to the temporary file: the gyro's true scale error, known to 5e-4.
+FILE_CALIBRATION = GyroCalibration(SCALE, 5e-4, 1e-3, 1e-4, 60)
 
 
-def odometry(stamp, frame, x, y, yaw, w, covariance=1e-4):
+def odometry(stamp, frame, x, y, yaw, w, v=0.1, covariance=1e-4):
     msg = Odometry()
     msg.header.stamp, msg.header.frame_id = rospy.Time.from_sec(stamp), frame
     set_pose(msg.pose.pose, x, y, yaw)
-    msg.twist.twist.linear.x, msg.twist.twist.angular.z = 0.1, w
+    msg.twist.twist.linear.x, msg.twist.twist.angular.z = v, w
     for i in (0, 7, 14, 21, 28, 35):
         msg.pose.covariance[i] = msg.twist.covariance[i] = covariance
     return msg
@@ -40,68 +65,172 @@ def yaw_of(msg):
     return yaw_from_quaternion(q.x, q.y, q.z, q.w)
 
 
+class Listener(object):
+    """Corrected odometry and the correction of one heading_correction node."""
+
+    def __init__(self, prefix):
+        self.corrected, self.correction, self.correction_at = [], None, None
+        rospy.Subscriber(prefix + '/blind_navigation/odom_corrected', Odometry, self.corrected.append)
+        rospy.Subscriber(prefix + '/blind_navigation/heading_correction', HeadingCorrection,
+                         self._on_correction)
+
+    def _on_correction(self, msg):
+        self.correction, self.correction_at = msg, rospy.get_time()
+
+    def caught_up(self, t):
+        return bool(self.corrected) and self.corrected[-1].header.stamp.to_sec() >= t - 1e-6
+
+
 class HeadingCorrectionTest(unittest.TestCase):
 
-    def setUp(self):
+    @classmethod
+    def setUpClass(cls):
         rospy.init_node('test_heading_correction')
-        self.clock = rospy.Publisher('/clock', Clock, queue_size=10)
-        self.odom = rospy.Publisher('/odom', Odometry, queue_size=100)
-        self.vo = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=100)
-        self.lost = rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1, latch=True)
-        self.corrected, self.correction = [], None
-        rospy.Subscriber('/blind_navigation/odom_corrected', Odometry, self.corrected.append)
-        rospy.Subscriber('/blind_navigation/heading_correction', HeadingCorrection,
-                         lambda msg: setattr(self, 'correction', msg))
-        wait_for(lambda: self.odom.get_num_connections() and self.vo.get_num_connections()
-                 and self.clock.get_num_connections() and self.lost.get_num_connections(),
-                 'heading_correction subscribed to /clock, /odom, /rtabmap/odom, vision_lost')
-        self.t = self.true_yaw = self.gyro_yaw = 0.0
-        self.next_vo = 0.0
+        cls.standstill_time = float(rospy.get_param('/heading_correction/standstill_time'))
+        cls.random = random.Random(1)
+        cls.directory = tempfile.mkdtemp(prefix='heading_correction_test-')
+        cls.calibration_file = save_calibration(os.path.join(cls.directory, 'gyro_calibration.yaml'),
+                                                FILE_CALIBRATION, turns=3)
+        cls.node = cls.start_calibrated_node()
+        try:
+            cls.run_mission()
+        finally:
+            cls.node.terminate()
+            cls.node.wait(timeout=10.0)
 
-    def drive(self, seconds):
-        """Publish ``seconds`` of sim time (about 5x real time)."""
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.directory, ignore_errors=True)
+
+    @classmethod
+    def start_calibrated_node(cls):
+        found = roslib.packages.find_node('blind_navigation', 'heading_correction.py')
+        if not found:
+            raise AssertionError('heading_correction.py not found in package blind_navigation')
+        return subprocess.Popen([
+            found[0], '__name:=heading_correction_calibrated',
+            '_gyro_calibration_file:=' + cls.calibration_file,
+            '_standstill_time:=%r' % cls.standstill_time,
+            '_corrected_odom_topic:=%s/blind_navigation/odom_corrected' % CALIBRATED,
+            '/blind_navigation/heading_correction:=%s/blind_navigation/heading_correction' % CALIBRATED])
+
+    @classmethod
+    def run_mission(cls):
+        cls.clock = rospy.Publisher('/clock', Clock, queue_size=10)
+        cls.odom = rospy.Publisher('/odom', Odometry, queue_size=100)
+        cls.vo = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=100)
+        cls.lost = rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1, latch=True)
+        cls.plain, cls.calibrated = Listener(''), Listener(CALIBRATED)
+        listeners = (cls.plain, cls.calibrated)
+        wait_for(lambda: all(pub.get_num_connections() >= 2
+                             for pub in (cls.odom, cls.vo, cls.clock, cls.lost)),
+                 'both heading_correction nodes subscribed to /clock, /odom, /rtabmap/odom, vision_lost')
+        cls.t = cls.true_yaw = cls.gyro_yaw = cls.noise_yaw = cls.x = 0.0
+        cls.next_vo = 0.0
+        cls.drive(60.0)
+        cls.catch_up(listeners)
+        cls.before_loss = [(yaw_of(listener.corrected[-1]), wrap_angle(cls.gyro_yaw))
+                           for listener in listeners]
+        # vision lost: the reference is the last odometry, at cls.t
+        cls.lost_at, cls.true_at_loss, cls.gyro_at_loss = cls.t, cls.true_yaw, cls.gyro_yaw
+        cls.lost.publish(Empty())
+        time.sleep(1.0)   # wall: the latched vision_lost reaches both nodes before the standstill
+        cls.drive(cls.standstill_time - 1.0, still=True)
+        cls.catch_up(listeners)
+        cls.during_standstill = [(listener.correction, yaw_of(listener.corrected[-1]),
+                                  wrap_angle(cls.gyro_yaw)) for listener in listeners]
+        cls.drive(2.5, still=True)   # past standstill_time + still_settle (0.5 s)
+        for listener, name in zip(listeners, ('heading_correction', 'heading_correction_calibrated')):
+            wait_for(lambda: listener.correction is not None,
+                     'latched heading correction from %s after a standstill of %.1f s'
+                     % (name, cls.standstill_time))
+        cls.drive(20.0)
+        cls.catch_up(listeners)
+
+    @classmethod
+    def catch_up(cls, listeners):
+        for listener in listeners:
+            wait_for(lambda: listener.caught_up(cls.t), 'corrected odometry up to sim t %.2f' % cls.t)
+
+    @classmethod
+    def drive(cls, seconds, still=False):
+        """Publish ``seconds`` of sim time (about 5x real time): weaving with visual
+        odometry, or (``still``) standing with a noisy gyro and vision lost."""
         for _ in range(int(round(seconds / DT))):
-            w = self.w = 0.4 * math.sin(2 * math.pi * self.t / 20.0)
-            self.t += DT
-            self.true_yaw += w * DT
-            self.gyro_yaw += (w + BIAS) * DT
-            self.clock.publish(Clock(clock=rospy.Time.from_sec(self.t)))
-            self.odom.publish(odometry(self.t, 'odom', 0.1 * self.t, 0.0, wrap_angle(self.gyro_yaw),
-                                       w + BIAS))
-            while self.next_vo <= self.t + 1e-9:
-                if LOST[0] <= self.next_vo < LOST[1]:
-                    msg = odometry(self.next_vo, 'vo_odom', 0.0, 0.0, 0.0, 0.0, covariance=9999.0)
+            w = 0.0 if still else 0.4 * math.sin(2 * math.pi * cls.t / 20.0)
+            noise = cls.random.gauss(0.0, NOISE) if still else 0.0
+            gyro_w = (1.0 + SCALE) * w + BIAS + noise
+            cls.w = w
+            cls.t += DT
+            cls.true_yaw += w * DT
+            cls.gyro_yaw += gyro_w * DT
+            cls.noise_yaw += noise * DT
+            cls.x += 0.0 if still else 0.1 * DT
+            cls.clock.publish(Clock(clock=rospy.Time.from_sec(cls.t)))
+            cls.odom.publish(odometry(cls.t, 'odom', cls.x, 0.0, wrap_angle(cls.gyro_yaw), gyro_w,
+                                      v=0.0 if still else 0.1))
+            while not still and cls.next_vo <= cls.t + 1e-9:
+                if LOST[0] <= cls.next_vo < LOST[1]:
+                    msg = odometry(cls.next_vo, 'vo_odom', 0.0, 0.0, 0.0, 0.0, covariance=9999.0)
                     msg.pose.pose.orientation.w = 0.0
                 else:
-                    msg = odometry(self.next_vo, 'vo_odom', 0.0, 0.0, wrap_angle(self.true_yaw), w)
-                self.vo.publish(msg)
-                self.next_vo += 1.0 / 30.0
+                    msg = odometry(cls.next_vo, 'vo_odom', 0.0, 0.0, wrap_angle(cls.true_yaw), w)
+                cls.vo.publish(msg)
+                cls.next_vo += 1.0 / 30.0
+            if still:
+                cls.next_vo = cls.t
             time.sleep(DT / 5.0)
 
-    def test_bias_estimated_and_odometry_corrected(self):
-        self.drive(60.0)
-        wait_for(lambda: self.corrected and self.corrected[-1].header.stamp.to_sec() >= self.t - 1e-6,
-                 'corrected odometry up to sim t %.2f' % self.t)
-        self.assertAlmostEqual(yaw_of(self.corrected[-1]), wrap_angle(self.gyro_yaw), places=6,
-                               msg='before vision loss the corrected topic repeats /odom')
-        self.lost.publish(Empty())
-        wait_for(lambda: self.correction is not None, 'latched /blind_navigation/heading_correction')
-        c = self.correction
-        self.assertIn(c.status, ('full', 'bias'), c.reason)
-        self.assertLess(abs(c.bias - BIAS), max(4 * c.bias_std, 1e-4), '%r' % c)
-        self.assertLessEqual(c.windows, 28, 'no window spans the lost stretch')
-        start_true, start_gyro = self.true_yaw, self.gyro_yaw
-        self.drive(20.0)
-        wait_for(lambda: self.corrected[-1].header.stamp.to_sec() >= self.t - 1e-6,
-                 'corrected odometry up to sim t %.2f' % self.t)
-        last = self.corrected[-1]
-        turned = wrap_angle(yaw_of(last) - c.reference_yaw)
-        self.assertLess(abs(wrap_angle(turned - (self.true_yaw - start_true))), 0.005,
-                        'corrected heading follows the true turn')
-        self.assertGreater(abs(wrap_angle(self.gyro_yaw - start_gyro - (self.true_yaw - start_true))),
-                           0.03, 'raw odometry drifted by the bias')
-        self.assertAlmostEqual(last.twist.twist.angular.z, self.w, delta=1e-3,
-                               msg='turn rate without the bias')
+    def test_relay_unchanged_before_the_correction(self):
+        for (corrected, raw), name in zip(self.before_loss, ('plain', 'calibrated')):
+            self.assertAlmostEqual(corrected, raw, places=6,
+                                   msg='%s: before vision loss the corrected topic repeats /odom' % name)
+        for (correction, corrected, raw), name in zip(self.during_standstill, ('plain', 'calibrated')):
+            self.assertIsNone(correction, '%s: correction published %.1f s into a %.1f s standstill'
+                              % (name, self.standstill_time - 1.0, self.standstill_time))
+            self.assertAlmostEqual(corrected, raw, places=6,
+                                   msg='%s: during the standstill the corrected topic repeats /odom'
+                                   % name)
+
+    def test_correction_follows_the_standstill(self):
+        for listener in (self.plain, self.calibrated):
+            c = listener.correction
+            self.assertAlmostEqual(c.header.stamp.to_sec(), self.lost_at, places=6,
+                                   msg='the reference is the last odometry before vision loss')
+            self.assertGreaterEqual(listener.correction_at, self.lost_at + self.standstill_time,
+                                    'correction at sim %.2f, before the standstill ended (lost at %.2f)'
+                                    % (listener.correction_at, self.lost_at))
+
+    def test_bias_within_its_standard_error(self):
+        for listener in (self.plain, self.calibrated):
+            c = listener.correction
+            self.assertIn(c.status, ('full', 'bias'), c.reason)
+            self.assertGreater(c.bias_std, 0.0, '%r' % c)
+            self.assertLess(c.bias_std, 2e-4, 'standstill and visual odometry determine the bias: %r' % c)
+            self.assertLess(abs(c.bias - BIAS), 4 * c.bias_std, '%r' % c)
+            self.assertLessEqual(c.windows, 28, 'no window spans the lost stretch')
+
+    def test_calibration_file_gives_the_scale(self):
+        c = self.calibrated.correction
+        expected = load_calibration(self.calibration_file)
+        self.assertEqual(c.status, 'full', c.reason)
+        self.assertEqual(c.scale, expected.scale)
+        self.assertEqual(c.scale_std, expected.scale_std)
+
+    def test_corrected_odometry_follows_the_truth(self):
+        true_turn = self.true_yaw - self.true_at_loss
+        # the gyro's white noise while standing is a real heading error no correction removes
+        noise_turn = self.noise_yaw / (1.0 + SCALE)
+        for listener, name in ((self.plain, 'plain'), (self.calibrated, 'calibrated')):
+            last = listener.corrected[-1]
+            turned = wrap_angle(yaw_of(last) - listener.correction.reference_yaw)
+            self.assertLess(abs(wrap_angle(turned - true_turn - noise_turn)), 0.005,
+                            '%s: corrected heading turned %.4f rad, truth %.4f' % (name, turned, true_turn))
+            self.assertAlmostEqual(last.twist.twist.angular.z, self.w, delta=1e-3,
+                                   msg='%s: turn rate without bias and scale' % name)
+        raw_turn = self.gyro_yaw - self.gyro_at_loss - self.noise_yaw
+        self.assertGreater(abs(wrap_angle(raw_turn - true_turn)), 0.03,
+                           'raw odometry drifted by the bias')
 
 
 if __name__ == '__main__':
