@@ -9,6 +9,7 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
 from blind_navigation import kobuki_msgs_compat as kobuki
+from blind_navigation.core.heading_calibration import HeadingCorrection, correct_landmarks
 from blind_navigation.core.safety import SafetyEvents, VelocityLimits
 from blind_navigation.ros_common import twist, usable_odom_state
 
@@ -145,3 +146,12 @@ class VelocityOutput(object):
             self._pub.publish(twist(v, w))
         except rospy.ROSException:
             pass  # publisher already closed at shutdown
+
+
+def landmarks_in_corrected_frame(landmarks, msg):
+    """``landmarks`` expressed in the corrected odometry frame of ``msg`` (a
+    blind_navigation/HeadingCorrection from the heading_correction node), as
+    back_travel_client sends them; also the correction (core HeadingCorrection)."""
+    correction = HeadingCorrection(msg.bias, msg.scale, msg.bias_std, msg.scale_std,
+                                   msg.windows, msg.status, msg.reason)
+    return correct_landmarks(landmarks, correction, msg.reference_yaw), correction

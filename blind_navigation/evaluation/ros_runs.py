@@ -8,7 +8,7 @@ import socket
 import subprocess
 import time
 
-from .montecarlo import recording_settings
+from .montecarlo import CALIBRATION_SEED_OFFSET, recording_settings
 
 
 def free_port():
@@ -43,10 +43,45 @@ def log_findings(path):
     return reason, behind, state
 
 
+def _roslaunch(command, log, timeout):
+    """Run ``command`` (roslaunch ...) in its own session, output to ``log``; SIGINT,
+    then SIGKILL, after ``timeout`` wall s. Returns (exit code, wall s)."""
+    started = time.time()
+    with open(log, 'w') as stream:
+        process = subprocess.Popen(command, stdout=stream, stderr=subprocess.STDOUT,
+                                   start_new_session=True)
+        try:
+            process.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGINT)
+            try:
+                process.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
+    return process.returncode, time.time() - started
+
+
+def calibrate_ros(out_dir, seed=0, rtf=10.0, timeout=300.0):
+    """The gyro calibration missions of ``seed`` use (fake_gyro_calibration.launch on
+    seed + CALIBRATION_SEED_OFFSET, as the harness's); its file path, or None if
+    it failed (the log says why)."""
+    os.makedirs(out_dir, exist_ok=True)
+    path = os.path.join(out_dir, 'gyro_calibration_s%d.yaml' % seed)
+    if os.path.exists(path):
+        os.remove(path)
+    _roslaunch(['roslaunch', '-p', str(free_port()), 'blind_navigation', 'fake_gyro_calibration.launch',
+                'seed:=%d' % (seed + CALIBRATION_SEED_OFFSET), 'rtf:=%g' % rtf,
+                'calibration_file:=%s' % path],
+               os.path.join(out_dir, 'gyro_calibration_s%d.log' % seed), timeout)
+    return path if os.path.exists(path) else None
+
+
 def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', start_delay=None,
-            bag=True, timeout=600.0, return_timeout=300.0):
+            bag=True, timeout=600.0, return_timeout=400.0, gyro_calibration_file=''):
     """One bench.launch run, the mode in its launch configuration
-    (montecarlo.recording_settings); returns the probe's result dict (+ 'bag',
+    (montecarlo.recording_settings; the heading correction, when on, with
+    ``gyro_calibration_file``); returns the probe's result dict (+ 'bag',
     'wall_s', 'log') or {'failed': reason, ...} if the launch produced no result."""
     name = '%s_%s_s%d_%s' % (scenario, control, seed, vision_failure)
     run_dir = os.path.join(out_dir, name)
@@ -62,27 +97,18 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
                'start_delay:=%g' % start_delay, 'out:=%s' % out, 'results_dir:=%s' % run_dir,
                'landmark_file:=%s' % os.path.join(run_dir, 'landmarks', 'landmarks.yaml'),
                'return_timeout:=%g' % return_timeout, 'bag:=%s' % (bag_path if bag else '')]
-    deadband = recording_settings(control).get('deadband')
-    if deadband is not None:
-        command.append('deadband:=%g' % deadband)
-    started = time.time()
-    with open(log, 'w') as stream:
-        process = subprocess.Popen(command, stdout=stream, stderr=subprocess.STDOUT,
-                                   start_new_session=True)
-        try:
-            process.wait(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGINT)
-            try:
-                process.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)
-                process.wait()
-    wall = time.time() - started
+    settings = recording_settings(control)
+    if 'deadband' in settings:
+        command.append('deadband:=%g' % settings['deadband'])
+    heading_correction = settings.get('heading_calibration', True)
+    command.append('heading_correction:=%s' % str(heading_correction).lower())
+    if heading_correction:
+        command.append('gyro_calibration_file:=%s' % gyro_calibration_file)
+    returncode, wall = _roslaunch(command, log, timeout)
     reason, behind, state = log_findings(log)
     if not os.path.exists(out):
         return {'failed': 'no result after %.0f s wall (exit %s), last state %r, see %s'
-                          % (wall, process.returncode, state, log),
+                          % (wall, returncode, state, log),
                 'mission': scenario, 'mode': control, 'seed': seed, 'detector': vision_failure,
                 'wall_s': wall, 'log': log}
     with open(out) as stream:

@@ -52,10 +52,10 @@ from std_msgs.msg import Bool, Empty, String
 from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, EVENT_TOPICS, FOOTPRINT_TOPIC,
                                               HEADING_CORRECTION_TOPIC, RETURN_PATH_TOPIC,
                                               RETURN_ROUTE_SERVICE, ROTATION_DONE_TOPIC, STATE_TOPIC,
-                                              VISION_LOST_TOPIC, LatestOdom, SafetyMonitor)
+                                              VISION_LOST_TOPIC, LatestOdom, SafetyMonitor,
+                                              landmarks_in_corrected_frame)
 from blind_navigation.core import state
 from blind_navigation.core.geometry import distance, quaternion_from_yaw
-from blind_navigation.core.heading_calibration import HeadingCorrection, correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 from blind_navigation.core.safety import (SAFETY_DEFAULTS, ProgressError, ReturnProgress,
                                           expected_duration, file_digest, load_progress,
@@ -258,11 +258,10 @@ class BackTravelClient(object):
         if msg is None:
             return None, ('no heading correction on %s within %.0f s (is heading_correction '
                           'running?)' % (HEADING_CORRECTION_TOPIC, self.params.correction_timeout))
-        correction = HeadingCorrection(msg.bias, msg.scale, msg.bias_std, msg.scale_std,
-                                       msg.windows, msg.status, msg.reason)
+        corrected, correction = landmarks_in_corrected_frame(landmarks, msg)
         rospy.loginfo('%s: landmarks in the corrected odometry frame: %s', rospy.get_name(),
                       correction.describe())
-        return correct_landmarks(landmarks, correction, msg.reference_yaw), None
+        return corrected, None
 
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):

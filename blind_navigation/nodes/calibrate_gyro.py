@@ -40,7 +40,7 @@ class CalibrateGyro(object):
     ``odom_timeout`` (s, 0.4), ``start_timeout`` (s of wall time to wait for the
     first odometry, 30), ``bumper_topic`` / ``cliff_topic`` / ``wheel_drop_topic``
     (Kobuki's /mobile_base/events/*); core/gyro_calibration's SPIN_DEFAULTS:
-    ``turns`` (3 each way), ``max_w`` (rad/s, 0.6, also the output clamp; linear
+    ``turns`` (5 each way), ``max_w`` (rad/s, 0.6, also the output clamp; linear
     velocity is clamped to 0), ``pause`` (s, 3), ``required_scale_std`` (0.002);
     and core/heading_calibration's HEADING_CALIBRATION_DEFAULTS (``window``,
     ``max_gap``, ``min_windows``, ``outlier_k``, ``max_scale``, ...).
@@ -105,7 +105,10 @@ class CalibrateGyro(object):
         """Drive the spins; '' when done, else why they stopped."""
         p = self.params
         deadline = time.monotonic() + p.start_timeout
-        while self.odom.fresh(p.odom_timeout) is None:
+        # Under use_sim_time, odometry can arrive before this node's first /clock
+        # message (time 0): wait for the clock too, or the first check after the
+        # clock jumps would find that odometry stale.
+        while rospy.Time.now().is_zero() or self.odom.fresh(p.odom_timeout) is None:
             if rospy.is_shutdown() or time.monotonic() > deadline:
                 return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
             time.sleep(0.05)

@@ -25,10 +25,11 @@ from recording_tools import Collector, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
 from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, FOOTPRINT_TOPIC,  # noqa: E402
-                                              STATE_TOPIC, VISION_LOST_TOPIC)
+                                              HEADING_CORRECTION_TOPIC, STATE_TOPIC,
+                                              VISION_LOST_TOPIC, landmarks_in_corrected_frame)
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
-                                  Footprint, PathSample)
+                                  Footprint, HeadingCorrection, PathSample)
 from blind_navigation.recording import SAMPLE_TOPIC  # noqa: E402
 
 #: The state walk of a mission that comes home (back_travel_client owns it).
@@ -88,6 +89,7 @@ class MissionRun(object):
         self.results = Collector(BACK_TRAVEL_ACTION + '/result', BackTravelActionResult)
         self.footprints = Collector(FOOTPRINT_TOPIC, Footprint)
         self.mission_done = Collector(MISSION_DONE_TOPIC, Bool)
+        self.corrections = Collector(HEADING_CORRECTION_TOPIC, HeadingCorrection)
         self.samples = None
         self.operator = None
         self.start = None
@@ -178,6 +180,15 @@ class MissionRun(object):
         the return's start (it makes its action client then), so this node may see
         only those after its subscription connected: the first, standing ones."""
         return [(g.goal.v, g.goal.w, g.goal.d, g.goal.T, g.goal.psi) for g in self.goals.snapshot()]
+
+    def goals_expected(self, landmarks):
+        """What back_travel_client sends for the recorded ``landmarks``, in sending order:
+        reversed, and in the heading correction's frame when one was published
+        (blind_navigation.launch runs heading_correction by default)."""
+        corrections = self.corrections.snapshot()
+        if corrections:
+            landmarks, _ = landmarks_in_corrected_frame(landmarks, corrections[-1])
+        return [tuple(landmark) for landmark in reversed(landmarks)]
 
     def goal_outcomes(self):
         """GoalStatus codes of the results the server published, in order."""

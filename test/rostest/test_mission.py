@@ -14,7 +14,7 @@ layer records; ``launch`` = the fake's own, started by the launch with a
 
 Asserted: the state walks idle -> recording -> rotating -> returning -> home;
 the goals sent are the recorder's (``~recorder`` variant) landmarks in reverse
-order, every one of them; the robot ends within ``~max_error`` m of its start
+order (in the heading correction's frame), every one of them; the robot ends within ``~max_error`` m of its start
 on /ground_truth/odom and stands still there.
 """
 import os
@@ -94,8 +94,9 @@ class MissionTest(unittest.TestCase):
         # One succeeded result per landmark: each one was sent and driven...
         self.assertEqual(self.mission_run.goal_outcomes(),
                          [GoalStatus.SUCCEEDED] * len(self.loaded.landmarks))
-        # ... in reverse order, as recorded (the goals seen: at least the moving ones).
-        expected = [tuple(landmark) for landmark in reversed(self.loaded.landmarks)]
+        # ... in reverse order, as recorded (in the heading correction's frame; the goals
+        # seen: at least the moving ones).
+        expected = self.mission_run.goals_expected(self.loaded.landmarks)
         seen = self.mission_run.goal_values()
         moving = sum(1 for landmark in self.loaded.landmarks if landmark.d > 0)
         self.assertGreaterEqual(len(seen), moving)
