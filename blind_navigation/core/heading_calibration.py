@@ -72,8 +72,12 @@ HEADING_CALIBRATION_DEFAULTS = {
 
 #: Defaults of the standstill bias measurement after vision loss (heading_correction node params).
 STANDSTILL_DEFAULTS = {
-    'standstill_time': 90.0,     # s of standing still to measure (0: none); bias std = gyro
-                                 # noise / sqrt(samples): 0.003 rad/s at 50 Hz -> 4.5e-5 rad/s
+    'standstill_time': 120.0,    # s, the longest standstill (0: none); bias std = gyro noise /
+                                 # sqrt(samples): 0.003 rad/s at 50 Hz -> 3.9e-5 rad/s after 120 s
+    'heading_budget': 0.005,     # rad: the standstill ends as soon as the bias is known so well
+                                 # that its std x the recording's duration is within this
+    'standstill_min': 5.0,       # s, the shortest: the gyro's noise, hence the std, is measured
+                                 # on the standstill itself, which needs a few hundred samples
     'still_speed': 0.002,        # m/s, wheel speed below which the robot counts as still
     'still_rate': 0.03,          # rad/s, gyro rate below which it counts as not turning
     'still_settle': 0.5,         # s skipped at the start of each still spell
@@ -133,6 +137,7 @@ class HeadingCalibrator(object):
                              '(window %r, max_gap %r, min_windows %r)'
                              % (self.window, self.max_gap, self.min_windows))
         self.rows = []              # (gyro increment, VO increment, dt) per window
+        self._first_stamp = None    # of the first odometry
         self._odom = deque()        # (stamp, unwrapped gyro yaw)
         self._pending = deque()     # (stamp, VO yaw or None) not yet covered by odometry
         self._last_vo = None        # (stamp, unwrapped VO yaw, wrapped VO yaw) of the last sample
@@ -142,6 +147,8 @@ class HeadingCalibrator(object):
         """A raw odometry yaw (rad) at ``stamp`` (s)."""
         if self._odom and stamp <= self._odom[-1][0]:
             return
+        if self._first_stamp is None:
+            self._first_stamp = stamp
         unwrapped = yaw if not self._odom else self._odom[-1][1] + wrap_angle(yaw - self._last_yaw)
         self._last_yaw = yaw
         self._odom.append((stamp, unwrapped))
@@ -190,6 +197,11 @@ class HeadingCalibrator(object):
             self.rows.append((gyro - gyro0, unwrapped - vo0, stamp - t0))
             self._start = (stamp, unwrapped, gyro)
 
+    @property
+    def first_stamp(self):
+        """Stamp (s) of the first odometry fed, None before: when the recording began."""
+        return self._first_stamp
+
     def estimate(self, standstill=None, scale_prior=None):
         """The :class:`HeadingCorrection` the data support (see module docstring).
 
@@ -198,8 +210,24 @@ class HeadingCalibrator(object):
         ``scale_prior``: the gyro's calibrated scale error (a
         core/gyro_calibration.GyroCalibration, or None): used instead of
         fitting the scale, when significant."""
-        rows = list(self.rows)
         notes = []
+        bias, bias_std, scale, scale_std, used = self._measure(standstill, scale_prior, notes)
+        problem = self._bias_problem(bias, bias_std) if math.isfinite(bias_std) else \
+            'no bias measurement'
+        if problem:
+            notes.insert(0, problem)
+            bias, bias_std = 0.0, float('inf')
+        status = {(True, True): 'full', (True, False): 'bias',
+                  (False, True): 'scale', (False, False): 'none'}[(not problem, scale != 0.0)]
+        return HeadingCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
+
+    def bias_std(self, standstill=None, scale_prior=None):
+        """Standard error (rad/s) of the bias :meth:`estimate` would fuse now (inf: none)."""
+        return self._measure(standstill, scale_prior, [])[1]
+
+    def _measure(self, standstill, scale_prior, notes):
+        """(fused bias, its std, scale, scale std, windows used); reasons go to ``notes``."""
+        rows = list(self.rows)
         scale, scale_std = self._scale(rows, scale_prior, notes)
         estimates = [] if standstill is None else [standstill]
         if len(rows) < self.min_windows:
@@ -208,16 +236,10 @@ class HeadingCalibrator(object):
             used = len(rows)
         else:
             shifted = [(g - scale * v, v, dt) for g, v, dt in rows]
-            bias, _, bias_std, _, used = robust_fit(shifted, False, self.outlier_k)
-            estimates.append(BiasEstimate(bias, bias_std, 'visual odometry'))
+            bias, _, std, _, used = robust_fit(shifted, False, self.outlier_k)
+            estimates.append(BiasEstimate(bias, std, 'visual odometry'))
         bias, bias_std = fuse_bias(estimates)
-        problem = self._bias_problem(bias, bias_std) if estimates else 'no bias measurement'
-        if problem:
-            notes.insert(0, problem)
-            bias, bias_std = 0.0, float('inf')
-        status = {(True, True): 'full', (True, False): 'bias',
-                  (False, True): 'scale', (False, False): 'none'}[(not problem, scale != 0.0)]
-        return HeadingCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
+        return bias, bias_std, scale, scale_std, used
 
     def _scale(self, rows, prior, notes):
         """(scale, std) to correct by: the calibrated ``prior`` when significant,
@@ -289,7 +311,7 @@ class StandstillBias(object):
             for name in ('still_speed', 'still_rate', 'still_settle'))
         self.duration = 0.0        # s counted so far
         self._turned = 0.0         # rad of heading change over that time
-        self._rates = []           # per-interval rates, rad/s
+        self._rates = [0, 0.0, 0.0]  # per-interval rates: count, sum, sum of squares
         self._last = None          # last still OdomState
         self._still_since = None   # stamp the current still spell began
 
@@ -307,17 +329,37 @@ class StandstillBias(object):
         turned = wrap_angle(state.yaw - last.yaw)
         self.duration += dt
         self._turned += turned
-        self._rates.append(turned / dt)
+        rate = turned / dt
+        self._rates = [self._rates[0] + 1, self._rates[1] + rate, self._rates[2] + rate * rate]
 
     def estimate(self):
         """:class:`BiasEstimate`, or None before two intervals were counted."""
-        n = len(self._rates)
+        n, total, squares = self._rates
         if n < 2:
             return None
-        mean = sum(self._rates) / n
-        spread = sum((r - mean) ** 2 for r in self._rates) / (n - 1)
+        spread = max(squares - total * total / n, 0.0) / (n - 1)
         return BiasEstimate(self._turned / self.duration, math.sqrt(spread / n),
                             'standstill %.1f s' % self.duration)
+
+
+def standstill_complete(calibrator, standstill, lost_at, params=None, scale_prior=None):
+    """True once the standstill after vision loss (at ``lost_at``, s) may end: it
+    lasted ``standstill_time``, or at least ``standstill_min`` and the fused bias is known well enough for this
+    mission, ``bias std x (lost_at - recording start) <= heading_budget`` (rad):
+    the landmarks' headings are corrected back over the recording, and the
+    return takes about as long (the standstill itself adds nothing: its drift
+    is what it measures). A short mission needs little, a long one up to
+    ``standstill_time``; a noiseless gyro none. ``params``: as
+    :data:`STANDSTILL_DEFAULTS`."""
+    longest, shortest, budget = (float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
+                                 for name in ('standstill_time', 'standstill_min', 'heading_budget'))
+    if standstill.duration >= longest - 1e-9:
+        return True
+    measured = standstill.estimate()
+    if standstill.duration < shortest - 1e-9 or measured is None or calibrator.first_stamp is None:
+        return False
+    std = calibrator.bias_std(measured, scale_prior)
+    return std * max(lost_at - calibrator.first_stamp, 0.0) <= budget
 
 
 def _fit(rows, with_scale):

@@ -15,7 +15,8 @@ are read back from it, so the return uses the stored (rounded) numbers.
 With ``heading_calibration`` (blind_navigation.launch's ``heading_correction``,
 on by default), the fake TurtleBot's visual odometry (core/visual_odometry.py,
 fake_vision's drift and 30 Hz rate and seed + 1) runs while recording; at
-vision loss the robot stands still ``standstill_time`` s, and
+vision loss the robot stands still until the bias is known well enough for
+this mission (``heading_budget``, at most ``standstill_time`` s), and
 core/heading_calibration.py estimates the gyro bias from both and takes the
 scale from ``gyro_calibration`` (what calibrate_gyro.launch measured; make one
 with :func:`simulate_gyro_calibration`, on another seed: another power-up of the
@@ -31,12 +32,14 @@ import math
 import os
 import tempfile
 from collections import namedtuple
+from types import SimpleNamespace
 
 from .back_travel import ReturnRoute, make_controller
 from .geometry import distance
 from .gyro_calibration import CalibrationError, SpinCalibration
 from .heading_calibration import (STANDSTILL_DEFAULTS, CorrectedOdometry, HeadingCalibrator,
-                                  StandstillBias, correct_landmarks, no_correction)
+                                  StandstillBias, correct_landmarks, no_correction,
+                                  standstill_complete)
 from .kobuki import SimulatedKobuki, load_profile, make_profile
 from .mission import load_mission
 from .recorder import PathRecorder
@@ -55,8 +58,11 @@ SIMULATION_DEFAULTS = {
     'handover_timeout': 0.1,   # s the last command holds after the last goal
     'stop_time': 2.0,          # s left for the robot to stop at the end
     'heading_calibration': True,  # blind_navigation.launch's heading_correction (default on)
-    'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s standing still measuring
-                               # the gyro bias after vision loss (with heading_calibration)
+    'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s, longest standstill after
+                               # vision loss measuring the gyro bias (with heading_calibration)
+    'heading_budget': STANDSTILL_DEFAULTS['heading_budget'],  # rad: it ends earlier once the
+                               # bias std x the recording's duration is within this
+    'standstill_min': STANDSTILL_DEFAULTS['standstill_min'],  # s, but not before this
     'gyro_calibration': None,  # the gyro's calibrated scale (core/gyro_calibration.GyroCalibration)
 }
 
@@ -97,21 +103,23 @@ class _Run(object):
                 self.calibrator.add_visual(self.next_frame, self.vision.update(pose).yaw)
                 self.next_frame += 1.0 / VO_RATE
 
-    def lose_vision(self, standstill_time, scale_prior):
-        """Vision fails: with calibration the robot stands still ``standstill_time``
-        s measuring the gyro bias, then the correction is estimated; the corrected
-        frame starts where vision was lost."""
+    def lose_vision(self, standstill, scale_prior):
+        """Vision fails: with calibration the robot stands still measuring the gyro
+        bias until core/heading_calibration.standstill_complete (``standstill``:
+        its params), then the correction is estimated; the corrected frame starts
+        where vision was lost."""
         if self.calibrator is None:
             self.corrector = CorrectedOdometry(no_correction('heading calibration off'))
             return self.corrector.correction
         calibrator, self.calibrator = self.calibrator, None
         reference = self.base.odom
-        standstill = StandstillBias()
-        while standstill.duration < standstill_time - 1e-9 and self.base.t < reference.stamp + \
-                2.0 * standstill_time:
+        measurement = StandstillBias(standstill)
+        timeout = reference.stamp + 2.0 * standstill.standstill_time + 5.0
+        while not standstill_complete(calibrator, measurement, reference.stamp, standstill,
+                                      scale_prior) and self.base.t < timeout:
             self.advance()
-            standstill.add_odometry(self.base.odom)
-        correction = calibrator.estimate(standstill.estimate(), scale_prior)
+            measurement.add_odometry(self.base.odom)
+        correction = calibrator.estimate(measurement.estimate(), scale_prior)
         self.corrector = CorrectedOdometry(correction)
         self.corrector.update(reference)
         return correction
@@ -238,7 +246,9 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
         loaded, anchor = _record(run, mission, settings, store_path)
         size = os.path.getsize(store_path)
     forward_path, run.path = run.path, [run.path[-1]] if run.path else []
-    correction = run.lose_vision(settings['standstill_time'], settings['gyro_calibration'])
+    standstill = SimpleNamespace(**{name: settings[name] for name in STANDSTILL_DEFAULTS
+                                    if name in settings})
+    correction = run.lose_vision(standstill, settings['gyro_calibration'])
     landmarks = correct_landmarks(loaded.landmarks, correction)
     reason = '' if _turn(run, params) else 'pi rotation failed'
     if not reason:

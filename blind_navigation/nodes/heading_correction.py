@@ -11,9 +11,12 @@ republishes each odometry message unchanged on ``corrected_odom_topic``.
 On /blind_navigation/vision_lost it keeps the last raw odometry as the
 reference (where the return starts) and measures the gyro bias with the robot
 standing still (core/heading_calibration.StandstillBias on the raw odometry,
-stamps from the messages, so sim time works): until ``standstill_time`` s of
-still odometry were counted, or ``standstill_timeout`` s after the reference
-(the robot kept moving: whatever was counted is used). rotate_pi waits for the
+stamps from the messages, so sim time works) until
+core/heading_calibration.standstill_complete: the bias is known well enough for
+this mission (its std x the recording's duration within ``heading_budget``,
+after at least ``standstill_min`` s of still odometry), or ``standstill_time``
+s of still odometry were counted, or ``standstill_timeout`` s after the
+reference passed (the robot kept moving: whatever was counted is used). rotate_pi waits for the
 result before it turns (its ``wait_for_heading_correction``). Odometry is still
 relayed unchanged meanwhile. Then it estimates the gyro bias (visual odometry
 and standstill fused) and scale (from ``gyro_calibration_file`` when there is
@@ -39,7 +42,8 @@ from blind_navigation.back_travel_ros import HEADING_CORRECTION_TOPIC, VISION_LO
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.heading_calibration import (HEADING_CALIBRATION_DEFAULTS,
                                                        STANDSTILL_DEFAULTS, CorrectedOdometry,
-                                                       HeadingCalibrator, StandstillBias)
+                                                       HeadingCalibrator, StandstillBias,
+                                                       standstill_complete)
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros_common import (load_params, odom_state_from_msg, odometry_lost_reason,
                                          set_pose, start_node, usable_odom_state)
@@ -65,8 +69,10 @@ class HeadingCorrectionNode(object):
     ``min_windows`` (10), ``max_bias`` (rad/s, 0.01), ``max_scale`` (0.05),
     ``significance`` (sqrt 2 standard errors), ``max_scale_std`` (0.003),
     ``outlier_k`` (5) (and any further ones it defines), and its
-    STANDSTILL_DEFAULTS: ``standstill_time`` (s of standing still measured after
-    vision loss, 90; 0: none), ``still_speed``
+    STANDSTILL_DEFAULTS: ``standstill_time`` (s, the longest standstill after
+    vision loss, 120; 0: none), ``heading_budget`` (rad, 0.005: it ends as soon
+    as bias std x the recording's duration is within this), ``standstill_min``
+    (s, 5), ``still_speed``
     (m/s, 0.002), ``still_rate`` (rad/s, 0.03), ``still_settle`` (s, 0.5);
     ``standstill_timeout`` (s after vision loss, sim time; unset: 2 x
     ``standstill_time`` + 5): the standstill ends then even if shorter.
@@ -103,9 +109,8 @@ class HeadingCorrectionNode(object):
         rospy.Subscriber(p.vo_odom_topic, Odometry, self._on_vo, queue_size=50)
         rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost, queue_size=1)
         rospy.loginfo('%s: %s -> %s, calibrating against %s until vision is lost, then standing '
-                      'still %.0f s (at most %.0f s) to measure the gyro bias', rospy.get_name(),
-                      p.odom_topic, p.corrected_odom_topic, p.vo_odom_topic, self.standstill_time,
-                      self.standstill_timeout)
+                      'still up to %.0f s to measure the gyro bias', rospy.get_name(),
+                      p.odom_topic, p.corrected_odom_topic, p.vo_odom_topic, self.standstill_time)
 
     @staticmethod
     def _load_calibration(path):
@@ -166,7 +171,8 @@ class HeadingCorrectionNode(object):
         if self._reference is None:   # no odometry before vision loss: the frame starts here
             self._reference, self._lost_at = raw, raw.stamp
         self.standstill.add_odometry(raw)
-        if self.standstill.duration >= self.standstill_time - 1e-9 or \
+        if standstill_complete(self.calibrator, self.standstill, self._lost_at, self.params,
+                               self.scale_prior) or \
                 raw.stamp >= self._lost_at + self.standstill_timeout:
             return self._finish()
         return None
@@ -189,8 +195,13 @@ class HeadingCorrectionNode(object):
             self._publish(*result)
             return
         rospy.loginfo('%s: vision lost: measuring the gyro bias while the robot stands still '
-                      '(%.0f s of still odometry, at most %.0f s)', rospy.get_name(),
-                      self.standstill_time, self.standstill_timeout)
+                      '(until known to %.3f rad over the %.0f s recording, %.0f-%.0f s of still '
+                      'odometry)', rospy.get_name(), self.params.heading_budget,
+                      self._recording_duration(), self.params.standstill_min, self.standstill_time)
+
+    def _recording_duration(self):
+        first = self.calibrator.first_stamp
+        return 0.0 if first is None or self._lost_at is None else self._lost_at - first
 
     def _finish(self):
         """Estimate (under the lock) and start the corrected frame at the reference;
@@ -217,10 +228,10 @@ class HeadingCorrectionNode(object):
         self.correction_pub.publish(msg)
         if summary is not None:
             duration, measured = summary
-            if duration < self.standstill_time - 1e-9:
-                rospy.logwarn('%s: the robot stood still only %.1f of %.0f s within %.0f s of vision '
+            if reference is not None and rospy.get_time() >= reference.stamp + self.standstill_timeout:
+                rospy.logwarn('%s: the robot stood still only %.1f s within %.0f s of vision '
                               'loss; the bias is measured on that', rospy.get_name(), duration,
-                              self.standstill_time, self.standstill_timeout)
+                              self.standstill_timeout)
             rospy.loginfo('%s: standstill %.1f s: %s', rospy.get_name(), duration,
                           'bias %.2e +- %.1e rad/s' % (measured.bias, measured.std)
                           if measured else 'no bias measured')

@@ -18,7 +18,7 @@ that started first would be recorded as part of the path.
 With ``wait_for_heading_correction`` (blind_navigation.launch sets it with
 ``heading_correction``) it then stands still until heading_correction has
 published the latched /blind_navigation/heading_correction (it measures the
-gyro bias on the standing robot after vision loss, ``standstill_time``) and
+gyro bias on the standing robot after vision loss, at most ``standstill_time``) and
 ``CORRECTED_MESSAGES`` odometry messages arrived after it (heading_correction
 relays the first corrected one before it publishes the correction, so this
 holds unless the odometry connection lags that many messages), at most
@@ -61,7 +61,7 @@ class RotatePi(object):
     ``recording_end_timeout`` (s, 1.0): longest wait for the recorder's final sample;
     ``wait_for_heading_correction`` (false): before turning, wait for heading_correction's
     latched result and the corrected odometry after it, at most ``correction_timeout``
-    (s of sim time; default 2 x STANDSTILL_DEFAULTS' standstill_time + 30 = 210 s, 25 s above
+    (s of sim time; default 2 x STANDSTILL_DEFAULTS' standstill_time + 30 = 270 s, 25 s above
     heading_correction's default standstill timeout, 2 x standstill_time + 5 s).
     """
 

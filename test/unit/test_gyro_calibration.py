@@ -14,7 +14,8 @@ from blind_navigation.core.gyro_calibration import (CalibrationError, GyroCalibr
                                                     SpinCalibration, load_calibration,
                                                     save_calibration)
 from blind_navigation.core.heading_calibration import (BiasEstimate, HeadingCalibrator,
-                                                       StandstillBias, fuse_bias)
+                                                       StandstillBias, fuse_bias,
+                                                       standstill_complete)
 from blind_navigation.core.kobuki import load_profile
 from blind_navigation.core.simulation import simulate_gyro_calibration
 
@@ -151,3 +152,31 @@ def test_insignificant_calibrated_scale_is_not_applied():
     correction = HeadingCalibrator().estimate(standstill.estimate(), prior)
     assert correction.status == 'bias' and correction.scale == 0.0
     assert 'calibrated scale' in correction.reason
+
+
+def recorded_for(seconds):
+    """A calibrator that saw ``seconds`` of odometry and no visual odometry."""
+    calibrator = HeadingCalibrator()
+    for k in range(int(seconds / 0.02) + 1):
+        calibrator.add_odometry(k * 0.02, 0.0)
+    return calibrator
+
+
+def standstill_needed(recorded_seconds, noise, params=None):
+    """s of standstill after a ``recorded_seconds`` recording before standstill_complete."""
+    calibrator, standstill = recorded_for(recorded_seconds), StandstillBias()
+    rng, stamp, yaw = random.Random(5), recorded_seconds, 0.0
+    while not standstill_complete(calibrator, standstill, recorded_seconds, params):
+        stamp, yaw = still_odometry(standstill, 0.02, 3e-4, noise, rng, stamp, yaw)
+        assert stamp < recorded_seconds + 500.0, 'the standstill never ended'
+    return stamp - recorded_seconds
+
+
+def test_standstill_lasts_as_long_as_the_mission_needs():
+    # bias std = 0.003 / sqrt(50 t) must reach 0.005 rad / recording: t = 50 (0.003 T / 0.005)^2 / 50^2
+    short, longer = standstill_needed(30.0, 0.003), standstill_needed(80.0, 0.003)
+    assert 5.0 <= short < 12.0 and 40.0 < longer < 75.0
+    assert standstill_needed(300.0, 0.003) == pytest.approx(120.5, abs=0.1)   # the longest
+    assert standstill_needed(300.0, 0.0) == pytest.approx(5.5, abs=0.1)       # noiseless: the shortest
+    params = type('P', (), {'standstill_time': 0.0})()
+    assert standstill_needed(300.0, 0.003, params) == 0.0
