@@ -4,7 +4,7 @@ of each control mode on the paper's Table VI missions, over seeds.
 
     /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]
         [--modes time distance closed_loop] [--heading-calibration on|off]
-        [--standstill-time 60] [--out results/back_travel_bench.md]
+        [--standstill-time 120] [--out results/back_travel_bench.md]
 
 Prints and writes a Markdown table: per mission, profile and mode the median
 and worst error (m), the median as % of the recorded length, and the paper's
@@ -14,7 +14,7 @@ launch/paper.launch's (dead-band 0, no heading correction), ``closed_loop``
 with blind_navigation.launch's (dead-band 0.01, heading correction with a gyro
 calibration made on another seed: evaluation/montecarlo.gyro_calibration_for).
 ``--heading-calibration off`` turns the heading correction off for
-``closed_loop`` too; ``--standstill-time`` sets its standstill after vision
+``closed_loop`` too; ``--standstill-time`` sets its longest standstill after vision
 loss. Same seeds for every mode and profile (on ``ideal`` the seed changes
 nothing). The ``calibration`` column counts the runs whose correction used
 bias and scale, the bias only, the scale only, or nothing.
@@ -55,7 +55,7 @@ def main():
                         help='closed_loop with (launch default) or without the heading correction')
     parser.add_argument('--standstill-time', type=float,
                         default=SIMULATION_DEFAULTS['standstill_time'],
-                        help='s standing still after vision loss to measure the gyro bias')
+                        help='the longest standstill after vision loss measuring the gyro bias, s')
     parser.add_argument('--out', default='results/back_travel_bench.md')
     args = parser.parse_args()
     lines = ['| mission | profile | mode | length m | samples | KB | median err m | max err m | '
