@@ -20,7 +20,7 @@ reference passed (the robot kept moving: whatever was counted is used). rotate_p
 result before it turns (its ``wait_for_heading_correction``). Odometry is still
 relayed unchanged meanwhile. Then it estimates the gyro bias (visual odometry
 and standstill fused) and scale (from ``gyro_calibration_file`` when there is
-one, else this mission's own fit, else none), publishes the result latched on
+one, else not corrected), publishes the result latched on
 /blind_navigation/heading_correction (blind_navigation/HeadingCorrection:
 reference stamp and raw yaw, bias, scale, standard errors, status, reason),
 and from then on republishes odometry through
@@ -67,7 +67,7 @@ class HeadingCorrectionNode(object):
     gyro's scale error), core/heading_calibration's
     HEADING_CALIBRATION_DEFAULTS: ``window`` (s, 2.0), ``max_gap`` (s, 0.5),
     ``min_windows`` (10), ``max_bias`` (rad/s, 0.01), ``max_scale`` (0.05),
-    ``significance`` (sqrt 2 standard errors), ``max_scale_std`` (0.003),
+    ``significance`` (sqrt 2 standard errors), ``scale_significance`` (3),
     ``outlier_k`` (5) (and any further ones it defines), and its
     STANDSTILL_DEFAULTS: ``standstill_time`` (s, the longest standstill after
     vision loss, 120; 0: none), ``heading_budget`` (rad, 0.005: it ends as soon
@@ -117,19 +117,19 @@ class HeadingCorrectionNode(object):
         """The gyro calibration in ``path`` (core/gyro_calibration.GyroCalibration), or None:
         none configured, missing (warned) or unusable (error logged)."""
         if not path:
-            rospy.loginfo('%s: no ~gyro_calibration_file: the gyro scale comes from this '
-                          "mission's own fit, if it determines one", rospy.get_name())
+            rospy.loginfo('%s: no ~gyro_calibration_file: the gyro scale is not corrected',
+                          rospy.get_name())
             return None
         expanded = os.path.abspath(os.path.expanduser(path))
         if not os.path.exists(expanded):
-            rospy.logwarn("%s: no gyro calibration at %s: the pi turn keeps the gyro's scale error "
-                          "(unless this mission's own fit determines it); run `%s` once to make "
-                          'it', rospy.get_name(), expanded, CALIBRATE_COMMAND)
+            rospy.logwarn("%s: no gyro calibration at %s: the pi turn keeps the gyro's scale "
+                          'error; run `%s` once to make it', rospy.get_name(), expanded,
+                          CALIBRATE_COMMAND)
             return None
         try:
             calibration = load_calibration(expanded)
         except CalibrationError as error:
-            rospy.logerr("%s: %s; continuing without it (gyro scale from this mission's own fit)",
+            rospy.logerr("%s: %s; continuing without it (the gyro scale is not corrected)",
                          rospy.get_name(), error)
             return None
         rospy.loginfo('%s: gyro calibration %s: %s', rospy.get_name(), expanded,

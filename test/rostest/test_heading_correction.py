@@ -5,8 +5,8 @@
 scale error 1 %, visual odometry at 30 Hz (lost for 5 s); then vision_lost and the
 robot stands still (gyro noise 0.003 rad/s per sample) for ``standstill_time`` (the
 .test sets 5 s) plus slack, then weaves on for 20 s. Two nodes hear the same data:
-``/heading_correction`` (started by the .test, no calibration file: the scale is the
-mission's own fit) and ``/heading_correction_calibrated`` (started here, after this
+``/heading_correction`` (started by the .test, no calibration file: the scale is not
+corrected) and ``/heading_correction_calibrated`` (started here, after this
 test wrote a gyro calibration file with core/gyro_calibration.save_calibration to a
 temporary directory; its topics remapped under /calibrated).
 
@@ -14,8 +14,9 @@ Asserted: before vision_lost and during the standstill the corrected topic repea
 /odom; no correction is published before the standstill is over, and it is
 published once it is; the bias (visual odometry and standstill fused) is the gyro's
 within 4 of its stated standard errors; the calibrated node uses the file's scale
-(status full, scale equal to the file's); afterwards the corrected heading and turn
-rate follow the true ones while /odom keeps drifting.
+(status full, scale equal to the file's), the plain one none (status bias); afterwards
+the corrected heading and turn rate follow the true ones (the plain node's with the
+gyro's scale error still in them) while /odom keeps drifting.
 """
 import math
 import os
@@ -216,18 +217,25 @@ class HeadingCorrectionTest(unittest.TestCase):
         self.assertEqual(c.status, 'full', c.reason)
         self.assertEqual(c.scale, expected.scale)
         self.assertEqual(c.scale_std, expected.scale_std)
+        plain = self.plain.correction
+        self.assertEqual((plain.status, plain.scale), ('bias', 0.0),
+                         'without a calibration the mission does not set the scale: %r' % plain)
+        self.assertIn('no gyro calibration', plain.reason)
 
     def test_corrected_odometry_follows_the_truth(self):
         true_turn = self.true_yaw - self.true_at_loss
         # the gyro's white noise while standing is a real heading error no correction removes
         noise_turn = self.noise_yaw / (1.0 + SCALE)
-        for listener, name in ((self.plain, 'plain'), (self.calibrated, 'calibrated')):
+        # the plain node corrects the bias only: its heading keeps the gyro's scale error
+        for listener, name, scale in ((self.plain, 'plain', SCALE), (self.calibrated, 'calibrated', 0.0)):
             last = listener.corrected[-1]
             turned = wrap_angle(yaw_of(last) - listener.correction.reference_yaw)
-            self.assertLess(abs(wrap_angle(turned - true_turn - noise_turn)), 0.005,
-                            '%s: corrected heading turned %.4f rad, truth %.4f' % (name, turned, true_turn))
-            self.assertAlmostEqual(last.twist.twist.angular.z, self.w, delta=1e-3,
-                                   msg='%s: turn rate without bias and scale' % name)
+            expected = (1.0 + scale) * (true_turn + noise_turn)
+            self.assertLess(abs(wrap_angle(turned - expected)), 0.005,
+                            '%s: corrected heading turned %.4f rad, expected %.4f (truth %.4f)'
+                            % (name, turned, expected, true_turn))
+            self.assertAlmostEqual(last.twist.twist.angular.z, (1.0 + scale) * self.w, delta=1e-3,
+                                   msg='%s: turn rate without the bias' % name)
         raw_turn = self.gyro_yaw - self.gyro_at_loss - self.noise_yaw
         self.assertGreater(abs(wrap_angle(raw_turn - true_turn)), 0.03,
                            'raw odometry drifted by the bias')

@@ -10,6 +10,7 @@ from blind_navigation.core.geometry import OdomState, wrap_angle
 from blind_navigation.core.heading_calibration import (CorrectedOdometry, HeadingCalibrator,
                                                        HeadingCorrection, correct_landmarks,
                                                        no_correction)
+from blind_navigation.core.gyro_calibration import GyroCalibration
 from blind_navigation.core.kobuki import SimulatedKobuki, load_profile
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.simulation import run_mission, simulate_gyro_calibration
@@ -43,12 +44,21 @@ def weaving(t):
     return 0.4 * math.sin(2.0 * math.pi * t / 20.0)
 
 
-def test_recovers_bias_and_scale_when_the_robot_turns():
-    correction = feed(HeadingCalibrator(), weaving, 300.0, bias=4e-4, scale=0.005)
+def test_recovers_the_bias_and_takes_the_calibrated_scale():
+    prior = GyroCalibration(0.005, 0.0006, 0.0, 0.0, 60)
+    calibrator = HeadingCalibrator()
+    feed(calibrator, weaving, 300.0, bias=4e-4, scale=0.005)
+    correction = calibrator.estimate(scale_prior=prior)
     assert correction.status == 'full', correction.describe()
     assert correction.bias == pytest.approx(4e-4, abs=max(4 * correction.bias_std, 1e-5))
-    assert correction.scale == pytest.approx(0.005, abs=max(4 * correction.scale_std, 1e-4))
-    assert correction.bias_std < 5e-5 and correction.scale_std < 1e-3
+    assert correction.scale == 0.005 and correction.bias_std < 5e-5
+
+
+def test_a_mission_does_not_set_the_scale_by_itself():
+    # the weaving turns would fit the scale; without a calibration it is not corrected
+    correction = feed(HeadingCalibrator(), weaving, 300.0, bias=4e-4, scale=0.005)
+    assert correction.status == 'bias' and correction.scale == 0.0
+    assert 'no gyro calibration' in correction.reason
 
 
 def test_bias_only_when_the_path_does_not_turn():
@@ -82,7 +92,9 @@ def test_lost_stretches_break_windows_and_a_jump_is_dropped():
     # vision lost in every third 10 s stretch: no window may span a lost message
     lost = lambda t: int(t // 10.0) % 3 == 2  # noqa: E731
     calibrator = HeadingCalibrator()
-    correction = feed(calibrator, weaving, 300.0, bias=2e-4, scale=0.004, lost=lost)
+    feed(calibrator, weaving, 300.0, bias=2e-4, scale=0.004, lost=lost)
+    prior = GyroCalibration(0.004, 0.0005, 0.0, 0.0, 60)
+    correction = calibrator.estimate(scale_prior=prior)
     assert correction.status == 'full'
     # 200 s of the 300 s are seen, in 10 s stretches: at most 5 windows of 2 s each
     assert 80 <= correction.windows <= 100
@@ -90,7 +102,7 @@ def test_lost_stretches_break_windows_and_a_jump_is_dropped():
     assert correction.bias == pytest.approx(2e-4, abs=max(4 * correction.bias_std, 1e-5))
     # one visual-odometry jump of 0.3 rad (a relocalisation) is an outlier, not a bias
     calibrator.rows[5] = (calibrator.rows[5][0], calibrator.rows[5][1] + 0.3, calibrator.rows[5][2])
-    jumped = calibrator.estimate()
+    jumped = calibrator.estimate(scale_prior=prior)
     assert jumped.windows == correction.windows - 1
     assert jumped.bias == pytest.approx(correction.bias, abs=2 * correction.bias_std)
 
