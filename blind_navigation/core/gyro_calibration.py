@@ -27,6 +27,7 @@ import yaml
 
 from .heading_calibration import HeadingCalibrator, robust_fit
 from .rotation import Rotation
+from .store import write_atomically
 
 #: Defaults; the calibrate_gyro node exposes each one as a ~private param.
 SPIN_DEFAULTS = {
@@ -153,12 +154,7 @@ def save_calibration(path, calibration, turns, when=None):
     text = '# blind_navigation gyro calibration (roslaunch blind_navigation calibrate_gyro.launch)\n'
     text += ''.join('%s: %s\n' % (key, yaml.safe_dump(values[key], default_flow_style=True)
                                   .strip().replace('\n...', '')) for key in FILE_KEYS)
-    temporary = path + '.tmp'
-    with open(temporary, 'w') as stream:
-        stream.write(text)
-        stream.flush()
-        os.fsync(stream.fileno())
-    os.replace(temporary, path)
+    write_atomically(path, text)
     return path
 
 

@@ -25,6 +25,7 @@ from collections import namedtuple
 import yaml
 
 from .landmark import landmark_from_values
+from .store import write_atomically
 
 #: Defaults of the safety params (the nodes expose them as ~private params).
 SAFETY_DEFAULTS = {
@@ -169,12 +170,7 @@ def save_progress(path, progress):
     text = ('# blind_navigation return progress (back_travel_client); '
             'the landmark file itself is never modified\n'
             + yaml.safe_dump(dict(progress._asdict()), default_flow_style=False, sort_keys=False))
-    temporary = path + '.tmp'
-    with open(temporary, 'w') as stream:
-        stream.write(text)
-        stream.flush()
-        os.fsync(stream.fileno())
-    os.replace(temporary, path)
+    write_atomically(path, text)
 
 
 def load_progress(path):

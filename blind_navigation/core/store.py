@@ -245,6 +245,17 @@ def start_mission_file(landmark_file, when=None):
     return target
 
 
+def write_atomically(path, text):
+    """Replace ``path`` by ``text`` atomically (temporary file in the same directory,
+    fsync, rename): a crash leaves the old or the new content, never a mix."""
+    temporary = path + '.tmp'
+    with open(temporary, 'w') as stream:
+        stream.write(text)
+        stream.flush()
+        os.fsync(stream.fileno())
+    os.replace(temporary, path)
+
+
 def _unused(path):
     """``path``, or ``path`` with a -N suffix if that name is already taken."""
     stem, ext = os.path.splitext(path)
