@@ -63,8 +63,14 @@ class ResumeTest(unittest.TestCase):
             states = layer.state_list(restart_states)
             self.assertEqual(final, 'home', layer.abort_reason('/back_travel_client'))
             self.assertEqual(states, ['returning', 'home'], 'resumed, not started over')
-            self.assertEqual(len(goals) - restart_goals, COUNT - done_at_kill,
-                             'goals after the restart: only the landmarks not completed')
+            # Only the landmarks not completed are sent again. The restarted client sends its
+            # first goal as soon as it is up, possibly before this node's subscription to it
+            # connects (rospy), so that one may go unseen (1 run in 5 on a loaded machine); a
+            # landmark really skipped would leave the robot 0.2 m short (asserted below).
+            resent = len(goals) - restart_goals
+            self.assertIn(resent, (COUNT - done_at_kill - 1, COUNT - done_at_kill),
+                          'goals after the restart: only the %d landmarks not completed'
+                          % (COUNT - done_at_kill))
             print('RESUME: killed after %d of %d landmarks at (%.3f, %.3f); %d goals after the '
                   'restart; ended %.3f m from the start'
                   % (done_at_kill, COUNT, at_kill[0], at_kill[1], len(goals) - restart_goals,
