@@ -197,10 +197,9 @@ class HeadingCalibrator(object):
             self.rows.append((gyro - gyro0, unwrapped - vo0, stamp - t0))
             self._start = (stamp, unwrapped, gyro)
 
-    @property
-    def first_stamp(self):
-        """Stamp (s) of the first odometry fed, None before: when the recording began."""
-        return self._first_stamp
+    def recording_time(self, until):
+        """s from the first odometry fed (when the recording began) to ``until``; 0 before any."""
+        return 0.0 if self._first_stamp is None else until - self._first_stamp
 
     def estimate(self, standstill=None, scale_prior=None):
         """The :class:`HeadingCorrection` the data support (see module docstring).
@@ -221,29 +220,29 @@ class HeadingCalibrator(object):
                   (False, True): 'scale', (False, False): 'none'}[(not problem, scale != 0.0)]
         return HeadingCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
 
-    def bias_std(self, standstill=None, scale_prior=None):
-        """Standard error (rad/s) of the bias :meth:`estimate` would fuse now (inf: none)."""
-        return self._measure(standstill, scale_prior, [])[1]
+    def visual_bias(self, scale_prior=None):
+        """(:class:`BiasEstimate` from the visual-odometry windows, windows used);
+        None with fewer than ``min_windows``. Without a calibration the scale is
+        still fitted with the bias (as a nuisance: an uncorrected scale error in
+        the turns would bias the bias), not applied."""
+        rows = list(self.rows)
+        if len(rows) < self.min_windows:
+            return None, len(rows)
+        fit = robust_fit(rows, True, self.outlier_k) if scale_prior is None else None
+        if fit is None:
+            scale, _ = self._scale(scale_prior, [])
+            fit = robust_fit([(g - scale * v, v, dt) for g, v, dt in rows], False, self.outlier_k)
+        bias, _, std, _, used = fit
+        return BiasEstimate(bias, std, 'visual odometry'), used
 
     def _measure(self, standstill, scale_prior, notes):
         """(fused bias, its std, scale, scale std, windows used); reasons go to ``notes``."""
-        rows = list(self.rows)
         scale, scale_std = self._scale(scale_prior, notes)
-        estimates = [] if standstill is None else [standstill]
-        if len(rows) < self.min_windows:
+        visual, used = self.visual_bias(scale_prior)
+        if visual is None:
             notes.append('only %d windows with valid visual odometry (need %d)'
-                         % (len(rows), int(self.min_windows)))
-            used = len(rows)
-        else:
-            # Without a calibration the scale is still fitted with the bias (as a nuisance:
-            # an uncorrected scale error in the turns would bias the bias), not applied.
-            fit = robust_fit(rows, True, self.outlier_k) if scale_prior is None else None
-            if fit is None:
-                shifted = [(g - scale * v, v, dt) for g, v, dt in rows]
-                fit = robust_fit(shifted, False, self.outlier_k)
-            bias, _, std, _, used = fit
-            estimates.append(BiasEstimate(bias, std, 'visual odometry'))
-        bias, bias_std = fuse_bias(estimates)
+                         % (used, int(self.min_windows)))
+        bias, bias_std = fuse_bias([e for e in (visual, standstill) if e is not None])
         return bias, bias_std, scale, scale_std, used
 
     def _scale(self, prior, notes):
@@ -335,24 +334,35 @@ class StandstillBias(object):
                             'standstill %.1f s' % self.duration)
 
 
-def standstill_complete(calibrator, standstill, lost_at, params=None, scale_prior=None):
-    """True once the standstill after vision loss (at ``lost_at``, s) may end: it
-    lasted ``standstill_time``, or at least ``standstill_min`` and the fused bias is known well enough for this
-    mission, ``bias std x (lost_at - recording start) <= heading_budget`` (rad):
-    the landmarks' headings are corrected back over the recording, and the
-    return takes about as long (the standstill itself adds nothing: its drift
-    is what it measures). A short mission needs little, a long one up to
-    ``standstill_time``; a noiseless gyro none. ``params``: as
-    :data:`STANDSTILL_DEFAULTS`."""
+def standstill_complete(visual, standstill, recording_time, params=None):
+    """True once the standstill after vision loss may end: it lasted
+    ``standstill_time``, or at least ``standstill_min`` and the bias, the
+    standstill's fused with ``visual`` (HeadingCalibrator.visual_bias at vision
+    loss, or None), is known well enough for this mission: ``bias std x
+    recording_time <= heading_budget`` (rad). The landmarks' headings are
+    corrected back over the recording, and the return takes about as long (the
+    standstill itself adds nothing: its drift is what it measures). A short
+    mission needs little, a long one up to ``standstill_time``; a noiseless gyro
+    none. ``params``: as :data:`STANDSTILL_DEFAULTS`."""
     longest, shortest, budget = (float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
                                  for name in ('standstill_time', 'standstill_min', 'heading_budget'))
     if standstill.duration >= longest - 1e-9:
         return True
     measured = standstill.estimate()
-    if standstill.duration < shortest - 1e-9 or measured is None or calibrator.first_stamp is None:
+    if standstill.duration < shortest - 1e-9 or measured is None:
         return False
-    std = calibrator.bias_std(measured, scale_prior)
-    return std * max(lost_at - calibrator.first_stamp, 0.0) <= budget
+    _, std = fuse_bias([e for e in (visual, measured) if e is not None])
+    return std * max(recording_time, 0.0) <= budget
+
+
+def standstill_timeout(params=None):
+    """s after vision loss at which the standstill ends even if the robot kept
+    moving: ``standstill_timeout`` when set, else 2 x ``standstill_time`` + 5."""
+    timeout = getattr(params, 'standstill_timeout', None)
+    if timeout is None:
+        return 2.0 * float(getattr(params, 'standstill_time',
+                                   STANDSTILL_DEFAULTS['standstill_time'])) + 5.0
+    return float(timeout)
 
 
 def _fit(rows, with_scale):

@@ -39,7 +39,7 @@ from .geometry import distance
 from .gyro_calibration import CalibrationError, SpinCalibration
 from .heading_calibration import (STANDSTILL_DEFAULTS, CorrectedOdometry, HeadingCalibrator,
                                   StandstillBias, correct_landmarks, no_correction,
-                                  standstill_complete)
+                                  standstill_complete, standstill_timeout)
 from .kobuki import SimulatedKobuki, load_profile, make_profile
 from .mission import load_mission
 from .recorder import PathRecorder
@@ -114,9 +114,11 @@ class _Run(object):
         calibrator, self.calibrator = self.calibrator, None
         reference = self.base.odom
         measurement = StandstillBias(standstill)
-        timeout = reference.stamp + 2.0 * standstill.standstill_time + 5.0
-        while not standstill_complete(calibrator, measurement, reference.stamp, standstill,
-                                      scale_prior) and self.base.t < timeout:
+        visual, _ = calibrator.visual_bias(scale_prior)
+        recording_time = calibrator.recording_time(reference.stamp)
+        timeout = reference.stamp + standstill_timeout(standstill)
+        while not standstill_complete(visual, measurement, recording_time, standstill) \
+                and self.base.t < timeout:
             self.advance()
             measurement.add_odometry(self.base.odom)
         correction = calibrator.estimate(measurement.estimate(), scale_prior)

@@ -43,20 +43,13 @@ from blind_navigation.core.gyro_calibration import CalibrationError, load_calibr
 from blind_navigation.core.heading_calibration import (HEADING_CALIBRATION_DEFAULTS,
                                                        STANDSTILL_DEFAULTS, CorrectedOdometry,
                                                        HeadingCalibrator, StandstillBias,
-                                                       standstill_complete)
+                                                       standstill_complete, standstill_timeout)
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros_common import (load_params, odom_state_from_msg, odometry_lost_reason,
                                          set_pose, start_node, usable_odom_state)
 
 #: How to make the gyro calibration file (the warning when it is missing says so).
 CALIBRATE_COMMAND = 'roslaunch blind_navigation calibrate_gyro.launch'
-
-
-def standstill_timeout(params):
-    """``standstill_timeout`` (s), or its default 2 x ``standstill_time`` + 5 when unset."""
-    if params.standstill_timeout is None:
-        return 2.0 * float(params.standstill_time) + 5.0
-    return float(params.standstill_timeout)
 
 
 class HeadingCorrectionNode(object):
@@ -97,6 +90,8 @@ class HeadingCorrectionNode(object):
         self.standstill = None      # StandstillBias while measuring after vision loss
         self._reference = None      # raw OdomState where the corrected frame starts
         self._lost_at = None        # s (message stamps): when the standstill began
+        self._visual = None         # BiasEstimate of visual odometry at vision loss, or None
+        self._recording_time = 0.0  # s recorded before vision loss
         self._last_raw = None
         self._frame_id = 'odom'
         self._lock = threading.Lock()
@@ -169,11 +164,10 @@ class HeadingCorrectionNode(object):
     def _measure(self, raw):
         """One raw OdomState of the standstill; the estimate's result once it is over."""
         if self._reference is None:   # no odometry before vision loss: the frame starts here
-            self._reference, self._lost_at = raw, raw.stamp
+            self._set_reference(raw)
         self.standstill.add_odometry(raw)
-        if standstill_complete(self.calibrator, self.standstill, self._lost_at, self.params,
-                               self.scale_prior) or \
-                raw.stamp >= self._lost_at + self.standstill_timeout:
+        if standstill_complete(self._visual, self.standstill, self._recording_time, self.params) \
+                or raw.stamp >= self._lost_at + self.standstill_timeout:
             return self._finish()
         return None
 
@@ -188,8 +182,8 @@ class HeadingCorrectionNode(object):
             if self.corrector is not None or self.standstill is not None:
                 return   # one estimate per run
             self.standstill = StandstillBias(self.params)
-            self._reference = self._last_raw
-            self._lost_at = self._reference.stamp if self._reference else None
+            if self._last_raw is not None:
+                self._set_reference(self._last_raw)
             result = self._finish() if self.standstill_time <= 0 else None
         if result is not None:
             self._publish(*result)
@@ -197,11 +191,14 @@ class HeadingCorrectionNode(object):
         rospy.loginfo('%s: vision lost: measuring the gyro bias while the robot stands still '
                       '(until known to %.3f rad over the %.0f s recording, %.0f-%.0f s of still '
                       'odometry)', rospy.get_name(), self.params.heading_budget,
-                      self._recording_duration(), self.params.standstill_min, self.standstill_time)
+                      self._recording_time, self.params.standstill_min, self.standstill_time)
 
-    def _recording_duration(self):
-        first = self.calibrator.first_stamp
-        return 0.0 if first is None or self._lost_at is None else self._lost_at - first
+    def _set_reference(self, raw):
+        """Where the corrected frame starts (vision loss); the visual-odometry bias and the
+        recording's duration, fixed from then on, for core standstill_complete."""
+        self._reference, self._lost_at = raw, raw.stamp
+        self._visual, _ = self.calibrator.visual_bias(self.scale_prior)
+        self._recording_time = self.calibrator.recording_time(raw.stamp)
 
     def _finish(self):
         """Estimate (under the lock) and start the corrected frame at the reference;

@@ -36,7 +36,7 @@ from blind_navigation.back_travel_ros import (EVENT_TOPICS, HEADING_CORRECTION_T
                                               ROTATION_DONE_TOPIC, STATE_TOPIC, VISION_LOST_TOPIC,
                                               LatestOdom, SafetyMonitor, VelocityOutput)
 from blind_navigation.core import state
-from blind_navigation.core.heading_calibration import STANDSTILL_DEFAULTS
+from blind_navigation.core.heading_calibration import standstill_timeout
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.recording import FINAL, SAMPLE_TOPIC
 from blind_navigation.ros_common import load_params, start_node
@@ -68,7 +68,7 @@ class RotatePi(object):
     DEFAULTS = dict(ROTATION_DEFAULTS, cmd_vel_topic='/cmd_vel_mux/input/teleop', odom_topic='/odom',
                     control_rate=50.0, odom_timeout=0.4, recording_end_timeout=1.0,
                     wait_for_heading_correction=False,
-                    correction_timeout=2.0 * STANDSTILL_DEFAULTS['standstill_time'] + 30.0,
+                    correction_timeout=standstill_timeout() + 25.0,
                     **{kind + '_topic': topic for kind, topic in EVENT_TOPICS.items()})
 
     def __init__(self):

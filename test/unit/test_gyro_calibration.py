@@ -154,19 +154,12 @@ def test_insignificant_calibrated_scale_is_not_applied():
     assert 'calibrated scale' in correction.reason
 
 
-def recorded_for(seconds):
-    """A calibrator that saw ``seconds`` of odometry and no visual odometry."""
-    calibrator = HeadingCalibrator()
-    for k in range(int(seconds / 0.02) + 1):
-        calibrator.add_odometry(k * 0.02, 0.0)
-    return calibrator
-
-
 def standstill_needed(recorded_seconds, noise, params=None):
-    """s of standstill after a ``recorded_seconds`` recording before standstill_complete."""
-    calibrator, standstill = recorded_for(recorded_seconds), StandstillBias()
+    """s of standstill after a ``recorded_seconds`` recording without visual
+    odometry before standstill_complete."""
+    standstill = StandstillBias()
     rng, stamp, yaw = random.Random(5), recorded_seconds, 0.0
-    while not standstill_complete(calibrator, standstill, recorded_seconds, params):
+    while not standstill_complete(None, standstill, recorded_seconds, params):
         stamp, yaw = still_odometry(standstill, 0.02, 3e-4, noise, rng, stamp, yaw)
         assert stamp < recorded_seconds + 500.0, 'the standstill never ended'
     return stamp - recorded_seconds
