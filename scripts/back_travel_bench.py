@@ -3,7 +3,7 @@
 of each control mode on the paper's Table VI missions, over seeds.
 
     /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]
-        [--modes time distance closed_loop] [--heading-calibration on|off]
+        [--modes time distance closed_loop] [--heading-correction on|off]
         [--standstill-time 120] [--out results/back_travel_bench.md]
 
 Prints and writes a Markdown table: per mission, profile and mode the median
@@ -13,7 +13,7 @@ Table VI error. Each mode runs in its launch configuration
 launch/paper.launch's (dead-band 0, no heading correction), ``closed_loop``
 with blind_navigation.launch's (dead-band 0.01, heading correction with a gyro
 calibration made on another seed: evaluation/montecarlo.gyro_calibration_for).
-``--heading-calibration off`` turns the heading correction off for
+``--heading-correction off`` turns the heading correction off for
 ``closed_loop`` too; ``--standstill-time`` sets its longest standstill after vision
 loss. Same seeds for every mode and profile (on ``ideal`` the seed changes
 nothing). The ``calibration`` column counts the runs whose correction used
@@ -25,7 +25,7 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.abspath(os.path.join(os.path.dirname(__file__), '..')))
-from blind_navigation.core.simulation import SIMULATION_DEFAULTS, run_mission  # noqa: E402
+from blind_navigation.sim.harness import SIMULATION_DEFAULTS, run_mission  # noqa: E402
 from blind_navigation.evaluation.montecarlo import (gyro_calibration_for,  # noqa: E402
                                                     recording_settings)
 
@@ -37,9 +37,9 @@ STATUSES = ('full', 'bias', 'scale', 'none')
 def settings_for(mode, profile, seed, args):
     """run_mission settings of ``mode``'s launch configuration, as the options change it."""
     settings = recording_settings(mode)
-    if args.heading_calibration == 'off':
-        settings['heading_calibration'] = False
-    if settings.get('heading_calibration', SIMULATION_DEFAULTS['heading_calibration']):
+    if args.heading_correction == 'off':
+        settings['heading_correction'] = False
+    if settings.get('heading_correction', SIMULATION_DEFAULTS['heading_correction']):
         settings['gyro_calibration'] = gyro_calibration_for(profile, seed)
         settings['standstill_time'] = args.standstill_time
     return settings
@@ -51,7 +51,7 @@ def main():
     parser.add_argument('--profiles', nargs='+', default=['ideal', 'paper'])
     parser.add_argument('--modes', nargs='+', default=['time', 'distance', 'closed_loop'])
     parser.add_argument('--missions', nargs='+', default=sorted(PAPER_TABLE6))
-    parser.add_argument('--heading-calibration', choices=('off', 'on'), default='on',
+    parser.add_argument('--heading-correction', choices=('off', 'on'), default='on',
                         help='closed_loop with (launch default) or without the heading correction')
     parser.add_argument('--standstill-time', type=float,
                         default=SIMULATION_DEFAULTS['standstill_time'],

@@ -19,10 +19,10 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.abspath(os.path.join(os.path.dirname(__file__), '..')))
-from blind_navigation.core.simulation import run_mission  # noqa: E402
+from blind_navigation.sim.harness import run_mission  # noqa: E402
 
 PAPER = {'straight_period': 2.0, 'curved_period': 1.0, 'deadband': 0.0,
-         'heading_calibration': False}   # launch/paper.launch
+         'heading_correction': False}   # launch/paper.launch
 # Table III: SV -> (RLV max, RLV min, samples > SV, samples); Table IV: FV -> PE %.
 TABLE3 = {1: (0.05, 0.053, 0.036, 12, 37), 2: (0.08, 0.096, 0.066, 15, 23), 3: (0.12, 0.122, 0.083, 3, 17),
           4: (0.2, 0.194, 0.160, 0, 12), 5: (0.25, 0.249, 0.209, 0, 10)}

@@ -2,12 +2,12 @@
 
 The gyro's scale error is a property of the robot's sensor, the same on every
 mission, and a mission's path hardly turns, so the mission cannot measure it
-(core/heading_calibration.py); yet it costs the pi turn ``scale x pi`` of
+(core/heading_correction.py); yet it costs the pi turn ``scale x pi`` of
 heading, which the whole return then carries. So it is measured once, the way
 turtlebot_calibration measured the TurtleBot's gyro against the Kinect: the
 robot turns ``turns`` full turns counter-clockwise, pauses, and as many
 clockwise, in front of a textured scene, while
-:class:`core.heading_calibration.HeadingCalibrator` compares gyro yaw with
+:class:`core.gyro_fit.GyroVisualFit` compares gyro yaw with
 visual-odometry yaw. Turning both ways separates the scale (which follows the
 direction) from the bias (which does not). The result (:class:`GyroCalibration`)
 is kept in a small YAML file that the heading_correction node reads at every
@@ -25,7 +25,8 @@ from types import SimpleNamespace
 
 import yaml
 
-from .heading_calibration import HeadingCalibrator, robust_fit
+from .gyro_fit import GyroVisualFit, robust_fit
+from .heading_correction import CORRECTION_DEFAULTS
 from .rotation import Rotation
 from .store import write_atomically
 
@@ -60,7 +61,7 @@ class CalibrationError(Exception):
 class SpinCalibration(object):
     """Drives the spins and collects the yaw data; see the module docstring.
 
-    Feed its :attr:`calibrator` odometry and visual odometry as they come;
+    Feed its :attr:`fit` odometry and visual odometry as they come;
     :meth:`step` returns the command for the latest odometry; when
     :attr:`done`, :meth:`result` gives the
     :class:`GyroCalibration` (CalibrationError if the data do not determine it);
@@ -73,7 +74,8 @@ class SpinCalibration(object):
         if self.turns <= 0 or self.max_w <= 0 or self.pause < 0:
             raise ValueError('gyro calibration: need turns > 0, max_w > 0, pause >= 0 '
                              '(turns %r, max_w %r, pause %r)' % (self.turns, self.max_w, self.pause))
-        self.calibrator = HeadingCalibrator(params)
+        self.fit = GyroVisualFit(params)
+        self.max_scale = float(getattr(params, 'max_scale', CORRECTION_DEFAULTS['max_scale']))
         angle = 2.0 * math.pi * self.turns
         self._allowance = 2.0 * angle / self.max_w + 20.0
         self._legs = [('pause', self.pause), ('turn', angle), ('pause', self.pause),
@@ -124,21 +126,21 @@ class SpinCalibration(object):
 
     def result(self):
         """The :class:`GyroCalibration`; CalibrationError if not determined."""
-        rows = self.calibrator.rows
-        if len(rows) < self.calibrator.min_windows:
+        rows = self.fit.rows
+        if len(rows) < self.fit.min_windows:
             raise CalibrationError('only %d windows with valid visual odometry (need %d): is '
                                    'visual odometry running and tracking?'
-                                   % (len(rows), int(self.calibrator.min_windows)))
-        fit = robust_fit(rows, True, self.calibrator.outlier_k)
+                                   % (len(rows), int(self.fit.min_windows)))
+        fit = robust_fit(rows, True, self.fit.outlier_k)
         if fit is None:
             raise CalibrationError('the scale is not determined: no rotation seen by visual odometry')
         bias, scale, bias_std, scale_std, used = fit
         calibration = GyroCalibration(scale, scale_std, bias, bias_std, used)
-        if scale_std > self.required_scale_std or abs(scale) > self.calibrator.max_scale:
+        if scale_std > self.required_scale_std or abs(scale) > self.max_scale:
             raise CalibrationError('%s: not usable (std above %.4f or |scale| above %.3f); '
                                    'more turns or a more textured scene' % (
                                        calibration.describe(), self.required_scale_std,
-                                       self.calibrator.max_scale))
+                                       self.max_scale))
         return calibration
 
 

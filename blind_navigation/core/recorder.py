@@ -7,7 +7,7 @@ landmark's position (for the first landmark: from where recording started,
 the first odometry seen), and ``T`` and ``psi`` from the tick itself (the
 period in force and the yaw the publisher read).
 
-Also the memory footprint of a recorded path (section 5: count, bytes, bytes
+Also the storage of a recorded path (section 5: count, bytes, bytes
 per metre), shared by the ROS nodes and the evaluation.
 """
 import bisect
@@ -16,15 +16,15 @@ from collections import deque, namedtuple
 from .geometry import distance, wrap_angle
 from .landmark import Limits, landmark_from_values
 
-Footprint = namedtuple('Footprint', 'landmarks bytes distance bytes_per_metre')
-Footprint.__doc__ = ('Memory used by a recorded path: landmark count, file bytes, path length '
+PathStorage = namedtuple('PathStorage', 'landmarks bytes distance bytes_per_metre')
+PathStorage.__doc__ = ('Storage used by a recorded path: landmark count, file bytes, path length '
                      '(sum of d, m) and bytes per metre (0 until the robot has moved).')
 
 
-def footprint(landmarks, size_bytes, total_distance):
-    """Footprint of ``landmarks`` landmarks stored in ``size_bytes`` bytes over ``total_distance`` m."""
+def storage_usage(landmarks, size_bytes, total_distance):
+    """Storage of ``landmarks`` landmarks stored in ``size_bytes`` bytes over ``total_distance`` m."""
     per_metre = size_bytes / total_distance if total_distance > 0.0 else 0.0
-    return Footprint(int(landmarks), int(size_bytes), float(total_distance), per_metre)
+    return PathStorage(int(landmarks), int(size_bytes), float(total_distance), per_metre)
 
 
 class OdometryHistory(object):

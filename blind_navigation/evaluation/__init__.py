@@ -1,3 +1,3 @@
 """Evaluation (`make bench`): the paper's tables re-measured on the fake TurtleBot,
-control modes compared, footprint, latency, reconstruction; plain Python over the
+control modes compared, storage, latency, reconstruction; plain Python over the
 core harness (core/simulation.py) plus a few ROS runs (launch/bench.launch)."""

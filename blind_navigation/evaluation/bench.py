@@ -7,7 +7,7 @@ Sections (docs/evaluation.md says what each number means):
 1. Tables III-VI re-measured on the plain-Python harness (paper profile, every
    control mode, --seeds seeds), paper's values beside ours;
 2. reconstruction: adaptive two-rate vs uniform sampling at the same count;
-3. footprint: landmark file vs a rosbag of /odom (harness, real bags);
+3. storage: landmark file vs a rosbag of /odom (harness, real bags);
 4. TUM trajectories and the figures;
 5. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
    CPU/RSS of the layer vs rosbag record, detection and rotation latency.
@@ -19,9 +19,9 @@ import sys
 import time
 
 from ..core.back_travel import MODES
-from ..core.mission import load_mission
+from ..sim.mission import load_mission
 from . import paper, plots, tables
-from .footprint import write_odom_bag
+from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
 from .reconstruction import compare_sampling, rebuild_path
@@ -87,10 +87,10 @@ def reconstruction(args):
                            'mean dev. from odometry cm', 'max dev. from odometry cm'], lines), rows
 
 
-def footprint_and_tum(args):
+def storage_and_tum(args):
     """Landmark file vs a real rosbag of /odom (50 Hz), and TUM files, Table VI seed 0,
     recorded in the paper's configuration (as the paper's memory column)."""
-    bag_dir = os.path.join(args.out, 'footprint')
+    bag_dir = os.path.join(args.out, 'storage')
     os.makedirs(bag_dir, exist_ok=True)
     lines, rows = [], []
     for mission in TABLE6:
@@ -109,7 +109,7 @@ def footprint_and_tum(args):
         rebuilt = rebuild_path(forward.landmarks, forward.anchor)
         for kind, poses in forward_trajectories(forward, rebuilt).items():
             write_tum(os.path.join(args.out, 'trajectories', mission, '%s.tum' % kind), poses)
-    write_csv(os.path.join(args.out, 'footprint.csv'), rows)
+    write_csv(os.path.join(args.out, 'storage.csv'), rows)
     return markdown_table(['mission (seed 0)', 'length m', 'landmarks', 'landmark file B', 'B/m',
                            'rosbag /odom B', 'bag B/m', 'bag / landmarks', 'paper memory',
                            'paper B/m (KB = 1024 B)'], lines)
@@ -175,7 +175,7 @@ def ros_section(args, mc_rows):
             '%s %s seed %s: %s' % (r['mission'], r['mode'], r['seed'], r['failed']) for r in failed) + '\n\n'
     text += '### ROS vs plain-Python harness (same missions, modes, seeds; paper profile)\n\n'
     text += agreement_table(ok, mc_rows)
-    text += '\n### Footprint of the running layer vs `rosbag record /odom` (one ROS run each, recording phase)\n\n'
+    text += '\n### The running layer\'s CPU and memory vs `rosbag record /odom` (one ROS run each, recording phase)\n\n'
     text += cpu_table(ok)
     text += '\n### Latency (sim time, ROS runs on the fake TurtleBot)\n\n'
     text += latency_table(ok)
@@ -286,7 +286,7 @@ def main(argv=None):
 
     rows = timed('Monte-Carlo', montecarlo, args)
     recon_text, _ = timed('reconstruction', reconstruction, args)
-    foot_text = timed('footprint + TUM', footprint_and_tum, args)
+    foot_text = timed('storage + TUM', storage_and_tum, args)
     timed('figures', figures, args, rows)
     ros_text = ''
     if not args.no_ros:
@@ -303,7 +303,7 @@ def main(argv=None):
         ('table_vi_recorded', 'Table VI: recorded velocities (paper / ours)',
          tables.table6_recorded(_of(rows, 'table6'))),
         ('reconstruction', 'Reconstruction: adaptive two-rate vs uniform sampling, same sample count', recon_text),
-        ('footprint', 'Footprint: landmark file (paper configuration) vs rosbag of /odom (harness, 50 Hz, real bags)', foot_text),
+        ('storage', 'Storage: landmark file (paper configuration) vs rosbag of /odom (harness, 50 Hz, real bags)', foot_text),
     ]
     note = ('\nRecorded statistics (RLV, RAV, samples, memory) are those of the `time` runs, i.e. the '
             'paper\'s configuration (launch/paper.launch, classifier dead-band 0); `closed_loop` records '
@@ -330,7 +330,7 @@ def main(argv=None):
             stream.write('## ROS runs\n\n' + ros_text)
         stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
                      'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
-                     'CSV: montecarlo.csv, reconstruction.csv, footprint.csv, ros_runs.csv.\n')
+                     'CSV: montecarlo.csv, reconstruction.csv, storage.csv, ros_runs.csv.\n')
     print(open(os.path.join(args.out, 'report.md')).read())
     log('wrote %s/report.md in %.0f s' % (args.out, total))
 

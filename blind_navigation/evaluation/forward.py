@@ -13,9 +13,9 @@ import os
 import tempfile
 from collections import namedtuple
 
-from ..core import simulation
-from ..core.kobuki import load_profile, make_profile
-from ..core.mission import load_mission
+from ..sim import harness as simulation
+from ..sim.kobuki import load_profile, make_profile
+from ..sim.mission import load_mission
 
 ForwardRecord = namedtuple('ForwardRecord', [
     'mission', 'landmarks', 'bytes', 'anchor', 'odometry', 'truth', 'duration'])

@@ -13,8 +13,8 @@ import multiprocessing
 
 from ..core.back_travel import MODES
 from ..core.geometry import distance, wrap_angle
-from ..core.mission import load_mission
-from ..core.simulation import run_mission, simulate_gyro_calibration
+from ..sim.mission import load_mission
+from ..sim.harness import run_mission, simulate_gyro_calibration
 from .forward import harness_settings, record_forward
 
 
@@ -30,7 +30,7 @@ CALIBRATION_SEED_OFFSET = 10000
 
 def recording_settings(mode):
     """Harness settings of the configuration ``mode`` is launched with."""
-    return {'deadband': 0.0, 'heading_calibration': False} if mode in PAPER_CONFIGURATION_MODES else {}
+    return {'deadband': 0.0, 'heading_correction': False} if mode in PAPER_CONFIGURATION_MODES else {}
 
 
 def gyro_calibration_for(profile, seed):
@@ -104,7 +104,7 @@ def run_job(job):
         if key not in stats:
             forward = record_forward(mission, profile, seed, **settings)
             stats[key] = landmark_stats(forward.landmarks, sv, asv, harness_settings()['settle_time'])
-        if harness_settings(**settings)['heading_calibration']:
+        if harness_settings(**settings)['heading_correction']:
             calibration = calibration or gyro_calibration_for(profile, seed)
             settings['gyro_calibration'] = calibration
         result = run_mission(mission, profile, mode, seed, **settings)

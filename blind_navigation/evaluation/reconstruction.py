@@ -6,7 +6,7 @@ count (one period = recording time / adaptive sample count)."""
 import numpy
 
 from ..core.back_travel import ReturnRoute
-from ..core.mission import load_mission
+from ..sim.mission import load_mission
 from .forward import harness_settings, record_forward
 
 

@@ -100,7 +100,7 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
     settings = recording_settings(control)
     if 'deadband' in settings:
         command.append('deadband:=%g' % settings['deadband'])
-    heading_correction = settings.get('heading_calibration', True)
+    heading_correction = settings.get('heading_correction', True)
     command.append('heading_correction:=%s' % str(heading_correction).lower())
     if heading_correction:
         command.append('gyro_calibration_file:=%s' % gyro_calibration_file)

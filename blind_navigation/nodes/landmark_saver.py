@@ -1,32 +1,9 @@
 #!/usr/bin/env python3
-"""landmark_saver: the paper's subscriber (topic variant of the recorder).
-
-On each blind_navigation/PathSample on /blind_navigation/sample whose command
-is ``sample`` or ``final``, takes the latest odometry and saves one path
-landmark (blind_navigation/recording.py: the same saving code as the service
-variant's record_server). Publishes /blind_navigation/footprint and
-/blind_navigation/recorded_path.
-"""
+"""The landmark_saver node (class: blind_navigation/ros/landmark_saver.py)."""
 import rospy
 
-from blind_navigation.msg import PathSample
-from blind_navigation.recording import SAMPLE_TOPIC, LandmarkSaving
-from blind_navigation.ros_common import start_node
-
-
-class LandmarkSaver(object):
-    """Subscriber that saves a landmark per sample.
-
-    Params: those of :class:`blind_navigation.recording.LandmarkSaving`
-    (odom_topic, landmark_file, fsync, odom_timeout).
-    """
-
-    def __init__(self):
-        self.saving = LandmarkSaving('topic')
-        self.sample_sub = rospy.Subscriber(SAMPLE_TOPIC, PathSample, self.on_sample, queue_size=20)
-
-    def on_sample(self, msg):
-        self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec())
+from blind_navigation.ros.common import start_node
+from blind_navigation.ros.landmark_saver import LandmarkSaver
 
 
 def main():

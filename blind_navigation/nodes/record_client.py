@@ -1,62 +1,9 @@
 #!/usr/bin/env python3
-"""record_client: the paper's service client (service variant of the recorder,
-section 3.3.3, Figure 4).
-
-A subscriber to the sampling publisher's /blind_navigation/sample whose
-callback (a method of this class, as in the paper) sends each sample as a
-request to /blind_navigation/record_landmark. It waits for the server at start
-(servers are launched first, section 3.4.2).
-"""
+"""The record_client node (class: blind_navigation/ros/record_client.py)."""
 import rospy
 
-from blind_navigation.msg import PathSample
-from blind_navigation.recording import RECORD_SERVICE, SAMPLE_TOPIC
-from blind_navigation.ros_common import load_params, start_node
-from blind_navigation.srv import RecordLandmark
-
-
-class RecordClient(object):
-    """Forwards every PathSample to the record_landmark service.
-
-    Params (DEFAULTS): ``wait_log_period`` (s between "still waiting for the
-    server" messages, 5.0).
-    """
-
-    DEFAULTS = {'wait_log_period': 5.0}
-
-    def __init__(self):
-        self.params = load_params(self.DEFAULTS)
-        self.calls = self.failures = 0
-        self.record = rospy.ServiceProxy(RECORD_SERVICE, RecordLandmark, persistent=False)
-        self.sample_sub = None
-
-    def wait_for_server(self):
-        """Block until the server is up (or shutdown); then subscribe to the samples."""
-        while not rospy.is_shutdown():
-            try:
-                rospy.wait_for_service(RECORD_SERVICE, timeout=self.params.wait_log_period)
-                break
-            except rospy.ROSException:
-                rospy.logwarn('%s: still waiting for %s', rospy.get_name(), RECORD_SERVICE)
-        else:
-            return
-        rospy.loginfo('%s: %s is up; forwarding %s', rospy.get_name(), RECORD_SERVICE, SAMPLE_TOPIC)
-        self.sample_sub = rospy.Subscriber(SAMPLE_TOPIC, PathSample, self.on_sample, queue_size=20)
-
-    def on_sample(self, msg):
-        self.calls += 1
-        try:
-            response = self.record(header=msg.header, command=msg.command, yaw=msg.yaw,
-                                   period=msg.period)
-        except (rospy.ServiceException, rospy.ROSException) as error:
-            self.failures += 1
-            rospy.logerr('%s: %s call %d failed: %s', rospy.get_name(), RECORD_SERVICE,
-                         self.calls, error)
-            return
-        if not response.saved:
-            self.failures += 1
-            rospy.logwarn('%s: server did not save the %s sample: %s', rospy.get_name(),
-                          msg.command, response.message)
+from blind_navigation.ros.common import start_node
+from blind_navigation.ros.record_client import RecordClient
 
 
 def main():

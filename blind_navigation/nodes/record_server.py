@@ -1,35 +1,9 @@
 #!/usr/bin/env python3
-"""record_server: the paper's service server (service variant of the recorder,
-section 3.3.3, Figure 4).
-
-Serves /blind_navigation/record_landmark (blind_navigation/RecordLandmark): for
-each request it reads the latest odometry itself and saves one path landmark
-with exactly the saving code of the topic variant
-(blind_navigation/recording.py). The response says whether it was saved, its
-label in the file, or why not.
-"""
+"""The record_server node (class: blind_navigation/ros/record_server.py)."""
 import rospy
 
-from blind_navigation.recording import RECORD_SERVICE, LandmarkSaving
-from blind_navigation.ros_common import start_node
-from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
-
-
-class RecordServer(object):
-    """Service server that saves a landmark per request.
-
-    Params: those of :class:`blind_navigation.recording.LandmarkSaving`
-    (odom_topic, landmark_file, fsync, odom_timeout).
-    """
-
-    def __init__(self):
-        self.saving = LandmarkSaving('service')
-        self.service = rospy.Service(RECORD_SERVICE, RecordLandmark, self.on_request)
-
-    def on_request(self, request):
-        label, why_not = self.saving.save(request.command, request.yaw, request.period,
-                                            request.header.stamp.to_sec())
-        return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
+from blind_navigation.ros.common import start_node
+from blind_navigation.ros.record_server import RecordServer
 
 
 def main():

@@ -24,13 +24,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from recording_tools import Collector, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
-from blind_navigation.back_travel_ros import (BACK_TRAVEL_ACTION, FOOTPRINT_TOPIC,  # noqa: E402
-                                              HEADING_CORRECTION_TOPIC, STATE_TOPIC,
-                                              VISION_LOST_TOPIC, landmarks_in_corrected_frame)
+from blind_navigation import names
+from blind_navigation.ros.back_travel_common import landmarks_in_corrected_frame
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
-                                  Footprint, HeadingCorrection, PathSample)
-from blind_navigation.recording import SAMPLE_TOPIC  # noqa: E402
+                                  StorageUsage, HeadingCorrection, PathSample)
 
 #: The state walk of a mission that comes home (back_travel_client owns it).
 HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
@@ -83,13 +81,13 @@ class MissionRun(object):
 
     def __init__(self, wall_timeout):
         self.wall_timeout = wall_timeout
-        self.states = Collector(STATE_TOPIC, String)
+        self.states = Collector(names.STATE, String)
         self.truth = GroundTruth()
-        self.goals = Collector(BACK_TRAVEL_ACTION + '/goal', BackTravelActionGoal)
-        self.results = Collector(BACK_TRAVEL_ACTION + '/result', BackTravelActionResult)
-        self.footprints = Collector(FOOTPRINT_TOPIC, Footprint)
+        self.goals = Collector(names.BACK_TRAVEL + '/goal', BackTravelActionGoal)
+        self.results = Collector(names.BACK_TRAVEL + '/result', BackTravelActionResult)
+        self.storage_msgs = Collector(names.STORAGE, StorageUsage)
         self.mission_done = Collector(MISSION_DONE_TOPIC, Bool)
-        self.corrections = Collector(HEADING_CORRECTION_TOPIC, HeadingCorrection)
+        self.corrections = Collector(names.HEADING_CORRECTION, HeadingCorrection)
         self.samples = None
         self.operator = None
         self.start = None
@@ -112,9 +110,9 @@ class MissionRun(object):
                   STARTUP_TIMEOUT)
         self.wait(lambda: self.truth.latest() is not None, 'no /ground_truth/odom from the fake base',
                   STARTUP_TIMEOUT)
-        self.samples = Collector(SAMPLE_TOPIC, PathSample)
+        self.samples = Collector(names.SAMPLE, PathSample)
         self.wait(lambda: 'recording' in self.state_names(),
-                  'state never became recording (no footprint from the recorder reached the client)',
+                  'state never became recording (no storage from the recorder reached the client)',
                   STARTUP_TIMEOUT)
         self.start = self.truth.position()
 
@@ -140,21 +138,21 @@ class MissionRun(object):
                                           'cmd_vel:=%s' % TELEOP_TOPIC, 'ground_truth:=/ground_truth/odom'])
 
     def wait_for_trigger_subscribers(self):
-        self.wait(lambda: {'/back_travel_client', '/rotate_pi'} <= subscribers_of(VISION_LOST_TOPIC),
-                  'back_travel_client and rotate_pi do not subscribe %s' % VISION_LOST_TOPIC)
+        self.wait(lambda: {'/back_travel_client', '/rotate_pi'} <= subscribers_of(names.VISION_LOST),
+                  'back_travel_client and rotate_pi do not subscribe %s' % names.VISION_LOST)
 
     def trigger_by_rostopic(self):
         """The paper's manual trigger, exactly as typed in a shell."""
         self.wait_for_trigger_subscribers()
-        subprocess.run(['rostopic', 'pub', '-1', VISION_LOST_TOPIC, 'std_msgs/Empty', '{}'],
+        subprocess.run(['rostopic', 'pub', '-1', names.VISION_LOST, 'std_msgs/Empty', '{}'],
                        check=True, timeout=self.wall_timeout)
 
     def trigger_by_publisher(self):
         """The same message from this node (latched: late subscribers get it too)."""
         self.wait_for_trigger_subscribers()
-        self.trigger = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1, latch=True)
+        self.trigger = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.wait(lambda: self.trigger.get_num_connections() >= 2,
-                  'no connection to the %s subscribers' % VISION_LOST_TOPIC)
+                  'no connection to the %s subscribers' % names.VISION_LOST)
         self.trigger.publish(Empty())
 
     def wait_until_final(self):
@@ -170,10 +168,10 @@ class MissionRun(object):
 
     def recorded(self):
         """The landmark file the recorder reported last (core/store.LoadedPath)."""
-        footprints = self.footprints.snapshot()
-        if not footprints:
-            raise AssertionError('no footprint was published: nothing recorded')
-        return load_landmarks(footprints[-1].file)
+        storage_msgs = self.storage_msgs.snapshot()
+        if not storage_msgs:
+            raise AssertionError('no storage was published: nothing recorded')
+        return load_landmarks(storage_msgs[-1].file)
 
     def goal_values(self):
         """The goals seen on the action's goal topic. The client publishes them from
@@ -196,14 +194,14 @@ class MissionRun(object):
 
     def cancel_all_goals(self):
         """What `rostopic pub .../back_travel/cancel actionlib_msgs/GoalID {}` does: cancel every goal."""
-        publisher = rospy.Publisher(BACK_TRAVEL_ACTION + '/cancel', GoalID, queue_size=1)
+        publisher = rospy.Publisher(names.BACK_TRAVEL + '/cancel', GoalID, queue_size=1)
         self.wait(lambda: publisher.get_num_connections() >= 1,
-                  'back_travel_server does not subscribe %s/cancel' % BACK_TRAVEL_ACTION)
+                  'back_travel_server does not subscribe %s/cancel' % names.BACK_TRAVEL)
         publisher.publish(GoalID())
 
     def remove_recording(self):
         """Delete the mission's private landmark directory (mission_rig.launch's ``dir``)."""
-        for msg in self.footprints.snapshot()[:1]:
+        for msg in self.storage_msgs.snapshot()[:1]:
             directory = os.path.dirname(msg.file)
             if directory.endswith('-mission-test'):
                 shutil.rmtree(directory, ignore_errors=True)

@@ -16,7 +16,7 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.store import LandmarkWriter
-from blind_navigation.msg import Footprint
+from blind_navigation.msg import StorageUsage
 
 from recording_tools import Collector  # noqa: F401 (the safety tests import it from here)
 from waiting import wait_for
@@ -106,7 +106,7 @@ class Layer(object):
         self.prefix = prefix
         self.states = Collector(prefix + '/state', String)
         self.rosout = Collector('/rosout', Log)
-        self.footprint = rospy.Publisher(prefix + '/footprint', Footprint, queue_size=1)
+        self.storage = rospy.Publisher(prefix + '/storage', StorageUsage, queue_size=1)
         self.vision_lost = rospy.Publisher(prefix + '/vision_lost', Empty, queue_size=1)
         self.rotation_done = rospy.Publisher(prefix + '/rotation_done', Bool, queue_size=1)
 
@@ -117,7 +117,7 @@ class Layer(object):
         """idle -> recording -> rotating -> returning, publishing each trigger until
         the client (started after ``since`` states) has moved on."""
         wait_for(lambda: 'idle' in self.state_list(since), 'the new client publishes idle', timeout)
-        for publisher, msg, target in ((self.footprint, Footprint(file='x'), 'recording'),
+        for publisher, msg, target in ((self.storage, StorageUsage(file='x'), 'recording'),
                                        (self.vision_lost, Empty(), 'rotating'),
                                        (self.rotation_done, Bool(data=True), 'returning')):
             deadline = time.monotonic() + timeout

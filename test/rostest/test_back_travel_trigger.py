@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """rostest: the trigger chain. A left arc was recorded (landmarks written by the
-test, the fake base starts at the arc's end); a footprint moves the state to
+test, the fake base starts at the arc's end); a storage moves the state to
 recording; `rostopic pub -1 .../vision_lost` makes rotate_pi turn by pi and the
 client drive the landmarks back: states rotating, returning, home; the base
 ends at the arc's start, and /blind_navigation/return_path is published."""
@@ -17,7 +17,7 @@ from std_msgs.msg import String
 
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.store import LandmarkWriter
-from blind_navigation.msg import Footprint
+from blind_navigation.msg import StorageUsage
 
 from fake_base import FakeBase
 
@@ -47,10 +47,10 @@ class TriggerTest(unittest.TestCase):
         states, paths = [], []
         rospy.Subscriber('/blind_navigation/state', String, lambda m: states.append(m.data))
         rospy.Subscriber('/blind_navigation/return_path', Path, paths.append)
-        footprint = rospy.Publisher('/blind_navigation/footprint', Footprint, queue_size=1, latch=True)
+        storage = rospy.Publisher('/blind_navigation/storage', StorageUsage, queue_size=1, latch=True)
         self.wait_for(lambda: states[-1:] == ['idle'], 'client publishes idle')
-        footprint.publish(Footprint(file=path, landmarks=N))
-        self.wait_for(lambda: states[-1:] == ['recording'], 'state recording after a footprint')
+        storage.publish(StorageUsage(file=path, landmarks=N))
+        self.wait_for(lambda: states[-1:] == ['recording'], 'state recording after a storage')
         time.sleep(1.0)  # rotate_pi has seen the latched state
         subprocess.check_call(['rostopic', 'pub', '-1', '/blind_navigation/vision_lost',
                                'std_msgs/Empty', '{}'], timeout=30)

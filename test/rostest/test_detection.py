@@ -33,7 +33,7 @@ from sensor_msgs.msg import Image
 from std_msgs.msg import Empty, String
 from std_srvs.srv import SetBool
 
-from blind_navigation.nodes.vision_monitor import VisionMonitorNode
+from blind_navigation.ros.vision_monitor import VisionMonitorNode
 
 TICK = 0.01             # sim seconds per /clock message
 SENSOR_EVERY = 5        # ticks between sensor messages: 20 Hz

@@ -13,7 +13,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, Imu, JointState
 from std_msgs.msg import String
 
-from blind_navigation.ros_common import twist
+from blind_navigation.ros.common import twist
 
 import waiting
 

@@ -21,7 +21,7 @@ from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 
 from blind_navigation.core.gyro_calibration import GyroCalibration, load_calibration, save_calibration
-from blind_navigation.core.kobuki import load_profile
+from blind_navigation.sim.kobuki import load_profile
 
 from waiting import wait_for
 

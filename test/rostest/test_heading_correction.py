@@ -37,7 +37,7 @@ from std_msgs.msg import Empty
 from blind_navigation.core.geometry import wrap_angle, yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import GyroCalibration, load_calibration, save_calibration
 from blind_navigation.msg import HeadingCorrection
-from blind_navigation.ros_common import set_pose
+from blind_navigation.ros.common import set_pose
 
 from waiting import wait_for
 

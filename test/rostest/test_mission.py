@@ -31,7 +31,7 @@ from mission_tools import HOME_WALK, STOPPED_SPEED, VISION_LOSS_TOPIC, MissionRu
 from recording_tools import Collector  # noqa: E402
 
 from blind_navigation.core.geometry import wrap_angle  # noqa: E402
-from blind_navigation.core.mission import load_mission  # noqa: E402
+from blind_navigation.sim.mission import load_mission  # noqa: E402
 
 
 class MissionTest(unittest.TestCase):

@@ -21,10 +21,10 @@ from std_msgs.msg import Bool, Empty
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from recording_tools import Collector, wait_for  # noqa: E402
 
-from blind_navigation.core.mission import load_mission  # noqa: E402
+from blind_navigation import names
+from blind_navigation.sim.mission import load_mission  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import PathSample  # noqa: E402
-from blind_navigation.recording import SAMPLE_TOPIC, VISION_LOST_TOPIC  # noqa: E402
 
 STRAIGHT_T, CURVED_T = 2.0, 1.0
 #: Four yaws (three straight cycles) to see a change, one more cycle to act on it.
@@ -38,11 +38,11 @@ class RecordingCurvesTest(unittest.TestCase):
     def setUpClass(cls):
         cls.mission = load_mission(rospy.get_param('~mission'))
         cls.landmark_file = rospy.get_param('~landmark_file')
-        cls.samples = Collector(SAMPLE_TOPIC, PathSample)
+        cls.samples = Collector(names.SAMPLE, PathSample)
         cls.operator_start = []
         rospy.Subscriber('/cmd_vel_mux/input/teleop', Twist, cls.on_teleop)
         done = Collector('/mission_driver/done', Bool)
-        lost = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1, latch=True)
+        lost = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         wait_for(lambda: any(msg.data for msg in done.snapshot()), 'the mission never finished',
                  timeout=MISSION_WALL_TIMEOUT)
         lost.publish(Empty())

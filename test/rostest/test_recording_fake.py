@@ -31,11 +31,11 @@ from std_msgs.msg import Bool, Empty
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from recording_tools import Collector, kill_node, landmark_info, subscribers_of, wait_for  # noqa: E402
 
-from blind_navigation.core.mission import load_mission  # noqa: E402
+from blind_navigation import names
+from blind_navigation.sim.mission import load_mission  # noqa: E402
 from blind_navigation.core.segment import SamplingSchedule  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
-from blind_navigation.msg import Footprint, PathSample  # noqa: E402
-from blind_navigation.recording import FOOTPRINT_TOPIC, SAMPLE_TOPIC, VISION_LOST_TOPIC  # noqa: E402
+from blind_navigation.msg import StorageUsage, PathSample  # noqa: E402
 
 STRAIGHT_T, CURVED_T = 2.0, 1.0
 #: Paper Table VI: 35-137 samples and 4-14 KB over 2.6-13.2 m.
@@ -70,13 +70,13 @@ class FakeTurtleBotRecordingTest(unittest.TestCase):
     def setUpClass(cls):
         cls.mission = load_mission(rospy.get_param('~mission'))
         cls.files = {name: rospy.get_param('~%s_file' % name) for name in ('topic', 'service', 'killed')}
-        cls.samples = Collector(SAMPLE_TOPIC, PathSample)
-        cls.footprints = Collector(FOOTPRINT_TOPIC, Footprint)
+        cls.samples = Collector(names.SAMPLE, PathSample)
+        cls.storage_msgs = Collector(names.STORAGE, StorageUsage)
         cls.jitter = OdometryJitter()
         done = Collector('/mission_driver/done', Bool)
-        lost = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1, latch=True)
+        lost = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         wait_for(lambda: {'/landmark_saver', '/record_client', '/landmark_saver_killed'}
-                 <= subscribers_of(SAMPLE_TOPIC), 'the recorders never subscribed to the samples')
+                 <= subscribers_of(names.SAMPLE), 'the recorders never subscribed to the samples')
         cls.killed = {}
         wait_for(lambda: cls.kill_when_half_done(), 'the killed saver never reached mid-mission',
                  timeout=MISSION_WALL_TIMEOUT)
@@ -94,7 +94,7 @@ class FakeTurtleBotRecordingTest(unittest.TestCase):
     @classmethod
     def saved_by(cls, landmark_file):
         target = os.path.realpath(landmark_file)
-        return max([msg.landmarks for msg in cls.footprints.snapshot()
+        return max([msg.landmarks for msg in cls.storage_msgs.snapshot()
                     if os.path.realpath(msg.file) == target] or [0])
 
     @classmethod
@@ -123,10 +123,10 @@ class FakeTurtleBotRecordingTest(unittest.TestCase):
             expected = [schedule.update(landmark.psi) for landmark in landmarks[:-2]]
             self.assertEqual([lm.T for lm in landmarks[4:-1]], expected[3:], name)
 
-    def test_footprint_in_the_papers_range(self):
+    def test_storage_in_the_papers_range(self):
         loaded = self.loaded['topic']
         count, size = len(loaded.landmarks), os.path.getsize(loaded.path)
-        rospy.loginfo('footprint %s: %d landmarks, %d bytes, %.2f m, %.0f B/m, %.1f B/landmark',
+        rospy.loginfo('storage %s: %d landmarks, %d bytes, %.2f m, %.0f B/m, %.1f B/landmark',
                       self.mission.name, count, size, loaded.total_distance,
                       size / loaded.total_distance, size / count)
         self.assertTrue(PAPER_SAMPLES[0] <= count <= PAPER_SAMPLES[1], count)

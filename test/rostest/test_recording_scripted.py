@@ -9,7 +9,7 @@ real time, so its expectations are exact. Scenarios (``~scenario``):
   (record_server + record_client) record the same sampling publisher at once;
   vision is lost mid-cycle. Checks the sample stream against the plain-Python
   model (core/recorder.record_path), the files against the truth and each
-  other, the footprint and recorded-path topics, refusals of bad commands, and
+  other, the storage and recorded-path topics, refusals of bad commands, and
   that the yaml-cpp reader (landmark_info) reads the numbers PyYAML reads.
 - ``kill``: the saver is killed with SIGKILL mid-mission; its file must load
   with every landmark it reported saved before the kill.
@@ -32,13 +32,12 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:0] = [HERE, os.path.join(HERE, '..')]
 from scripted_path import ASV, LSV, STRAIGHT_ARC_STRAIGHT, ScriptedPath  # noqa: E402
 
+from blind_navigation import names
 from blind_navigation.core.geometry import quaternion_from_yaw  # noqa: E402
 from blind_navigation.core.recorder import record_path  # noqa: E402
 from blind_navigation.core.segment import SamplingSchedule  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
-from blind_navigation.msg import Footprint, PathSample  # noqa: E402
-from blind_navigation.recording import (FOOTPRINT_TOPIC, RECORD_SERVICE,  # noqa: E402
-                                        RECORDED_PATH_TOPIC, SAMPLE_TOPIC, VISION_LOST_TOPIC)
+from blind_navigation.msg import StorageUsage, PathSample  # noqa: E402
 from blind_navigation.srv import RecordLandmark  # noqa: E402
 from recording_tools import (WALL_TIMEOUT, Collector, kill_node, landmark_info,  # noqa: E402
                              subscribers_of, wait_for)
@@ -63,7 +62,7 @@ class SimWorld(object):
         self.path, self.rtf = path, rtf
         self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
         self.odom_pub = rospy.Publisher('/odom', Odometry, queue_size=50)
-        self.vision_lost_pub = rospy.Publisher(VISION_LOST_TOPIC, Empty, queue_size=1)
+        self.vision_lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1)
         self.t = 0.0                    # s since the clock started
 
     def path_time(self):
@@ -109,14 +108,14 @@ class RecordingTestBase(unittest.TestCase):
     def setUpClass(cls):
         cls.path = ScriptedPath(STRAIGHT_ARC_STRAIGHT)
         cls.world = SimWorld(cls.path, rospy.get_param('~rtf', 2.0))
-        cls.samples = Collector(SAMPLE_TOPIC, PathSample)
-        cls.footprints = Collector(FOOTPRINT_TOPIC, Footprint)
-        cls.paths = Collector(RECORDED_PATH_TOPIC, Path)
+        cls.samples = Collector(names.SAMPLE, PathSample)
+        cls.storage_msgs = Collector(names.STORAGE, StorageUsage)
+        cls.paths = Collector(names.RECORDED_PATH, Path)
         for topic, nodes in cls.expected_subscribers:
             wait_for(lambda: set(nodes) <= subscribers_of(topic),
                      '%s not all subscribed to %s' % (', '.join(nodes), topic))
         wait_for(lambda: cls.samples.sub.get_num_connections() > 0,
-                 'the sampling publisher never connected to %s' % SAMPLE_TOPIC)
+                 'the sampling publisher never connected to %s' % names.SAMPLE)
         cls.run_scenario()
 
     @classmethod
@@ -126,29 +125,29 @@ class RecordingTestBase(unittest.TestCase):
             shutil.rmtree(directory, ignore_errors=True)
 
     @classmethod
-    def wait_for_footprints(cls, count, message):
-        wait_for(lambda: len(cls.footprints.snapshot()) >= count, message)
+    def wait_for_storage_msgs(cls, count, message):
+        wait_for(lambda: len(cls.storage_msgs.snapshot()) >= count, message)
 
 
 class CompareTest(RecordingTestBase):
     """Topic and service variants side by side, vision lost mid-cycle."""
 
-    expected_subscribers = ((SAMPLE_TOPIC, ('/landmark_saver', '/record_client')),
+    expected_subscribers = ((names.SAMPLE, ('/landmark_saver', '/record_client')),
                             ('/odom', ('/landmark_saver', '/record_server', '/sampling_publisher')))
 
     @classmethod
     def run_scenario(cls):
-        cls.bad_sample_pub = rospy.Publisher(SAMPLE_TOPIC, PathSample, queue_size=1)
+        cls.bad_sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=1)
         wait_for(lambda: cls.bad_sample_pub.get_num_connections() >= 3,
                  'the saver, the record client and this test are not all connected to %s'
-                 % SAMPLE_TOPIC)
+                 % names.SAMPLE)
         bad_samples = threading.Thread(target=cls.send_bad_samples)   # not blocking the clock
         events = [(10.0, bad_samples.start),
                   (VISION_LOST_AT, lambda: cls.world.vision_lost_pub.publish(Empty()))]
         cls.world.run_until(VISION_LOST_AT + 2.0, events)
         bad_samples.join(WALL_TIMEOUT)
         samples = cls.samples.snapshot()
-        cls.wait_for_footprints(2 * sum(s.command in ('sample', 'final') for s in samples),
+        cls.wait_for_storage_msgs(2 * sum(s.command in ('sample', 'final') for s in samples),
                                 'not every sample was saved by both variants')
         cls.files = {variant: load_landmarks(rospy.get_param('~%s_file' % variant))
                      for variant in ('topic', 'service')}
@@ -160,9 +159,9 @@ class CompareTest(RecordingTestBase):
         zero period to the service: all refused, nothing saved."""
         bad = PathSample(command='bogus', yaw=0.0, period=2.0)
         cls.bad_sample_pub.publish(bad)
-        cls.bad_response = rospy.ServiceProxy(RECORD_SERVICE, RecordLandmark)(
+        cls.bad_response = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark)(
             command=bad.command, yaw=bad.yaw, period=bad.period)
-        cls.bad_response_period = rospy.ServiceProxy(RECORD_SERVICE, RecordLandmark)(
+        cls.bad_response_period = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark)(
             command='sample', yaw=0.0, period=0.0)
 
     def ticks(self):
@@ -249,14 +248,14 @@ class CompareTest(RecordingTestBase):
         self.assertFalse(self.bad_response_period.saved)
         self.assertIn('T must be positive', self.bad_response_period.message)
 
-    def test_footprint_topic_matches_the_files(self):
+    def test_storage_topic_matches_the_files(self):
         by_file = {}
-        for msg in self.footprints.snapshot():
+        for msg in self.storage_msgs.snapshot():
             by_file[os.path.realpath(msg.file)] = msg
-        self.assertEqual(len(by_file), 2, 'expected footprints from both variants')
+        self.assertEqual(len(by_file), 2, 'expected storage_msgs from both variants')
         for variant, loaded in self.files.items():
             last = by_file.get(os.path.realpath(loaded.path))
-            self.assertIsNotNone(last, '%s: no footprint names %s (got %s)'
+            self.assertIsNotNone(last, '%s: no storage names %s (got %s)'
                                  % (variant, os.path.realpath(loaded.path), sorted(by_file)))
             self.assertEqual(last.landmarks, len(loaded.landmarks), variant)
             self.assertEqual(last.bytes, os.path.getsize(loaded.path), variant)
@@ -265,7 +264,7 @@ class CompareTest(RecordingTestBase):
 
     def test_recorded_path_has_the_start_and_every_landmark(self):
         paths = self.paths.snapshot()
-        self.assertTrue(paths, 'no nav_msgs/Path on %s' % RECORDED_PATH_TOPIC)
+        self.assertTrue(paths, 'no nav_msgs/Path on %s' % names.RECORDED_PATH)
         longest = max(len(p.poses) for p in paths)
         self.assertEqual(longest, len(self.files['topic'].landmarks) + 1)
         self.assertEqual(paths[-1].header.frame_id, 'odom')
@@ -294,7 +293,7 @@ class CompareTest(RecordingTestBase):
 class KillTest(RecordingTestBase):
     """SIGKILL of the saver mid-mission leaves a loadable file with every landmark it saved."""
 
-    expected_subscribers = ((SAMPLE_TOPIC, ('/landmark_saver',)),
+    expected_subscribers = ((names.SAMPLE, ('/landmark_saver',)),
                             ('/odom', ('/landmark_saver', '/sampling_publisher')))
 
     @classmethod
@@ -302,7 +301,7 @@ class KillTest(RecordingTestBase):
         cls.killed = {}
 
         def kill():
-            cls.killed['footprints'] = len(cls.footprints.snapshot())
+            cls.killed['storage_msgs'] = len(cls.storage_msgs.snapshot())
             cls.killed['samples'] = len(cls.samples.snapshot())
             cls.killed['pid'] = kill_node('/landmark_saver')
         cls.world.run_until(KILL_AT + 4.0, [(KILL_AT, kill)])
@@ -310,7 +309,7 @@ class KillTest(RecordingTestBase):
     def test_file_survives_kill_9(self):
         self.assertIn('pid', self.killed, 'the saver was not killed')
         loaded = load_landmarks(rospy.get_param('~topic_file'))
-        saved_before_kill = self.killed['footprints']
+        saved_before_kill = self.killed['storage_msgs']
         self.assertGreater(saved_before_kill, 10, 'too few landmarks before the kill to mean much')
         # Every landmark reported saved is in the file; at most the ones whose
         # report was still in flight at the kill come on top (never more than

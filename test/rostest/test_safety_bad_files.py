@@ -42,7 +42,7 @@ CASES = {
     'spinning': (HEADER + GOOD + "landmark_000002: {data: [0.1, 4.0, 0.2, 1.0, 0.0]}\n",
                  ['landmark_000002', '|w| = 4 exceeds the limit']),
 }
-TOPICS = ('state', 'footprint', 'vision_lost', 'rotation_done')
+TOPICS = ('state', 'storage', 'vision_lost', 'rotation_done')
 
 
 class BadFilesTest(unittest.TestCase):

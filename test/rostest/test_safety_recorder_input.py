@@ -2,7 +2,7 @@
 """rostest: bad input to the recording layer. Odometry with NaN or a zero
 quaternion (bursts between good messages, with absurd positions) is never
 recorded and is warned about at a limited rate; path-like strings in
-PathSample.command, RecordLandmark.command, Footprint.file and the state
+PathSample.command, RecordLandmark.command, StorageUsage.file and the state
 topic never make the layer write outside its directory; a restarted saver
 starts a new file behind the symlink and keeps the old one unchanged."""
 import math
@@ -18,7 +18,7 @@ from std_msgs.msg import Empty, Header, String
 
 from blind_navigation.core.safety import file_digest
 from blind_navigation.core.store import load_landmarks
-from blind_navigation.msg import Footprint, PathSample
+from blind_navigation.msg import StorageUsage, PathSample
 from blind_navigation.srv import RecordLandmark
 
 from safety_rig import Collector, Node, SimClock
@@ -74,7 +74,7 @@ class RecorderInputTest(unittest.TestCase):
         first_file = os.path.realpath(link)
         odometer = Odometer()
         samples = rospy.Publisher('/blind_navigation/sample', PathSample, queue_size=10)
-        footprint = rospy.Publisher('/blind_navigation/footprint', Footprint, queue_size=10)
+        storage = rospy.Publisher('/blind_navigation/storage', StorageUsage, queue_size=10)
         state = rospy.Publisher('/blind_navigation/state', String, queue_size=10)
         rospy.wait_for_service('/blind_navigation/record_landmark', 60.0)
         record = rospy.ServiceProxy('/blind_navigation/record_landmark', RecordLandmark)
@@ -86,7 +86,7 @@ class RecorderInputTest(unittest.TestCase):
                                            yaw=0.0, period=1.0))
                 refusals.append(record(header=Header(stamp=rospy.Time.now()), command=text,
                                        yaw=0.0, period=1.0))
-                footprint.publish(Footprint(file=text, landmarks=1))
+                storage.publish(StorageUsage(file=text, landmarks=1))
                 state.publish(String(data=text))
             rospy.sleep(1.0)
         rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1, latch=True).publish(Empty())

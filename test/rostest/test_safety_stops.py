@@ -15,7 +15,7 @@ import rospy
 import rostest
 from actionlib_msgs.msg import GoalID, GoalStatus
 
-from blind_navigation import kobuki_msgs_compat as kobuki
+from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.core.safety import recorded_speed
 from blind_navigation.msg import BackTravelAction, BackTravelActionGoal, BackTravelGoal
 

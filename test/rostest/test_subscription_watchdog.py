@@ -13,7 +13,7 @@ import rostest
 from std_msgs.msg import String
 
 import waiting
-from blind_navigation import subscription_watchdog
+from blind_navigation.ros import subscription_watchdog
 
 TOPIC = '/watchdog_test'
 

@@ -7,7 +7,7 @@ import pytest
 
 from blind_navigation.core.geometry import OdomState, Pose2D, quaternion_from_yaw
 from blind_navigation.core.landmark import Landmark
-from blind_navigation.core.simulation import run_mission
+from blind_navigation.sim.harness import run_mission
 from blind_navigation.evaluation import paper, tables
 from blind_navigation.evaluation.forward import ForwardRecord, harness_settings, record_forward
 from blind_navigation.evaluation.montecarlo import landmark_stats, return_geometry, run_job
@@ -130,7 +130,7 @@ def test_table6_puts_the_paper_beside_ours():
 
 def test_odom_bag_has_one_message_per_step(tmp_path):
     rosbag = pytest.importorskip('rosbag')
-    from blind_navigation.evaluation.footprint import write_odom_bag
+    from blind_navigation.evaluation.storage import write_odom_bag
     odom = [OdomState(0.01 * i, 0.0, 0.0, 0.1, 0.0, 0.0) for i in range(50)]
     truth = [(0.02 * (i + 1), Pose2D(0.01 * i, 0.0, 0.0)) for i in range(50)]
     record = ForwardRecord('m', [], 0, (0.0, 0.0), odom, truth, 1.0)

@@ -1,5 +1,5 @@
 """Gyro scale calibration (core/gyro_calibration.py) and the standstill bias
-(core/heading_calibration.StandstillBias, fuse_bias, estimate with a calibrated
+(core/gyro_bias.StandstillBias, fuse_bias, estimate with a calibrated
 scale): the spin recovers the fake gyro's scale error, a spin without visual
 odometry is refused, the file round-trips and bad files are named, a standing
 robot's heading drift is its bias, and the estimate combines them."""
@@ -13,11 +13,12 @@ from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.gyro_calibration import (CalibrationError, GyroCalibration,
                                                     SpinCalibration, load_calibration,
                                                     save_calibration)
-from blind_navigation.core.heading_calibration import (BiasEstimate, HeadingCalibrator,
-                                                       StandstillBias, fuse_bias,
-                                                       standstill_complete)
-from blind_navigation.core.kobuki import load_profile
-from blind_navigation.core.simulation import simulate_gyro_calibration
+from blind_navigation.core.gyro_bias import (BiasEstimate, StandstillBias, fuse_bias,
+                                              standstill_complete)
+from blind_navigation.core.gyro_fit import GyroVisualFit
+from blind_navigation.core.heading_correction import estimate_correction
+from blind_navigation.sim.kobuki import load_profile
+from blind_navigation.sim.harness import simulate_gyro_calibration
 
 
 def test_spin_recovers_the_fake_gyro_scale_error():
@@ -40,7 +41,7 @@ def test_spin_without_visual_odometry_is_refused():
         _, w = spin.step(OdomState(0.0, 0.0, yaw, 0.0, 0.0, stamp))
         stamp += 0.02
         yaw = math.remainder(yaw + w * 0.02, 2.0 * math.pi)
-        spin.calibrator.add_odometry(stamp, yaw)
+        spin.fit.add_odometry(stamp, yaw)
     assert spin.done and not spin.failed
     with pytest.raises(CalibrationError, match='visual odometry'):
         spin.result()
@@ -138,7 +139,7 @@ def test_estimate_uses_the_calibrated_scale_and_the_standstill():
     standstill = StandstillBias()
     still_odometry(standstill, 60.0, 4e-4, 0.003, random.Random(3))
     prior = GyroCalibration(0.005, 0.0006, 0.0, 0.0, 60)
-    correction = HeadingCalibrator().estimate(standstill.estimate(), prior)
+    correction = estimate_correction(GyroVisualFit(), standstill.estimate(), prior)
     assert correction.status == 'full', correction.describe()
     assert correction.scale == 0.005 and correction.scale_std == 0.0006
     assert correction.bias == pytest.approx(4e-4, abs=4 * correction.bias_std)
@@ -149,7 +150,7 @@ def test_insignificant_calibrated_scale_is_not_applied():
     standstill = StandstillBias()
     still_odometry(standstill, 60.0, 4e-4, 0.003, random.Random(4))
     prior = GyroCalibration(0.0003, 0.0006, 0.0, 0.0, 60)
-    correction = HeadingCalibrator().estimate(standstill.estimate(), prior)
+    correction = estimate_correction(GyroVisualFit(), standstill.estimate(), prior)
     assert correction.status == 'bias' and correction.scale == 0.0
     assert 'calibrated scale' in correction.reason
 

@@ -3,9 +3,9 @@ import math
 
 import pytest
 
-from blind_navigation.core.arena import Arena
+from blind_navigation.sim.arena import Arena
 from blind_navigation.core.geometry import Pose2D
-from blind_navigation.core.kobuki import (CMD_TIMEOUT, MAX_V, SimulatedKobuki, load_profile,
+from blind_navigation.sim.kobuki import (CMD_TIMEOUT, MAX_V, SimulatedKobuki, load_profile,
                                           make_profile)
 
 

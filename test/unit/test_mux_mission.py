@@ -3,8 +3,8 @@ import math
 
 import pytest
 
-from blind_navigation.core.mission import load_mission, mission_from_dict
-from blind_navigation.core.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
+from blind_navigation.sim.mission import load_mission, mission_from_dict
+from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
 
 SAFETY, TELEOP, SWITCH, NAVI = range(4)
 

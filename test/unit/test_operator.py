@@ -4,9 +4,9 @@ import math
 import pytest
 
 from blind_navigation.core.geometry import Pose2D
-from blind_navigation.core.kobuki import SimulatedKobuki, load_profile
-from blind_navigation.core.mission import load_mission, mission_from_dict
-from blind_navigation.core.operator import Operator, ReferencePath, operator_params
+from blind_navigation.sim.kobuki import SimulatedKobuki, load_profile
+from blind_navigation.sim.mission import load_mission, mission_from_dict
+from blind_navigation.sim.operator import Operator, ReferencePath, operator_params
 
 STRAIGHT = {'segments': [{'v': 0.1, 'distance': 3.0}], 'operator': {'max_w': 0.1}}
 

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 from blind_navigation.core.geometry import OdomState, distance, wrap_angle
-from blind_navigation.core.recorder import OdometryHistory, PathRecorder, footprint, record_path
+from blind_navigation.core.recorder import OdometryHistory, PathRecorder, record_path, storage_usage
 from blind_navigation.core.segment import SamplingSchedule
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
@@ -141,9 +141,9 @@ def test_bad_tick_raises_and_keeps_the_previous_position(v, yaw, period, field):
     assert recorder.take(OdomState(2.0, 0.0, 0.0, 0.1, 0.0, 2.0), 0.0, 2.0).d == 2.0
 
 
-def test_footprint():
-    assert footprint(10, 800, 2.0) == (10, 800, 2.0, 400.0)
-    assert footprint(0, 150, 0.0).bytes_per_metre == 0.0
+def test_storage_usage():
+    assert storage_usage(10, 800, 2.0) == (10, 800, 2.0, 400.0)
+    assert storage_usage(0, 150, 0.0).bytes_per_metre == 0.0
 
 
 def test_odometry_history_reads_the_state_at_a_stamp():

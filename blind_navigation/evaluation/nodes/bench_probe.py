@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""bench_probe: the demo observer (demo_observer.py) plus what `make bench` measures in a ROS run.
+"""bench_probe: the demo observer (evaluation/observer.py) plus what `make bench` measures in a ROS run.
 
 Runs the demo's script (mission, vision failure via /fake_turtlebot/set_vision,
 wait for home/aborted, row + plot) and also measures:
@@ -8,7 +8,7 @@ wait for home/aborted, row + plot) and also measures:
   /blind_navigation/vision_lost (the trigger), and from the trigger to the first
   non-zero rotation command of rotate_pi on the teleop topic; the detector that
   fired (vision_monitor's latched ~loss);
-* footprint: CPU time and peak RSS (psutil; PIDs asked from each node's
+* storage: CPU time and peak RSS (psutil; PIDs asked from each node's
   XML-RPC getPid) of the layer's nodes and of ``rosbag record`` over the
   recording phase (state ``recording`` -> vision failure); then stops the
   recorder with SIGINT so its bag covers the same mission;
@@ -35,11 +35,10 @@ import rospy
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Empty, String
 
-from blind_navigation.back_travel_ros import VISION_LOST_TOPIC
+from blind_navigation import names
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.store import load_landmarks
-from blind_navigation.nodes import demo_observer
-from blind_navigation.nodes.demo_observer import DemoObserver
+from blind_navigation.evaluation.observer import DemoObserver, main as observe
 
 LAYER_NODES = ['sampling_publisher', 'landmark_saver', 'back_travel_client', 'back_travel_server',
                'rotate_pi', 'vision_monitor']
@@ -59,7 +58,7 @@ class BenchProbe(DemoObserver):
         self.detector = ''
         self.processes = {}
         self.peak_rss = {}
-        rospy.Subscriber(VISION_LOST_TOPIC, Empty, self._on_vision_lost)
+        rospy.Subscriber(names.VISION_LOST, Empty, self._on_vision_lost)
         rospy.Subscriber(p.cmd_vel_topic, Twist, self._on_cmd_vel)
         rospy.Subscriber(p.monitor_node + '/loss', String, self._on_loss)
 
@@ -163,7 +162,7 @@ class BenchProbe(DemoObserver):
             return
         forward, back = self.paths['forward'], self.paths['return']
         start, end = forward[0], (back or forward)[-1]
-        fp = self.footprint
+        fp = self.storage
         t = self.times
         nodes = {name: {'cpu_s': cpu_end[name] - cpu_start[name],
                         'cpu_pct': 100.0 * (cpu_end[name] - cpu_start[name]) / wall if wall > 0 else None,
@@ -188,7 +187,7 @@ class BenchProbe(DemoObserver):
 
 
 def main():
-    demo_observer.main('bench_probe', BenchProbe)
+    observe('bench_probe', BenchProbe)
 
 
 if __name__ == '__main__':

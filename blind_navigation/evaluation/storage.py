@@ -1,4 +1,4 @@
-"""Footprint of a recorded path: the landmark file vs a rosbag of /odom.
+"""Storage of a recorded path: the landmark file vs a rosbag of /odom.
 
 :func:`write_odom_bag` writes a real rosbag (rosbag Python API, uncompressed as
 ``rosbag record`` by default) of the forward run's wheel odometry at the
@@ -12,8 +12,8 @@ import rosbag
 import rospy
 from nav_msgs.msg import Odometry
 
-from ..nodes.fake_kobuki import ODOM_POSE_COVARIANCE
-from ..ros_common import set_pose
+from ..ros.common import set_pose
+from ..sim.kobuki import ODOM_POSE_COVARIANCE
 
 
 def odom_message(state, stamp, frame='odom', child_frame='base_footprint'):

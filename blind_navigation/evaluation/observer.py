@@ -1,5 +1,4 @@
-#!/usr/bin/env python3
-"""demo_observer: runs the demo's script and reports it (launch/demo.launch).
+"""The demo observer (nodes demo_observer and bench_probe): runs the demo's script and reports it (launch/demo.launch).
 
 Waits for the scripted mission to finish (/mission_driver/done), lets the robot
 stop for ``settle`` s, makes vision fail (/fake_turtlebot/set_vision false),
@@ -16,10 +15,10 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 from std_srvs.srv import SetBool
 
-from blind_navigation.back_travel_ros import FOOTPRINT_TOPIC, STATE_TOPIC
+from blind_navigation import names
 from blind_navigation.core.geometry import distance
-from blind_navigation.msg import Footprint
-from blind_navigation.ros_common import load_params, start_node
+from blind_navigation.msg import StorageUsage
+from blind_navigation.ros.common import load_params, start_node
 
 FINAL = ('home', 'aborted')
 
@@ -34,19 +33,19 @@ class DemoObserver(object):
     def __init__(self):
         self.params = load_params(self.DEFAULTS)
         self.state = None
-        self.footprint = None
+        self.storage = None
         self.mission_done = False
         self.paths = {'forward': [], 'return': []}
-        rospy.Subscriber(STATE_TOPIC, String, self._on_state)
-        rospy.Subscriber(FOOTPRINT_TOPIC, Footprint, self._on_footprint)
+        rospy.Subscriber(names.STATE, String, self._on_state)
+        rospy.Subscriber(names.STORAGE, StorageUsage, self._on_storage)
         rospy.Subscriber('/mission_driver/done', Bool, self._on_done)
         rospy.Subscriber('/ground_truth/odom', Odometry, self._on_truth, queue_size=20)
 
     def _on_state(self, msg):
         self.state = msg.data
 
-    def _on_footprint(self, msg):
-        self.footprint = msg
+    def _on_storage(self, msg):
+        self.storage = msg
 
     def _on_done(self, msg):
         self.mission_done = self.mission_done or msg.data
@@ -81,7 +80,7 @@ class DemoObserver(object):
         forward, back = self.paths['forward'], self.paths['return']
         start, end = forward[0], (back or forward)[-1]
         error = distance(start[0], start[1], end[0], end[1])
-        fp = self.footprint
+        fp = self.storage
         row = ('| %s | %s | %s | distance %.2f m | samples %d | memory %.1f KB | position error %.3f m |'
                % (p.scenario, p.control, self.state, fp.distance if fp else 0.0,
                   fp.landmarks if fp else 0, (fp.bytes if fp else 0) / 1024.0, error))
@@ -119,7 +118,3 @@ def main(name='demo_observer', node_class=DemoObserver):
     except (RuntimeError, rospy.ROSException) as error:
         rospy.logerr('%s', error)
         raise SystemExit(1)
-
-
-if __name__ == '__main__':
-    main()

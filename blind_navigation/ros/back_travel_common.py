@@ -1,5 +1,5 @@
 """rospy glue shared by the back-travel nodes (rotate_pi, back_travel_server,
-back_travel_client): topic names, the latest-odometry holder with a staleness
+back_travel_client, calibrate_gyro): the latest-odometry holder with a staleness
 check, a clamped velocity output that can be halted and stops the robot on
 shutdown, and the Kobuki safety-event watcher (core/safety.py rules)."""
 import threading
@@ -8,22 +8,11 @@ import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 
-from blind_navigation import kobuki_msgs_compat as kobuki
-from blind_navigation.core.heading_calibration import HeadingCorrection, correct_landmarks
+from blind_navigation.ros import kobuki_msgs_compat as kobuki
+from blind_navigation.core.heading_correction import GyroCorrection, correct_landmarks
 from blind_navigation.core.safety import SafetyEvents, VelocityLimits
-from blind_navigation.ros_common import twist, usable_odom_state
+from blind_navigation.ros.common import twist, usable_odom_state
 
-VISION_LOST_TOPIC = '/blind_navigation/vision_lost'
-ROTATION_DONE_TOPIC = '/blind_navigation/rotation_done'
-STATE_TOPIC = '/blind_navigation/state'
-FOOTPRINT_TOPIC = '/blind_navigation/footprint'
-RETURN_PATH_TOPIC = '/blind_navigation/return_path'
-BACK_TRAVEL_ACTION = '/blind_navigation/back_travel'
-RETURN_ROUTE_SERVICE = '/blind_navigation/set_return_route'
-HEADING_CORRECTION_TOPIC = '/blind_navigation/heading_correction'
-#: Kobuki's safety events (kobuki_node names), remappable by their ~params.
-EVENT_TOPICS = {'bumper': '/mobile_base/events/bumper', 'cliff': '/mobile_base/events/cliff',
-                'wheel_drop': '/mobile_base/events/wheel_drop'}
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
                'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
 
@@ -152,6 +141,6 @@ def landmarks_in_corrected_frame(landmarks, msg):
     """``landmarks`` expressed in the corrected odometry frame of ``msg`` (a
     blind_navigation/HeadingCorrection from the heading_correction node), as
     back_travel_client sends them; also the correction (core HeadingCorrection)."""
-    correction = HeadingCorrection(msg.bias, msg.scale, msg.bias_std, msg.scale_std,
+    correction = GyroCorrection(msg.bias, msg.scale, msg.bias_std, msg.scale_std,
                                    msg.windows, msg.status, msg.reason)
     return correct_landmarks(landmarks, correction, msg.reference_yaw), correction

@@ -15,7 +15,7 @@ World files are YAML (a mission file may carry them too)::
 import math
 from collections import namedtuple
 
-from .geometry import Pose2D, wrap_angle
+from ..core.geometry import Pose2D, wrap_angle
 
 ROBOT_RADIUS = 0.177          # m, Kobuki body (354 mm diameter)
 CONTACT_MARGIN = 0.005        # m, a bumper reads pressed this close to a surface

@@ -22,18 +22,18 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Empty
 
-from blind_navigation import kobuki_msgs_compat as kobuki_msgs
-from blind_navigation.core.arena import arena_from_dict
-from blind_navigation.core.kobuki import SENSOR_PERIOD, SimulatedKobuki, load_profile
-from blind_navigation.ros_common import load_params, set_pose
-from blind_navigation import subscription_watchdog
+from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
+from blind_navigation.sim.arena import arena_from_dict
+from blind_navigation.sim.kobuki import (ODOM_POSE_COVARIANCE, SENSOR_PERIOD, SimulatedKobuki,
+                                         load_profile)
+from blind_navigation.ros.common import load_params, set_pose
+from blind_navigation.ros import subscription_watchdog
 
 DBL_MAX = sys.float_info.max
 # The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
 # mode): a queue thread per connection costs more CPU than the write itself.
 SYNCHRONOUS = None
 warnings.filterwarnings('ignore', message='The publisher should be created with an explicit')
-ODOM_POSE_COVARIANCE = {0: 0.1, 7: 0.1, 14: 1e10, 21: 1e10, 28: 1e10, 35: 0.05}   # kobuki_node
 
 
 class FakeKobuki(object):

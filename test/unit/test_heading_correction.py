@@ -1,4 +1,4 @@
-"""Gyro heading calibration (core/heading_calibration.py): the estimator recovers a
+"""Gyro heading correction (core/gyro_fit.py, core/heading_correction.py): the estimator recovers a
 known bias and scale from synthetic gyro + visual-odometry yaw, refuses what the
 data cannot determine, and the corrected frame / corrected landmarks are right."""
 import math
@@ -7,13 +7,14 @@ import random
 import pytest
 
 from blind_navigation.core.geometry import OdomState, wrap_angle
-from blind_navigation.core.heading_calibration import (CorrectedOdometry, HeadingCalibrator,
-                                                       HeadingCorrection, correct_landmarks,
-                                                       no_correction)
 from blind_navigation.core.gyro_calibration import GyroCalibration
-from blind_navigation.core.kobuki import SimulatedKobuki, load_profile
+from blind_navigation.core.gyro_fit import GyroVisualFit
+from blind_navigation.core.heading_correction import (CorrectedOdometry, GyroCorrection,
+                                                       correct_landmarks, estimate_correction,
+                                                       no_correction)
 from blind_navigation.core.landmark import Landmark
-from blind_navigation.core.simulation import run_mission, simulate_gyro_calibration
+from blind_navigation.sim.harness import run_mission, simulate_gyro_calibration
+from blind_navigation.sim.kobuki import SimulatedKobuki, load_profile
 
 ODOM_DT = 0.02
 VO_DT = 1.0 / 30.0
@@ -37,7 +38,7 @@ def feed(calibrator, turn_rate, duration, bias, scale, vo_noise=1e-4, lost=lambd
             calibrator.add_visual(next_vo, None if lost(next_vo) else
                                   wrap_angle(true_yaw - rate * (t - next_vo) + vo_error))
             next_vo += VO_DT
-    return calibrator.estimate()
+    return estimate_correction(calibrator)
 
 
 def weaving(t):
@@ -46,9 +47,9 @@ def weaving(t):
 
 def test_recovers_the_bias_and_takes_the_calibrated_scale():
     prior = GyroCalibration(0.005, 0.0006, 0.0, 0.0, 60)
-    calibrator = HeadingCalibrator()
+    calibrator = GyroVisualFit()
     feed(calibrator, weaving, 300.0, bias=4e-4, scale=0.005)
-    correction = calibrator.estimate(scale_prior=prior)
+    correction = estimate_correction(calibrator, scale_prior=prior)
     assert correction.status == 'full', correction.describe()
     assert correction.bias == pytest.approx(4e-4, abs=max(4 * correction.bias_std, 1e-5))
     assert correction.scale == 0.005 and correction.bias_std < 5e-5
@@ -56,13 +57,13 @@ def test_recovers_the_bias_and_takes_the_calibrated_scale():
 
 def test_a_mission_does_not_set_the_scale_by_itself():
     # the weaving turns would fit the scale; without a calibration it is not corrected
-    correction = feed(HeadingCalibrator(), weaving, 300.0, bias=4e-4, scale=0.005)
+    correction = feed(GyroVisualFit(), weaving, 300.0, bias=4e-4, scale=0.005)
     assert correction.status == 'bias' and correction.scale == 0.0
     assert 'no gyro calibration' in correction.reason
 
 
 def test_bias_only_when_the_path_does_not_turn():
-    correction = feed(HeadingCalibrator(), lambda t: 0.0, 120.0, bias=-3e-4, scale=0.005)
+    correction = feed(GyroVisualFit(), lambda t: 0.0, 120.0, bias=-3e-4, scale=0.005)
     assert correction.status == 'bias', correction.describe()
     assert correction.scale == 0.0
     assert 'scale' in correction.reason
@@ -70,20 +71,20 @@ def test_bias_only_when_the_path_does_not_turn():
 
 
 def test_no_visual_odometry_no_correction():
-    correction = feed(HeadingCalibrator(), weaving, 100.0, bias=4e-4, scale=0.005, lost=lambda t: True)
+    correction = feed(GyroVisualFit(), weaving, 100.0, bias=4e-4, scale=0.005, lost=lambda t: True)
     assert correction.status == 'none' and correction.windows == 0
     assert correction.bias == 0.0 and correction.scale == 0.0
-    assert HeadingCalibrator().estimate().status == 'none'
+    assert estimate_correction(GyroVisualFit(), ).status == 'none'
 
 
 def test_too_little_data_no_correction():
-    correction = feed(HeadingCalibrator(), weaving, 15.0, bias=4e-4, scale=0.0)
+    correction = feed(GyroVisualFit(), weaving, 15.0, bias=4e-4, scale=0.0)
     assert correction.status == 'none'
     assert 'windows' in correction.reason
 
 
 def test_absurd_bias_rejected():
-    correction = feed(HeadingCalibrator(), weaving, 100.0, bias=0.05, scale=0.0)
+    correction = feed(GyroVisualFit(), weaving, 100.0, bias=0.05, scale=0.0)
     assert correction.status == 'none'
     assert 'beyond' in correction.reason
 
@@ -91,10 +92,10 @@ def test_absurd_bias_rejected():
 def test_lost_stretches_break_windows_and_a_jump_is_dropped():
     # vision lost in every third 10 s stretch: no window may span a lost message
     lost = lambda t: int(t // 10.0) % 3 == 2  # noqa: E731
-    calibrator = HeadingCalibrator()
+    calibrator = GyroVisualFit()
     feed(calibrator, weaving, 300.0, bias=2e-4, scale=0.004, lost=lost)
     prior = GyroCalibration(0.004, 0.0005, 0.0, 0.0, 60)
-    correction = calibrator.estimate(scale_prior=prior)
+    correction = estimate_correction(calibrator, scale_prior=prior)
     assert correction.status == 'full'
     # 200 s of the 300 s are seen, in 10 s stretches: at most 5 windows of 2 s each
     assert 80 <= correction.windows <= 100
@@ -102,14 +103,14 @@ def test_lost_stretches_break_windows_and_a_jump_is_dropped():
     assert correction.bias == pytest.approx(2e-4, abs=max(4 * correction.bias_std, 1e-5))
     # one visual-odometry jump of 0.3 rad (a relocalisation) is an outlier, not a bias
     calibrator.rows[5] = (calibrator.rows[5][0], calibrator.rows[5][1] + 0.3, calibrator.rows[5][2])
-    jumped = calibrator.estimate(scale_prior=prior)
+    jumped = estimate_correction(calibrator, scale_prior=prior)
     assert jumped.windows == correction.windows - 1
     assert jumped.bias == pytest.approx(correction.bias, abs=2 * correction.bias_std)
 
 
 def test_bad_params_refused():
     with pytest.raises(ValueError, match='window'):
-        HeadingCalibrator(type('P', (), {'window': 0.0})())
+        GyroVisualFit(type('P', (), {'window': 0.0})())
 
 
 def unicycle_odometry(bias, scale, seconds=60.0):
@@ -132,7 +133,7 @@ def unicycle_odometry(bias, scale, seconds=60.0):
 
 def test_corrected_odometry_follows_the_truth():
     truth, raw = unicycle_odometry(bias=5e-3, scale=0.02)
-    corrector = CorrectedOdometry(HeadingCorrection(5e-3, 0.02, 0, 0, 10, 'full', ''))
+    corrector = CorrectedOdometry(GyroCorrection(5e-3, 0.02, 0, 0, 10, 'full', ''))
     states = [corrector.update(state) for state in raw]
     x, y, yaw = truth[-1]
     assert states[-1].yaw == pytest.approx(wrap_angle(yaw), abs=1e-6)
@@ -154,7 +155,7 @@ def test_identity_correction_changes_nothing():
 
 def test_landmarks_get_the_correction_of_their_time():
     bias, scale = 1e-3, 0.01
-    correction = HeadingCorrection(bias, scale, 0, 0, 10, 'full', '')
+    correction = GyroCorrection(bias, scale, 0, 0, 10, 'full', '')
     # true headings 0.0 -> 0.5 -> 0.5 -> 3.0 (crossing pi in raw yaw), T = 1, 2, 1, 2 s
     periods = [1.0, 2.0, 1.0, 2.0]
     true_psi = [0.0, 0.5, 0.5, 3.0]
@@ -170,7 +171,7 @@ def test_landmarks_get_the_correction_of_their_time():
 
 
 def test_insignificant_bias_is_not_applied():
-    correction = feed(HeadingCalibrator(), weaving, 100.0, bias=0.0, scale=0.0, vo_noise=1e-3)
+    correction = feed(GyroVisualFit(), weaving, 100.0, bias=0.0, scale=0.0, vo_noise=1e-3)
     assert correction.status == 'none'
     assert 'not significant' in correction.reason
 
@@ -181,7 +182,7 @@ def test_harness_estimates_the_fake_gyro_bias_and_uses_the_calibration():
     true_bias = SimulatedKobuki(load_profile('paper'), seed=2)._gyro_bias
     calibration = simulate_gyro_calibration('paper', seed=102)
     on = run_mission('table6_test3', 'paper', 'closed_loop', 2, gyro_calibration=calibration)
-    off = run_mission('table6_test3', 'paper', 'closed_loop', 2, heading_calibration=False)
+    off = run_mission('table6_test3', 'paper', 'closed_loop', 2, heading_correction=False)
     assert off.heading_correction.status == 'none'
     assert on.heading_correction.status == 'full', on.heading_correction.describe()
     assert on.heading_correction.scale == calibration.scale

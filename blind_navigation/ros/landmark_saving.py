@@ -11,7 +11,7 @@ the latest odometry stamped no later than the tick), makes the landmark with
 core/recorder.PathRecorder and appends it durably with core/store.LandmarkWriter
 to a new time-stamped mission file that the ``landmark_file`` param (a symlink)
 points at. Only that param chooses the file: nothing received over ROS names a
-path. After each landmark it publishes the footprint and the recorded path.
+path. After each landmark it publishes the storage and the recorded path.
 """
 import math
 import os
@@ -21,18 +21,13 @@ import rospy
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry, Path
 
+from blind_navigation import names
 from blind_navigation.core.geometry import quaternion_from_yaw
-from blind_navigation.core.recorder import OdometryHistory, PathRecorder, footprint
+from blind_navigation.core.recorder import OdometryHistory, PathRecorder, storage_usage
 from blind_navigation.core.store import LandmarkWriter, start_mission_file
-from blind_navigation.msg import Footprint
-from blind_navigation.ros_common import load_params, usable_odom_state
+from blind_navigation.msg import StorageUsage
+from blind_navigation.ros.common import load_params, usable_odom_state
 
-SAMPLE_TOPIC = '/blind_navigation/sample'
-RECORD_SERVICE = '/blind_navigation/record_landmark'
-FOOTPRINT_TOPIC = '/blind_navigation/footprint'
-RECORDED_PATH_TOPIC = '/blind_navigation/recorded_path'
-VISION_LOST_TOPIC = '/blind_navigation/vision_lost'
-STATE_TOPIC = '/blind_navigation/state'
 
 #: PathSample.command values: a regular tick, and the last partial cycle.
 SAMPLE = 'sample'
@@ -43,7 +38,7 @@ DEFAULT_LANDMARK_FILE = os.path.join('~', '.ros', 'blind_navigation', 'landmarks
 
 
 class LandmarkSaving(object):
-    """Latest odometry -> landmark -> mission file, footprint and recorded path.
+    """Latest odometry -> landmark -> mission file, storage and recorded path.
 
     Params (DEFAULTS): ``odom_topic`` (nav_msgs/Odometry, '/odom'),
     ``landmark_file`` (the symlink to the mission's file,
@@ -81,8 +76,8 @@ class LandmarkSaving(object):
         rospy.loginfo('%s: recording path landmarks into %s (%s -> %s)', rospy.get_name(), path,
                       p.landmark_file, os.path.basename(path))
         self.path_msg = Path()
-        self.footprint_pub = rospy.Publisher(FOOTPRINT_TOPIC, Footprint, queue_size=10)
-        self.path_pub = rospy.Publisher(RECORDED_PATH_TOPIC, Path, queue_size=1, latch=True)
+        self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
+        self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         self.odom_sub = rospy.Subscriber(p.odom_topic, Odometry, self._on_odom, queue_size=100)
 
     def _on_odom(self, msg):
@@ -138,13 +133,13 @@ class LandmarkSaving(object):
         return '', reason
 
     def _report(self, label, odom, landmark):
-        """Publish the footprint and the recorded path; log the footprint."""
+        """Publish the storage and the recorded path; log the storage."""
         now = rospy.Time.now()
-        used = footprint(self.writer.count, self.writer.bytes, self.writer.total_distance)
-        msg = Footprint(file=self.writer.path, landmarks=used.landmarks, bytes=used.bytes,
+        used = storage_usage(self.writer.count, self.writer.bytes, self.writer.total_distance)
+        msg = StorageUsage(file=self.writer.path, landmarks=used.landmarks, bytes=used.bytes,
                         distance=used.distance, bytes_per_metre=used.bytes_per_metre)
         msg.header.stamp = now
-        self.footprint_pub.publish(msg)
+        self.storage_pub.publish(msg)
         rospy.loginfo('%s: %s %s: %d landmarks, %d bytes, %.2f m, %.0f B/m', rospy.get_name(),
                       label, [round(value, 4) for value in landmark], used.landmarks, used.bytes,
                       used.distance, used.bytes_per_metre)

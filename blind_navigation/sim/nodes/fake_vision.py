@@ -26,9 +26,9 @@ from sensor_msgs.msg import Image
 from std_srvs.srv import SetBool, SetBoolResponse
 
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
-from blind_navigation.core.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
-from blind_navigation.ros_common import load_params, set_pose
-from blind_navigation import subscription_watchdog
+from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
+from blind_navigation.ros.common import load_params, set_pose
+from blind_navigation.ros import subscription_watchdog
 
 MODES = ('dark', 'stall', 'lost')
 LOST_COVARIANCE = 9999.0

@@ -39,7 +39,7 @@ import bisect
 import math
 from collections import deque
 
-from .geometry import wrap_angle
+from ..core.geometry import wrap_angle
 
 #: Operator parameters (see module docstring); ``max_w`` None = the mission's largest |w|.
 OPERATOR_DEFAULTS = {

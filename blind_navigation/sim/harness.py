@@ -1,8 +1,8 @@
 """Plain-Python mission harness for Monte-Carlo evaluation of the whole layer.
 
 One run = what the ROS graph does, over the same core objects, at a fixed
-control step: a scripted operator (core/mission.py) drives a SimulatedKobuki
-(core/kobuki.py) while the two-rate SamplingSchedule and the PathRecorder take
+control step: a scripted operator (sim/mission.py) drives a SimulatedKobuki
+(sim/kobuki.py) while the two-rate SamplingSchedule and the PathRecorder take
 landmarks from its odometry; the mission ends, the robot is left to stop,
 vision is lost (a final landmark covers the partial cycle, the return route is
 anchored at the odometry position), core/rotation.py turns by pi, and the
@@ -12,12 +12,12 @@ Between goals the last command holds; after the last goal it is dropped after
 written for real (core/store.LandmarkWriter) to measure its size, and landmarks
 are read back from it, so the return uses the stored (rounded) numbers.
 
-With ``heading_calibration`` (blind_navigation.launch's ``heading_correction``,
-on by default), the fake TurtleBot's visual odometry (core/visual_odometry.py,
+With ``heading_correction`` (blind_navigation.launch's ``heading_correction``,
+on by default), the fake TurtleBot's visual odometry (sim/visual_odometry.py,
 fake_vision's drift and 30 Hz rate and seed + 1) runs while recording; at
 vision loss the robot stands still until the bias is known well enough for
 this mission (``heading_budget``, at most ``standstill_time`` s), and
-core/heading_calibration.py estimates the gyro bias from both and takes the
+core/heading_correction.py estimates the gyro bias from both and takes the
 scale from ``gyro_calibration`` (what calibrate_gyro.launch measured; make one
 with :func:`simulate_gyro_calibration`, on another seed: another power-up of the
 same robot). The pi turn and the return then run on the corrected odometry with
@@ -34,18 +34,20 @@ import tempfile
 from collections import namedtuple
 from types import SimpleNamespace
 
-from .back_travel import ReturnRoute, make_controller
-from .geometry import distance
-from .gyro_calibration import CalibrationError, SpinCalibration
-from .heading_calibration import (STANDSTILL_DEFAULTS, CorrectedOdometry, HeadingCalibrator,
-                                  StandstillBias, correct_landmarks, no_correction,
-                                  standstill_complete, standstill_timeout)
+from ..core.back_travel import ReturnRoute, make_controller
+from ..core.geometry import distance
+from ..core.gyro_bias import (STANDSTILL_DEFAULTS, StandstillBias, standstill_complete,
+                              standstill_timeout)
+from ..core.gyro_calibration import CalibrationError, SpinCalibration
+from ..core.gyro_fit import GyroVisualFit
+from ..core.heading_correction import (CorrectedOdometry, correct_landmarks, estimate_correction,
+                                       no_correction, visual_bias)
+from ..core.recorder import PathRecorder
+from ..core.rotation import Rotation
+from ..core.segment import SamplingSchedule
+from ..core.store import LandmarkWriter, load_landmarks
 from .kobuki import SimulatedKobuki, load_profile, make_profile
 from .mission import load_mission
-from .recorder import PathRecorder
-from .rotation import Rotation
-from .segment import SamplingSchedule
-from .store import LandmarkWriter, load_landmarks
 from .visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 
 #: Harness settings (keyword arguments of :func:`run_mission`).
@@ -57,9 +59,9 @@ SIMULATION_DEFAULTS = {
     'settle_time': 2.0,        # s between the mission's end and the vision loss
     'handover_timeout': 0.1,   # s the last command holds after the last goal
     'stop_time': 2.0,          # s left for the robot to stop at the end
-    'heading_calibration': True,  # blind_navigation.launch's heading_correction (default on)
+    'heading_correction': True,  # blind_navigation.launch's heading_correction (default on)
     'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s, longest standstill after
-                               # vision loss measuring the gyro bias (with heading_calibration)
+                               # vision loss measuring the gyro bias (with heading_correction)
     'heading_budget': STANDSTILL_DEFAULTS['heading_budget'],  # rad: it ends earlier once the
                                # bias std x the recording's duration is within this
     'standstill_min': STANDSTILL_DEFAULTS['standstill_min'],  # s, but not before this
@@ -73,19 +75,19 @@ MissionResult = namedtuple('MissionResult', [
 MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
                          'samples, bytes (landmark file), position_error (m, ground truth), '
                          'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s), '
-                         'landmarks (as stored and read back), heading_correction (core/heading_calibration).')
+                         'landmarks (as stored and read back), heading_correction (core/heading_correction.GyroCorrection).')
 
 
 class _Run(object):
     """The robot, its clock and the recorded true path of one mission; while
-    ``calibrator`` is set, visual odometry and odometry feed it; once
+    ``fit`` is set, visual odometry and odometry feed it; once
     ``corrector`` is set, :meth:`odom` is the corrected odometry."""
 
-    def __init__(self, profile, seed, dt, calibrate=False):
+    def __init__(self, profile, seed, dt, correct_heading=False):
         self.base = SimulatedKobuki(profile, seed=seed)
         self.dt = dt
         self.path = []
-        self.calibrator = HeadingCalibrator() if calibrate else None
+        self.fit = GyroVisualFit() if correct_heading else None
         self.vision = DriftingOdometry(seed + 1, **VO_DRIFT_DEFAULTS)
         self.next_frame = 0.0
         self.corrector = None
@@ -97,31 +99,31 @@ class _Run(object):
         pose = self.base.true_pose
         if not self.path or distance(self.path[-1][0], self.path[-1][1], pose.x, pose.y) > 0.005:
             self.path.append((pose.x, pose.y))
-        if self.calibrator is not None:
-            self.calibrator.add_odometry(self.base.odom.stamp, self.base.odom.yaw)
+        if self.fit is not None:
+            self.fit.add_odometry(self.base.odom.stamp, self.base.odom.yaw)
             while self.next_frame <= self.base.t + 1e-9:   # as fake_vision clocks its frames
-                self.calibrator.add_visual(self.next_frame, self.vision.update(pose).yaw)
+                self.fit.add_visual(self.next_frame, self.vision.update(pose).yaw)
                 self.next_frame += 1.0 / VO_RATE
 
     def lose_vision(self, standstill, scale_prior):
-        """Vision fails: with calibration the robot stands still measuring the gyro
-        bias until core/heading_calibration.standstill_complete (``standstill``:
+        """Vision fails: with heading correction the robot stands still measuring the gyro
+        bias until core/gyro_bias.standstill_complete (``standstill``:
         its params), then the correction is estimated; the corrected frame starts
         where vision was lost."""
-        if self.calibrator is None:
-            self.corrector = CorrectedOdometry(no_correction('heading calibration off'))
+        if self.fit is None:
+            self.corrector = CorrectedOdometry(no_correction('heading correction off'))
             return self.corrector.correction
-        calibrator, self.calibrator = self.calibrator, None
+        fit, self.fit = self.fit, None
         reference = self.base.odom
         measurement = StandstillBias(standstill)
-        visual, _ = calibrator.visual_bias(scale_prior)
-        recording_time = calibrator.recording_time(reference.stamp)
+        visual, _ = visual_bias(fit, scale_prior)
+        recording_time = fit.recording_time(reference.stamp)
         timeout = reference.stamp + standstill_timeout(standstill)
         while not standstill_complete(visual, measurement, recording_time, standstill) \
                 and self.base.t < timeout:
             self.advance()
             measurement.add_odometry(self.base.odom)
-        correction = calibrator.estimate(measurement.estimate(), scale_prior)
+        correction = estimate_correction(fit, measurement.estimate(), scale_prior)
         self.corrector = CorrectedOdometry(correction)
         self.corrector.update(reference)
         return correction
@@ -211,7 +213,7 @@ def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0
     profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
     run = _Run(profile, seed, control_dt)
     spin = SpinCalibration(params)
-    run.calibrator = spin.calibrator
+    run.fit = spin.fit
     while not spin.done:
         command = spin.step(run.base.odom)
         if spin.failed:
@@ -241,7 +243,7 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
             'straight_period': settings['straight_period'],
             'stop_lead': settings['handover_timeout'] + profile['motor_time_constant'],
         })()
-    run = _Run(profile, seed, settings['control_dt'], settings['heading_calibration'])
+    run = _Run(profile, seed, settings['control_dt'], settings['heading_correction'])
     start = run.base.true_pose
     with tempfile.TemporaryDirectory(dir=store_dir) as directory:
         store_path = os.path.join(directory, 'landmarks.yaml')

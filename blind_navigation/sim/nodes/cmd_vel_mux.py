@@ -14,9 +14,9 @@ import rospy
 from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
-from blind_navigation.core.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
-from blind_navigation.ros_common import load_params
-from blind_navigation import subscription_watchdog
+from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
+from blind_navigation.ros.common import load_params
+from blind_navigation.ros import subscription_watchdog
 
 
 class CmdVelMuxNode(object):

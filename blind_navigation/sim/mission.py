@@ -26,7 +26,7 @@ import os
 
 import yaml
 
-from .geometry import wrap_angle
+from ..core.geometry import wrap_angle
 from .operator import Operator, operator_params
 
 MISSION_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'missions'))

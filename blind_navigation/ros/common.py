@@ -5,7 +5,7 @@ import rospy
 from geometry_msgs.msg import Twist
 
 from . import subscription_watchdog
-from .core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
+from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 
 #: Indices of the diagonal of a 6x6 row-major covariance (x, y, z, roll, pitch, yaw).
 COVARIANCE_DIAGONAL = (0, 7, 14, 21, 28, 35)
@@ -38,7 +38,7 @@ def odom_state_from_msg(msg):
 def odometry_lost_reason(msg):
     """Why a visual-odometry nav_msgs/Odometry means lost (RTAB-Map's convention,
     core/vision.vo_lost_reason), or None when it is valid."""
-    from .core.vision import vo_lost_reason  # here: core.vision loads numpy, most nodes need neither
+    from ..core.vision import vo_lost_reason  # here: core.vision loads numpy, most nodes need neither
     pose = msg.pose.pose
     return vo_lost_reason((pose.position.x, pose.position.y, pose.position.z),
                           (pose.orientation.x, pose.orientation.y, pose.orientation.z,

@@ -15,11 +15,11 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 
-from blind_navigation.core.kobuki import MAX_V, MAX_W, clamp
-from blind_navigation.core.mission import load_mission
+from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
+from blind_navigation.sim.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
-from blind_navigation.ros_common import load_params, odom_state_from_msg, twist
-from blind_navigation import subscription_watchdog
+from blind_navigation.ros.common import load_params, odom_state_from_msg, twist
+from blind_navigation.ros import subscription_watchdog
 
 STOP_MESSAGES = 3
 

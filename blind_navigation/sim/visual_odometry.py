@@ -8,7 +8,7 @@ not while standing). All draws come from ``seed``.
 import math
 import random
 
-from .geometry import Pose2D, wrap_angle
+from ..core.geometry import Pose2D, wrap_angle
 
 #: The fake TurtleBot's visual-odometry drift (fake_vision's defaults; the harness uses them too).
 VO_DRIFT_DEFAULTS = {'scale_error_std': 0.01, 'yaw_drift_per_metre': 0.005,

@@ -1,0 +1,127 @@
+"""The gyro's bias, measured for each mission.
+
+A gyro's bias changes at every power-up, so each mission measures its own:
+while recording, against visual odometry (core/gyro_fit.py), and after vision
+loss by standing still (:class:`StandstillBias`: the wheels say the robot is
+not moving and the gyro that it is not turning, so any heading change is the
+bias). The estimates are fused by inverse variance (:func:`fuse_bias`), and
+the standstill lasts only as long as the mission needs
+(:func:`standstill_complete`, :func:`standstill_timeout`). Visual odometry
+drifts a little with every metre, which limits it on short missions; the
+standstill is limited by the gyro's white noise (std noise / sqrt(samples)).
+"""
+import math
+from collections import namedtuple
+
+from .geometry import wrap_angle
+
+#: Defaults of the standstill bias measurement after vision loss (heading_correction node params).
+STANDSTILL_DEFAULTS = {
+    'standstill_time': 120.0,    # s, the longest standstill (0: none); bias std = gyro noise /
+                                 # sqrt(samples): 0.003 rad/s at 50 Hz -> 3.9e-5 rad/s after 120 s
+    'heading_budget': 0.005,     # rad: the standstill ends as soon as the bias is known so well
+                                 # that its std x the recording's duration is within this
+    'standstill_min': 5.0,       # s, the shortest: the gyro's noise, hence the std, is measured
+                                 # on the standstill itself, which needs a few hundred samples
+    'still_speed': 0.002,        # m/s, wheel speed below which the robot counts as still
+    'still_rate': 0.03,          # rad/s, gyro rate below which it counts as not turning
+    'still_settle': 0.5,         # s skipped at the start of each still spell
+}
+
+
+class BiasEstimate(namedtuple('BiasEstimate', 'bias std source')):
+    """One measurement of the gyro bias (rad/s) with its standard error and where it came from."""
+
+    __slots__ = ()
+
+
+def fuse_bias(estimates):
+    """Inverse-variance mean of :class:`BiasEstimate` s: (bias, std); (0, inf)
+    for none. Exact ones (std 0, e.g. a noiseless gyro standing still) win."""
+    exact = [e.bias for e in estimates if e.std == 0.0]
+    if exact:
+        return sum(exact) / len(exact), 0.0
+    weights = [(1.0 / (e.std * e.std), e.bias) for e in estimates if math.isfinite(e.std)]
+    if not weights:
+        return 0.0, float('inf')
+    total = sum(w for w, _ in weights)
+    return sum(w * b for w, b in weights) / total, math.sqrt(1.0 / total)
+
+
+class StandstillBias(object):
+    """Gyro bias measured while the robot stands still (after vision loss,
+    before the pi turn): the wheels say it is not moving (``|v| <=
+    still_speed``) and the gyro that it is not turning (``|w| <=
+    still_rate``), so any heading change is the bias. The first ``settle``
+    seconds of each still spell are skipped (the base is still stopping).
+    ``params``: any object with the attributes of :data:`STANDSTILL_DEFAULTS`.
+    The estimate is the heading change over the time still; its standard
+    error comes from the spread of the per-sample rates."""
+
+    def __init__(self, params=None):
+        self.still_speed, self.still_rate, self.settle = (
+            float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
+            for name in ('still_speed', 'still_rate', 'still_settle'))
+        self.duration = 0.0        # s counted so far
+        self._turned = 0.0         # rad of heading change over that time
+        self._rates = [0, 0.0, 0.0]  # per-interval rates: count, sum, sum of squares
+        self._last = None          # last still OdomState
+        self._still_since = None   # stamp the current still spell began
+
+    def add_odometry(self, state):
+        """One OdomState (stamp in s); motion ends the current spell."""
+        if abs(state.v) > self.still_speed or abs(state.w) > self.still_rate:
+            self._last = self._still_since = None
+            return
+        if self._still_since is None:
+            self._still_since = state.stamp
+        last, self._last = self._last, state
+        if last is None or state.stamp <= last.stamp or last.stamp - self._still_since < self.settle:
+            return
+        dt = state.stamp - last.stamp
+        turned = wrap_angle(state.yaw - last.yaw)
+        self.duration += dt
+        self._turned += turned
+        rate = turned / dt
+        self._rates = [self._rates[0] + 1, self._rates[1] + rate, self._rates[2] + rate * rate]
+
+    def estimate(self):
+        """:class:`BiasEstimate`, or None before two intervals were counted."""
+        n, total, squares = self._rates
+        if n < 2:
+            return None
+        spread = max(squares - total * total / n, 0.0) / (n - 1)
+        return BiasEstimate(self._turned / self.duration, math.sqrt(spread / n),
+                            'standstill %.1f s' % self.duration)
+
+
+def standstill_complete(visual, standstill, recording_time, params=None):
+    """True once the standstill after vision loss may end: it lasted
+    ``standstill_time``, or at least ``standstill_min`` and the bias, the
+    standstill's fused with ``visual`` (the visual-odometry estimate at vision
+    loss, core/heading_correction.visual_bias, or None), is known well enough for this mission: ``bias std x
+    recording_time <= heading_budget`` (rad). The landmarks' headings are
+    corrected back over the recording, and the return takes about as long (the
+    standstill itself adds nothing: its drift is what it measures). A short
+    mission needs little, a long one up to ``standstill_time``; a noiseless gyro
+    none. ``params``: as :data:`STANDSTILL_DEFAULTS`."""
+    longest, shortest, budget = (float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
+                                 for name in ('standstill_time', 'standstill_min', 'heading_budget'))
+    if standstill.duration >= longest - 1e-9:
+        return True
+    measured = standstill.estimate()
+    if standstill.duration < shortest - 1e-9 or measured is None:
+        return False
+    _, std = fuse_bias([e for e in (visual, measured) if e is not None])
+    return std * max(recording_time, 0.0) <= budget
+
+
+def standstill_timeout(params=None):
+    """s after vision loss at which the standstill ends even if the robot kept
+    moving: ``standstill_timeout`` when set, else 2 x ``standstill_time`` + 5."""
+    timeout = getattr(params, 'standstill_timeout', None)
+    if timeout is None:
+        return 2.0 * float(getattr(params, 'standstill_time',
+                                   STANDSTILL_DEFAULTS['standstill_time'])) + 5.0
+    return float(timeout)
+

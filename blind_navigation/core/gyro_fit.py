@@ -1,0 +1,177 @@
+"""Gyro yaw against visual-odometry yaw: the least-squares fit behind both the
+one-off gyro calibration (core/gyro_calibration.py) and the bias estimated
+while a mission records (core/heading_correction.py).
+
+The back travel tracks the recorded route on wheel/gyro odometry, whose heading
+is the integrated gyro: it turns with the gyro's bias ``b`` (rad/s) and its
+scale error ``s`` (measured rate = (1 + s) true rate + b). While vision works,
+visual odometry (RTAB-Map's) observes the same yaw without those errors (it
+drifts with motion instead, not with time).
+
+:class:`GyroVisualFit` cuts the data into windows of ``window`` seconds between
+visual-odometry samples, each giving the gyro's yaw increment (odometry yaw
+interpolated at the VO stamps) and VO's over the same interval; windows that
+contain a lost VO message or a gap longer than ``max_gap`` are not used. The
+model is ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (visual-odometry drift is a
+random walk, so the increments of separate windows are independent);
+:func:`robust_fit` solves it by least squares, with one pass that drops windows
+whose residual is beyond ``outlier_k`` robust standard deviations (a VO jump),
+and gives ``b``, ``s`` and their standard errors.
+"""
+import math
+from collections import deque
+
+from .geometry import wrap_angle
+from .gyro_bias import BiasEstimate
+
+#: Parameters of the fit (window s, max_gap s, min_windows count, outlier_k robust std).
+GYRO_FIT_DEFAULTS = {
+    'window': 2.0,               # s, length of one yaw-increment window
+    'max_gap': 0.5,              # s, a longer gap between samples breaks the window
+    'min_windows': 10,           # fewer usable windows: no visual-odometry estimate
+    'outlier_k': 5.0,            # windows beyond this many robust std of the residuals are dropped
+}
+
+#: How much odometry history is kept to interpolate at visual-odometry stamps, s.
+HISTORY = 5.0
+#: Visual-odometry samples kept while waiting for odometry to cover their stamps.
+MAX_PENDING = 300
+
+
+class GyroVisualFit(object):
+    """Collects odometry (gyro) yaw and visual-odometry yaw as they come and keeps
+    one row ``(gyro increment, VO increment, dt)`` per window (module
+    docstring). ``params``: any object with the attributes of
+    :data:`GYRO_FIT_DEFAULTS` (missing ones default)."""
+
+    def __init__(self, params=None):
+        for name, default in GYRO_FIT_DEFAULTS.items():
+            setattr(self, name, float(getattr(params, name, default)))
+        if self.window <= 0 or self.max_gap <= 0 or self.min_windows < 3:
+            raise ValueError('gyro fit: need window > 0, max_gap > 0, min_windows >= 3 '
+                             '(window %r, max_gap %r, min_windows %r)'
+                             % (self.window, self.max_gap, self.min_windows))
+        self.rows = []              # (gyro increment, VO increment, dt) per window
+        self._first_stamp = None    # of the first odometry
+        self._odom = deque()        # (stamp, unwrapped gyro yaw)
+        self._pending = deque()     # (stamp, VO yaw or None) not yet covered by odometry
+        self._last_vo = None        # (stamp, unwrapped VO yaw, wrapped VO yaw) of the last sample
+        self._start = None          # (stamp, VO yaw, gyro yaw) where the current window began
+
+    def add_odometry(self, stamp, yaw):
+        """A raw odometry yaw (rad) at ``stamp`` (s)."""
+        if self._odom and stamp <= self._odom[-1][0]:
+            return
+        if self._first_stamp is None:
+            self._first_stamp = stamp
+        unwrapped = yaw if not self._odom else self._odom[-1][1] + wrap_angle(yaw - self._last_yaw)
+        self._last_yaw = yaw
+        self._odom.append((stamp, unwrapped))
+        while len(self._odom) > 2 and self._odom[1][0] < stamp - HISTORY:
+            self._odom.popleft()
+        self._process()
+
+    def add_visual(self, stamp, yaw):
+        """A visual-odometry yaw (rad) at ``stamp``; ``yaw`` None when VO is lost."""
+        self._pending.append((stamp, yaw))
+        while len(self._pending) > MAX_PENDING:   # no odometry is covering them
+            self._pending.popleft()
+        self._process()
+
+    def _gyro_at(self, stamp):
+        """Gyro yaw interpolated at ``stamp``, None if not bracketed closely enough."""
+        samples = self._odom
+        if not samples or stamp < samples[0][0]:
+            return None
+        for (ta, ya), (tb, yb) in zip(reversed(list(samples)[:-1]), reversed(samples)):
+            if ta <= stamp <= tb:
+                if tb - ta > self.max_gap:
+                    return None
+                return ya if tb == ta else ya + (yb - ya) * (stamp - ta) / (tb - ta)
+        return samples[-1][1] if stamp == samples[-1][0] else None
+
+    def _process(self):
+        while self._pending and self._odom and self._pending[0][0] <= self._odom[-1][0]:
+            stamp, yaw = self._pending.popleft()
+            self._visual_sample(stamp, yaw, self._gyro_at(stamp))
+
+    def _visual_sample(self, stamp, yaw, gyro):
+        last = self._last_vo
+        if yaw is None or gyro is None or (last is not None and stamp <= last[0]):
+            self._last_vo = self._start = None
+            return
+        if last is None or stamp - last[0] > self.max_gap:
+            unwrapped, self._start = yaw, None
+        else:
+            unwrapped = last[1] + wrap_angle(yaw - last[2])
+        self._last_vo = (stamp, unwrapped, yaw)
+        if self._start is None:
+            self._start = (stamp, unwrapped, gyro)
+        elif stamp - self._start[0] >= self.window - 1e-9:
+            t0, vo0, gyro0 = self._start
+            self.rows.append((gyro - gyro0, unwrapped - vo0, stamp - t0))
+            self._start = (stamp, unwrapped, gyro)
+
+    def recording_time(self, until):
+        """s from the first odometry fed (when the recording began) to ``until``; 0 before any."""
+        return 0.0 if self._first_stamp is None else until - self._first_stamp
+
+    def visual_bias(self, fixed_scale=None):
+        """(:class:`BiasEstimate` from the windows, windows used); None with fewer
+        than ``min_windows``. ``fixed_scale`` None: the scale is fitted along with
+        the bias (as a nuisance: an uncorrected scale error in the turns would
+        bias the bias), not returned; else the bias is fitted with the scale held
+        at ``fixed_scale``."""
+        rows = list(self.rows)
+        if len(rows) < self.min_windows:
+            return None, len(rows)
+        fit = robust_fit(rows, True, self.outlier_k) if fixed_scale is None else None
+        if fit is None:
+            scale = fixed_scale or 0.0
+            fit = robust_fit([(g - scale * v, v, dt) for g, v, dt in rows], False, self.outlier_k)
+        bias, _, std, _, used = fit
+        return BiasEstimate(bias, std, 'visual odometry'), used
+
+
+def _fit(rows, with_scale):
+    """Least squares of ``gyro - vo = s vo + b dt``; (b, s, std_b, std_s, residuals)
+    or None when singular. Without scale, s = 0 and std_s = inf."""
+    n = len(rows)
+    ys = [g - v for g, v, _ in rows]
+    stt = sum(dt * dt for _, _, dt in rows)
+    sty = sum(dt * y for (_, _, dt), y in zip(rows, ys))
+    if not with_scale:
+        bias = sty / stt
+        residuals = [y - bias * dt for (_, _, dt), y in zip(rows, ys)]
+        sigma2 = sum(r * r for r in residuals) / max(n - 1, 1)
+        return bias, 0.0, math.sqrt(sigma2 / stt), float('inf'), residuals
+    svv = sum(v * v for _, v, _ in rows)
+    svt = sum(v * dt for _, v, dt in rows)
+    svy = sum(v * y for (_, v, _), y in zip(rows, ys))
+    det = svv * stt - svt * svt
+    if det <= 1e-12 * svv * stt or svv <= 0.0:
+        return None
+    scale = (stt * svy - svt * sty) / det
+    bias = (svv * sty - svt * svy) / det
+    residuals = [y - scale * v - bias * dt for (_, v, dt), y in zip(rows, ys)]
+    sigma2 = sum(r * r for r in residuals) / max(n - 2, 1)
+    return bias, scale, math.sqrt(sigma2 * svv / det), math.sqrt(sigma2 * stt / det), residuals
+
+
+def robust_fit(rows, with_scale, outlier_k):
+    """:func:`_fit`, then again without the windows whose residual exceeds
+    ``outlier_k`` x 1.4826 x the median absolute residual. Returns
+    (b, s, std_b, std_s, windows used) or None when singular."""
+    fit = _fit(rows, with_scale)
+    if fit is None:
+        return None
+    residuals = fit[4]
+    spread = 1.4826 * sorted(abs(r) for r in residuals)[len(residuals) // 2]
+    if spread > 0.0:
+        kept = [row for row, r in zip(rows, residuals) if abs(r) <= outlier_k * spread]
+        if len(kept) < len(rows) and len(kept) >= 3:
+            rows, fit = kept, _fit(kept, with_scale)
+            if fit is None:
+                return None
+    return fit[0], fit[1], fit[2], fit[3], len(rows)
+

@@ -1,0 +1,198 @@
+"""The heading correction of the return: which gyro errors to correct, and the
+corrected odometry frame the pi turn and the return drive on.
+
+* :func:`estimate_correction` decides the :class:`GyroCorrection` of a
+  mission: the bias, fused from visual odometry while recording
+  (core/gyro_fit.py) and the standstill after vision loss (core/gyro_bias.py),
+  and the scale error from the gyro's one-off calibration
+  (core/gyro_calibration.py), not from the mission: its path turns too little,
+  and visual odometry's drift in a few turns can pass for a scale error.
+  Without a calibration the scale is not corrected.
+* A term is used only when it is significant (more than ``significance``
+  standard errors from zero; sqrt 2 is the break-even: correcting by an
+  estimate of standard error sigma leaves an error of variance sigma^2, not
+  correcting leaves the term itself, whose square is estimated without bias
+  by estimate^2 - sigma^2) and the bias only when sane (``|b| <= max_bias``).
+  The calibrated scale needs ``scale_significance`` standard errors: it is one
+  measurement applied to every mission until the next calibration, so a chance
+  false positive would bias them all (sqrt 2 would pass one perfect gyro in
+  six).
+* :class:`CorrectedOdometry` turns the raw odometry stream into the corrected
+  frame: heading increments ``(dpsi - b dt) / (1 + s)``, position increments
+  rotated by the heading correction accumulated so far, turn rate
+  ``(w - b) / (1 + s)``. The frame coincides with the raw one at its first
+  sample (the reference: where the return starts, i.e. where recording stopped).
+* :func:`correct_landmarks` expresses recorded landmarks in that same frame:
+  each ``psi`` gets the correction the corrected frame would have had at the
+  landmark's time (landmark times from the ``T`` chain, the last landmark at the
+  reference), ``w`` the corrected rate. The landmark file is not changed.
+
+Plain Python, used by the heading_correction node, back_travel_client and the
+simulation harness alike.
+"""
+import math
+from collections import namedtuple
+
+from .geometry import OdomState, wrap_angle
+from .gyro_bias import fuse_bias
+
+#: Parameters of the decision (max_bias rad/s, max_scale, significance and
+#: scale_significance in standard errors).
+CORRECTION_DEFAULTS = {
+    'max_bias': 0.01,            # rad/s, a larger bias estimate is rejected (Kobuki gyro: ~6e-4)
+    'max_scale': 0.05,           # a larger |scale error| estimate is rejected
+    'significance': math.sqrt(2.0),  # a term is used only if |estimate| > this many standard errors
+    'scale_significance': 3.0,   # the same for the calibrated scale (core/gyro_calibration.py)
+}
+
+
+class GyroCorrection(namedtuple('GyroCorrection',
+                                 'bias scale bias_std scale_std windows status reason')):
+    """Estimated gyro ``bias`` (rad/s) and ``scale`` error (fraction) with their
+    standard errors; ``windows`` used; ``status`` ``full`` | ``bias`` | ``scale`` | ``none``;
+    ``reason`` says why a term was left out."""
+
+    __slots__ = ()
+
+    @property
+    def applied(self):
+        return self.status != 'none'
+
+    def increment(self, raw_increment, dt):
+        """True yaw increment for a raw (gyro) one over ``dt`` seconds."""
+        return (raw_increment - self.bias * dt) / (1.0 + self.scale)
+
+    def rate(self, raw_rate):
+        """True turn rate for a raw (gyro) one."""
+        return (raw_rate - self.bias) / (1.0 + self.scale)
+
+    def describe(self):
+        text = '%s: bias %.2e +- %.1e rad/s, scale %+.4f +- %.4f over %d windows' % (
+            self.status, self.bias, self.bias_std, self.scale, self.scale_std, self.windows)
+        return text + ('; ' + self.reason if self.reason else '')
+
+
+def no_correction(reason, windows=0):
+    """The identity correction (status ``none``) with its reason."""
+    return GyroCorrection(0.0, 0.0, float('inf'), float('inf'), windows, 'none', reason)
+
+
+
+def _param(params, name):
+    return float(getattr(params, name, CORRECTION_DEFAULTS[name]))
+
+
+def calibrated_scale(prior, params=None, notes=None):
+    """(scale, std) to correct by: the calibrated ``prior`` (a
+    core/gyro_calibration.GyroCalibration, or None) when significant, else
+    (0, inf) with the reason appended to ``notes``. A mission's own turns do not
+    give it: they are few, and visual odometry's drift in them passed for a
+    scale error on a perfect gyro (an S-curve on the fake: -0.0093 +- 0.0024)."""
+    notes = [] if notes is None else notes
+    if prior is None:
+        notes.append('no gyro calibration: scale not corrected (calibrate_gyro.launch)')
+        return 0.0, float('inf')
+    if abs(prior.scale) <= _param(params, 'scale_significance') * prior.scale_std:
+        notes.append('calibrated scale %+.4f not significant (std %.4f)'
+                     % (prior.scale, prior.scale_std))
+        return 0.0, float('inf')
+    return prior.scale, prior.scale_std
+
+
+def visual_bias(fit, scale_prior=None, params=None):
+    """(BiasEstimate, windows) of the visual-odometry windows of ``fit``
+    (core/gyro_fit.GyroVisualFit) with the scale held at the calibrated one, or
+    fitted along as a nuisance without a calibration."""
+    fixed = None if scale_prior is None else calibrated_scale(scale_prior, params)[0]
+    return fit.visual_bias(fixed)
+
+
+def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
+    """The :class:`GyroCorrection` the data support (see module docstring).
+
+    ``fit``: the recording's core/gyro_fit.GyroVisualFit; ``standstill``: a
+    BiasEstimate from core/gyro_bias.StandstillBias (or None), fused with the
+    visual-odometry bias by inverse variance; ``scale_prior``: the gyro's
+    calibrated scale error (a core/gyro_calibration.GyroCalibration, or None);
+    ``params``: as :data:`CORRECTION_DEFAULTS`."""
+    notes = []
+    scale, scale_std = calibrated_scale(scale_prior, params, notes)
+    visual, used = visual_bias(fit, scale_prior, params)
+    if visual is None:
+        notes.append('only %d windows with valid visual odometry (need %d)'
+                     % (used, int(fit.min_windows)))
+    bias, bias_std = fuse_bias([e for e in (visual, standstill) if e is not None])
+    problem = _bias_problem(bias, bias_std, params) if math.isfinite(bias_std) else \
+        'no bias measurement'
+    if problem:
+        notes.insert(0, problem)
+        bias, bias_std = 0.0, float('inf')
+    status = {(True, True): 'full', (True, False): 'bias',
+              (False, True): 'scale', (False, False): 'none'}[(not problem, scale != 0.0)]
+    return GyroCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
+
+
+def _bias_problem(bias, bias_std, params):
+    """Why the bias estimate is not used, or None."""
+    max_bias = _param(params, 'max_bias')
+    if abs(bias) > max_bias:
+        return 'bias estimate %.2e rad/s beyond %.2e' % (bias, max_bias)
+    if abs(bias) <= _param(params, 'significance') * bias_std:
+        return 'bias %.2e rad/s not significant (std %.1e)' % (bias, bias_std)
+    return None
+
+
+class CorrectedOdometry(object):
+    """Raw odometry -> the corrected frame of ``correction`` (module docstring).
+    The frame equals the raw one at the first state given to :meth:`update`."""
+
+    def __init__(self, correction):
+        self.correction = correction
+        self._last = None
+        self._raw_yaw = self._yaw = self._x = self._y = 0.0
+        self.state = None
+
+    def update(self, odom):
+        """Corrected OdomState for the raw OdomState ``odom`` (stamps in s)."""
+        last = self._last
+        if last is None:
+            self._raw_yaw, self._yaw, self._x, self._y = odom.yaw, odom.yaw, odom.x, odom.y
+        else:
+            turned = wrap_angle(odom.yaw - last.yaw)
+            offset_before = self._yaw - self._raw_yaw
+            self._raw_yaw += turned
+            self._yaw += self.correction.increment(turned, odom.stamp - last.stamp)
+            offset = (offset_before + self._yaw - self._raw_yaw) / 2.0
+            dx, dy = odom.x - last.x, odom.y - last.y
+            c, s = math.cos(offset), math.sin(offset)
+            self._x += c * dx - s * dy
+            self._y += s * dx + c * dy
+        self._last = odom
+        self.state = OdomState(self._x, self._y, wrap_angle(self._yaw), odom.v,
+                               self.correction.rate(odom.w), odom.stamp)
+        return self.state
+
+
+def correct_landmarks(landmarks, correction, reference_yaw=None):
+    """``landmarks`` (recording order, raw odometry frame) in the corrected frame
+    whose reference is the last landmark (where recording stopped; raw yaw
+    ``reference_yaw`` there, default the last landmark's ``psi``). Landmark k
+    was taken ``sum(T of the landmarks after k)`` seconds before the reference;
+    its heading gets the correction accumulated back to then."""
+    landmarks = list(landmarks)
+    if not correction.applied or not landmarks:
+        return landmarks
+    last = landmarks[-1]
+    turned = wrap_angle(last.psi - (last.psi if reference_yaw is None else reference_yaw))
+    before = 0.0                  # s between landmark k and the reference
+    corrected = []
+    for index in range(len(landmarks) - 1, -1, -1):
+        landmark = landmarks[index]
+        if index < len(landmarks) - 1:
+            newer = landmarks[index + 1]
+            before += newer.T
+            turned += wrap_angle(landmark.psi - newer.psi)
+        # raw yaw relative to the reference = turned; corrected = increment(turned, -before)
+        psi = landmark.psi - turned + correction.increment(turned, -before)
+        corrected.append(landmark._replace(w=correction.rate(landmark.w), psi=wrap_angle(psi)))
+    return corrected[::-1]

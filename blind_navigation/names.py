@@ -1,0 +1,54 @@
+"""Every topic, service and action name of the layer, in one place.
+
+The names are relative: ROS resolves them in the node's namespace, so the
+layer (and the fake TurtleBot) move under a robot's namespace with
+``<group ns="robot1">``, and each one can be remapped as in any ROS package
+(``<remap from="odom" to="/my_robot/odom"/>``). In the root namespace they are
+the names of INTERFACE.md: ``/odom``, ``/blind_navigation/vision_lost``, ...
+Only ``/clock`` is global.
+"""
+
+# --- the robot's topics the layer reads or drives (TurtleBot2 / Kobuki / RTAB-Map names)
+#: nav_msgs/Odometry, wheel(+gyro) odometry: the source that survives vision loss
+ODOM = 'odom'
+#: geometry_msgs/Twist the pi turn and the back travel drive (a cmd_vel_mux input, as in the paper)
+CMD_VEL = 'cmd_vel_mux/input/teleop'
+#: geometry_msgs/Pose2D, the paper's yaw source (sampling_publisher with yaw_source pose2d)
+POSE2D = 'pose2d'
+#: sensor_msgs/Image of the RGB camera (vision-loss detection)
+CAMERA = 'camera/rgb/image_rect_color'
+#: nav_msgs/Odometry of RTAB-Map's visual odometry (heading correction, detection)
+VO_ODOM = 'rtabmap/odom'
+#: rtabmap_ros/OdomInfo (detection: its ``lost`` flag)
+VO_ODOM_INFO = 'rtabmap/odom_info'
+#: Kobuki's safety events (kobuki_msgs/BumperEvent, CliffEvent, WheelDropEvent)
+SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
+                 'cliff': 'mobile_base/events/cliff',
+                 'wheel_drop': 'mobile_base/events/wheel_drop'}
+
+# --- the layer's own names (INTERFACE.md)
+#: std_msgs/Empty: vision has failed
+VISION_LOST = 'blind_navigation/vision_lost'
+#: std_msgs/String, latched: the mission state (core/mission_state.py)
+STATE = 'blind_navigation/state'
+#: nav_msgs/Path for RViz: the path recorded so far, the return driven so far
+RECORDED_PATH = 'blind_navigation/recorded_path'
+RETURN_PATH = 'blind_navigation/return_path'
+#: action blind_navigation/BackTravel: one landmark per goal
+BACK_TRAVEL = 'blind_navigation/back_travel'
+#: service blind_navigation/RecordLandmark: the paper's service recorder
+RECORD_LANDMARK = 'blind_navigation/record_landmark'
+
+# --- the layer's internal hand-overs
+#: blind_navigation/PathSample: sampling publisher -> saver / record client / rotate_pi
+SAMPLE = 'blind_navigation/sample'
+#: blind_navigation/StorageUsage: what the recorded file holds so far
+STORAGE = 'blind_navigation/storage'
+#: std_msgs/Bool: rotate_pi -> back_travel_client, the pi turn ended (true) or failed
+ROTATION_DONE = 'blind_navigation/rotation_done'
+#: service blind_navigation/SetReturnRoute: back_travel_client -> back_travel_server
+SET_RETURN_ROUTE = 'blind_navigation/set_return_route'
+#: blind_navigation/HeadingCorrection, latched: the gyro correction of the return
+HEADING_CORRECTION = 'blind_navigation/heading_correction'
+#: nav_msgs/Odometry in the heading-corrected frame, for the turn and the return
+ODOM_CORRECTED = 'blind_navigation/odom_corrected'
