@@ -1,4 +1,5 @@
-"""Small rospy glue shared by the nodes: params, message conversions, Twist."""
+"""Small rospy glue shared by every node (the layer's and the fake TurtleBot's):
+params, watched subscriptions, message conversions, Twist."""
 import math
 
 import rospy
@@ -11,16 +12,23 @@ from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 COVARIANCE_DIAGONAL = (0, 7, 14, 21, 28, 35)
 
 
-def load_params(defaults):
-    """Read each ``~name`` private param, falling back to ``defaults[name]``.
+def load_params(defaults, namespace='~'):
+    """Read each param ``namespace + name`` (private ``~name`` by default, ``~role/name``
+    for a role hosted with others in one process), falling back to ``defaults[name]``.
 
     Returns a plain object with one attribute per param and logs the values, so
     every node documents and reads its params the same way.
     """
-    values = {name: rospy.get_param('~' + name, default) for name, default in defaults.items()}
-    rospy.loginfo('%s params: %s', rospy.get_name(),
+    values = {name: rospy.get_param(namespace + name, default) for name, default in defaults.items()}
+    rospy.loginfo('%s params%s: %s', rospy.get_name(), '' if namespace == '~' else ' ' + namespace,
                   ', '.join('%s=%r' % item for item in sorted(values.items())))
     return type('Params', (object,), values)()
+
+
+def subscribe(topic, data_class, callback, **options):
+    """``rospy.Subscriber`` whose registration the subscription watchdog checks
+    (a publisher registering at the same moment is not missed)."""
+    return subscription_watchdog.watch(rospy.Subscriber(topic, data_class, callback, **options))
 
 
 def odom_state_from_msg(msg):
@@ -65,14 +73,12 @@ def twist(v=0.0, w=0.0):
     return msg
 
 
-def start_node(name, node_class):
-    """``rospy.init_node(name)`` then ``node_class()``; a ValueError from the
-    constructor (a bad param) is logged as fatal and exits with status 1. Every
-    node gets the subscription watchdog (missed registrations are healed)."""
+def start_node(name, node_class, *args):
+    """``rospy.init_node(name)`` then ``node_class(*args)``; a ValueError from the
+    constructor (a bad param) is logged as fatal and exits with status 1."""
     rospy.init_node(name)
-    subscription_watchdog.start()
     try:
-        return node_class()
+        return node_class(*args)
     except ValueError as error:
         rospy.logfatal('%s: %s', rospy.get_name(), error)
         raise SystemExit(1)

@@ -24,6 +24,8 @@ def wait_for(condition, message, timeout=WALL_TIMEOUT):
 
 
 def subscribers_of(topic):
+    """Nodes subscribed to ``topic`` (resolved in this node's namespace)."""
+    topic = rospy.resolve_name(topic)
     _, subscribers, _ = rosgraph.Master(CALLER).getSystemState()
     return {node for name, nodes in subscribers if name == topic for node in nodes}
 
