@@ -28,7 +28,7 @@ import yaml
 from .gyro_fit import GyroVisualFit, robust_fit
 from .heading_correction import CORRECTION_DEFAULTS
 from .rotation import Rotation
-from .store import write_atomically
+from .files import write_atomically
 
 #: Defaults; the calibrate_gyro node exposes each one as a ~private param.
 SPIN_DEFAULTS = {

@@ -5,15 +5,18 @@
 - ``d``: distance from the previous landmark's position, m
 - ``T``: sampling period in force when the landmark was taken, s
 - ``psi``: yaw, rad
+
+The limits a landmark must respect (the base's speeds, and ``d`` against what
+the base can cover in ``T``) are core/plausibility.Limits.
 """
 import math
 from collections import namedtuple
 
-FIELDS = ('v', 'w', 'd', 'T', 'psi')
+from .plausibility import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 
-#: Kobuki's velocity limits (kobuki_node): 0.7 m/s, pi rad/s.
-KOBUKI_MAX_V = 0.7
-KOBUKI_MAX_W = math.pi
+__all__ = ['FIELDS', 'KOBUKI_MAX_V', 'KOBUKI_MAX_W', 'Landmark', 'Limits', 'landmark_from_values']
+
+FIELDS = ('v', 'w', 'd', 'T', 'psi')
 
 
 class Landmark(namedtuple('Landmark', FIELDS)):
@@ -25,16 +28,13 @@ class Landmark(namedtuple('Landmark', FIELDS)):
         return [float(value) for value in self]
 
 
-Limits = namedtuple('Limits', 'max_v max_w')
-Limits.__new__.__defaults__ = (KOBUKI_MAX_V, KOBUKI_MAX_W)
-Limits.__doc__ = 'Largest |v| (m/s) and |w| (rad/s) a landmark may carry.'
-
-
 def landmark_from_values(values, limits=Limits()):
     """Build a Landmark from five numbers, or raise ValueError naming the bad field.
 
     Refused: not exactly five numbers, booleans, NaN/Inf, negative ``d``,
-    ``T <= 0``, ``|v|`` or ``|w|`` beyond ``limits``, ``|psi| > pi``.
+    ``T <= 0``, ``|v|`` or ``|w|`` beyond ``limits`` (+ their margin), ``d``
+    farther than the base can go in ``T`` (:meth:`Limits.distance_problem`),
+    ``|psi| > pi``.
     """
     if not isinstance(values, (list, tuple)) or len(values) != len(FIELDS):
         raise ValueError('data must be a list of five numbers [v, w, d, T, psi], got %r' % (values,))
@@ -50,10 +50,10 @@ def landmark_from_values(values, limits=Limits()):
         raise ValueError('d is negative: %r' % landmark.d)
     if landmark.T <= 0.0:
         raise ValueError('T must be positive: %r' % landmark.T)
-    if abs(landmark.v) > limits.max_v:
-        raise ValueError('|v| = %g exceeds the limit %g m/s' % (abs(landmark.v), limits.max_v))
-    if abs(landmark.w) > limits.max_w:
-        raise ValueError('|w| = %g exceeds the limit %g rad/s' % (abs(landmark.w), limits.max_w))
+    problem = (limits.twist_problem(landmark.v, landmark.w)
+               or limits.distance_problem(landmark.d, landmark.T))
+    if problem:
+        raise ValueError(problem)
     if abs(landmark.psi) > math.pi + 1e-6:
         raise ValueError('psi = %g is outside [-pi, pi]' % landmark.psi)
     return landmark

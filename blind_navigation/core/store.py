@@ -3,29 +3,64 @@
 Format (see INTERFACE.md), readable by PyYAML and by yaml-cpp::
 
     # comment lines
-    blind_navigation: {format: 1, fields: [v, w, d, T, psi], started: '...'}
+    blind_navigation: {format: 1, fields: [v, w, d, T, psi], mission: '...', ...}
     landmark_000001: {data: [0.0861, 0.0012, 0.1718, 2.0, 0.0131]}
     landmark_000002: {data: [0.0859, 0.0964, 0.0862, 1.0, 0.061]}
+    gap_1: {before: landmark_000003, reason: '...'}
+    landmark_000003: {data: [0.0901, 0.0, 0.1802, 2.0, 0.0608]}
+    finished: {landmarks: 3, lost: 0}
 
-Writing: each landmark is one line, written, flushed and (optionally) fsynced
-before ``append`` returns, so a killed writer loses at most the landmark in
-flight. A torn last line (no newline, or unparsable) is dropped on load and
-reported. A mission is never written over an earlier mission's file:
-:func:`start_mission_file` creates a new time-stamped file and points the
-configured ``landmark_file`` name at it with a symlink.
+Writing (:class:`LandmarkWriter`): each landmark is one line, written with
+``os.write`` and (optionally) fsynced before ``append`` returns, so a killed
+writer loses at most the landmark in flight. A failed write (ENOSPC, EIO, ...)
+raises core/files.StorageError naming the file, the label and the errno text
+and counting the landmarks lost; the half-written line is cut off again, so
+the file stays a sequence of whole lines, and the next append starts on a
+clean line boundary or fails cleanly. A lost landmark's label is not reused:
+the hole in the numbering marks the loss in the file itself.
+
+Gaps in the ``d`` chain: ``d`` is measured from the previous landmark's
+position, which is in no file. When the chain breaks (the recorder restarted
+mid-mission, or the odometry re-anchored after a discontinuity), the writer
+writes a ``gap_<n>`` entry before the next landmark: that landmark measures
+``d`` from where the robot was when recording resumed, not from the previous
+landmark. :func:`load_landmarks` reports every gap (those entries and holes
+in the numbering) in :attr:`LoadedPath.gaps`: the return must know them.
+
+Mission files: a mission is never written over an earlier mission's file.
+:func:`open_mission_file` continues the current mission's file after a
+restart (same ``mission`` id in its header, recording not finished) or starts
+a new time-stamped file and points the configured ``landmark_file`` name at it
+with a symlink. A ``landmark_file`` that is neither a regular file nor a
+symlink (e.g. a directory), or a symlink to something that is not a regular
+file, is refused by name. A torn last line (no newline, or unparsable) is
+dropped on load and reported; on resume it is cut off the file.
 """
 import datetime
 import os
 import re
+import stat
+from collections import namedtuple
 
 import yaml
 
+from .files import (NotRegularFileError, StorageError, describe_mode, fsync_directory,
+                    read_regular_file, replace_with_symlink, write_all)
 from .landmark import FIELDS, Limits, landmark_from_values
 
 LABEL_PREFIX = 'landmark_'
 LABEL_RE = re.compile(r'^landmark_(\d+)$')
+GAP_RE = re.compile(r'^gap_(\d+)$')
 METADATA_KEY = 'blind_navigation'
+FINISHED_KEY = 'finished'
 FORMAT_VERSION = 1
+#: Largest landmark file read (about 300 hours of recording at 1 landmark/s).
+MAX_FILE_BYTES = 64 << 20
+#: Kinds of entry line the writer makes (a torn one is dropped on load).
+_OWN_LINES = (LABEL_PREFIX, 'gap_', FINISHED_KEY + ':')
+#: Why a restarted recorder's first landmark breaks the d chain.
+RESTART_GAP = ('the recorder restarted mid-mission: this landmark measures d from where the robot '
+               'was at the restart, not from the previous landmark')
 
 
 class LandmarkFileError(Exception):
@@ -58,50 +93,195 @@ def format_entry(label, landmark):
     return '%s: {data: [%s]}\n' % (label, ', '.join(format_number(v) for v in landmark))
 
 
-class LandmarkWriter(object):
-    """Appends landmarks to a new file, one durable line each.
+def _flow_line(key, value):
+    """``key: {...}`` on one line (YAML flow style)."""
+    return '%s: %s' % (key, yaml.safe_dump(value, default_flow_style=True, width=1 << 30))
 
-    The file must not exist yet (an earlier mission is never overwritten).
+
+Gap = namedtuple('Gap', 'before reason')
+Gap.__doc__ = ('A break in the d chain: ``before`` is the label of the first landmark after it '
+               '(its d does not start at the previous landmark), ``reason`` says why.')
+
+ResumeInfo = namedtuple('ResumeInfo', 'landmarks dropped warnings gap')
+ResumeInfo.__doc__ = ('What :meth:`LandmarkWriter.resume` found: ``landmarks`` already in the '
+                      'file, ``dropped`` torn entries cut off, ``warnings`` (text), ``gap`` (the '
+                      'key of the gap entry written, or None for a finished file).')
+
+
+class LandmarkWriter(object):
+    """Appends landmarks to a mission file, one durable line each; see the module docstring.
+
+    ``LandmarkWriter(path, metadata, fsync)`` creates a new file (it must not
+    exist: an earlier mission is never overwritten; FileExistsError);
+    :meth:`resume` continues an existing one. Attributes: ``path``, ``count``
+    (landmarks in the file), ``lost`` (appends that failed), ``total_distance``
+    (sum of d in the file, m), ``bytes``, ``finished``, ``resumed`` (a
+    :class:`ResumeInfo`, or None for a new file).
     """
 
     def __init__(self, path, metadata=None, fsync=True):
-        self.path = path
-        self.fsync = fsync
-        self.count = 0
-        self.total_distance = 0.0
-        parent = os.path.dirname(os.path.abspath(path))
-        os.makedirs(parent, exist_ok=True)
-        self._file = open(path, 'x')  # 'x': refuse to overwrite anything
+        self._setup(path, fsync)
+        flags = (os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_APPEND
+                 | getattr(os, 'O_CLOEXEC', 0))
+        try:
+            os.makedirs(os.path.dirname(self.path), exist_ok=True)
+            self._fd = os.open(self.path, flags, 0o666)
+        except FileExistsError:
+            raise
+        except OSError as error:
+            raise StorageError(self.path, error, 'create')
         header = {'format': FORMAT_VERSION, 'fields': list(FIELDS)}
         header.update(metadata or {})
-        self._file.write('# blind_navigation path landmarks [v, w, d, T, psi] '
-                         '(m/s, rad/s, m, s, rad; d from the previous landmark)\n')
-        self._file.write('%s: %s' % (METADATA_KEY, yaml.safe_dump(
-            header, default_flow_style=True, width=1000)))
-        self._sync()
+        try:
+            self._write_line('# blind_navigation path landmarks [v, w, d, T, psi] '
+                             '(m/s, rad/s, m, s, rad; d from the previous landmark)\n'
+                             + _flow_line(METADATA_KEY, header))
+            fsync_directory(os.path.dirname(self.path))
+        except OSError as error:
+            self.close()
+            try:
+                os.unlink(self.path)
+            except OSError:
+                pass
+            raise StorageError(self.path, error, 'create')
+
+    def _setup(self, path, fsync):
+        self.path = os.path.abspath(path)
+        self.fsync = fsync
+        self.count = 0
+        self.lost = 0
+        self.total_distance = 0.0
+        self.finished = False
+        self.resumed = None
+        self._fd = None
+        self._size = 0
+        self._next_index = 1
+        self._gaps = 0
+        self._damaged = False
+
+    @classmethod
+    def resume(cls, path, fsync=True, limits=Limits(), reason='the recorder restarted'):
+        """Continue the mission file ``path`` (a regular file, not a symlink).
+
+        The file is validated (:func:`load_landmarks`; a bad entry raises
+        LandmarkFileError); a torn last entry is cut off (counted in
+        ``resumed.dropped`` and warned about); labels continue after the last
+        one; a ``gap_<n>`` entry (``reason``) is written, since the next
+        landmark cannot measure ``d`` from the last one: the caller starts its
+        recorder from the current odometry. A finished file is not reopened:
+        the writer is ``finished`` and refuses appends.
+        """
+        writer = cls.__new__(cls)
+        writer._setup(path, fsync)
+        loaded = load_landmarks(writer.path, limits, allow_empty=True, follow_symlinks=False)
+        writer.count = len(loaded.landmarks)
+        writer.total_distance = loaded.total_distance
+        writer._next_index = loaded.last_index + 1
+        writer._gaps = loaded.gap_entries
+        writer._size = loaded.intact_bytes
+        if loaded.finished:
+            writer.finished = True
+            writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, None)
+            return writer
+        try:
+            writer._fd = os.open(writer.path, os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW
+                                 | getattr(os, 'O_CLOEXEC', 0))
+            info = os.fstat(writer._fd)
+            if info.st_size != loaded.size:
+                writer.close()
+                raise LandmarkFileError(writer.path, 'changed while it was being reopened (%d bytes '
+                                        'read, %d now): is another recorder writing it?'
+                                        % (loaded.size, info.st_size))
+            if loaded.intact_bytes < info.st_size:
+                os.ftruncate(writer._fd, loaded.intact_bytes)
+            gap = writer.note_gap(reason)
+        except OSError as error:
+            writer.close()
+            raise StorageError(writer.path, error, 'reopen')
+        writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, gap)
+        return writer
 
     @property
     def bytes(self):
-        """Size of the file so far, bytes."""
-        return self._file.tell()
+        """Size of the file so far (whole lines only), bytes."""
+        return self._size
+
+    @property
+    def next_label(self):
+        """The label the next landmark will get."""
+        return label_for(self._next_index)
 
     def append(self, landmark):
-        """Write ``landmark`` durably; return its label."""
+        """Write ``landmark`` durably; return its label. StorageError if the
+        write fails (the label is used up, ``lost`` counts it)."""
+        label = self.next_label
+        self._check_open('append %s' % label)
+        self._next_index += 1
+        try:
+            self._write_line(format_entry(label, landmark))
+        except OSError as error:
+            self.lost += 1
+            raise StorageError(self.path, error, 'append %s to' % label, lost=self.lost)
         self.count += 1
-        label = label_for(self.count)
-        self._file.write(format_entry(label, landmark))
-        self._sync()
         self.total_distance += landmark.d
         return label
 
-    def _sync(self):
-        self._file.flush()
-        if self.fsync:
-            os.fsync(self._file.fileno())
+    def note_gap(self, reason):
+        """Write a gap entry before the next landmark (its ``d`` will not start at
+        the previous landmark); return the entry's key. StorageError on failure."""
+        self._check_open('note a gap')
+        key = 'gap_%d' % (self._gaps + 1)
+        try:
+            self._write_line(_flow_line(key, {'before': self.next_label, 'reason': str(reason)}))
+        except OSError as error:
+            raise StorageError(self.path, error, 'write %s to' % key, lost=self.lost)
+        self._gaps += 1
+        return key
+
+    def finish(self):
+        """Mark the recording finished (a later :meth:`resume` will not append)
+        and close. StorageError if the mark cannot be written (still closed)."""
+        self._check_open('finish')
+        try:
+            self._write_line(_flow_line(FINISHED_KEY, {'landmarks': self.count, 'lost': self.lost}))
+        except OSError as error:
+            raise StorageError(self.path, error, 'mark finished', lost=self.lost)
+        finally:
+            self.finished = True
+            self.close()
+
+    def _check_open(self, action):
+        if self.finished:
+            raise LandmarkFileError(self.path, 'cannot %s: the recording of this file has '
+                                    'finished' % action)
+        if self._fd is None:
+            raise LandmarkFileError(self.path, 'cannot %s: the writer is closed' % action)
+
+    def _write_line(self, text):
+        """Write whole lines; on failure cut the file back to its last whole line."""
+        data = text.encode('utf-8')
+        if self._damaged:           # an earlier failure could not be cut off: retry first
+            os.ftruncate(self._fd, self._size)
+            self._damaged = False
+        try:
+            write_all(self._fd, data)
+            if self.fsync:
+                os.fsync(self._fd)
+        except OSError:
+            try:
+                os.ftruncate(self._fd, self._size)
+            except OSError:
+                self._damaged = True
+            raise
+        self._size += len(data)
 
     def close(self):
-        if not self._file.closed:
-            self._file.close()
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            try:
+                os.close(fd)
+            except OSError:
+                pass
 
     def __enter__(self):
         return self
@@ -111,15 +291,26 @@ class LandmarkWriter(object):
 
 
 class LoadedPath(object):
-    """What :func:`load_landmarks` read: landmarks in recording order, their labels,
-    the metadata map (may be empty) and warnings (e.g. a dropped torn entry)."""
+    """What :func:`load_landmarks` read: landmarks in recording order, their
+    labels, the header map (may be empty), ``warnings`` (e.g. a dropped torn
+    entry), ``gaps`` (:class:`Gap` list: breaks of the d chain and landmarks
+    lost to write failures), ``finished`` (the recorder marked the end),
+    ``dropped`` (torn entries dropped), ``size`` and ``intact_bytes`` (file
+    bytes, and those before a dropped torn entry)."""
 
-    def __init__(self, path, landmarks, labels, metadata, warnings):
+    def __init__(self, path, landmarks, labels, metadata, warnings, **details):
         self.path = path
         self.landmarks = landmarks
         self.labels = labels
         self.metadata = metadata
         self.warnings = warnings
+        self.gaps = details.get('gaps', [])
+        self.finished = details.get('finished', False)
+        self.dropped = details.get('dropped', 0)
+        self.size = details.get('size', 0)
+        self.intact_bytes = details.get('intact_bytes', 0)
+        self.last_index = details.get('last_index', 0)
+        self.gap_entries = details.get('gap_entries', 0)
 
     @property
     def total_distance(self):
@@ -128,6 +319,11 @@ class LoadedPath(object):
     @property
     def total_duration(self):
         return sum(landmark.T for landmark in self.landmarks)
+
+    @property
+    def missing(self):
+        """Landmarks lost to write failures (holes in the label numbering)."""
+        return self.last_index - len(self.landmarks) if self.landmarks else 0
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
@@ -149,38 +345,49 @@ def _parse(text):
 
 
 def _drop_torn_tail(path, text, warnings):
-    """Return ``text`` without a torn last entry (a killed writer's partial line)."""
-    if not text or text.endswith('\n'):
-        body, last = text, None
-    else:
+    """``text`` without a torn last entry (a killed writer's partial line)."""
+    if text and not text.endswith('\n'):
         cut = text.rfind('\n') + 1
-        body, last = text[:cut], text[cut:]
-    if last is not None:
-        warnings.append('%s: dropped a torn last entry (no end of line): %r' % (path, last[:80]))
-        return body
-    lines = body.splitlines(True)
-    if lines and lines[-1].startswith(LABEL_PREFIX):
+        warnings.append('%s: dropped a torn last entry (no end of line): %r' % (path, text[cut:][:80]))
+        return text[:cut]
+    lines = text.splitlines(True)
+    if lines and lines[-1].startswith(_OWN_LINES):
         try:
             _parse(lines[-1])
         except yaml.YAMLError:
             warnings.append('%s: dropped an unparsable last entry: %r' % (path, lines[-1][:80]))
             return ''.join(lines[:-1])
-    return body
+    return text
 
 
-def load_landmarks(path, limits=Limits(), allow_empty=False):
-    """Read and validate a landmark file; raise LandmarkFileError on the first bad entry."""
+def _read(path, follow_symlinks):
     try:
-        with open(path) as stream:
-            text = stream.read()
-    except (IOError, OSError) as error:
+        data = read_regular_file(path, MAX_FILE_BYTES, follow_symlinks)
+    except NotRegularFileError as error:
+        raise LandmarkFileError(path, 'cannot read: is %s, not a regular file' % error.what)
+    except OSError as error:
         raise LandmarkFileError(path, 'cannot read: %s' % (error.strerror or error))
+    try:
+        return data, data.decode('utf-8')
     except UnicodeDecodeError as error:
         raise LandmarkFileError(path, 'not a text file: %s' % error)
+
+
+def _gap_from(path, key, value):
+    if not (isinstance(value, dict) and isinstance(value.get('before'), str)
+            and LABEL_RE.match(value['before']) and isinstance(value.get('reason'), str)):
+        raise LandmarkFileError(path, 'a gap entry must be {before: landmark_<number>, reason: '
+                                '<text>}, got %r' % (value,), key)
+    return Gap(value['before'], value['reason'])
+
+
+def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=True):
+    """Read and validate a landmark file; raise LandmarkFileError on the first bad entry."""
+    data, text = _read(path, follow_symlinks)
     warnings = []
-    text = _drop_torn_tail(path, text, warnings)
+    intact = _drop_torn_tail(path, text, warnings)
     try:
-        document = _parse(text)
+        document = _parse(intact)
     except yaml.YAMLError as error:
         raise LandmarkFileError(path, 'not valid YAML: %s' % str(error).replace('\n', ' '))
     if document is None:
@@ -188,9 +395,13 @@ def load_landmarks(path, limits=Limits(), allow_empty=False):
     if not isinstance(document, dict):
         raise LandmarkFileError(path, 'top level must be a map of landmark entries, got %s'
                                 % type(document).__name__)
-    landmarks, labels, metadata = [], [], {}
+    landmarks, labels, metadata, gaps, gap_entries = [], [], {}, [], 0
     previous_index = 0
     for key, value in document.items():
+        if isinstance(key, str) and GAP_RE.match(key):
+            gaps.append(_gap_from(path, key, value))
+            gap_entries += 1
+            continue
         if not isinstance(key, str) or not key.startswith(LABEL_PREFIX):
             metadata[key] = value
             continue
@@ -201,6 +412,10 @@ def load_landmarks(path, limits=Limits(), allow_empty=False):
         if index <= previous_index:
             raise LandmarkFileError(path, 'labels out of recording order (after %s)'
                                     % label_for(previous_index), key)
+        if index > previous_index + 1:
+            gaps.append(Gap(key, '%s lost (not written)' % (
+                label_for(previous_index + 1) if index == previous_index + 2 else
+                '%s to %s' % (label_for(previous_index + 1), label_for(index - 1)))))
         previous_index = index
         if not isinstance(value, dict) or 'data' not in value:
             raise LandmarkFileError(path, 'entry must be a map with a data sequence '
@@ -213,8 +428,17 @@ def load_landmarks(path, limits=Limits(), allow_empty=False):
     if not landmarks and not allow_empty:
         raise LandmarkFileError(path, 'no landmarks in the file (empty path)%s'
                                 % ''.join('; ' + warning for warning in warnings))
-    return LoadedPath(path, landmarks, labels, metadata.get(METADATA_KEY, {}) or {}, warnings)
+    gaps.sort(key=lambda gap: gap.before)
+    for gap in gaps:
+        warnings.append('%s: gap in the recorded path before %s: %s' % (path, gap.before, gap.reason))
+    return LoadedPath(path, landmarks, labels, metadata.get(METADATA_KEY, {}) or {}, warnings,
+                      gaps=gaps, finished=FINISHED_KEY in metadata,
+                      dropped=1 if intact != text else 0, size=len(data),
+                      intact_bytes=len(intact.encode('utf-8')), last_index=previous_index,
+                      gap_entries=gap_entries)
 
+
+# --- mission files -------------------------------------------------------------
 
 def mission_file_name(landmark_file, when=None):
     """The time-stamped file a mission started at ``when`` records into."""
@@ -223,37 +447,106 @@ def mission_file_name(landmark_file, when=None):
     return '%s-%s%s' % (stem, when.strftime('%Y%m%d-%H%M%S'), ext or '.yaml')
 
 
+def inspect_landmark_file(landmark_file):
+    """What the configured ``landmark_file`` name is: ``'missing'``, ``'regular'``
+    (an old layout's file), ``'symlink'`` (to a regular file) or ``'dangling'``
+    (a symlink to nothing). Anything else (a directory, a FIFO, a symlink to a
+    directory or a loop) raises LandmarkFileError naming it."""
+    try:
+        mode = os.lstat(landmark_file).st_mode
+    except FileNotFoundError:
+        return 'missing'
+    except OSError as error:
+        raise LandmarkFileError(landmark_file, 'cannot inspect: %s' % (error.strerror or error))
+    if stat.S_ISREG(mode):
+        return 'regular'
+    if not stat.S_ISLNK(mode):
+        raise LandmarkFileError(landmark_file, 'is %s, not a regular file or a symlink to one; '
+                                'refusing to use it (move it away or set another landmark_file)'
+                                % describe_mode(mode))
+    try:
+        target_mode = os.stat(landmark_file).st_mode
+    except FileNotFoundError:
+        return 'dangling'
+    except OSError as error:
+        raise LandmarkFileError(landmark_file, 'is a symlink that cannot be followed: %s; refusing '
+                                'to use it' % (error.strerror or error))
+    if not stat.S_ISREG(target_mode):
+        raise LandmarkFileError(landmark_file, 'is a symlink to %s (%s), not to a regular file; '
+                                'refusing to use it' % (describe_mode(target_mode),
+                                                        os.path.realpath(landmark_file)))
+    return 'symlink'
+
+
 def start_mission_file(landmark_file, when=None):
     """Choose a new file for a mission and point ``landmark_file`` at it.
 
     Returns the new (not yet created) path. An existing regular file at
     ``landmark_file`` is kept by renaming it to a time-stamped name first; an
-    existing symlink is replaced atomically. Nothing recorded is deleted.
+    existing symlink is replaced atomically (core/files.replace_with_symlink). Anything else at
+    ``landmark_file`` is refused (:func:`inspect_landmark_file`). Nothing
+    recorded is deleted.
     """
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
     directory = os.path.dirname(landmark_file)
     os.makedirs(directory, exist_ok=True)
-    if os.path.exists(landmark_file) and not os.path.islink(landmark_file):
+    if inspect_landmark_file(landmark_file) == 'regular':
         mtime = datetime.datetime.fromtimestamp(os.path.getmtime(landmark_file))
         os.rename(landmark_file, _unused(mission_file_name(landmark_file, mtime)))
     target = _unused(mission_file_name(landmark_file, when))
-    link = landmark_file + '.tmp-link'
-    if os.path.lexists(link):
-        os.remove(link)
-    os.symlink(os.path.basename(target), link)
-    os.replace(link, landmark_file)
+    replace_with_symlink(landmark_file, os.path.basename(target))
     return target
 
 
-def write_atomically(path, text):
-    """Replace ``path`` by ``text`` atomically (temporary file in the same directory,
-    fsync, rename): a crash leaves the old or the new content, never a mix."""
-    temporary = path + '.tmp'
-    with open(temporary, 'w') as stream:
-        stream.write(text)
-        stream.flush()
-        os.fsync(stream.fileno())
-    os.replace(temporary, path)
+def read_mission(path):
+    """The ``mission`` id in the header of the landmark file ``path``, or None
+    (no header, no id, or not readable: then it is not the current mission)."""
+    try:
+        text = read_regular_file(path, MAX_FILE_BYTES).decode('utf-8')
+    except (OSError, UnicodeDecodeError):
+        return None
+    for line in text.splitlines():
+        if line.startswith(METADATA_KEY + ':'):
+            try:
+                header = (_parse(line) or {}).get(METADATA_KEY)
+            except yaml.YAMLError:
+                return None
+            mission = header.get('mission') if isinstance(header, dict) else None
+            return mission if isinstance(mission, str) else None
+        if line.startswith(_OWN_LINES):
+            return None
+    return None
+
+
+def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, limits=Limits(),
+                      when=None):
+    """The :class:`LandmarkWriter` of the current mission.
+
+    Rule: if ``mission`` (a non-empty id of the current mission, the same for
+    every node restart within it and new for each mission, e.g. the launch's
+    start time) is given, and ``landmark_file`` is a symlink to a file whose
+    header carries that same ``mission``, the recorder restarted mid-mission:
+    that file is continued (:meth:`LandmarkWriter.resume`: validated, a torn
+    last entry cut off, labels continued, a gap entry written; a finished
+    recording is not appended to). Otherwise a new file is started
+    (:func:`start_mission_file`) with ``metadata`` and ``mission`` in its
+    header. Without a ``mission`` id a file is never continued: appending a
+    new mission to an old one would send the return along the old path.
+
+    Raises LandmarkFileError (a ``landmark_file`` that is not a regular file or
+    a symlink to one; the current mission's file is corrupt) or StorageError.
+    """
+    if mission is not None and not (isinstance(mission, str) and mission.strip()):
+        raise ValueError('mission must be a non-empty string or None, got %r' % (mission,))
+    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
+    if inspect_landmark_file(landmark_file) == 'symlink' and mission is not None:
+        target = os.path.realpath(landmark_file)
+        if read_mission(target) == mission:
+            return LandmarkWriter.resume(target, fsync, limits, reason=RESTART_GAP)
+    header = dict(metadata or {})
+    if mission is not None:
+        header['mission'] = mission
+    return LandmarkWriter(start_mission_file(landmark_file, when), header, fsync)
 
 
 def _unused(path):
@@ -264,4 +557,3 @@ def _unused(path):
         candidate = '%s-%d%s' % (stem, n, ext)
         n += 1
     return candidate
-

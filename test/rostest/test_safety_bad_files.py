@@ -10,7 +10,7 @@ import unittest
 import rospy
 import rostest
 
-from blind_navigation.core.safety import load_progress, progress_path
+from blind_navigation.core.progress import load_progress, progress_path
 from blind_navigation.msg import BackTravelActionGoal
 
 from fake_base import FakeBase

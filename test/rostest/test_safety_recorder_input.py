@@ -16,7 +16,7 @@ import rostest
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Empty, Header, String
 
-from blind_navigation.core.safety import file_digest
+from blind_navigation.core.progress import file_digest
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import StorageUsage, PathSample
 from blind_navigation.srv import RecordLandmark

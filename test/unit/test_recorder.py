@@ -112,8 +112,8 @@ def test_first_distance_counts_from_where_recording_started():
     recorder = PathRecorder()
     recorder.start(OdomState(1.0, 2.0, 0.0, 0.0, 0.0, 0.0))
     recorder.start(OdomState(9.0, 9.0, 0.0, 0.0, 0.0, 1.0))      # ignored: already started
-    first = recorder.take(OdomState(4.0, 6.0, 0.3, 0.1, 0.0, 2.0), 0.3, 2.0)
-    second = recorder.take(OdomState(4.0, 7.0, 0.3, 0.1, 0.0, 4.0), 0.3, 2.0)
+    first = recorder.take(OdomState(4.0, 6.0, 0.3, 0.1, 0.0, 8.0), 0.3, 8.0)
+    second = recorder.take(OdomState(4.0, 7.0, 0.3, 0.1, 0.0, 10.0), 0.3, 2.0)
     assert (first.d, second.d) == (5.0, 1.0)
     assert recorder.count == 2 and recorder.total_distance == 6.0
 
@@ -138,7 +138,7 @@ def test_bad_tick_raises_and_keeps_the_previous_position(v, yaw, period, field):
     with pytest.raises(ValueError, match=field):
         recorder.take(OdomState(1.0, 0.0, 0.0, v, 0.0, 1.0), yaw, period)
     assert recorder.count == 0
-    assert recorder.take(OdomState(2.0, 0.0, 0.0, 0.1, 0.0, 2.0), 0.0, 2.0).d == 2.0
+    assert recorder.take(OdomState(2.0, 0.0, 0.0, 0.1, 0.0, 4.0), 0.0, 4.0).d == 2.0
 
 
 def test_storage_usage():

@@ -1,13 +1,19 @@
-"""The YAML landmark store: format, round trips, torn entries, bad files."""
+"""The YAML landmark store: format, round trips, torn entries, bad files, the
+kinds of landmark_file, write failures, and a restarted recorder continuing
+its mission's file."""
+import datetime
+import errno
 import math
 import os
 
 import pytest
 import yaml
 
+from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
-from blind_navigation.core.store import (LandmarkFileError, LandmarkWriter, format_entry,
-                                         load_landmarks, start_mission_file)
+from blind_navigation.core.store import (RESTART_GAP, Gap, LandmarkFileError, LandmarkWriter,
+                                         format_entry, load_landmarks, open_mission_file,
+                                         start_mission_file)
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
         Landmark(0.0859, 0.0964, 0.0862, 1.0, 0.0610),
@@ -36,7 +42,7 @@ def test_round_trip(tmp_path):
 
 def test_numbers_keep_six_significant_digits(tmp_path):
     path = tmp_path / 'lm.yaml'
-    exact = Landmark(0.0861234567, -0.0964123456, 13.2345678, 2.0, math.pi)
+    exact = Landmark(0.0861234567, -0.0964123456, 13.2345678, 20.0, math.pi)
     write(path, [exact])
     stored = load_landmarks(str(path)).landmarks[0]
     for kept, original in zip(stored, exact):
@@ -135,3 +141,237 @@ def test_landmark_rejects_booleans_and_bad_psi():
         landmark_from_values([True, 0.0, 0.1, 1.0, 0.0])
     with pytest.raises(ValueError):
         landmark_from_values([0.1, 0.0, 0.1, 1.0, 4.0])
+
+
+# --- landmark_file kinds (finding 6: a directory was renamed silently) ---------------
+
+def test_a_directory_as_landmark_file_is_refused_by_name(tmp_path):
+    link = tmp_path / 'landmarks.yaml'
+    link.mkdir()
+    for start in (start_mission_file, open_mission_file):
+        with pytest.raises(LandmarkFileError) as error:
+            start(str(link))
+        assert str(link) in str(error.value) and 'is a directory' in str(error.value)
+    assert link.is_dir() and sorted(p.name for p in tmp_path.iterdir()) == ['landmarks.yaml']
+    with pytest.raises(LandmarkFileError, match='is a directory, not a regular file'):
+        load_landmarks(str(link))
+
+
+@pytest.mark.parametrize('kind', ['directory', 'fifo', 'loop'])
+def test_a_symlink_to_what_is_not_a_regular_file_is_refused(tmp_path, kind):
+    link = tmp_path / 'landmarks.yaml'
+    if kind == 'directory':
+        (tmp_path / 'target').mkdir()
+        os.symlink('target', str(link))
+    elif kind == 'fifo':
+        os.mkfifo(str(tmp_path / 'target'))
+        os.symlink('target', str(link))
+    else:
+        os.symlink('landmarks.yaml', str(link))
+    with pytest.raises(LandmarkFileError) as error:
+        open_mission_file(str(link), mission='m')
+    assert str(link) in str(error.value) and 'refusing' in str(error.value)
+
+
+def test_a_dangling_symlink_is_replaced(tmp_path):
+    link = tmp_path / 'landmarks.yaml'
+    os.symlink('gone.yaml', str(link))
+    writer = open_mission_file(str(link), mission='m', fsync=False)
+    writer.append(PATH[0])
+    writer.close()
+    assert load_landmarks(str(link)).landmarks == PATH[:1]
+
+
+def test_the_writer_never_writes_through_a_planted_symlink(tmp_path):
+    victim = tmp_path / 'victim'
+    victim.write_text('precious\n')
+    os.symlink(str(victim), str(tmp_path / 'lm.yaml'))
+    with pytest.raises(FileExistsError):
+        LandmarkWriter(str(tmp_path / 'lm.yaml'))
+    assert victim.read_text() == 'precious\n'
+
+
+# --- write failures (finding 6: ENOSPC tracebacks, the loss not reported) -------------
+
+class FailingDisk(object):
+    """Makes os.write / os.fsync / os.ftruncate fail for one file descriptor."""
+
+    def __init__(self, monkeypatch, fd):
+        self.fd = fd
+        self.write_error = self.fsync_error = self.truncate_error = None
+        self.partial = 0            # bytes written before a write fails
+        real_write, real_fsync, real_truncate = os.write, os.fsync, os.ftruncate
+
+        def write(fd, data):
+            if fd == self.fd and self.write_error:
+                if self.partial:
+                    real_write(fd, bytes(data[:self.partial]))
+                raise OSError(self.write_error, os.strerror(self.write_error))
+            return real_write(fd, data)
+
+        def fsync(fd):
+            if fd == self.fd and self.fsync_error:
+                raise OSError(self.fsync_error, os.strerror(self.fsync_error))
+            return real_fsync(fd)
+
+        def ftruncate(fd, size):
+            if fd == self.fd and self.truncate_error:
+                raise OSError(self.truncate_error, os.strerror(self.truncate_error))
+            return real_truncate(fd, size)
+
+        monkeypatch.setattr(os, 'write', write)
+        monkeypatch.setattr(os, 'fsync', fsync)
+        monkeypatch.setattr(os, 'ftruncate', ftruncate)
+
+
+def test_enospc_is_one_clear_error_and_leaves_whole_lines(tmp_path, monkeypatch):
+    path = str(tmp_path / 'lm.yaml')
+    writer = LandmarkWriter(path)
+    writer.append(PATH[0])
+    disk = FailingDisk(monkeypatch, writer._fd)
+    disk.write_error, disk.partial = errno.ENOSPC, 20          # a half line reaches the file
+    with pytest.raises(StorageError) as error:
+        writer.append(PATH[1])
+    message = str(error.value)
+    assert message == ('cannot append landmark_000002 to %s: No space left on device (ENOSPC); '
+                       '1 record lost' % path)
+    assert error.value.errno == errno.ENOSPC and error.value.lost == 1 == writer.lost
+    assert open(path).read().endswith('\n')                    # the half line was cut off
+    with pytest.raises(StorageError, match='2 records lost'):
+        writer.append(PATH[2])
+    disk.write_error = None                                    # space freed
+    assert writer.append(PATH[3]) == 'landmark_000004'
+    writer.close()
+    loaded = load_landmarks(path)
+    assert loaded.landmarks == [PATH[0], PATH[3]] and writer.count == 2
+    assert loaded.missing == 2
+    assert loaded.gaps == [Gap('landmark_000004', 'landmark_000002 to landmark_000003 lost '
+                                                  '(not written)')]
+
+
+def test_a_failed_fsync_removes_the_line(tmp_path, monkeypatch):
+    path = str(tmp_path / 'lm.yaml')
+    writer = LandmarkWriter(path)
+    writer.append(PATH[0])
+    size = os.path.getsize(path)
+    disk = FailingDisk(monkeypatch, writer._fd)
+    disk.fsync_error = errno.EIO
+    with pytest.raises(StorageError, match=r'Input/output error \(EIO\); 1 record lost'):
+        writer.append(PATH[1])
+    assert os.path.getsize(path) == size == writer.bytes
+
+
+def test_a_writer_that_cannot_cut_a_half_line_keeps_failing_cleanly(tmp_path, monkeypatch):
+    path = str(tmp_path / 'lm.yaml')
+    writer = LandmarkWriter(path)
+    writer.append(PATH[0])
+    disk = FailingDisk(monkeypatch, writer._fd)
+    disk.write_error, disk.partial, disk.truncate_error = errno.EIO, 30, errno.EIO
+    for lost in (1, 2):
+        with pytest.raises(StorageError, match='%d records? lost' % lost):
+            writer.append(PATH[1])
+    disk.write_error = None             # writes work again, but the half line is still there
+    with pytest.raises(StorageError, match='3 records lost'):
+        writer.append(PATH[2])
+    disk.truncate_error = None
+    assert writer.append(PATH[3]) == 'landmark_000005'
+    writer.close()
+    loaded = load_landmarks(path)
+    assert loaded.landmarks == [PATH[0], PATH[3]] and loaded.warnings[-1].endswith(
+        'landmark_000002 to landmark_000004 lost (not written)')
+
+
+def test_a_really_full_disk(tiny_tmpfs):
+    path = str(tiny_tmpfs / 'lm.yaml')
+    writer = LandmarkWriter(path)
+    errors = []
+    for _ in range(3000):
+        try:
+            writer.append(PATH[0])
+        except StorageError as error:
+            errors.append(error)
+            if len(errors) == 3:
+                break
+    writer.close()
+    assert len(errors) == 3 and writer.lost == 3
+    assert all('No space left on device (ENOSPC)' in str(e) for e in errors)
+    loaded = load_landmarks(path)
+    assert len(loaded.landmarks) == writer.count > 100
+    # the lost ones were the last: no hole before a landmark (the writer reported them)
+    assert loaded.gaps == [] and loaded.missing == 0 and open(path).read().endswith('\n')
+
+
+# --- a restarted recorder continues the mission's file (finding 6) --------------------
+
+def test_a_restarted_recorder_continues_the_current_mission(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    writer = open_mission_file(link, mission='mission-1', metadata={'recorder': 'topic'})
+    first_file = writer.path
+    for landmark in PATH[:3]:
+        writer.append(landmark)
+    writer.close()                                             # killed: no finish
+    with open(first_file, 'a') as stream:
+        stream.write(format_entry('landmark_000004', PATH[3])[:20])    # killed mid-line
+    resumed = open_mission_file(link, mission='mission-1', metadata={'recorder': 'topic'})
+    assert resumed.path == first_file and os.path.realpath(link) == first_file
+    assert resumed.resumed.landmarks == 3 and resumed.resumed.dropped == 1
+    assert resumed.resumed.gap == 'gap_1' and 'torn' in resumed.resumed.warnings[0]
+    assert resumed.count == 3 and resumed.total_distance == pytest.approx(sum(l.d for l in PATH[:3]))
+    assert resumed.append(PATH[1]) == 'landmark_000004'
+    resumed.finish()
+    loaded = load_landmarks(link)
+    assert loaded.landmarks == PATH[:3] + [PATH[1]] and loaded.finished
+    assert loaded.gaps == [Gap('landmark_000004', RESTART_GAP)]
+    assert loaded.metadata['mission'] == 'mission-1'
+    assert {p.name for p in tmp_path.iterdir()} == {'landmarks.yaml', os.path.basename(first_file)}
+    # yaml-cpp-style readers see only the landmarks: the extra keys are metadata
+    document = yaml.safe_load(open(link).read())
+    assert [k for k in document if k.startswith('landmark_')] == loaded.labels
+
+
+def test_a_finished_recording_is_not_appended_to(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    writer = open_mission_file(link, mission='m', fsync=False)
+    writer.append(PATH[0])
+    writer.finish()
+    again = open_mission_file(link, mission='m', fsync=False)
+    assert again.finished and again.path == writer.path
+    with pytest.raises(LandmarkFileError, match='finished'):
+        again.append(PATH[1])
+    assert load_landmarks(link).landmarks == PATH[:1]
+
+
+@pytest.mark.parametrize('mission', [None, 'mission-2'])
+def test_another_mission_or_no_mission_id_starts_a_new_file(tmp_path, mission):
+    link = str(tmp_path / 'landmarks.yaml')
+    old = open_mission_file(link, mission='mission-1', fsync=False)
+    old.append(PATH[0])
+    old.close()
+    new = open_mission_file(link, mission=mission, fsync=False, when=datetime.datetime(2030, 1, 1))
+    assert new.path != old.path and new.resumed is None and os.path.realpath(link) == new.path
+    new.append(PATH[1])
+    new.close()
+    assert load_landmarks(old.path).landmarks == PATH[:1]
+    assert load_landmarks(link).landmarks == [PATH[1]]
+
+
+def test_a_corrupt_file_of_the_current_mission_is_refused_not_replaced(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    writer = open_mission_file(link, mission='m', fsync=False)
+    writer.append(PATH[0])
+    writer.close()
+    with open(writer.path, 'a') as stream:
+        stream.write('landmark_000002: {data: [1e6, 0.0, 0.1, 1.0, 0.0]}\n'
+                     'landmark_000003: {data: [0.1, 0.0, 0.1, 1.0, 0.0]}\n')
+    with pytest.raises(LandmarkFileError) as error:
+        open_mission_file(link, mission='m')
+    assert writer.path in str(error.value) and 'landmark_000002' in str(error.value)
+
+
+def test_d_beyond_what_the_base_can_cover_in_T_refuses_the_file(tmp_path):
+    path = tmp_path / 'lm.yaml'
+    path.write_text('landmark_000001: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n'
+                    'landmark_000002: {data: [0.1, 0.0, 1000000.0, 2.0, 0.0]}\n')
+    with pytest.raises(LandmarkFileError) as error:
+        load_landmarks(str(path))
+    assert 'landmark_000002' in str(error.value) and 'farther than the base can go' in str(error.value)

@@ -1,0 +1,196 @@
+"""Safe file primitives for everything the layer writes or reads back.
+
+- :class:`StorageError`: the one exception of a failed write (ENOSPC, EIO,
+  EACCES, ...). It is an OSError, names the file, the action and the errno
+  text, so a node logs and reports it without a traceback.
+- :func:`write_atomically`: replace a file by new content (return progress,
+  gyro calibration). The temporary file is created exclusively
+  (``O_CREAT | O_EXCL | O_NOFOLLOW``) under a random name in the target's own
+  directory, written, fsynced, renamed over the target, and the directory is
+  fsynced: a crash leaves the old or the new content, and a file or symlink
+  planted under a temporary name is never opened, let alone written through.
+- :func:`replace_with_symlink`: the same for a symlink.
+- :func:`write_all`: ``os.write`` until every byte is written.
+- :func:`read_regular_file`: read a file that must be a regular file (a
+  directory, FIFO or device is refused by name instead of hanging or failing
+  obscurely), optionally without following a symlink, up to a size bound.
+"""
+import errno
+import os
+import secrets
+import stat
+
+#: Attempts at a free random temporary name before giving up (each collision
+#: is a 64-bit random name already taken: in practice never).
+TEMPORARY_ATTEMPTS = 16
+
+
+class StorageError(OSError):
+    """Writing ``path`` failed: ``action`` (e.g. 'write', 'append landmark_000054 to'),
+    the errno and its text; ``lost`` counts the records lost so far (0 if not
+    applicable). ``str()`` is one line fit for a log or a status reason."""
+
+    def __init__(self, path, error, action='write', lost=0):
+        code = getattr(error, 'errno', None)
+        text = getattr(error, 'strerror', None) or str(error)
+        super(StorageError, self).__init__(code, text)
+        self.filename = path
+        self.path = path
+        self.action = action
+        self.lost = lost
+        name = errno.errorcode.get(code) if code else None
+        self.message = 'cannot %s %s: %s%s' % (action, path, text, ' (%s)' % name if name else '')
+        if lost:
+            self.message += '; %d %s lost' % (lost, 'record' if lost == 1 else 'records')
+
+    def __str__(self):
+        return self.message
+
+
+class NotRegularFileError(OSError):
+    """``path`` exists but is not a regular file (or a symlink to one)."""
+
+    def __init__(self, path, what):
+        super(NotRegularFileError, self).__init__(errno.EINVAL, 'is %s, not a regular file' % what)
+        self.filename = path
+        self.path = path
+        self.what = what
+
+    def __str__(self):
+        return '%s is %s, not a regular file' % (self.path, self.what)
+
+
+def describe_mode(mode):
+    """'a directory', 'a FIFO', ... for an ``st_mode``."""
+    for test, what in ((stat.S_ISDIR, 'a directory'), (stat.S_ISLNK, 'a symlink'),
+                       (stat.S_ISFIFO, 'a FIFO'), (stat.S_ISSOCK, 'a socket'),
+                       (stat.S_ISCHR, 'a character device'), (stat.S_ISBLK, 'a block device'),
+                       (stat.S_ISREG, 'a regular file')):
+        if test(mode):
+            return what
+    return 'an unknown kind of file'
+
+
+def write_all(fd, data):
+    """Write every byte of ``data`` to ``fd`` (os.write may write fewer)."""
+    view = memoryview(data)
+    while view:
+        written = os.write(fd, view)
+        if written <= 0:
+            raise OSError(errno.EIO, 'write returned %d' % written)
+        view = view[written:]
+
+
+def fsync_directory(directory):
+    """fsync a directory so a rename or a new file in it survives a crash (best
+    effort: some file systems refuse to open or fsync a directory)."""
+    try:
+        fd = os.open(directory, os.O_RDONLY | getattr(os, 'O_DIRECTORY', 0))
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def create_exclusive(directory, prefix, suffix='.tmp', mode=0o666):
+    """Create a new file ``<directory>/<prefix><random><suffix>`` exclusively
+    (never an existing file, never through a symlink); return ``(fd, path)``."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | getattr(os, 'O_CLOEXEC', 0)
+    for _ in range(TEMPORARY_ATTEMPTS):
+        path = os.path.join(directory, '%s%s%s' % (prefix, secrets.token_hex(8), suffix))
+        try:
+            return os.open(path, flags, mode), path
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, 'no free temporary name after %d attempts'
+                          % TEMPORARY_ATTEMPTS, os.path.join(directory, prefix + '*' + suffix))
+
+
+def replace_with_symlink(path, target):
+    """Make ``path`` a symlink to ``target`` atomically: the symlink is made under
+    a random name in the same directory (symlink creation never reuses an
+    existing name) and renamed over ``path`` (which must not be a directory)."""
+    directory, name = os.path.split(os.path.abspath(path))
+    for _ in range(TEMPORARY_ATTEMPTS):
+        link = os.path.join(directory, '.%s.%s.link' % (name, secrets.token_hex(8)))
+        try:
+            os.symlink(target, link)
+            break
+        except FileExistsError:
+            continue
+    else:
+        raise FileExistsError(errno.EEXIST, 'no free temporary name after %d attempts'
+                              % TEMPORARY_ATTEMPTS, path)
+    try:
+        os.replace(link, path)
+    except OSError:
+        os.unlink(link)
+        raise
+    fsync_directory(directory)
+
+
+def write_atomically(path, text):
+    """Replace ``path`` by ``text`` (str, UTF-8) atomically; see the module
+    docstring. Raises :class:`StorageError` naming ``path`` on any failure (the
+    temporary file is removed, the old content stays)."""
+    path = os.path.abspath(path)
+    directory, name = os.path.split(path)
+    temporary = None
+    try:
+        if os.path.isdir(path) and not os.path.islink(path):
+            raise IsADirectoryError(errno.EISDIR, 'is a directory', path)
+        fd, temporary = create_exclusive(directory, '.%s.' % name)
+        try:
+            write_all(fd, text.encode('utf-8'))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+        os.replace(temporary, path)     # replaces a symlink itself, never its target
+        temporary = None
+        fsync_directory(directory)
+    except OSError as error:
+        raise StorageError(path, error)
+    finally:
+        if temporary is not None:
+            try:
+                os.unlink(temporary)
+            except OSError:
+                pass
+
+
+def read_regular_file(path, max_bytes, follow_symlinks=True):
+    """The bytes of ``path``, which must be a regular file (a symlink to one
+    when ``follow_symlinks``) of at most ``max_bytes``. Raises
+    FileNotFoundError, :class:`NotRegularFileError`, or OSError (naming the
+    file) if it cannot be read or is larger."""
+    flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0)
+    if not follow_symlinks:
+        flags |= os.O_NOFOLLOW
+    try:
+        fd = os.open(path, flags)
+    except OSError as error:
+        if error.errno == errno.ELOOP and not follow_symlinks:
+            raise NotRegularFileError(path, 'a symlink')
+        raise
+    try:
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            raise NotRegularFileError(path, describe_mode(info.st_mode))
+        if info.st_size > max_bytes:
+            raise OSError(errno.EFBIG, 'larger than %d bytes (%d)' % (max_bytes, info.st_size), path)
+        chunks, size = [], 0
+        while True:
+            chunk = os.read(fd, 1 << 16)
+            if not chunk:
+                break
+            size += len(chunk)
+            if size > max_bytes:
+                raise OSError(errno.EFBIG, 'larger than %d bytes' % max_bytes, path)
+            chunks.append(chunk)
+        return b''.join(chunks)
+    finally:
+        os.close(fd)

@@ -1,0 +1,436 @@
+"""The persisted progress of a return, and whether a restarted layer may resume it.
+
+Life of a return (each step returns a new, validated :class:`ReturnProgress`;
+the caller persists it with :func:`save_progress`, atomically, next to the
+landmark file: :func:`progress_path`):
+
+- :meth:`ReturnProgress.begin` at vision loss (status ``rotating``): the
+  landmark file's real path, the anchor (odometry [x, y] where recording
+  stopped), the odometry frame, the mission id;
+- :meth:`~ReturnProgress.start` when the robot starts back (``returning``):
+  the landmark file's sha256 and landmark count, and the ``route`` as plain
+  data (a list of [x, y] waypoints, or a dict of plain data the caller
+  defines), so that a resumed return follows the same route;
+- :meth:`~ReturnProgress.goal_done` after each goal (completed count, position,
+  distance travelled so far);
+- :meth:`~ReturnProgress.finish` with ``home`` or ``aborted`` and the reason.
+
+A restarted layer asks :func:`resume_from_file` (or, with a loaded progress,
+:meth:`~ReturnProgress.resume`) what to do: :data:`RESUME`, :data:`IGNORE`
+(nothing was under way: no file, a finished return, or one left over from an
+earlier mission) or :data:`ABORT` (a return was under way and cannot safely
+continue). A progress file that cannot be trusted (unreadable, not YAML, a
+missing, unknown or mistyped field, ``completed`` beyond the landmark count, a
+negative count, a NaN anchor, an unknown status, ...) gives ABORT naming the
+file and the field, never IGNORE: the return it described may have been under
+way. :func:`settle_abort` then records the abort, so the next start is clean.
+The recorded landmark file itself is only ever read.
+"""
+import datetime
+import hashlib
+import math
+import os
+import re
+from collections import namedtuple
+
+import yaml
+
+from . import mission_state as state
+from .files import NotRegularFileError, read_regular_file, write_atomically
+
+#: Defaults of the resume rule (the client exposes them as ~params).
+PROGRESS_DEFAULTS = {
+    'resume_timeout': 600.0,   # s (wall) after which an unfinished return is not resumed but aborted
+    'resume_max_offset': 0.5,  # m between the robot and where the return stopped, to resume
+}
+
+FORMAT_VERSION = 1
+FIELDS = ('landmark_file', 'digest', 'landmarks', 'anchor', 'frame_id', 'completed', 'position',
+          'status', 'updated', 'route', 'reason', 'mission', 'started', 'travelled')
+STATUSES = (state.ROTATING, state.RETURNING, state.HOME, state.ABORTED)
+#: Statuses of a return in progress; the others are finished.
+UNFINISHED = (state.ROTATING, state.RETURNING)
+#: Largest progress file read (a route of ~100000 waypoints).
+MAX_PROGRESS_BYTES = 16 << 20
+#: Deepest nesting accepted in ``route``.
+MAX_ROUTE_DEPTH = 16
+
+RESUME, IGNORE, ABORT = 'resume', 'ignore', 'abort'
+ResumeDecision = namedtuple('ResumeDecision', 'action reason progress')
+ResumeDecision.__doc__ = ('What a restarted layer does: ``action`` (RESUME, IGNORE or ABORT), '
+                          '``reason`` (one line naming the file and, for a bad file, the field), '
+                          '``progress`` (the ReturnProgress read, None if none could be).')
+
+_HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
+
+
+class ProgressError(Exception):
+    """A progress file or record that cannot be trusted; names the file and field."""
+
+    def __init__(self, path, field, reason):
+        self.path = path
+        self.field = field
+        self.reason = reason
+        where = '%s: %s' % (path, field) if field else str(path)
+        super(ProgressError, self).__init__('%s: %s' % (where, reason))
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _is_count(value):
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def _is_point(value):
+    return isinstance(value, list) and len(value) == 2 and all(_is_number(c) for c in value)
+
+
+def _point(value):
+    """``value`` as [x, y] floats (None stays None); ValueError if not a finite point."""
+    if value is None:
+        return None
+    point = list(value) if isinstance(value, (list, tuple)) else value
+    if not _is_point(point):
+        raise ValueError('a point must be [x, y] (finite numbers), got %r' % (value,))
+    return [float(c) for c in point]
+
+
+def _plain(value, depth=0):
+    """``value`` as plain data (tuples -> lists); ValueError if it is not plain
+    data (None, bool, finite numbers, strings, lists and str-keyed maps)."""
+    if depth > MAX_ROUTE_DEPTH:
+        raise ValueError('nested deeper than %d levels' % MAX_ROUTE_DEPTH)
+    if value is None or isinstance(value, (bool, str)):
+        return value
+    if isinstance(value, (int, float)):
+        if not math.isfinite(value):
+            raise ValueError('not a finite number: %r' % (value,))
+        return value
+    if isinstance(value, (list, tuple)):
+        return [_plain(item, depth + 1) for item in value]
+    if isinstance(value, dict):
+        if not all(isinstance(key, str) for key in value):
+            raise ValueError('map keys must be strings: %r' % (sorted(map(repr, value)),))
+        return {key: _plain(item, depth + 1) for key, item in value.items()}
+    raise ValueError('not plain data: %s' % type(value).__name__)
+
+
+def _route(value):
+    """A route: None, a list of [x, y] waypoints or a map of plain data."""
+    if value is None:
+        return None
+    if isinstance(value, dict):
+        return _plain(value)
+    if isinstance(value, (list, tuple)):
+        return [_point(point) for point in value]
+    raise ValueError('route must be a list of [x, y] waypoints, a map of plain data or null, '
+                     'got %s' % type(value).__name__)
+
+
+def _field_problem(progress):
+    """(field, reason) of the first thing wrong in ``progress``, or None."""
+    p = progress
+    if p.status not in STATUSES:
+        return 'status', 'must be one of %s, got %r' % (', '.join(STATUSES), p.status)
+    returned = p.status in (state.RETURNING, state.HOME)
+    if not isinstance(p.landmark_file, str):
+        return 'landmark_file', 'must be a path, got %r' % (p.landmark_file,)
+    if (p.landmark_file or p.status != state.ABORTED) and not os.path.isabs(p.landmark_file):
+        return 'landmark_file', 'must be an absolute path, got %r' % (p.landmark_file,)
+    if not isinstance(p.digest, str) or not (_HEX_DIGEST.match(p.digest) or
+                                             (p.digest == '' and not returned)):
+        return 'digest', 'must be the landmark file\'s sha256 (64 hex digits)%s, got %r' % (
+            '' if returned else ' or empty', p.digest)
+    if not _is_count(p.landmarks) or (returned and p.landmarks < 1):
+        return 'landmarks', 'must be a count %s, got %r' % ('>= 1' if returned else '>= 0',
+                                                           p.landmarks)
+    if not _is_count(p.completed) or p.completed > p.landmarks:
+        return 'completed', 'must be a count from 0 to landmarks (%r), got %r' % (p.landmarks,
+                                                                                 p.completed)
+    if p.status == state.HOME and p.completed != p.landmarks:
+        return 'completed', 'home needs every landmark completed (%r), got %r' % (p.landmarks,
+                                                                               p.completed)
+    for name in ('anchor', 'position'):
+        value = getattr(p, name)
+        if value is not None and not _is_point(value):
+            return name, 'must be [x, y] (finite numbers) or null, got %r' % (value,)
+    if returned and p.anchor is None:
+        return 'anchor', 'a return needs its anchor, got null'
+    if not isinstance(p.frame_id, str):
+        return 'frame_id', 'must be a string, got %r' % (p.frame_id,)
+    if not _is_number(p.updated) or p.updated < 0:
+        return 'updated', 'must be a wall time (s, finite, >= 0), got %r' % (p.updated,)
+    if p.started is not None and not (_is_number(p.started) and 0 <= p.started <= p.updated):
+        return 'started', 'must be a wall time (s) not after updated (%r) or null, got %r' % (
+            p.updated, p.started)
+    if not _is_number(p.travelled) or p.travelled < 0:
+        return 'travelled', 'must be a distance (m, finite, >= 0), got %r' % (p.travelled,)
+    if not isinstance(p.reason, str):
+        return 'reason', 'must be a string, got %r' % (p.reason,)
+    if p.mission is not None and not (isinstance(p.mission, str) and p.mission):
+        return 'mission', 'must be a non-empty string or null, got %r' % (p.mission,)
+    try:
+        if _route(p.route) != p.route:
+            return 'route', 'must be plain data (lists, not tuples; floats)'
+    except ValueError as error:
+        return 'route', str(error)
+    return None
+
+
+class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', None, None, 0.0))):
+    """State of one return (see the module docstring for its life).
+
+    ``landmark_file`` (real path of the recorded file), ``digest`` (its sha256,
+    '' until the return starts), ``landmarks`` (its count), ``anchor`` ([x, y]
+    odometry where recording stopped, or None), ``frame_id`` (odometry frame),
+    ``completed`` (goals done, return order), ``position`` ([x, y] odometry at
+    the last update, or None), ``status`` (rotating, returning, home, aborted),
+    ``updated`` (wall time, s), ``route`` (plain data, see :meth:`start`),
+    ``reason`` (why it ended), ``mission`` (the mission id, or None),
+    ``started`` (wall time of :meth:`begin`, s), ``travelled`` (m driven by the
+    return so far, for core/plausibility.RouteBudget across restarts).
+    """
+
+    __slots__ = ()
+
+    @classmethod
+    def begin(cls, landmark_file, anchor, frame_id, now, mission=None):
+        """Vision was lost: a return over ``landmark_file`` (resolved to its real
+        path) begins with the pi turn; ``anchor`` [x, y] or None if odometry was
+        not fresh (then :meth:`start` needs one)."""
+        anchor = _point(anchor)
+        return cls(landmark_file=os.path.realpath(os.path.expanduser(landmark_file)), digest='',
+                   landmarks=0, anchor=anchor, frame_id=str(frame_id or ''), completed=0,
+                   position=anchor, status=state.ROTATING, updated=float(now), route=None,
+                   reason='', mission=mission, started=float(now), travelled=0.0).checked()
+
+    def start(self, digest, landmarks, now, route=None, anchor=None):
+        """The robot starts back over ``landmarks`` landmarks of a file with sha256
+        ``digest``; ``route``: the route the return follows, as plain data;
+        ``anchor``: [x, y] if :meth:`begin` had none."""
+        if self.status != state.ROTATING:
+            raise ValueError('a return starts after the pi turn (status rotating), not in %s'
+                             % self.status)
+        anchor = _point(anchor) if anchor is not None else self.anchor
+        if anchor is None:
+            raise ValueError('the return has no anchor (no odometry at vision loss): give one')
+        return self._replace(digest=digest, landmarks=landmarks, anchor=anchor,
+                             position=self.position or anchor, status=state.RETURNING,
+                             updated=float(now), route=_route(route)).checked()
+
+    def goal_done(self, completed, now, position=None, travelled=None):
+        """``completed`` goals are done (never fewer than before); ``position``
+        [x, y] of the robot, ``travelled`` m driven by the return so far."""
+        if self.status != state.RETURNING:
+            raise ValueError('goals are done while returning, not in %s' % self.status)
+        if not (_is_count(completed) and self.completed <= completed <= self.landmarks):
+            raise ValueError('completed must go from %d up to %d, got %r'
+                             % (self.completed, self.landmarks, completed))
+        changes = dict(completed=completed, updated=float(now))
+        if position is not None:
+            changes['position'] = _point(position)
+        if travelled is not None:
+            changes['travelled'] = float(travelled)
+        return self._replace(**changes).checked()
+
+    def finish(self, status, reason, now, position=None):
+        """The return ended ``home`` or ``aborted``, for ``reason``."""
+        if status not in (state.HOME, state.ABORTED):
+            raise ValueError('a return finishes home or aborted, not %r' % (status,))
+        if not self.unfinished and status != self.status:
+            raise ValueError('the return already ended %s' % self.status)
+        changes = dict(status=status, reason=str(reason), updated=float(now))
+        if position is not None:
+            changes['position'] = _point(position)
+        return self._replace(**changes).checked()
+
+    @classmethod
+    def aborted(cls, reason, now, landmark_file='', mission=None):
+        """A finished record of a return that cannot be continued, to replace an
+        untrusted progress file (:func:`settle_abort`)."""
+        return cls(landmark_file=landmark_file, digest='', landmarks=0, anchor=None, frame_id='',
+                   completed=0, position=None, status=state.ABORTED, updated=float(now),
+                   route=None, reason=str(reason), mission=mission, started=None,
+                   travelled=0.0).checked()
+
+    @property
+    def unfinished(self):
+        return self.status in UNFINISHED
+
+    def checked(self, path='<return progress>'):
+        """``self`` if every field is valid, else ProgressError naming ``path`` and the field."""
+        problem = _field_problem(self)
+        if problem:
+            raise ProgressError(path, *problem)
+        return self
+
+    def resume(self, now, digest, position, mission=None,
+               resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
+               resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset']):
+        """May a restarted layer resume this return? A :class:`ResumeDecision`.
+
+        ``now``: wall time, s; ``digest``: sha256 of ``landmark_file`` now (None
+        if it cannot be read); ``position``: the robot's odometry [x, y] now
+        (None if unknown: wait for odometry before asking); ``mission``: the
+        current mission's id, if known. Rules, in order:
+
+        - finished (home, aborted): IGNORE;
+        - unfinished, and both this record and the caller name a mission, and
+          they differ: IGNORE (left over from an earlier mission);
+        - otherwise a return of this mission was under way: ABORT if it was
+          updated more than ``resume_timeout`` s ago or in the future (the clock
+          changed), during the pi turn (the heading is unknown), if the file is
+          gone or changed, if the robot's position is unknown or more than
+          ``resume_max_offset`` m from where the return stopped; else RESUME.
+        """
+        action, why = resume_check(self, now, digest, resume_timeout, mission)
+        if action == RESUME:
+            problem = position_check(self, position, resume_max_offset)
+            if problem:
+                action, why = ABORT, 'cannot resume the return of %s: %s' % (self.landmark_file,
+                                                                             problem)
+        return ResumeDecision(action, why, self)
+
+
+def resume_check(progress, now, digest, resume_timeout, mission=None):
+    """The file part of :meth:`ReturnProgress.resume` (not where the robot is):
+    ``(action, reason)``."""
+    if not progress.unfinished:
+        return IGNORE, 'the last return (%s) ended %s' % (progress.landmark_file, progress.status)
+    if mission is not None and progress.mission is not None and mission != progress.mission:
+        return IGNORE, ('an unfinished return of %s is left over from mission %s (this is mission '
+                        '%s); not resuming it' % (progress.landmark_file, progress.mission, mission))
+    age = now - float(progress.updated)
+    if age < 0:
+        return ABORT, ('the unfinished return of %s was updated %.0f s in the future (the clock '
+                       'changed?): cannot tell how old it is' % (progress.landmark_file, -age))
+    if age > resume_timeout:
+        return ABORT, ('the unfinished return of %s was last updated %.0f s ago (resume_timeout '
+                       '%.0f s): too old to resume' % (progress.landmark_file, age, resume_timeout))
+    if progress.status == state.ROTATING:
+        return ABORT, 'restarted during the pi turn: the heading is unknown, not travelling back'
+    if digest is None:
+        return ABORT, 'landmark file %s of the unfinished return is gone' % progress.landmark_file
+    if digest != progress.digest:
+        return ABORT, 'landmark file %s changed since the return started' % progress.landmark_file
+    if progress.anchor is None or progress.position is None:
+        return ABORT, 'the unfinished return has no anchor/position to resume from'
+    return RESUME, 'resuming the return of %s after %d of %d landmarks' % (
+        progress.landmark_file, progress.completed, progress.landmarks)
+
+
+def position_check(progress, position, resume_max_offset):
+    """None if the robot (odometry ``position`` [x, y], None if unknown) is within
+    ``resume_max_offset`` m of where ``progress`` stopped, else why not."""
+    if position is None:
+        return 'no odometry to check where the robot is'
+    try:
+        x, y = _point(position)
+    except (TypeError, ValueError) as error:
+        return 'the robot\'s position is unusable: %s' % error
+    offset = math.hypot(x - progress.position[0], y - progress.position[1])
+    if offset > resume_max_offset:
+        return ('the robot is %.2f m from where the return stopped (resume_max_offset %.2f m): '
+                'odometry reset or robot moved' % (offset, resume_max_offset))
+    return None
+
+
+# --- the file ----------------------------------------------------------------
+
+def progress_path(landmark_file):
+    """Where the progress of a return over ``landmark_file`` (the configured name,
+    usually the recorder's symlink) is kept: next to it, ``<stem>.progress.yaml``."""
+    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
+    stem, _ = os.path.splitext(os.path.basename(landmark_file))
+    return os.path.join(os.path.dirname(landmark_file), stem + '.progress.yaml')
+
+
+def file_digest(path):
+    """sha256 of a regular file's bytes (hex); OSError if it cannot be read."""
+    return hashlib.sha256(read_regular_file(path, 1 << 30)).hexdigest()
+
+
+def save_progress(path, progress):
+    """Validate ``progress`` and write it to ``path`` atomically
+    (core/files.write_atomically: StorageError naming the file on failure)."""
+    progress.checked(path)
+    document = dict([('format', FORMAT_VERSION)] + list(progress._asdict().items()))
+    text = ('# blind_navigation return progress (back_travel_client); '
+            'the landmark file itself is never modified\n'
+            + yaml.safe_dump(document, default_flow_style=None, sort_keys=False, width=1 << 16))
+    write_atomically(path, text)
+
+
+def load_progress(path):
+    """The :class:`ReturnProgress` stored at ``path``, None if there is none;
+    ProgressError naming the file and the field if it cannot be trusted."""
+    try:
+        data = read_regular_file(path, MAX_PROGRESS_BYTES, follow_symlinks=False)
+    except FileNotFoundError:
+        return None
+    except NotRegularFileError as error:
+        raise ProgressError(path, None, 'is %s, not a regular file' % error.what)
+    except OSError as error:
+        raise ProgressError(path, None, 'cannot read: %s' % (error.strerror or error))
+    try:
+        document = yaml.safe_load(data.decode('utf-8'))
+    except (UnicodeDecodeError, yaml.YAMLError) as error:
+        raise ProgressError(path, None, 'not a YAML text: %s' % str(error).replace('\n', ' '))
+    if not isinstance(document, dict):
+        raise ProgressError(path, None, 'must be a map of %s, got %s'
+                            % (', '.join(FIELDS), type(document).__name__))
+    version = document.pop('format', None)
+    if version != FORMAT_VERSION:
+        raise ProgressError(path, 'format', 'must be %d, got %r' % (FORMAT_VERSION, version))
+    missing = [name for name in FIELDS if name not in document]
+    if missing:
+        raise ProgressError(path, missing[0], 'missing')
+    unknown = sorted(str(key) for key in document if key not in FIELDS)
+    if unknown:
+        raise ProgressError(path, unknown[0], 'unknown field')
+    return ReturnProgress(**document).checked(path)
+
+
+def resume_from_file(path, now, position, mission=None, digest=None,
+                     resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
+                     resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset']):
+    """What a restarted layer does with the progress at ``path``: a
+    :class:`ResumeDecision` (see :meth:`ReturnProgress.resume`). No file:
+    IGNORE; a file that cannot be trusted: ABORT naming the file and field.
+    ``digest``: sha256 of the landmark file, computed here when None."""
+    try:
+        progress = load_progress(path)
+    except ProgressError as error:
+        return ResumeDecision(ABORT, 'cannot trust the return progress: %s' % error, None)
+    if progress is None:
+        return ResumeDecision(IGNORE, 'no return progress at %s' % path, None)
+    if digest is None and progress.unfinished:
+        try:
+            digest = file_digest(progress.landmark_file)
+        except OSError:
+            digest = None
+    return progress.resume(now, digest, position, mission, resume_timeout, resume_max_offset)
+
+
+def settle_abort(path, decision, now):
+    """Record an ABORT ``decision`` at ``path`` so the next start does not decide
+    again: the progress read is marked aborted with the reason; an untrusted
+    file is first renamed to ``<path>.bad-<time>`` (kept for inspection) and
+    replaced by an aborted record. Returns the name it was set aside as, or
+    None. StorageError (naming the file) if it cannot be written."""
+    if decision.action != ABORT:
+        raise ValueError('only an abort is settled, not %r' % (decision.action,))
+    if decision.progress is not None:
+        save_progress(path, decision.progress.finish(state.ABORTED, decision.reason, now))
+        return None
+    aside = None
+    if os.path.lexists(path):
+        stamp = datetime.datetime.fromtimestamp(now).strftime('%Y%m%d-%H%M%S')
+        aside, n = '%s.bad-%s' % (path, stamp), 1
+        while os.path.lexists(aside):
+            aside, n = '%s.bad-%s-%d' % (path, stamp, n), n + 1
+        os.rename(path, aside)
+    save_progress(path, ReturnProgress.aborted(decision.reason, now))
+    return aside
