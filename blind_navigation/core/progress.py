@@ -37,6 +37,8 @@ import yaml
 
 from . import mission_state as state
 from .files import NotRegularFileError, read_regular_file, write_atomically
+from .plausibility import Limits
+from .store import LandmarkFileError, load_landmarks
 
 #: Defaults of the resume rule (the client exposes them as ~params).
 PROGRESS_DEFAULTS = {
@@ -268,13 +270,14 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
 
     def resume(self, now, digest, position, mission=None,
                resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
-               resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset']):
+               resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], landmark_count=None):
         """May a restarted layer resume this return? A :class:`ResumeDecision`.
 
         ``now``: wall time, s; ``digest``: sha256 of ``landmark_file`` now (None
         if it cannot be read); ``position``: the robot's odometry [x, y] now
         (None if unknown: wait for odometry before asking); ``mission``: the
-        current mission's id, if known. Rules, in order:
+        current mission's id, if known; ``landmark_count``: how many landmarks
+        the file holds now, if the caller loaded it. Rules, in order:
 
         - finished (home, aborted): IGNORE;
         - unfinished, and both this record and the caller name a mission, and
@@ -282,10 +285,14 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         - otherwise a return of this mission was under way: ABORT if it was
           updated more than ``resume_timeout`` s ago or in the future (the clock
           changed), during the pi turn (the heading is unknown), if the file is
-          gone or changed, if the robot's position is unknown or more than
+          gone or changed or does not hold ``landmarks`` landmarks, if the
+          robot's position is unknown or more than
           ``resume_max_offset`` m from where the return stopped; else RESUME.
         """
         action, why = resume_check(self, now, digest, resume_timeout, mission)
+        if action == RESUME and landmark_count is not None and landmark_count != self.landmarks:
+            action, why = ABORT, ('%s: landmarks: the return was over %d landmarks, the file holds '
+                                  '%d' % (self.landmark_file, self.landmarks, landmark_count))
         if action == RESUME:
             problem = position_check(self, position, resume_max_offset)
             if problem:
@@ -393,25 +400,31 @@ def load_progress(path):
     return ReturnProgress(**document).checked(path)
 
 
-def resume_from_file(path, now, position, mission=None, digest=None,
+def resume_from_file(path, now, position, mission=None,
                      resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
-                     resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset']):
+                     resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], limits=Limits()):
     """What a restarted layer does with the progress at ``path``: a
     :class:`ResumeDecision` (see :meth:`ReturnProgress.resume`). No file:
     IGNORE; a file that cannot be trusted: ABORT naming the file and field.
-    ``digest``: sha256 of the landmark file, computed here when None."""
+    The landmark file's digest and count are taken here (loaded with
+    ``limits``; a file that no longer loads: ABORT naming it)."""
     try:
         progress = load_progress(path)
     except ProgressError as error:
         return ResumeDecision(ABORT, 'cannot trust the return progress: %s' % error, None)
     if progress is None:
         return ResumeDecision(IGNORE, 'no return progress at %s' % path, None)
-    if digest is None and progress.unfinished:
+    digest = count = None
+    if progress.unfinished and progress.status != state.ROTATING:
         try:
             digest = file_digest(progress.landmark_file)
+            count = len(load_landmarks(progress.landmark_file, limits).landmarks)
         except OSError:
             digest = None
-    return progress.resume(now, digest, position, mission, resume_timeout, resume_max_offset)
+        except LandmarkFileError as error:
+            return ResumeDecision(ABORT, 'landmark file unusable: %s' % error, progress)
+    return progress.resume(now, digest, position, mission, resume_timeout, resume_max_offset,
+                           count)
 
 
 def settle_abort(path, decision, now):

@@ -20,7 +20,8 @@ NOW = 1.7e9
 def mission(tmp_path):
     """A recorded landmark file behind its symlink, and where its progress goes."""
     real = tmp_path / 'landmarks-20240101-120000.yaml'
-    real.write_text('landmark_000001: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n' * 1)
+    real.write_text(''.join('landmark_%06d: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n' % i
+                            for i in range(1, 11)))
     link = tmp_path / 'landmarks.yaml'
     link.symlink_to(real.name)
     return str(link), progress_path(str(link)), file_digest(str(real))
@@ -159,8 +160,15 @@ def test_resume_from_file(mission, tmp_path):
     decision = resume_from_file(path, NOW, [0.5, 2.0], mission='m1')
     assert decision.action == RESUME and decision.progress.completed == 4
     assert decision.progress.route == [[1.0, 2.0], [0.5, 2.0], [0.0, 0.0]]
-    (tmp_path / 'landmarks-20240101-120000.yaml').write_text('changed\n')
+    # the progress says 12 landmarks, the (unchanged) file holds 10: refused by count
+    save_progress(path, returning(link, digest)._replace(landmarks=12))
+    decision = resume_from_file(path, NOW, [0.5, 2.0])
+    assert decision.action == ABORT and 'landmarks: the return was over 12' in decision.reason
+    (tmp_path / 'landmarks-20240101-120000.yaml').write_text(
+        'landmark_000001: {data: [0.1, 0.0, 0.3, 2.0, 0.0]}\n')
     assert 'changed' in resume_from_file(path, NOW, [0.5, 2.0]).reason
+    (tmp_path / 'landmarks-20240101-120000.yaml').write_text('landmark_000001: [1]\n')
+    assert 'landmark file unusable' in resume_from_file(path, NOW, [0.5, 2.0]).reason
 
 
 def edited(link, digest, field, value):
