@@ -265,7 +265,9 @@ class RouteBudget(object):
     ``length``: what the recorded landmarks command, the sum over landmarks of
     ``max(d, |v| T)``: the closed-loop return drives the chords ``d``, the
     distance mode drives ``d``, the time mode drives ``|v|`` for ``T`` (never
-    faster than recorded, core/safety.goal_limits). ``limit`` =
+    faster than recorded, core/safety.goal_limits); or ``route_length`` (m,
+    the length of the route a follower tracks, e.g. curved between ticks) if
+    that is longer. ``limit`` =
     ``route_length_factor`` x ``length`` + ``route_length_margin``: the factor
     covers the pursuit's corrections and the replay modes' overshoot, the
     margin rejoining the route from where a resumed return stands (up to
@@ -273,10 +275,12 @@ class RouteBudget(object):
     the reason to stop once the distance travelled so far exceeds it.
     """
 
-    def __init__(self, landmarks, params=None):
+    def __init__(self, landmarks, params=None, route_length=0.0):
         self.factor = _param(params, 'route_length_factor')
         self.margin = _param(params, 'route_length_margin')
-        self.length = sum(max(lm.d, abs(lm.v) * lm.T) for lm in landmarks)
+        if not (math.isfinite(route_length) and route_length >= 0.0):
+            raise ValueError('route_length must be a finite length >= 0 m, got %r' % (route_length,))
+        self.length = max(sum(max(lm.d, abs(lm.v) * lm.T) for lm in landmarks), route_length)
         self.limit = self.factor * self.length + self.margin
 
     def problem(self, travelled):
