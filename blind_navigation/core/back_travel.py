@@ -1,36 +1,64 @@
-"""Back-travel controllers: drive one path landmark of the return (paper 3.3.5).
+"""Back-travel control: drive the recorded path back to the start (paper 3.3.5).
 
-After the pi turn the robot drives *forward* along the recorded path in the
-opposite direction, landmarks in reverse order. Reversing time on a path
-traversed with ``(v, w)`` while the robot faces the other way gives the command
-``(v, -w)``: the linear velocity is replayed as recorded and the turn rate is
-mirrored (a left arc going out is a right arc coming back).
+After the pi turn the robot drives the recorded path in the opposite
+direction, landmarks in reverse order, one action goal per landmark. Modes:
 
-Modes (``make_controller(mode, landmark, params, route)``):
-
-- ``time`` -- the paper's sampled-time control: publish the landmark's velocity
-  for its period ``T``. Straight segments (``T`` equal to the straight, longer
-  period) publish the linear velocity only, curved ones linear and angular.
-- ``distance`` -- the paper's travelled-distance control: the same velocities
-  until odometry shows the landmark's ``d`` covered.
+- ``time`` -- the paper's sampled-time control (:class:`TimeController`, one per
+  goal): publish the landmark's velocity for its period ``T``. Reversing time
+  on a path traversed with ``(v, w)`` while facing the other way gives
+  ``(v, -w)``: ``v`` replayed as recorded, the turn mirrored; straight segments
+  (``T`` equal to the straight period) publish ``v`` only.
+- ``distance`` -- the paper's travelled-distance control
+  (:class:`DistanceController`): the same velocities until odometry shows ``d``.
 - ``closed_loop`` -- this package's mode (the paper's limitation 4, "does not
-  correct drift"): the landmarks' ``(d, psi)`` chain rebuilds the recorded path
-  in the odometry frame (:class:`ReturnRoute`), anchored where recording
-  stopped; pure pursuit tracks it backwards, correcting heading and
-  cross-track drift; each goal ends when the along-track progress reaches the
-  landmark's end point, less the distance the robot coasts after its last
-  command (``stop_lead`` x measured speed: the server's handover timeout plus
-  the base's velocity time constant), so the last goal stops on the start.
-  Speed is the recorded one (at least ``min_v``).
+  correct drift"): the whole route is built at once from every landmark
+  (core/route.build_route: modelled curves between ticks, reversed stretches,
+  corners where the robot turned in place or reversed) and
+  :class:`RouteFollower` drives it: pure pursuit along each piece between
+  corners, at the recorded speed (never faster: core/safety.goal_limits per
+  section), slowing down towards each corner and the end, stopping at a
+  corner and turning in place to face along the next piece. The robot always
+  drives forward (the Kobuki's bumper is at its front).
 
-Each controller: ``start(odom_state)``, ``step(odom_state) -> (v, w)`` until
-``done`` (or ``failed``: the goal's time allowance ran out), ``travelled`` =
-odometry path length since start. Times come from ``odom_state.stamp``. Every
-command is clamped to ``max_v``/``max_w``.
+Closed-loop API (the ROS action server and client, and the harness)::
+
+    route = build_route(landmarks, anchor, params)     # core/route.py; anchor = (x, y)
+    follower = RouteFollower(route, params)
+    follower.start(odom_state, section=0)    # section: first goal to drive (resume: > 0)
+    while not (follower.done or follower.failed):
+        v, w = follower.step(odom_state)     # clamped to the section's limits
+        follower.section_finished(i)         # goal i (return order) done?
+    follower.reason                          # why it failed ('' otherwise)
+    follower.progress                        # (m along the route, corner turn phase)
+    follower.section                         # first unfinished section
+    follower.late                            # [(section, s taken, s nominal)] over their time
+    follower.travelled                       # odometry path length since start, m
+    route.to_lists() / Route.from_lists()    # plain lists of floats (progress file, ROS)
+
+The follower fails only when the return stops making progress
+(core/allowance.ProgressWatch: ``stall_timeout``, the whole-return allowance);
+a section over ``timeout_factor`` x its nominal time + ``timeout_margin`` is
+recorded in ``late``, not fatal. A gap between steps (the node held the robot
+while odometry was stale, core/allowance.OdomGrace) does not count.
+
+The per-goal controllers (``time``, ``distance``; :func:`make_controller`):
+``start(odom_state)``, ``step(odom_state) -> (v, w)`` until ``done`` (or
+``failed``: the goal's time allowance ran out), ``travelled`` = odometry path
+length since start. Times come from ``odom_state.stamp``. Every command is
+clamped to ``max_v``/``max_w``. :class:`ReturnRoute` and
+:class:`PursuitController` are the per-goal closed loop the ROS server used
+before the route follower (the route rebuilt one landmark at a time); they go
+once the server drives a :class:`RouteFollower`.
 """
 import math
 
+from types import SimpleNamespace
+
+from .allowance import ProgressWatch
 from .geometry import distance, wrap_angle
+from .landmark import Landmark
+from .rotation import ROTATION_DEFAULTS, Rotation
+from .safety import SAFETY_DEFAULTS, VelocityLimits, goal_limits
 
 MODES = ('time', 'distance', 'closed_loop')
 
@@ -42,9 +70,19 @@ BACK_TRAVEL_DEFAULTS = {
     'timeout_factor': 3.0,    # allowance = factor * expected duration + margin
     'timeout_margin': 2.0,    # s
     'lookahead': 0.1,         # m, pure-pursuit lookahead (closed_loop)
-    'min_v': 0.03,            # m/s, slowest closed-loop speed
+    'min_v': 0.03,            # m/s, slowest closed-loop speed (when the section was recorded faster)
+    'creep_v': 0.02,          # m/s; a stretch recorded slower is driven at this (closed_loop; slower,
+                              # the base's own wheel-speed ripple stalls it)
     'min_d': 0.002,           # m, goals shorter than this end at once (distance, closed_loop)
     'stop_lead': 0.2,         # s the robot coasts after its last command (closed_loop)
+    'lookahead_time': 0.5,    # s; the lookahead grows to this x the speed (closed_loop)
+    'brake_decel': 0.5,       # m/s^2; slowing down towards a corner and the end (closed_loop)
+    'stopped_v': 0.01,        # m/s; below this (and stopped_w) the robot counts as stopped
+    'stopped_w': 0.05,        # rad/s
+    'stop_timeout': 2.0,      # s; the longest wait for the robot to stop at a corner
+    'align_tolerance': 0.1,   # rad; a smaller heading error at a corner is left to the pursuit
+    'aim_distance': 0.1,      # m; a turn in place faces the route point this far ahead
+    'correction_w': SAFETY_DEFAULTS['correction_w'],  # rad/s a section may turn beyond its recorded rate
 }
 
 
@@ -283,3 +321,234 @@ def make_controller(mode, landmark, params=None, route=None):
     if mode == 'closed_loop':
         return PursuitController(landmark, params, route)
     raise ValueError('unknown back-travel mode %r (expected one of %s)' % (mode, ', '.join(MODES)))
+
+
+# --- closed loop: the whole route ------------------------------------------------
+DRIVING, STOPPING, TURNING, FINISHED = 'driving', 'stopping', 'turning', 'finished'
+
+
+def section_limits(section, max_v, max_w, correction_w, creep_v):
+    """core/safety.goal_limits of a route section: never faster than its recorded
+    speed, never turning faster than its recorded turn rate + ``correction_w``;
+    but a stretch recorded slower than ``creep_v`` (at most a few centimetres:
+    d / T is below it) may be driven at ``creep_v``."""
+    limits = goal_limits(Landmark(section.speed, section.turn_rate, 0.0, 1.0, 0.0),
+                         max_v, max_w, correction_w)
+    return limits._replace(max_v=max(limits.max_v, min(creep_v, max_v)))
+
+
+class RouteFollower(object):
+    """Drives a core/route.Route from its anchor to its end (module docstring).
+
+    Modes: ``driving`` a piece (pure pursuit), ``stopping`` at a corner,
+    ``turning`` in place there (core/rotation.Rotation to the heading of the
+    route point ``aim_distance`` ahead), ``finished``. ``params``: attributes
+    of :data:`BACK_TRAVEL_DEFAULTS`, core/allowance.ALLOWANCE_DEFAULTS and
+    core/rotation.ROTATION_DEFAULTS (gain, decel, min_w, tolerance; missing
+    ones take the defaults).
+    """
+
+    def __init__(self, route, params=None):
+        self.route = route
+        self.params = params
+        for name in ('max_v', 'max_w', 'lookahead', 'min_v', 'stop_lead', 'lookahead_time',
+                     'brake_decel', 'stopped_v', 'stopped_w', 'stop_timeout', 'align_tolerance',
+                     'aim_distance', 'correction_w', 'timeout_factor', 'timeout_margin', 'creep_v'):
+            setattr(self, name, _param(params, name))
+        self.limits = [section_limits(sec, self.max_v, self.max_w, self.correction_w, self.creep_v)
+                       for sec in route.sections]
+        self.nominal = [sec.nominal_time + abs(sec.turn) / max(limit.max_w, 1e-3)
+                        for sec, limit in zip(route.sections, self.limits)]
+        self.watch = ProgressWatch(sum(self.nominal), params)
+        self.done = self.failed = False
+        self.reason = ''
+        self.mode = None
+        self.section = 0
+        self.late = []
+        self.travelled = 0.0
+        self._mark = (0.0, 0.0)       # progress: (s along the route, phase of the corner turn)
+        self._piece = 0
+        self._segment = 0
+        self._rotation = None
+        self._turn_angle = 0.0
+        self._last = None
+        self._stop_since = None
+        self._section_started = 0.0
+
+    # --- progress ---------------------------------------------------------------
+    @property
+    def progress(self):
+        """(m along the route, phase of the turn at the corner there)."""
+        return self._mark
+
+    def section_finished(self, index):
+        """Whether section (goal) ``index`` of the route is done."""
+        return self.done or self._mark >= self.route.section_end(index)
+
+    def _advance(self, mark):
+        """Move the progress mark forward (never back) and close finished sections."""
+        if mark > self._mark:
+            self._mark = mark
+        sections = self.route.sections
+        while self.section < len(sections) and self._mark >= self.route.section_end(self.section):
+            taken = self.watch.active - self._section_started
+            allowed = self.timeout_factor * self.nominal[self.section] + self.timeout_margin
+            if taken > allowed:
+                self.late.append((self.section, taken, self.nominal[self.section]))
+            self._section_started = self.watch.active
+            self.section += 1
+
+    def _limit(self):
+        if not self.limits:
+            return VelocityLimits(min(self.creep_v, self.max_v), min(self.correction_w, self.max_w))
+        return self.limits[min(self.section, len(self.limits) - 1)]
+
+    # --- control ----------------------------------------------------------------
+    def start(self, odom_state, section=0):
+        """Start (or resume at goal ``section``) from ``odom_state``."""
+        route = self.route
+        if not 0 <= section <= len(route.sections):
+            raise ValueError('cannot start at section %d of %d' % (section, len(route.sections)))
+        self._last = odom_state
+        self.travelled = 0.0
+        self.done = self.failed = False
+        self.reason = ''
+        self.watch.update(odom_state.stamp, 0.0)
+        mark = (0.0, 0.0) if section == 0 else route.section_end(section - 1)
+        vertex = 0 if section == 0 else route.sections[section - 1].end_vertex
+        self._mark = mark
+        self.section = section
+        self._section_started = self.watch.active
+        self._advance(mark)
+        if route.vertices == 1 or vertex >= route.vertices - 1:
+            self._finish()
+            return
+        self._piece = route.piece_of(vertex)
+        self._segment = vertex
+        if route.corner[vertex] and mark[1] < 1.0:
+            self._start_turn(odom_state)
+        else:
+            self.mode = DRIVING
+
+    def step(self, odom_state):
+        """(v, w) for this control cycle; sets done / failed (then (0, 0))."""
+        if self._last is None:
+            raise RuntimeError('RouteFollower.step called before start')
+        self.travelled += distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
+        self._last = odom_state
+        if self.done or self.failed:
+            return 0.0, 0.0
+        if self.mode == DRIVING:
+            command, heading_error = self._drive(odom_state)
+        elif self.mode == STOPPING:
+            command, heading_error = self._stop(odom_state), None
+        else:
+            command, heading_error = self._turn(odom_state)
+        why = self.watch.update(odom_state.stamp, self._mark[0], heading_error)
+        if why and not self.done:
+            self.failed, self.reason = True, why
+        if self.done or self.failed:
+            return 0.0, 0.0
+        return self._limit().clamp(*command)
+
+    def _finish(self):
+        self.mode = FINISHED
+        self._advance((self.route.length, 1.0))
+        self.done = True
+
+    def _piece_end(self):
+        return self.route.corners[self._piece + 1]
+
+    def _locate(self, x, y):
+        """Along-route distance of the robot's projection on the current piece,
+        walking forward from the last segment (progress only moves forward)."""
+        route, last = self.route, self._piece_end() - 1
+        segment = max(self._segment, self.route.corners[self._piece])
+        while True:
+            ax, ay = route.x[segment], route.y[segment]
+            dx, dy = route.x[segment + 1] - ax, route.y[segment + 1] - ay
+            length_sq = dx * dx + dy * dy
+            t = ((x - ax) * dx + (y - ay) * dy) / length_sq if length_sq > 0 else 1.0
+            if t >= 1.0 and segment < last:
+                segment += 1
+                continue
+            break
+        self._segment = segment
+        t = max(0.0, min(1.0, t))
+        return route.s[segment] + t * (route.s[segment + 1] - route.s[segment])
+
+    def _drive(self, odom):
+        route = self.route
+        along = self._locate(odom.x, odom.y)
+        end_vertex = self._piece_end()
+        remaining = route.s[end_vertex] - along
+        if remaining <= max(odom.v, 0.0) * self.stop_lead:
+            self._advance((route.s[end_vertex], 0.0))
+            if end_vertex >= route.vertices - 1:
+                self._finish()
+                return (0.0, 0.0), None
+            self.mode, self._stop_since = STOPPING, odom.stamp
+            return (0.0, 0.0), None
+        self._advance((along, 0.0))
+        limit = self._limit()
+        slowest = min(self.min_v, limit.max_v)
+        speed = max(slowest, min(route.speed_at(along, self._segment), limit.max_v,
+                                 math.sqrt(2.0 * self.brake_decel * remaining)))
+        reach_ahead = max(self.lookahead, self.lookahead_time * speed)
+        tx, ty, _ = route.point_at(min(along + reach_ahead, route.s[end_vertex]), self._segment)
+        reach = distance(odom.x, odom.y, tx, ty)
+        alpha = wrap_angle(math.atan2(ty - odom.y, tx - odom.x) - odom.yaw)
+        if abs(alpha) > math.pi / 3.0:
+            # Target well off the bow (after a poor turn, or pushed off): face it first.
+            return (0.0, math.copysign(min(limit.max_w, 2.0 * abs(alpha)), alpha)), abs(alpha)
+        return (speed, 2.0 * speed * math.sin(alpha) / max(reach, 1e-6)), None
+
+    def _stop(self, odom):
+        still = abs(odom.v) <= self.stopped_v and abs(odom.w) <= self.stopped_w
+        if still or odom.stamp - self._stop_since >= self.stop_timeout:
+            self._piece += 1
+            self._segment = self.route.corners[self._piece]
+            self._start_turn(odom)
+        return 0.0, 0.0
+
+    def _aim_heading(self, odom):
+        """Heading from the robot to the route point ``aim_distance`` into the piece."""
+        route = self.route
+        corner = route.corners[self._piece]
+        end = route.s[self._piece_end()]
+        tx, ty, _ = route.point_at(min(route.s[corner] + self.aim_distance, end), corner)
+        if distance(odom.x, odom.y, tx, ty) < 0.5 * self.aim_distance:
+            return route.direction(corner)
+        return math.atan2(ty - odom.y, tx - odom.x)
+
+    def _start_turn(self, odom):
+        angle = wrap_angle(self._aim_heading(odom) - odom.yaw)
+        self.watch.new_heading_goal()
+        corner = self.route.s[self.route.corners[self._piece]]
+        if abs(angle) <= self.align_tolerance:
+            self._advance((corner, 1.0))
+            self.mode, self._rotation = DRIVING, None
+            return
+        limit = self._limit()
+        turn = dict((name, _rotation_param(self.params, name)) for name in ROTATION_DEFAULTS)
+        turn.update(angle=angle, max_w=limit.max_w, min_w=min(turn['min_w'], limit.max_w),
+                    time_allowance=float('inf'))
+        self._rotation = Rotation(SimpleNamespace(**turn))
+        self._rotation.start(odom)
+        self._turn_angle = angle
+        self.mode = TURNING
+
+    def _turn(self, odom):
+        rotation = self._rotation
+        command = rotation.step(odom)
+        corner = self.route.s[self.route.corners[self._piece]]
+        share = 1.0 - min(1.0, abs(rotation.remaining) / abs(self._turn_angle))
+        self._advance((corner, 1.0 if rotation.done else share))
+        if rotation.done:
+            self.mode, self._rotation = DRIVING, None
+        return command, abs(rotation.remaining)
+
+
+def _rotation_param(params, name):
+    return float(getattr(params, name, ROTATION_DEFAULTS[name]) if params is not None
+                 else ROTATION_DEFAULTS[name])

@@ -24,25 +24,50 @@ same robot). The pi turn and the return then run on the corrected odometry with
 the landmarks expressed in the same frame, as the heading_correction node and
 back_travel_client do.
 
+``closed_loop`` builds the whole route at once (core/route.build_route) and
+drives it with core/back_travel.RouteFollower, one goal per landmark in return
+order as back_travel_server does (a goal ends when its section is finished);
+``time`` and ``distance`` run one controller per landmark.
+
+Missions are mission files (sim/mission.py) or command series
+(sim/command_series.py: seeded random paths from sim/random_paths.py,
+replayed real trajectories from config/paths).
+
+The physical floor (``floor`` setting): on a copy of the same robot after the
+same recording, standstill and pi turn (same seed, same state), a follower
+tracks the recorded 50 Hz odometry poses backwards (each odometry sample a
+landmark, in the same heading-corrected frame, the same route builder and
+follower): ``dense_error`` is its true final error, ``floor_error`` the true
+error it would have had had its odometry ended exactly on the start (the
+residual odometry offset at its end mapped out through the odometry-to-truth
+transform there): what tracking the recorded odometry perfectly leaves, which
+no landmark scheme can beat. :func:`run_modes` records once per configuration
+and runs every mode's return (and the floor) from copies of that state.
+
 The result holds the ground-truth final position error (the paper's "position
 error": distance between the start and where the robot stopped), odometry's
-own view of it, the recorded distance, samples, bytes, and both true paths.
+own view of it, the recorded distance, samples, bytes, both true paths, and
+the floor.
 """
+import copy
 import math
 import os
 import tempfile
 from collections import namedtuple
 from types import SimpleNamespace
 
-from ..core.back_travel import ReturnRoute, make_controller
-from ..core.geometry import distance
+from ..core.back_travel import RouteFollower, make_controller
+from ..core.geometry import distance, wrap_angle
+from ..core.landmark import Landmark
+from ..core.motion_events import MotionEvents
+from ..core.route import build_route
 from ..core.gyro_bias import (STANDSTILL_DEFAULTS, StandstillBias, standstill_complete,
                               standstill_timeout)
 from ..core.gyro_calibration import CalibrationError, SpinCalibration
 from ..core.gyro_fit import GyroVisualFit
 from ..core.heading_correction import (CorrectedOdometry, correct_landmarks, estimate_correction,
                                        no_correction, visual_bias)
-from ..core.recorder import PathRecorder
+from ..core.recorder import OdometryHistory, PathRecorder
 from ..core.rotation import Rotation
 from ..core.segment import SamplingSchedule
 from ..core.store import LandmarkWriter, load_landmarks
@@ -66,16 +91,23 @@ SIMULATION_DEFAULTS = {
                                # bias std x the recording's duration is within this
     'standstill_min': STANDSTILL_DEFAULTS['standstill_min'],  # s, but not before this
     'gyro_calibration': None,  # the gyro's calibrated scale (core/gyro_calibration.GyroCalibration)
+    'floor': True,             # also run the physical floor (module docstring)
+    'event_sampling': False,   # an extra landmark at each motion event (core/motion_events.py:
+                               # a proposal; off = the paper's sampling)
 }
 
 MissionResult = namedtuple('MissionResult', [
     'mission', 'profile', 'mode', 'seed', 'status', 'reason',
     'distance', 'samples', 'bytes', 'position_error', 'odom_error',
-    'forward_path', 'return_path', 'duration', 'landmarks', 'heading_correction'])
+    'forward_path', 'return_path', 'duration', 'landmarks', 'heading_correction',
+    'floor_error', 'dense_error', 'late'])
 MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
                          'samples, bytes (landmark file), position_error (m, ground truth), '
                          'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s), '
-                         'landmarks (as stored and read back), heading_correction (core/heading_correction.GyroCorrection).')
+                         'landmarks (as stored and read back), heading_correction '
+                         '(core/heading_correction.GyroCorrection), floor_error and dense_error '
+                         '(m, the physical floor, module docstring; None without the floor), '
+                         'late (closed_loop goals over their nominal time).')
 
 
 class _Run(object):
@@ -91,11 +123,14 @@ class _Run(object):
         self.vision = DriftingOdometry(seed + 1, **VO_DRIFT_DEFAULTS)
         self.next_frame = 0.0
         self.corrector = None
+        self.odometry_log = None      # a list: every odometry state is appended
 
     def advance(self, command=None):
         if command is not None:
             self.base.command(*command)
         self.base.step(self.dt)
+        if self.odometry_log is not None:
+            self.odometry_log.append(self.base.odom)
         pose = self.base.true_pose
         if not self.path or distance(self.path[-1][0], self.path[-1][1], pose.x, pose.y) > 0.005:
             self.path.append((pose.x, pose.y))
@@ -152,8 +187,10 @@ def _record(run, mission, settings, store_path):
     if operator is not None:
         operator.start(base.true_pose)
     settle_steps = int(round(settings['settle_time'] / dt))
+    events = MotionEvents() if settings['event_sampling'] else None
+    history = OdometryHistory(2.0)
     with LandmarkWriter(store_path, fsync=False, metadata={'mission': mission.name}) as writer:
-        k, finished_at = 0, None
+        k, finished_at, split = 0, None, False
         while finished_at is None or k < finished_at + settle_steps:
             command = None
             if finished_at is None and k % operator_every == 0:
@@ -165,10 +202,17 @@ def _record(run, mission, settings, store_path):
             if operator is not None:
                 operator.observe(k * dt, base.true_pose)
             if base.t >= next_tick - 1e-9:
-                writer.append(recorder.take(base.odom, base.odom.yaw, period))
-                last_tick = base.t
+                writer.append(recorder.take(base.odom, base.odom.yaw, base.t - last_tick if split else period))
+                last_tick, split = base.t, False
                 period = schedule.update(base.odom.yaw)
                 next_tick = base.t + period
+            elif events is not None:
+                history.append(base.odom)
+                event = events.update(base.odom)
+                if event is not None and event - last_tick > 1e-9:
+                    state = history.at(event + 1e-9)
+                    writer.append(recorder.take(state, state.yaw, state.stamp - last_tick))
+                    last_tick, split = state.stamp, True
         if base.t - last_tick > 1e-9:   # vision lost: the final partial cycle
             writer.append(recorder.take(base.odom, base.odom.yaw, base.t - last_tick))
     return load_landmarks(store_path), (base.odom.x, base.odom.y)
@@ -186,24 +230,90 @@ def _turn(run, params):
 
 
 def _return(run, landmarks, anchor, mode, params, settings):
-    route = ReturnRoute(anchor, settings['straight_period'])
+    """Drive the landmarks back, one goal per landmark (return order); returns
+    (why it aborted or '', closed_loop goals over their nominal time)."""
+    if mode == 'closed_loop':
+        return _follow(run, build_route(landmarks, anchor, params), params, settings)
     command = (0.0, 0.0)
     for index, landmark in enumerate(reversed(landmarks)):
-        controller = make_controller(mode, landmark, params, route)
+        controller = make_controller(mode, landmark, params)
         controller.start(run.odom())
         while True:
             v, w = controller.step(run.odom())
             if controller.failed:
                 run.base.command(0.0, 0.0)
-                return 'goal %d: time allowance %.1f s exceeded' % (index + 1, controller.allowance)
+                return 'goal %d: time allowance %.1f s exceeded' % (index + 1, controller.allowance), []
             if controller.done:
                 break
             command = (v, w)
             run.advance(command)
+    _hand_over(run, command, settings)
+    return '', []
+
+
+def _follow(run, route, params, settings):
+    """closed_loop: a RouteFollower over ``route``, goal by goal as the server drives it."""
+    follower = RouteFollower(route, params)
+    follower.start(run.odom())
+    command = (0.0, 0.0)
+    for index in range(len(route.sections)):
+        while not follower.section_finished(index):
+            v, w = follower.step(run.odom())
+            if follower.failed:
+                run.base.command(0.0, 0.0)
+                return 'goal %d: %s' % (index + 1, follower.reason), follower.late
+            if follower.section_finished(index):
+                break
+            command = (v, w)
+            run.advance(command)
+    _hand_over(run, command, settings)
+    return '', follower.late
+
+
+def _hand_over(run, command, settings):
+    """After the last goal the server holds the last command ``handover_timeout`` s, then stops."""
     for _ in range(int(round(settings['handover_timeout'] / run.dt))):
         run.advance(command)
     run.base.command(0.0, 0.0)
-    return ''
+
+
+def dense_landmarks(odometry, spacing=0.01, turn=0.05):
+    """The recorded odometry as landmarks (v, w, d, T, psi) at every state that moved
+    ``spacing`` m or turned ``turn`` rad since the previous one kept (the route
+    merges closer points anyway): the recorded path at the odometry's own rate."""
+    landmarks, kept = [], odometry[0] if odometry else None
+    for index, state in enumerate(odometry[1:], 1):
+        step = distance(kept.x, kept.y, state.x, state.y)
+        if step >= spacing or abs(wrap_angle(state.yaw - kept.yaw)) >= turn or index == len(odometry) - 1:
+            if state.stamp > kept.stamp:
+                landmarks.append(Landmark(state.v, state.w, step, state.stamp - kept.stamp,
+                                          wrap_angle(state.yaw)))
+                kept = state
+    return landmarks
+
+
+def _floor(run, odometry, anchor, correction, params, settings):
+    """(floor_error, dense_error) of the physical floor (module docstring) on ``run``."""
+    dense = correct_landmarks(dense_landmarks(odometry), correction)
+    route = build_route(dense, anchor, params)
+    reason, _ = _follow(run, route, params, settings)
+    _stop(run, settings)
+    truth, odom = run.base.true_pose, run.odom()
+    start = run.path_start
+    dense_error = distance(start[0], start[1], truth.x, truth.y)
+    if reason:
+        return float('nan'), dense_error
+    goal_x, goal_y = route.x[-1], route.y[-1]
+    turn = truth.yaw - odom.yaw
+    dx, dy = goal_x - odom.x, goal_y - odom.y
+    x = truth.x + math.cos(turn) * dx - math.sin(turn) * dy
+    y = truth.y + math.sin(turn) * dx + math.cos(turn) * dy
+    return distance(start[0], start[1], x, y), dense_error
+
+
+def _stop(run, settings):
+    for _ in range(int(round(settings['stop_time'] / run.dt))):
+        run.advance()
 
 
 def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0.02):
@@ -222,46 +332,106 @@ def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0
     return spin.result()
 
 
+def _settings(settings):
+    unknown = set(settings) - set(SIMULATION_DEFAULTS)
+    if unknown:
+        raise ValueError('run_mission: unknown settings %s' % ', '.join(sorted(unknown)))
+    return dict(SIMULATION_DEFAULTS, **settings)
+
+
+def default_params(settings, profile):
+    """Controller params as the nodes run them on this robot: ``stop_lead`` is the
+    handover timeout plus the base's velocity time constant."""
+    return SimpleNamespace(straight_period=settings['straight_period'],
+                           stop_lead=settings['handover_timeout'] + profile['motor_time_constant'])
+
+
+class _Recorded(object):
+    """One mission recorded, vision lost and turned by pi: the state every mode's
+    return starts from (copied per mode by :func:`run_modes`)."""
+
+    def __init__(self, mission, profile, seed, settings, store_dir):
+        self.mission = load_mission(mission) if isinstance(mission, str) else mission
+        self.profile_name = profile if isinstance(profile, str) else 'custom'
+        self.profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
+        self.seed, self.settings = seed, settings
+        run = self.run = _Run(self.profile, seed, settings['control_dt'], settings['heading_correction'])
+        if settings['floor']:
+            run.odometry_log = [run.base.odom]
+        start = run.base.true_pose
+        run.path_start = (start.x, start.y)
+        with tempfile.TemporaryDirectory(dir=store_dir) as directory:
+            store_path = os.path.join(directory, 'landmarks.yaml')
+            self.loaded, self.anchor = _record(run, self.mission, settings, store_path)
+            self.size = os.path.getsize(store_path)
+        self.odometry, run.odometry_log = run.odometry_log, None
+        self.forward_path, run.path = run.path, [run.path[-1]] if run.path else []
+        standstill = SimpleNamespace(**{name: settings[name] for name in STANDSTILL_DEFAULTS
+                                        if name in settings})
+        self.correction = run.lose_vision(standstill, settings['gyro_calibration'])
+        self.landmarks = correct_landmarks(self.loaded.landmarks, self.correction)
+        self.turned = None
+
+    def turn(self, params):
+        if self.turned is None:
+            self.turned = _turn(self.run, params)
+        return self.turned
+
+    def floor(self, params):
+        """(floor_error, dense_error) on a copy of the turned robot."""
+        if not self.settings['floor'] or not self.turned:
+            return None, None
+        return _floor(copy.deepcopy(self.run), self.odometry, self.anchor, self.correction,
+                      params, self.settings)
+
+    def finish(self, run, mode, params, floor):
+        """Drive ``mode``'s return on ``run`` (this state or a copy): the MissionResult."""
+        reason, late = ('pi rotation failed', []) if not self.turned else \
+            _return(run, self.landmarks, self.anchor, mode, params, self.settings)
+        _stop(run, self.settings)
+        end, odom = run.base.true_pose, run.base.odom
+        start = run.path_start
+        floor_error, dense_error = floor
+        return MissionResult(
+            self.mission.name, self.profile_name, mode, self.seed,
+            'aborted' if reason else 'home', reason, self.loaded.total_distance,
+            len(self.loaded.landmarks), self.size, distance(start[0], start[1], end.x, end.y),
+            math.hypot(odom.x, odom.y), self.forward_path, run.path, run.base.t,
+            self.loaded.landmarks, self.correction, floor_error, dense_error, late)
+
+
 def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=None,
                 store_dir=None, **settings):
     """Simulate one mission end to end; returns a :class:`MissionResult`.
 
-    ``mission``/``profile``: names (config/missions, config/noise) or paths;
-    ``params``: controller/rotation params (object with attributes; defaults
-    otherwise); ``settings``: any of :data:`SIMULATION_DEFAULTS`.
+    ``mission``/``profile``: names (config/missions, config/noise) or paths, or a
+    sim/mission.Mission (e.g. a command series); ``params``: controller/rotation
+    params (object with attributes; :func:`default_params` otherwise);
+    ``settings``: any of :data:`SIMULATION_DEFAULTS`.
     """
-    unknown = set(settings) - set(SIMULATION_DEFAULTS)
-    if unknown:
-        raise ValueError('run_mission: unknown settings %s' % ', '.join(sorted(unknown)))
-    settings = dict(SIMULATION_DEFAULTS, **settings)
-    mission = load_mission(mission) if isinstance(mission, str) else mission
-    profile_name = profile if isinstance(profile, str) else 'custom'
-    profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
-    if params is None:
-        # stop_lead: the handover timeout plus the base's velocity time constant.
-        params = type('Params', (object,), {
-            'straight_period': settings['straight_period'],
-            'stop_lead': settings['handover_timeout'] + profile['motor_time_constant'],
-        })()
-    run = _Run(profile, seed, settings['control_dt'], settings['heading_correction'])
-    start = run.base.true_pose
-    with tempfile.TemporaryDirectory(dir=store_dir) as directory:
-        store_path = os.path.join(directory, 'landmarks.yaml')
-        loaded, anchor = _record(run, mission, settings, store_path)
-        size = os.path.getsize(store_path)
-    forward_path, run.path = run.path, [run.path[-1]] if run.path else []
-    standstill = SimpleNamespace(**{name: settings[name] for name in STANDSTILL_DEFAULTS
-                                    if name in settings})
-    correction = run.lose_vision(standstill, settings['gyro_calibration'])
-    landmarks = correct_landmarks(loaded.landmarks, correction)
-    reason = '' if _turn(run, params) else 'pi rotation failed'
-    if not reason:
-        reason = _return(run, landmarks, anchor, mode, params, settings)
-    for _ in range(int(round(settings['stop_time'] / run.dt))):
-        run.advance()
-    end, odom = run.base.true_pose, run.base.odom
-    return MissionResult(
-        mission.name, profile_name, mode, seed,
-        'aborted' if reason else 'home', reason, loaded.total_distance, len(loaded.landmarks),
-        size, distance(start.x, start.y, end.x, end.y), math.hypot(odom.x, odom.y),
-        forward_path, run.path, run.base.t, loaded.landmarks, correction)
+    settings = _settings(settings)
+    recorded = _Recorded(mission, profile, seed, settings, store_dir)
+    params = params if params is not None else default_params(settings, recorded.profile)
+    recorded.turn(params)
+    floor = recorded.floor(params)
+    return recorded.finish(recorded.run, mode, params, floor)
+
+
+def run_modes(mission, profile='ideal', modes=('closed_loop',), seed=0, params=None,
+              settings_of=None, store_dir=None):
+    """{mode: MissionResult}: like :func:`run_mission` for each of ``modes`` (same
+    results), recording once per configuration. ``settings_of(mode)`` gives a
+    mode's settings (default: none); modes with equal settings share the
+    recording, the standstill, the pi turn and the floor."""
+    results, shared = {}, {}
+    for mode in modes:
+        settings = _settings(settings_of(mode) if settings_of else {})
+        key = tuple(sorted((k, repr(v)) for k, v in settings.items()))
+        if key not in shared:
+            recorded = _Recorded(mission, profile, seed, settings, store_dir)
+            mode_params = params if params is not None else default_params(settings, recorded.profile)
+            recorded.turn(mode_params)
+            shared[key] = (recorded, mode_params, recorded.floor(mode_params))
+        recorded, mode_params, floor = shared[key]
+        results[mode] = recorded.finish(copy.deepcopy(recorded.run), mode, mode_params, floor)
+    return results

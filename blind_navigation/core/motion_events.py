@@ -1,0 +1,102 @@
+"""Motion events: where an extra landmark makes the recorded path unambiguous (a proposal).
+
+The paper samples at fixed periods (1 s on curves, 2 s on straight segments).
+Five numbers at each end of a period describe smooth motion well (core/route.py
+models it), but not a period in which the robot stopped translating and turned
+in place, started off after a turn, or reversed its direction of travel: the
+landmarks do not say when within the period that happened, and a reversal
+leaves even the direction of the chord ambiguous (the net displacement of
+"back 0.3 m, forward 0.2 m" and of "back 0.2 m, forward 0.3 m" differ in sign).
+
+:class:`MotionEvents` watches odometry (every state, e.g. 50 Hz) and reports an
+*event* when the robot's way of moving changes between ``still`` (not
+translating: standing or turning in place), ``forward`` and ``backward``: the
+linear speed, averaged over ``event_window`` s, crosses ``event_speed`` m/s
+(with ``event_hysteresis``: it must fall below ``event_speed`` x that to count
+as stopped again), and the new state has held for ``event_debounce`` s. The
+event is dated back to where the raw speed last left the old state (the start
+of its final run on the new side): at a reversal, where ``v`` crossed zero.
+The robot's first setting off is an event too, so the start heading, which the
+landmark file does not otherwise hold, is recorded. A landmark taken at each
+event, from the odometry at the event's stamp (as the landmark saver reads
+odometry at a tick's stamp: core/recorder.OdometryHistory), with ``T`` = the
+time since the previous landmark (as for the final partial period), keeps the
+file format unchanged; the periodic ticks continue as before.
+
+Plain Python; the harness uses it with ``event_sampling`` on (off by default:
+the paper's sampling).
+"""
+from collections import deque
+
+#: Defaults (a sampling publisher would expose them as ~params).
+EVENT_DEFAULTS = {
+    'event_speed': 0.01,       # m/s; averaged |v| above this: translating
+    'event_hysteresis': 0.5,   # below event_speed x this: not translating any more
+    'event_window': 0.2,       # s of odometry averaged
+    'event_debounce': 0.1,     # s a new state must hold before it is an event
+    'event_turn_rate': 0.15,   # rad/s; averaged |w| crossing this is an event too (0: off)
+}
+
+STILL, FORWARD, BACKWARD = 'still', 'forward', 'backward'
+
+
+class MotionEvents(object):
+    """Feed every odometry state to :meth:`update`; it returns an event's stamp."""
+
+    def __init__(self, params=None):
+        for name, default in EVENT_DEFAULTS.items():
+            value = float(getattr(params, name, default) if params is not None else default)
+            if not value >= 0 or (not value > 0 and name != 'event_turn_rate'):
+                raise ValueError('%s must be > 0, got %r' % (name, value))
+            setattr(self, name, value)
+        if self.event_hysteresis > 1.0:
+            raise ValueError('event_hysteresis must be in (0, 1], got %r' % self.event_hysteresis)
+        self.state = STILL
+        self._recent = deque()
+        self._sum = 0.0
+        self._sum_w = 0.0
+        self.turning = False
+        self._candidate = None      # (state, since)
+        self._left_old = None       # stamp of the first raw sample of the current run off the old state
+
+    def _classify(self, speed, rate, state, turning):
+        on, off = self.event_speed, self.event_speed * self.event_hysteresis
+        if state == STILL:
+            moving = FORWARD if speed > on else BACKWARD if speed < -on else STILL
+        elif state == FORWARD:
+            moving = BACKWARD if speed < -on else FORWARD if speed > off else STILL
+        else:
+            moving = FORWARD if speed > on else BACKWARD if speed < -off else STILL
+        if not self.event_turn_rate:
+            return moving, False
+        limit = self.event_turn_rate * (self.event_hysteresis if turning else 1.0)
+        return moving, abs(rate) > limit
+
+    def update(self, odom_state):
+        """Add one OdomState; returns the stamp of a motion event just confirmed
+        (dated back as the module docstring says), else None."""
+        stamp = odom_state.stamp
+        self._recent.append((stamp, odom_state.v, odom_state.w))
+        self._sum += odom_state.v
+        self._sum_w += odom_state.w
+        while self._recent and self._recent[0][0] < stamp - self.event_window + 1e-9:
+            _, v, w = self._recent.popleft()
+            self._sum -= v
+            self._sum_w -= w
+        current = (self.state, self.turning)
+        if self._classify(odom_state.v, odom_state.w, *current) == current:
+            self._left_old = None
+        elif self._left_old is None:
+            self._left_old = stamp
+        count = len(self._recent)
+        new = self._classify(self._sum / count, self._sum_w / count, *current)
+        if new == current:
+            self._candidate = None
+            return None
+        if self._candidate is None or self._candidate[0] != new:
+            self._candidate = (new, stamp)
+        if stamp - self._candidate[1] >= self.event_debounce - 1e-9:
+            (self.state, self.turning), self._candidate = new, None
+            since, self._left_old = self._left_old, None
+            return since if since is not None else stamp
+        return None

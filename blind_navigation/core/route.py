@@ -1,0 +1,428 @@
+"""The whole return route, built at once from the recorded landmarks (closed-loop return).
+
+API (used by core/back_travel.RouteFollower, the back_travel server and client,
+and the harness)::
+
+    route = build_route(landmarks, anchor, params=None)   # landmarks in recording order,
+                                                          # anchor = (x, y) where recording stopped
+    route.sections            # one per landmark, in RETURN order (goal i = landmarks[-1 - i])
+    route.section_end(i)      # (vertex, phase): where goal i ends (see "Progress" below)
+    route.length              # m along the route
+    data = route.to_lists()   # {name: [float, ...]}: plain, serialisable (progress file, ROS)
+    route = Route.from_lists(data)  # the same route back; ValueError naming the bad field
+
+Geometry. Landmark k was taken at position P_k; ``d`` is |P_k - P_(k-1)| (P_(-1)
+the start of the recording) and the anchor is the last one's position. The
+route runs from the anchor back to the start through every P_k, in reverse. The
+way between two ticks is modelled from all five variables at both ends: the
+heading as a cubic Hermite in time through ``(psi, w)`` at both ends (the turn
+between the two ``psi`` taken on the branch the mean turn rate points to, so a
+turn faster than pi per period is not unwrapped the short way), the signed
+speed linear between the two ``v`` plus, when the ends are slower than the mean
+speed ``d / T`` says, a bump that makes up the difference. The modelled motion
+gives the chord's direction (the direction of the speed-weighted mean heading:
+exact on arcs; on turn-then-drive within one period it is the heading the
+robot drove at, not the mean of the two ``psi``) and intermediate points
+(``curve_step`` rad, ``curve_spacing`` m apart), scaled to the recorded ``d``, so
+the route follows the recorded arcs instead of cutting across them. ``v`` keeps
+its sign: a stretch recorded reversing has the direction ``psi + pi``.
+
+Points closer than ``merge_distance`` merge, and so do the points of a
+period that turned on a radius below ``in_place_radius`` (a turn in place:
+the base's wheel jitter moves it a centimetre or two while it turns), so
+pauses, turns in place and odometry jitter leave no short, noisy pieces. Where the route turns by more than
+``corner_angle`` at one point (a turn in place, a cusp where the recorded
+motion reversed, a turn-then-drive) the point is a *corner*: the follower drives
+to it, stops, turns in place to face along the next piece, and drives on; the
+route never cuts a corner. The robot always drives forward on the return (the
+Kobuki's bumper is at its front; being round, it sweeps no new space turning
+in place), so it faces the way it travels: along a reversed stretch it faces as
+it faced when recording.
+
+Progress is a mark ``(s, phase)`` compared in that order: ``s`` the distance
+along the route (m), ``phase`` in [0, 1] the share of a corner's turn done
+while standing at it. A landmark recorded standing still ends when the route
+reaches its point (at once, or on arrival); a landmark recorded turning in
+place at a corner is a heading goal: it ends when its share of the corner's
+turn (by its recorded heading change) is done. Vertex 0 (the anchor) is a
+corner too: the robot aligns with the route there (after the pi turn it faces
+the mirrored last heading; if the recording ended reversing or with a turn in
+place, that is not the way to go).
+
+Per section the route keeps the recorded speed (``max(|v|, d/T)``), the recorded
+turn rate (``max(|w|, |turn|/T)``), the nominal time (core/safety.expected_duration)
+and the corner turn it owns, for the follower's limits and allowances.
+
+Every step is linear in the number of landmarks (a bounded number of points per
+landmark; cumulative lengths, no per-query sums).
+"""
+import math
+
+from .geometry import wrap_angle
+from .safety import SAFETY_DEFAULTS, expected_duration, recorded_speed
+
+#: Defaults of the route building (the back-travel nodes expose them as ~params).
+ROUTE_DEFAULTS = {
+    'merge_distance': 0.01,   # m; route points closer than this merge into one
+    'in_place_radius': 0.1,   # m; a period that turned on a smaller radius (d < this x its turn) is
+                              # a turn in place: its points merge into the corner
+    'corner_angle': 0.5,      # rad; a turn at one point larger than this is a corner (stop, turn in place)
+    'curve_step': 0.1,        # rad; largest heading change between modelled points within a period
+    'curve_spacing': 0.1,     # m; largest distance between modelled points within a period
+    'slowest_v': SAFETY_DEFAULTS['slowest_v'],  # m/s assumed for slower landmarks, when timing one
+}
+#: Most modelled points within one period.
+MAX_SUBDIVISIONS = 32
+#: A modelled chord this many times longer or shorter than d is not trusted for its shape.
+SHAPE_TRUST = 3.0
+
+SECTION_FIELDS = ('end_vertex', 'end_phase', 'speed', 'turn_rate', 'nominal_time', 'turn')
+ROUTE_FIELDS = ('x', 'y', 'speed', 'corner') + tuple('section_' + f for f in SECTION_FIELDS)
+
+
+def _param(params, name):
+    value = getattr(params, name, ROUTE_DEFAULTS[name]) if params is not None else ROUTE_DEFAULTS[name]
+    value = float(value)
+    if not value >= 0 or not math.isfinite(value):
+        raise ValueError('route parameter %s must be a finite number >= 0, got %r' % (name, value))
+    return value
+
+
+class Section(object):
+    """One goal of the return (one landmark): where it ends, the recorded speed
+    (m/s) and turn rate (rad/s), its nominal time (s) and the corner turn it owns (rad)."""
+
+    __slots__ = SECTION_FIELDS
+
+    def __init__(self, end_vertex, end_phase, speed, turn_rate, nominal_time, turn):
+        self.end_vertex, self.end_phase = int(end_vertex), float(end_phase)
+        self.speed, self.turn_rate = float(speed), float(turn_rate)
+        self.nominal_time, self.turn = float(nominal_time), float(turn)
+
+    def __repr__(self):
+        return 'Section(%s)' % ', '.join('%s=%r' % (f, getattr(self, f)) for f in SECTION_FIELDS)
+
+
+class Route(object):
+    """Vertices ``x``, ``y`` (return order; 0 = anchor, last = the start of the
+    recording), modelled recorded ``speed`` at each (m/s), ``corner`` flags,
+    cumulative length ``s`` and the :class:`Section` list (see module docstring)."""
+
+    def __init__(self, x, y, speed, corner, sections):
+        if not (len(x) == len(y) == len(speed) == len(corner)) or not x:
+            raise ValueError('route: x, y, speed and corner must have the same, non-zero length '
+                             '(%d, %d, %d, %d)' % (len(x), len(y), len(speed), len(corner)))
+        self.x, self.y = [float(v) for v in x], [float(v) for v in y]
+        self.speed = [float(v) for v in speed]
+        self.corner = [bool(c) for c in corner]
+        self.corner[0] = self.corner[-1] = True
+        self.sections = list(sections)
+        self.s = [0.0]
+        for i in range(1, len(self.x)):
+            self.s.append(self.s[-1] + math.hypot(self.x[i] - self.x[i - 1], self.y[i] - self.y[i - 1]))
+        self.corners = [i for i, flag in enumerate(self.corner) if flag]
+        previous = (0, 0.0)
+        for index, section in enumerate(self.sections):
+            mark = (section.end_vertex, section.end_phase)
+            if not 0 <= section.end_vertex < len(self.x) or not 0.0 <= section.end_phase <= 1.0:
+                raise ValueError('route: section %d ends at vertex %d phase %r, outside the route'
+                                 % (index, section.end_vertex, section.end_phase))
+            if mark < previous:
+                raise ValueError('route: section %d ends before section %d' % (index, index - 1))
+            previous = mark
+
+    @property
+    def length(self):
+        return self.s[-1]
+
+    @property
+    def vertices(self):
+        return len(self.x)
+
+    def section_end(self, index):
+        """``(s, phase)`` progress mark at which section ``index`` is finished."""
+        section = self.sections[index]
+        return self.s[section.end_vertex], section.end_phase
+
+    def piece_of(self, vertex):
+        """Index of the piece (the stretch between two corners) that starts at or
+        contains ``vertex`` (the last piece for the last vertex)."""
+        low, high = 0, len(self.corners) - 1
+        while high - low > 1:
+            middle = (low + high) // 2
+            if self.corners[middle] <= vertex:
+                low = middle
+            else:
+                high = middle
+        return low
+
+    def direction(self, segment):
+        """Heading (rad) of the segment from vertex ``segment`` to the next."""
+        return math.atan2(self.y[segment + 1] - self.y[segment], self.x[segment + 1] - self.x[segment])
+
+    def point_at(self, s, segment=0):
+        """Point at along-route distance ``s`` (clamped to the route), searching
+        forward from ``segment``; returns (x, y, segment)."""
+        last = len(self.x) - 1
+        if last == 0:
+            return self.x[0], self.y[0], 0
+        segment = max(0, min(segment, last - 1))
+        while segment < last - 1 and self.s[segment + 1] < s:
+            segment += 1
+        while segment > 0 and self.s[segment] > s:
+            segment -= 1
+        length = self.s[segment + 1] - self.s[segment]
+        t = 0.0 if length <= 0 else max(0.0, min(1.0, (s - self.s[segment]) / length))
+        return (self.x[segment] + t * (self.x[segment + 1] - self.x[segment]),
+                self.y[segment] + t * (self.y[segment + 1] - self.y[segment]), segment)
+
+    def speed_at(self, s, segment):
+        """Modelled recorded speed at along-route distance ``s`` on ``segment`` (m/s)."""
+        if len(self.x) == 1:
+            return self.speed[0]
+        length = self.s[segment + 1] - self.s[segment]
+        t = 0.0 if length <= 0 else max(0.0, min(1.0, (s - self.s[segment]) / length))
+        return self.speed[segment] + t * (self.speed[segment + 1] - self.speed[segment])
+
+    # --- plain form -----------------------------------------------------------
+    def to_lists(self):
+        """{field: [float, ...]} (:data:`ROUTE_FIELDS`); :meth:`from_lists` inverts it."""
+        data = {'x': list(self.x), 'y': list(self.y), 'speed': list(self.speed),
+                'corner': [1.0 if c else 0.0 for c in self.corner]}
+        for field in SECTION_FIELDS:
+            data['section_' + field] = [float(getattr(s, field)) for s in self.sections]
+        return data
+
+    @classmethod
+    def from_lists(cls, data):
+        """A Route from :meth:`to_lists`' form; ValueError naming the bad field."""
+        if not isinstance(data, dict) or set(data) != set(ROUTE_FIELDS):
+            raise ValueError('route data must have exactly the fields %s' % ', '.join(ROUTE_FIELDS))
+        for name in ROUTE_FIELDS:
+            values = data[name]
+            if not isinstance(values, (list, tuple)) or not all(
+                    isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                    for v in values):
+                raise ValueError('route field %s must be a list of finite numbers' % name)
+        lengths = {len(data['section_' + f]) for f in SECTION_FIELDS}
+        if len(lengths) != 1:
+            raise ValueError('route section fields differ in length: %s' % sorted(lengths))
+        for value in data['section_end_vertex']:
+            if value != int(value):
+                raise ValueError('route field section_end_vertex must hold whole numbers, got %r' % value)
+        sections = [Section(*values) for values in zip(*(data['section_' + f] for f in SECTION_FIELDS))]
+        return cls(data['x'], data['y'], data['speed'], [v != 0.0 for v in data['corner']], sections)
+
+
+# --- the model of one period ------------------------------------------------------
+def _turn_between(a, b, period):
+    """Heading change from landmark state ``a`` to ``b`` over ``period`` s: the
+    branch of wrap(psi_b - psi_a) + 2 pi m nearest the mean recorded turn rate's."""
+    change = wrap_angle(b.psi - a.psi)
+    expected = (a.w + b.w) / 2.0 * period
+    return change + 2.0 * math.pi * round((expected - change) / (2.0 * math.pi))
+
+
+def _velocity_model(v_a, v_b, d, period):
+    """Signed speed over the period as (v_a, v_b, bump): u(t) = v_a + (v_b - v_a) t
+    + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends
+    do not reach (same sign as the motion; forward if the ends are both still)."""
+    if v_a * v_b < 0.0:
+        return v_a, v_b, 0.0
+    mean = (abs(v_a) + abs(v_b)) / 2.0
+    missing = d / period - mean
+    if missing <= 0.0:
+        return v_a, v_b, 0.0
+    return v_a, v_b, math.copysign(missing, v_a + v_b if v_a + v_b != 0.0 else 1.0)
+
+
+def _period_shape(a, b, d, subdivisions):
+    """Modelled motion from landmark state ``a`` to ``b`` (``b.T`` s): the chord
+    direction (rad), intermediate points as offsets from the period's start
+    scaled to ``d`` (or [] when the model is not trusted for the shape), and the
+    modelled speed at each point (start, intermediate..., end)."""
+    period = b.T
+    turn = _turn_between(a, b, period)
+    v_a, v_b, bump = _velocity_model(a.v, b.v, d, period)
+    steps = max(2, subdivisions)
+
+    def state(t):
+        t2, t3 = t * t, t * t * t
+        heading = (a.psi + period * a.w * (t3 - 2.0 * t2 + t) + turn * (3.0 * t2 - 2.0 * t3)
+                   + period * b.w * (t3 - t2))
+        speed = v_a + (v_b - v_a) * t + bump * 6.0 * t * (1.0 - t)
+        return speed * math.cos(heading), speed * math.sin(heading), speed, heading
+
+    points, speeds = [], [abs(v_a)]
+    x = y = 0.0
+    previous = state(0.0)
+    heading_sum_x = heading_sum_y = 0.0
+    for k in range(1, steps + 1):
+        middle, end = state((k - 0.5) / steps), state(float(k) / steps)
+        h = period / steps
+        x += h * (previous[0] + 4.0 * middle[0] + end[0]) / 6.0
+        y += h * (previous[1] + 4.0 * middle[1] + end[1]) / 6.0
+        heading_sum_x += math.cos(middle[3])
+        heading_sum_y += math.sin(middle[3])
+        points.append((x, y))
+        speeds.append(abs(end[2]))
+        previous = end
+    modelled = math.hypot(x, y)
+    if modelled > 1e-12:
+        direction = math.atan2(y, x)
+    else:   # no modelled motion: the mean heading, reversed if the motion was
+        direction = math.atan2(heading_sum_y, heading_sum_x) + (math.pi if v_a + v_b < 0 else 0.0)
+    points.pop()        # the end is the next landmark's point, placed exactly by d
+    if d <= 0.0 or modelled <= 1e-12 or not 1.0 / SHAPE_TRUST <= d / modelled <= SHAPE_TRUST:
+        return direction, [], [speeds[0], speeds[-1]], turn
+    scale = d / modelled
+    return direction, [(px * scale, py * scale) for px, py in points], speeds, turn
+
+
+def _subdivisions(a, b, d, params):
+    turn = abs(_turn_between(a, b, b.T))
+    step, spacing = _param(params, 'curve_step'), _param(params, 'curve_spacing')
+    count = max(turn / step if step > 0 else 1.0, d / spacing if spacing > 0 else 1.0)
+    return int(min(MAX_SUBDIVISIONS, max(1, math.ceil(count - 1e-9))))
+
+
+def _start_state(first):
+    """The state at the start of the recording (not stored): the first landmark's
+    motion extrapolated back over its period."""
+    return first._replace(psi=wrap_angle(first.psi - first.w * first.T))
+
+
+# --- building ---------------------------------------------------------------------
+def build_route(landmarks, anchor, params=None):
+    """The :class:`Route` back from ``anchor`` (x, y: where recording stopped, in
+    the landmarks' frame) through ``landmarks`` (recording order, core Landmark);
+    ``params``: any object with :data:`ROUTE_DEFAULTS` attributes. ValueError for
+    a bad anchor or landmark, naming it."""
+    try:
+        ax, ay = (float(c) for c in anchor)
+    except (TypeError, ValueError):
+        raise ValueError('route anchor must be (x, y), got %r' % (anchor,))
+    if not (math.isfinite(ax) and math.isfinite(ay)):
+        raise ValueError('route anchor must be finite, got %r' % (anchor,))
+    landmarks = list(landmarks)
+    for index, landmark in enumerate(landmarks):
+        if len(landmark) != 5 or not all(math.isfinite(v) for v in landmark) \
+                or landmark.d < 0 or landmark.T <= 0:
+            raise ValueError('landmark %d is not a valid landmark: %r' % (index + 1, landmark))
+    # Recording order: points P_k (k = -1 .. n-1, P_-1 the start) from the anchor back.
+    n = len(landmarks)
+    point = (ax, ay)
+    chain = []   # per landmark k, in reverse: (P_k, [intermediate points in return order], speeds, turn)
+    for k in range(n - 1, -1, -1):
+        b = landmarks[k]
+        a = landmarks[k - 1] if k > 0 else _start_state(b)
+        direction, offsets, speeds, turn = _period_shape(a, b, b.d, _subdivisions(a, b, b.d, params))
+        start = (point[0] - b.d * math.cos(direction), point[1] - b.d * math.sin(direction))
+        inner = [(start[0] + ox, start[1] + oy) for ox, oy in offsets]
+        in_place = b.d < _param(params, 'in_place_radius') * abs(turn)
+        chain.append((point, [] if in_place else inner[::-1], speeds[::-1], start, turn, in_place))
+        point = start
+    return _assemble((ax, ay), landmarks, chain, params)
+
+
+def _assemble(anchor, landmarks, chain, params):
+    """Merge close points, find corners, place the sections' ends."""
+    merge = _param(params, 'merge_distance')
+    xs, ys, speeds = [anchor[0]], [anchor[1]], [abs(landmarks[-1].v) if landmarks else 0.0]
+    end_vertex = []        # per section (return order): the kept vertex where it ends
+    start_vertex = []
+
+    def add(p, speed, merged=False):
+        if not merged and math.hypot(p[0] - xs[-1], p[1] - ys[-1]) >= merge:
+            xs.append(p[0])
+            ys.append(p[1])
+            speeds.append(speed)
+        else:
+            speeds[-1] = max(speeds[-1], speed)
+
+    for point, inner, inner_speeds, start, _, in_place in chain:
+        start_vertex.append(len(xs) - 1)
+        # inner_speeds: [end speed, intermediate speeds..., start speed] in return order
+        for p, speed in zip(inner, inner_speeds[1:-1] if len(inner_speeds) > 2 else []):
+            add(p, speed)
+        add(start, 0.0 if in_place else inner_speeds[-1], in_place)
+        end_vertex.append(len(xs) - 1)
+    if chain:
+        final = chain[-1][3]
+        if len(xs) > 1 and (xs[-1], ys[-1]) != final:
+            # the start of the recording is the goal: put the last vertex exactly on it
+            xs[-1], ys[-1] = final
+        elif len(xs) == 1 and math.hypot(final[0] - xs[0], final[1] - ys[0]) > 1e-9:
+            xs.append(final[0])
+            ys.append(final[1])
+            speeds.append(speeds[0])
+            end_vertex[-1] = 1
+    corner = _corners(xs, ys, _param(params, 'corner_angle'))
+    sections = _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params)
+    return Route(xs, ys, speeds, corner, sections)
+
+
+def _corners(xs, ys, corner_angle):
+    """Corner flags: the first and last vertex, and every vertex where the route turns by more
+    than ``corner_angle``."""
+    corner = [False] * len(xs)
+    corner[0] = corner[-1] = True
+    for i in range(1, len(xs) - 1):
+        before = math.atan2(ys[i] - ys[i - 1], xs[i] - xs[i - 1])
+        after = math.atan2(ys[i + 1] - ys[i], xs[i + 1] - xs[i])
+        if abs(wrap_angle(after - before)) > corner_angle:
+            corner[i] = True
+    return corner
+
+
+def corner_turn(xs, ys, vertex):
+    """Turn (rad) the route makes at ``vertex`` (0 at the ends)."""
+    if vertex <= 0 or vertex >= len(xs) - 1:
+        return 0.0
+    before = math.atan2(ys[vertex] - ys[vertex - 1], xs[vertex] - xs[vertex - 1])
+    after = math.atan2(ys[vertex + 1] - ys[vertex], xs[vertex + 1] - xs[vertex])
+    return wrap_angle(after - before)
+
+
+def _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params):
+    """Sections in return order: end marks (a recorded turn in place at a corner
+    ends with its share of the corner's turn), recorded speed and turn rate,
+    nominal time and the corner turn each owns."""
+    slowest_v = _param(params, 'slowest_v')
+    n = len(landmarks)
+    phases = [0.0] * n
+    owned = [0.0] * n
+    initial = 0.0
+    if n and len(xs) > 1:   # after the pi turn the robot faces the last heading + pi
+        initial = wrap_angle(math.atan2(ys[1] - ys[0], xs[1] - xs[0]) - landmarks[-1].psi - math.pi)
+    first = 0          # first section not ending before the corner looked at
+    for vertex in (v for v, flag in enumerate(corner[:-1]) if flag):
+        while first < n and end_vertex[first] < vertex:
+            first += 1
+        standing = first      # a drive section arriving here ends on arrival
+        while standing < n and end_vertex[standing] == vertex and start_vertex[standing] < vertex:
+            standing += 1
+        leaving = standing    # those standing here (recorded turning in place) share the turn
+        while leaving < n and start_vertex[leaving] == end_vertex[leaving] == vertex:
+            leaving += 1
+        angle = abs(initial if vertex == 0 else corner_turn(xs, ys, vertex))
+        group = list(range(standing, leaving))
+        turns = [abs(chain[k][4]) for k in group]
+        total = sum(turns)
+        if group and total > 0 and total >= 0.25 * angle:
+            done = 0.0
+            for k, turn in zip(group, turns):
+                done += turn
+                phases[k] = min(1.0, done / total)
+                owned[k] = angle * turn / total
+            phases[group[-1]] = 1.0
+        elif leaving < n:
+            owned[leaving] += angle
+    sections = []
+    for i in range(n):
+        landmark = landmarks[n - 1 - i]
+        turn = chain[i][4]
+        sections.append(Section(end_vertex[i], phases[i], recorded_speed(landmark),
+                                max(abs(landmark.w), abs(turn) / landmark.T),
+                                expected_duration(landmark, slowest_v), owned[i]))
+    return sections

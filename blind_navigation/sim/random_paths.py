@@ -1,0 +1,220 @@
+"""Seeded random missions in named categories, for testing the return on paths no one tuned for.
+
+``random_mission(category, seed)`` returns a :class:`~.command_series.CommandSeries`
+(the operator's commands at 10 Hz, played open loop by the harness); the same
+category and seed always give the same mission. Every piece is a command the
+Kobuki accepts (|v| <= 0.7 m/s, |w| <= pi rad/s); path lengths (sum of |v| dt)
+span 1 to 150 m over the categories:
+
+- ``indoor_mixed``: keyboard-teleop-like driving indoors, 5-40 m: straight legs
+  and arcs of either sign at 0.1-0.4 m/s, turns in place, pauses, short
+  reversing, creeping stretches, and an end that slows to a stop in steps.
+- ``fast_long``: 40-150 m at 0.4-0.7 m/s, long legs and wide arcs, with
+  acceleration ramps and the odd pause.
+- ``creeping``: 1-6 m at 0.02-0.05 m/s, slow arcs and slow turns in place.
+- ``reversing``: 2-20 m of forward and reverse legs and arcs (cusps, backing
+  round corners, three-point turns) at 0.05-0.3 m/s.
+- ``turns_in_place``: 2-20 m of short legs between turns in place of 30-360 deg
+  at 0.3-pi rad/s, either way, sometimes several back to back, sometimes
+  driving off without a pause.
+- ``move_base_like``: what a navigation stack sends, 5-50 m: a 180 deg turn in
+  place at the start, straight legs with acceleration ramps, 90 or 45 deg turns
+  in place between them, and a final goal-alignment turn in place.
+"""
+import math
+import random
+
+from .command_series import CommandSeries
+
+RATE = 10.0                 # Hz: the operator's command rate
+STEP = 1.0 / RATE           # s: every piece lasts a whole number of operator ticks
+MAX_V = 0.7                 # m/s, the Kobuki's limit
+MAX_W = math.pi             # rad/s, the Kobuki's limit
+
+
+class _Path(object):
+    """Accumulates pieces ``(v, w, duration)``; durations are whole operator ticks."""
+
+    def __init__(self, rng):
+        self.rng = rng
+        self.pieces = []
+        self.length = 0.0
+        self.v = 0.0        # the speed the last piece left the robot at (for ramps)
+
+    def hold(self, v, w, duration):
+        ticks = max(1, int(round(duration / STEP)))
+        v, w = max(-MAX_V, min(MAX_V, v)), max(-MAX_W, min(MAX_W, w))
+        self.pieces.append((v, w, ticks * STEP))
+        self.length += abs(v) * ticks * STEP
+        self.v = v
+
+    def ramp(self, v_to, w_to, accel, w_from=0.0, w_accel=None):
+        """Change speed from the current one to ``v_to`` at ``accel`` m/s^2 (and the
+        turn rate from ``w_from`` to ``w_to`` at ``w_accel`` rad/s^2), one tick at a time."""
+        v_from = self.v
+        ticks = int(math.ceil(max(abs(v_to - v_from) / accel,
+                                  abs(w_to - w_from) / w_accel if w_accel else 0.0) / STEP))
+        for k in range(1, ticks):
+            f = k / float(ticks)
+            self.hold(v_from + f * (v_to - v_from), w_from + f * (w_to - w_from), STEP)
+
+    def straight(self, v, length, accel=None):
+        if accel:
+            self.ramp(v, 0.0, accel)
+        self.hold(v, 0.0, length / abs(v))
+
+    def arc(self, v, radius, angle):
+        """Arc of ``radius`` m turning by ``angle`` rad (sign = direction of turn)."""
+        w = math.copysign(min(abs(v) / radius, MAX_W), angle)
+        self.hold(v, w, abs(angle / w))
+
+    def turn(self, angle, rate, accel=None):
+        """Turn in place by ``angle`` rad at ``rate`` rad/s (ramped at ``accel`` rad/s^2)."""
+        w = math.copysign(rate, angle)
+        if accel:
+            ramp_time = rate / accel
+            ramp_angle = rate * ramp_time       # both ramps together
+            if ramp_angle < abs(angle):
+                ticks = max(1, int(round(ramp_time / STEP)))
+                for k in range(1, ticks + 1):
+                    self.hold(0.0, w * k / (ticks + 1.0), STEP)
+                self.hold(0.0, w, (abs(angle) - ramp_angle) / rate)
+                for k in range(ticks, 0, -1):
+                    self.hold(0.0, w * k / (ticks + 1.0), STEP)
+                self.v = 0.0
+                return
+        self.hold(0.0, w, abs(angle) / rate)
+        self.v = 0.0
+
+    def pause(self, duration):
+        self.hold(0.0, 0.0, duration)
+
+    def stop(self, accel=None):
+        """Come to a stop: ramped (``accel`` m/s^2) or at once."""
+        if accel and abs(self.v) > 0:
+            self.ramp(0.0, 0.0, accel)
+        self.v = 0.0
+
+    def sign(self):
+        return self.rng.choice((-1.0, 1.0))
+
+    def uniform(self, low, high):
+        return self.rng.uniform(low, high)
+
+
+def _indoor_mixed(p, target):
+    while p.length < target:
+        kind = p.rng.random()
+        if kind < 0.38:
+            p.straight(p.uniform(0.1, 0.4), p.uniform(0.3, 4.0))
+        elif kind < 0.68:
+            p.arc(p.uniform(0.1, 0.35), p.uniform(0.3, 2.5), p.sign() * p.uniform(0.3, 3.0))
+        elif kind < 0.78:
+            p.turn(p.sign() * p.uniform(0.3, 3.2), p.uniform(0.3, 1.2))
+        elif kind < 0.86:
+            p.pause(p.uniform(0.5, 4.0))
+        elif kind < 0.93:
+            p.straight(-p.uniform(0.05, 0.2), p.uniform(0.2, 1.0))
+        else:
+            p.straight(p.uniform(0.02, 0.05), p.uniform(0.1, 0.5))
+    for v in (0.15, 0.08, 0.04, 0.02):     # slowing to a stop, as a person does with the keys
+        p.hold(v, 0.0, p.uniform(0.3, 1.5))
+
+
+def _fast_long(p, target):
+    while p.length < target:
+        kind = p.rng.random()
+        v = p.uniform(0.4, MAX_V)
+        if kind < 0.5:
+            p.straight(v, p.uniform(2.0, 15.0), accel=0.5)
+        elif kind < 0.9:
+            p.arc(v, p.uniform(1.0, 5.0), p.sign() * p.uniform(0.3, 2.0))
+        else:
+            p.stop(accel=0.5)
+            p.pause(p.uniform(0.5, 3.0))
+    p.stop(accel=0.5)
+
+
+def _creeping(p, target):
+    while p.length < target:
+        kind = p.rng.random()
+        v = p.uniform(0.02, 0.05)
+        if kind < 0.45:
+            p.straight(v, p.uniform(0.1, 1.0))
+        elif kind < 0.8:
+            p.arc(v, p.uniform(0.3, 1.5), p.sign() * p.uniform(0.2, 1.5))
+        elif kind < 0.92:
+            p.turn(p.sign() * p.uniform(0.3, 2.0), p.uniform(0.1, 0.3))
+        else:
+            p.pause(p.uniform(0.5, 3.0))
+
+
+def _reversing(p, target):
+    while p.length < target:
+        kind = p.rng.random()
+        v = p.uniform(0.05, 0.3)
+        if kind < 0.3:
+            p.straight(v, p.uniform(0.3, 2.5))
+        elif kind < 0.55:
+            p.straight(-v, p.uniform(0.2, 1.5))
+        elif kind < 0.7:
+            p.arc(-v, p.uniform(0.4, 2.0), p.sign() * p.uniform(0.3, 1.6))   # backing round a corner
+        elif kind < 0.85:                                                  # three-point turn
+            side = p.sign()
+            p.arc(v, p.uniform(0.4, 1.0), side * p.uniform(0.5, 1.2))
+            if p.rng.random() < 0.5:
+                p.pause(p.uniform(0.2, 1.0))
+            p.arc(-v, p.uniform(0.4, 1.0), side * p.uniform(0.5, 1.2))
+            p.arc(v, p.uniform(0.4, 1.0), side * p.uniform(0.3, 1.0))
+        else:
+            p.arc(v, p.uniform(0.5, 2.5), p.sign() * p.uniform(0.3, 2.0))
+        if p.rng.random() < 0.3:
+            p.pause(p.uniform(0.2, 2.0))
+
+
+def _turns_in_place(p, target):
+    while p.length < target:
+        p.straight(p.uniform(0.1, 0.4), p.uniform(0.3, 2.0))
+        if p.rng.random() < 0.5:
+            p.pause(p.uniform(0.2, 1.5))
+        for _ in range(1 if p.rng.random() < 0.7 else p.rng.randint(2, 3)):
+            p.turn(p.sign() * p.uniform(math.radians(30), 2 * math.pi), p.uniform(0.3, MAX_W),
+                   accel=p.uniform(2.0, 6.0) if p.rng.random() < 0.5 else None)
+            if p.rng.random() < 0.5:
+                p.pause(p.uniform(0.2, 1.5))
+
+
+def _move_base_like(p, target):
+    accel, w_accel = p.uniform(0.3, 0.6), p.uniform(1.0, 3.0)
+    v_max, w_max = p.uniform(0.2, 0.5), p.uniform(0.5, 1.0)
+    p.turn(p.sign() * math.pi, w_max, accel=w_accel)
+    while p.length < target:
+        p.straight(v_max, p.uniform(1.0, 8.0), accel=accel)
+        p.stop(accel=accel)
+        if p.length < target:
+            p.turn(p.sign() * math.radians(p.rng.choice((45.0, 90.0))), w_max, accel=w_accel)
+    p.turn(p.sign() * p.uniform(math.radians(20), math.pi), w_max, accel=w_accel)
+
+
+#: category -> (length range m, generator)
+CATEGORIES = {
+    'indoor_mixed': ((5.0, 40.0), _indoor_mixed),
+    'fast_long': ((40.0, 150.0), _fast_long),
+    'creeping': ((1.0, 6.0), _creeping),
+    'reversing': ((2.0, 20.0), _reversing),
+    'turns_in_place': ((2.0, 20.0), _turns_in_place),
+    'move_base_like': ((5.0, 50.0), _move_base_like),
+}
+
+
+def random_mission(category, seed):
+    """The mission of ``category`` for ``seed`` (see module docstring)."""
+    if category not in CATEGORIES:
+        raise ValueError('unknown path category %r (known: %s)' % (category, ', '.join(sorted(CATEGORIES))))
+    (low, high), generate = CATEGORIES[category]
+    rng = random.Random('%s:%d' % (category, seed))
+    path = _Path(rng)
+    generate(path, rng.uniform(low, high))
+    path.pause(0.5)
+    return CommandSeries(path.pieces, RATE, '%s_%d' % (category, seed),
+                         'random %s path, seed %d' % (category, seed))
