@@ -15,8 +15,10 @@ ODOM = 'odom'
 CMD_VEL = 'cmd_vel_mux/input/teleop'
 #: geometry_msgs/Pose2D, the paper's yaw source (sampling_publisher with yaw_source pose2d)
 POSE2D = 'pose2d'
-#: sensor_msgs/Image of the RGB camera (vision-loss detection)
+#: sensor_msgs/Image of the RGB camera (vision-loss detection, the dark detector only)
 CAMERA = 'camera/rgb/image_rect_color'
+#: sensor_msgs/CameraInfo published with every camera frame (the cheap camera-stall signal)
+CAMERA_INFO = 'camera/rgb/camera_info'
 #: nav_msgs/Odometry of RTAB-Map's visual odometry (heading correction, detection)
 VO_ODOM = 'rtabmap/odom'
 #: rtabmap_ros/OdomInfo (detection: its ``lost`` flag)
@@ -31,6 +33,8 @@ SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
 VISION_LOST = 'blind_navigation/vision_lost'
 #: std_msgs/String, latched: the mission state (core/mission_state.py)
 STATE = 'blind_navigation/state'
+#: blind_navigation/MissionStatus, latched: the state with its reason and the return's progress
+STATUS = 'blind_navigation/status'
 #: nav_msgs/Path for RViz: the path recorded so far, the return driven so far
 RECORDED_PATH = 'blind_navigation/recorded_path'
 RETURN_PATH = 'blind_navigation/return_path'

@@ -63,6 +63,11 @@ class Rotation(object):
         self._last_yaw = odom_state.yaw
         self._start_stamp = odom_state.stamp
 
+    def hold(self, seconds):
+        """The turn was held (no odometry) for ``seconds``: they do not count against
+        ``time_allowance``."""
+        self._start_stamp += seconds
+
     def step(self, odom_state):
         """Return ``(v, w)`` for this cycle (v is always 0); sets done/failed."""
         if self._start_stamp is None:

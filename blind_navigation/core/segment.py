@@ -39,6 +39,22 @@ PAPER_STRAIGHT_PERIOD = 2.0
 PAPER_CURVED_PERIOD = 1.0
 WINDOW = 4
 
+#: The sampling params (the sampling publisher's; back_travel_server reads
+#: ``straight_rate`` too: a landmark sampled at its period is a straight segment):
+#: straight_rate and curved_rate (Hz), deadband (rad per yaw difference).
+SAMPLING_DEFAULTS = {
+    'straight_rate': 1.0 / PAPER_STRAIGHT_PERIOD,
+    'curved_rate': 1.0 / PAPER_CURVED_PERIOD,
+    'deadband': DEFAULT_DEADBAND,
+}
+
+
+def period_of(rate, name='rate'):
+    """The sampling period (s) of ``rate`` (Hz); ValueError naming ``name`` unless positive."""
+    if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not rate > 0:
+        raise ValueError('%s must be a positive number of Hz, got %r' % (name, rate))
+    return 1.0 / rate
+
 
 def _sign(diff, deadband):
     """Sign of a raw yaw difference; 0 when its wrapped size is within the dead-band."""

@@ -15,7 +15,6 @@ import math
 import struct
 from collections import namedtuple
 
-import numpy
 
 Loss = namedtuple('Loss', 'detector reason t since')
 Loss.__doc__ = ('A detector fired at sim time ``t`` (s); ``since`` is when the failure it saw '
@@ -138,6 +137,7 @@ def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False
     if height <= 0 or width <= 0 or step < row_bytes or len(data) < step * (height - 1) + row_bytes:
         raise ValueError('image %dx%d %s: step %d / %d data bytes do not match'
                          % (width, height, encoding, step, len(data)))
+    import numpy  # here: only the image-based dark detector needs it, the compact layer does not load it
     dtype = numpy.dtype('>u2' if is_bigendian else '<u2') if depth == 2 else numpy.uint8
     stride = max(1, int(math.sqrt(height * width / float(MAX_SAMPLES))))
     rows = numpy.frombuffer(data, dtype=numpy.uint8, count=step * (height - 1) + row_bytes)
@@ -162,6 +162,12 @@ def vo_lost_reason(position, orientation, pose_cov_diag, twist_cov_diag):
     if not worst < LOST_COVARIANCE:  # also catches NaN
         return 'VO covariance %g >= %g' % (worst, LOST_COVARIANCE)
     return None
+
+
+def wire_lost_reason(wire):
+    """:func:`vo_lost_reason` of a visual-odometry message read by core/odometry_wire."""
+    return vo_lost_reason((wire.x, wire.y), (wire.qx, wire.qy, wire.qz, wire.qw),
+                          wire.pose_covariance, wire.twist_covariance)
 
 
 _HEADER = struct.Struct('<III')  # std_msgs/Header: seq, stamp.secs, stamp.nsecs; then frame_id

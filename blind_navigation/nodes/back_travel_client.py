@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
-"""The back_travel_client node (class: blind_navigation/ros/back_travel_client.py)."""
+"""The back_travel_client node, the paper's action client (Figure 6) and the mission state's owner, alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/back_travel_client.py."""
+import rospy
+
 from blind_navigation.ros.back_travel_client import BackTravelClient
-from blind_navigation.ros.common import start_node
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    start_node('back_travel_client', BackTravelClient).spin()
+    rospy.init_node('back_travel_client')
+    run_roles(start_roles([BackTravelClient]))
 
 
 if __name__ == '__main__':

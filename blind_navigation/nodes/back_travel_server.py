@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
-"""The back_travel_server node (class: blind_navigation/ros/back_travel_server.py)."""
+"""The back_travel_server node, the paper's action server: one landmark per goal, alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/back_travel_server.py."""
 import rospy
 
 from blind_navigation.ros.back_travel_server import BackTravelServer
-from blind_navigation.ros.common import start_node
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    start_node('back_travel_server', BackTravelServer)
-    rospy.spin()
+    rospy.init_node('back_travel_server')
+    run_roles(start_roles([BackTravelServer]))
 
 
 if __name__ == '__main__':

@@ -1,17 +1,20 @@
 #!/usr/bin/env python3
-"""The calibrate_gyro node (class: blind_navigation/ros/calibrate_gyro.py)."""
+"""The calibrate_gyro node: the one-off gyro calibration (launch/calibrate_gyro.launch);
+exits 0 when the calibration is written, 1 when it failed. The class:
+blind_navigation/ros/calibrate_gyro.py."""
 import sys
 import time
 
 import rospy
 
 from blind_navigation.ros.calibrate_gyro import CalibrateGyro
-from blind_navigation.ros.common import start_node
+from blind_navigation.ros.layer import start_roles
 
 
 def main():
-    node = start_node('calibrate_gyro', CalibrateGyro)
-    ok = node.run()
+    rospy.init_node('calibrate_gyro')
+    calibration, = start_roles([CalibrateGyro])
+    ok = calibration.run()
     time.sleep(0.3)   # wall: let the zero command and the last log line leave before exiting
     rospy.signal_shutdown('calibration finished' if ok else 'calibration failed')
     sys.exit(0 if ok else 1)

@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
-"""The heading_correction node (class: blind_navigation/ros/heading_correction.py)."""
+"""The heading_correction node, the gyro heading correction of the return, alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/heading_correction.py."""
 import rospy
 
-from blind_navigation.ros.common import start_node
-from blind_navigation.ros.heading_correction import HeadingCorrectionNode
+from blind_navigation.ros.heading_correction import HeadingCorrectionRole
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    start_node('heading_correction', HeadingCorrectionNode)
-    rospy.spin()
+    rospy.init_node('heading_correction')
+    run_roles(start_roles([HeadingCorrectionRole]))
 
 
 if __name__ == '__main__':

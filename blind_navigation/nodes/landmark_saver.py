@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
-"""The landmark_saver node (class: blind_navigation/ros/landmark_saver.py)."""
+"""The landmark_saver node, the paper's subscriber: one landmark per sample, alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/landmark_saver.py."""
 import rospy
 
-from blind_navigation.ros.common import start_node
 from blind_navigation.ros.landmark_saver import LandmarkSaver
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    start_node('landmark_saver', LandmarkSaver)
-    rospy.spin()
+    rospy.init_node('landmark_saver')
+    run_roles(start_roles([LandmarkSaver]))
 
 
 if __name__ == '__main__':

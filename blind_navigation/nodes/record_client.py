@@ -1,15 +1,15 @@
 #!/usr/bin/env python3
-"""The record_client node (class: blind_navigation/ros/record_client.py)."""
+"""The record_client node, the paper's service client (service recorder), alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/record_client.py."""
 import rospy
 
-from blind_navigation.ros.common import start_node
 from blind_navigation.ros.record_client import RecordClient
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    client = start_node('record_client', RecordClient)
-    client.wait_for_server()
-    rospy.spin()
+    rospy.init_node('record_client')
+    run_roles(start_roles([RecordClient]))
 
 
 if __name__ == '__main__':

@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
-"""The record_server node (class: blind_navigation/ros/record_server.py)."""
+"""The record_server node, the paper's service server (service recorder), alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/record_server.py."""
 import rospy
 
-from blind_navigation.ros.common import start_node
 from blind_navigation.ros.record_server import RecordServer
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    start_node('record_server', RecordServer)
-    rospy.spin()
+    rospy.init_node('record_server')
+    run_roles(start_roles([RecordServer]))
 
 
 if __name__ == '__main__':

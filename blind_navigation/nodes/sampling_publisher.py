@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
-"""The sampling_publisher node (class: blind_navigation/ros/sampling_publisher.py)."""
+"""The sampling_publisher node, the paper's two-rate sampling publisher, alone in its process (the paper's node
+layout, launch/paper.launch). The role's class: blind_navigation/ros/sampling_publisher.py."""
 import rospy
 
-from blind_navigation.ros.common import start_node
 from blind_navigation.ros.sampling_publisher import SamplingPublisher
+from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
-    start_node('sampling_publisher', SamplingPublisher).run()
-    rospy.spin()
+    rospy.init_node('sampling_publisher')
+    run_roles(start_roles([SamplingPublisher]))
 
 
 if __name__ == '__main__':

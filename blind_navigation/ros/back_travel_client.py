@@ -1,66 +1,85 @@
-"""back_travel_client: the paper's action client (section 3.3.7, Figure 6) and
-the sole owner of the mission state.
+"""The back-travel client: the paper's action client (section 3.3.7, Figure 6)
+and the owner of the mission's state (core/mission_state.py).
 
-State walk, published latched on /blind_navigation/state (std_msgs/String):
-``idle`` -> ``recording`` (first /blind_navigation/storage seen) ->
-``rotating`` (/blind_navigation/vision_lost) -> ``returning``
-(/blind_navigation/rotation_done true) -> ``home`` (every goal succeeded) or
-``aborted`` (with the reason logged: rotation failed, bad landmark file, no
-server, a goal failed, a Kobuki safety event, a time allowance exceeded).
+It publishes the state latched on ``blind_navigation/state`` (std_msgs/String)
+and, with its reason and the return's progress, on ``blind_navigation/status``
+(blind_navigation/MissionStatus); the roles of the layer obey it:
 
-At vision loss it takes the anchor (odometry position where recording
-stopped) and the landmark file's real path (``landmark_file`` is the
-recorder's symlink). When returning: loads that file with
-core/store.load_landmarks (a bad file aborts with the file and entry named;
-nothing is driven), waits for the /blind_navigation/back_travel server
-(``server_timeout``), sets the route (/blind_navigation/set_return_route), then
-sends the landmarks in reverse order, one goal at a time, each within its
-allowance and the whole return within ``return_timeout_factor`` x the expected
-time + ``return_timeout_margin``. Publishes the odometry poses of the return on
-/blind_navigation/return_path.
+- ``idle`` -> ``recording``: the recorder saved its first landmark
+  (``blind_navigation/storage``);
+- ``recording`` -> ``rotating``: ``blind_navigation/vision_lost`` (a trigger
+  in any other state is logged and changes nothing; repeated triggers are
+  idempotent). The anchor (odometry position where recording stopped) and the
+  landmark file's real path are kept;
+- ``rotating`` -> ``returning``: ``blind_navigation/rotation_done`` true, and
+  the robot really turned by about pi since recording stopped (a hand-over
+  that does not fit is refused and logged); false, or no valid report within
+  ``rotation_timeout`` s: ``aborted``;
+- ``returning`` -> ``home`` (every goal succeeded) or ``aborted`` (with the
+  reason: bad landmark file, no server, a goal failed, a Kobuki safety event,
+  the whole return's allowance spent).
 
-Gyro heading correction (docs/back_travel.md): with ``heading_correction``
-true, ``odom_topic`` is heading_correction's corrected odometry, and the
-landmarks are expressed in its frame before they are sent
-(core/heading_correction.correct_landmarks with the latched
-/blind_navigation/heading_correction, awaited at most ``correction_timeout``
-when the return starts; none: aborted, as the frames would not agree). The
-landmark file itself is not changed.
+The return: loads the landmark file with core/store.load_landmarks (a bad file
+aborts with the file and entry named; nothing is driven), expresses the
+landmarks in the heading-corrected frame (with ``heading_correction``: the
+latched ``blind_navigation/heading_correction``, awaited at most
+``correction_timeout``; none: aborted, the frames would not agree), waits for
+the server (``server_timeout``), sets the route
+(``blind_navigation/set_return_route``), then sends the landmarks in reverse
+order, one goal at a time, the whole return within ``return_timeout_factor``
+x the expected time + ``return_timeout_margin``. It publishes the odometry
+poses of the return on ``blind_navigation/return_path``.
 
 Progress (core/safety.ReturnProgress: real path and sha256 of the landmark
-file, anchor, landmarks completed, position) is written atomically to
-``<landmark_file stem>.progress.yaml`` next to ``landmark_file`` at vision loss
-and after each goal. A client restarted while a return was under way
-(progress ``returning``, updated within ``resume_timeout`` wall seconds, file
-unchanged, robot within ``resume_max_offset`` of where it stopped) resumes
-with the next landmark instead of starting over; otherwise it aborts or, for a
-finished or old return, starts ``idle``. The landmark file is only read.
+file, anchor, landmarks completed, position) is written atomically next to
+``landmark_file`` at vision loss and after each goal. A client restarted while
+a return was under way resumes with the next landmark (progress
+``returning``, updated within ``resume_timeout`` wall seconds, file unchanged,
+robot within ``resume_max_offset`` of where it stopped); one that cannot trust
+its progress ends ``aborted``; a finished or old return starts ``idle``. The
+landmark file is only read.
+
+Params (``layer.params``): ``landmark_file`` (empty:
+$ROS_HOME/blind_navigation/landmarks.yaml), ``odom_timeout`` (s),
+``server_timeout`` (s), ``goal_timeout_factor`` and ``goal_timeout_margin``
+(a goal's result is awaited at most factor * its expected duration + margin: a
+backstop, the server's own limits are tighter), ``return_timeout_factor``,
+``return_timeout_margin`` (s), ``slowest_v`` (m/s), ``max_v``/``max_w`` (a
+landmark beyond them is a bad file), ``resume_timeout`` (s, wall),
+``resume_max_offset`` (m), ``path_spacing`` (m between return_path poses),
+``heading_correction``, ``correction_timeout`` (s), ``rotation_timeout`` (s
+from vision loss to the end of the pi turn: the standstill's timeout, core
+gyro_bias.standstill_timeout of the shared ``standstill_time``, plus
+``rotation_margin``), ``turn_tolerance`` (rad a finished pi turn may differ
+from pi).
 """
+import math
 import os
 import threading
 import time
 
-import actionlib
 import rospy
-from actionlib.action_client import get_name_of_constant
-from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation import names
-from blind_navigation.ros.back_travel_common import (LatestOdom, SafetyMonitor, landmarks_in_corrected_frame)
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.geometry import distance, quaternion_from_yaw
+from blind_navigation.core.geometry import distance, quaternion_from_yaw, wrap_angle
+from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
+from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
-from blind_navigation.core.safety import (SAFETY_DEFAULTS, ProgressError, ReturnProgress,
-                                          expected_duration, file_digest, load_progress,
-                                          position_check, progress_path, resume_check,
-                                          return_allowance, save_progress)
+from blind_navigation.core.plausibility import RouteBudget
+from blind_navigation.core.progress import (ABORT, IGNORE, PROGRESS_DEFAULTS, ProgressError,
+                                            ReturnProgress, file_digest, progress_path,
+                                            resume_from_file, save_progress, settle_abort)
+from blind_navigation.core.safety import SAFETY_DEFAULTS, expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
-from blind_navigation.msg import BackTravelAction, BackTravelGoal, StorageUsage
-from blind_navigation.msg import HeadingCorrection as HeadingCorrectionMsg
-from blind_navigation.ros.common import load_params
+from blind_navigation.msg import BackTravelAction, BackTravelGoal, MissionStatus, StorageUsage
+from blind_navigation.ros import diagnostics
+from blind_navigation.ros.common import REQUIRED, subscribe
+from blind_navigation.ros.goal_runner import GoalRunner
+from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.srv import SetReturnRoute
 
 #: How often the goal wait checks safety events and allowances, s.
@@ -68,30 +87,11 @@ WAIT_SLICE = 0.02
 
 
 class BackTravelClient(object):
-    """Mission state machine and goal sender.
+    """Mission state machine and goal sender (module docstring)."""
 
-    Params (DEFAULTS): ``landmark_file``
-    ('~/.ros/blind_navigation/landmarks.yaml', the recorder's symlink),
-    ``odom_topic`` ('/odom': anchor, progress, return_path), ``odom_timeout``
-    (s, 0.5: odometry older than this is not used for the anchor),
-    ``server_timeout`` (s, 10: wait for the action server),
-    ``goal_timeout_factor`` (5) and ``goal_timeout_margin`` (s, 10): a goal's
-    result is awaited at most factor * max(T, d / max(|v|, slowest_v)) + margin
-    (a backstop: the server's own allowance is tighter),
-    ``return_timeout_factor`` (3) and ``return_timeout_margin`` (s, 30): the
-    whole return's allowance, ``slowest_v`` (m/s, 0.03), ``max_v`` / ``max_w``
-    (0.7 m/s, pi rad/s, Kobuki's limits: a landmark beyond them is a bad
-    file), ``resume_timeout`` (s wall, 600) and ``resume_max_offset`` (m, 0.5):
-    when a restarted client resumes, ``path_spacing`` (m, 0.02 between
-    return_path poses), ``heading_correction`` (false: landmarks as recorded;
-    true: in the frame of /blind_navigation/heading_correction),
-    ``correction_timeout`` (s, 5), ``bumper_topic`` / ``cliff_topic`` /
-    ``wheel_drop_topic``.
-    """
-
-    DEFAULTS = dict({
-        'landmark_file': os.path.join('~', '.ros', 'blind_navigation', 'landmarks.yaml'),
-        'odom_topic': '/odom',
+    ROLE = 'back_travel_client'
+    DEFAULTS = {
+        'landmark_file': '',
         'odom_timeout': 0.5,
         'server_timeout': 10.0,
         'goal_timeout_factor': 5.0,
@@ -101,61 +101,83 @@ class BackTravelClient(object):
         'slowest_v': SAFETY_DEFAULTS['slowest_v'],
         'max_v': KOBUKI_MAX_V,
         'max_w': KOBUKI_MAX_W,
-        'resume_timeout': SAFETY_DEFAULTS['resume_timeout'],
-        'resume_max_offset': SAFETY_DEFAULTS['resume_max_offset'],
+        'resume_timeout': PROGRESS_DEFAULTS['resume_timeout'],
+        'resume_max_offset': PROGRESS_DEFAULTS['resume_max_offset'],
         'path_spacing': 0.02,
-        'heading_correction': False,
+        'heading_correction': REQUIRED,
         'correction_timeout': 5.0,
-    }, **{kind + '_topic': topic for kind, topic in names.SAFETY_EVENTS.items()})
+        'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
+        'rotation_margin': 60.0,
+        'turn_tolerance': 0.3,
+    }
 
-    def __init__(self):
-        p = self.params = load_params(self.DEFAULTS)
-        if not isinstance(p.landmark_file, str) or not p.landmark_file.strip():
-            raise ValueError('~landmark_file must be a file path, got %r' % (p.landmark_file,))
+    def __init__(self, layer):
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
+        self.log = layer.logger(self.ROLE)
         for name in ('odom_timeout', 'server_timeout', 'goal_timeout_factor', 'return_timeout_factor',
                      'slowest_v', 'max_v', 'max_w', 'resume_timeout', 'resume_max_offset',
-                     'path_spacing', 'correction_timeout'):
+                     'path_spacing', 'correction_timeout', 'rotation_margin', 'turn_tolerance'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
+        self.layer = layer
+        self.odometry = layer.odometry
+        self.landmark_file = landmark_file(p.landmark_file)
+        self.rotation_timeout = standstill_timeout(p) + p.rotation_margin
         self.limits = Limits(p.max_v, p.max_w)
-        self.progress_file = progress_path(p.landmark_file)
+        self.progress_file = progress_path(self.landmark_file)
         self.progress = None
         self.state = None
+        self.reason = ''
+        self.warnings = ''
         self._lock = threading.Lock()
         self._return = threading.Event()
         self._trip = None
-        self.correction = None
+        self._turn_start = None          # raw odometry yaw where recording stopped
+        self._rotation_deadline = None   # rospy time
+        self.correction = layer.heading_correction() if p.heading_correction else None
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
+        self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=1, latch=True)
         self.path_pub = rospy.Publisher(names.RETURN_PATH, Path, queue_size=1, latch=True)
         self.path = Path()
         # Made when the return starts, not here: rospy drops a publisherUpdate that
-        # arrives while registerSubscriber is in flight (RegManager keeps only the
-        # newest update per topic, the call's stale empty list), so subscribing at
-        # start-up, while the server registers, can leave feedback/result unconnected
-        # for good ("action server not available"). By the return the server is known.
+        # arrives while registerSubscriber is in flight, so subscribing at start-up,
+        # while the server registers, can leave feedback/result unconnected for good.
         self.client = None
         self._start_from_progress()
-        self.odom = LatestOdom(p.odom_topic, self._on_odom)
-        self.safety = SafetyMonitor({kind: getattr(p, kind + '_topic') for kind in names.SAFETY_EVENTS},
-                                    self._on_trip)
-        rospy.Subscriber(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
-        rospy.Subscriber(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
-        rospy.Subscriber(names.ROTATION_DONE, Bool, self._on_rotation_done, queue_size=1)
-        if p.heading_correction:
-            rospy.Subscriber(names.HEADING_CORRECTION, HeadingCorrectionMsg, self._on_correction,
-                             queue_size=1)
+        layer.safety.on_trip(self._on_trip)
+        subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
+        subscribe(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
+        subscribe(names.ROTATION_DONE, Bool, self._on_rotation_done, queue_size=1)
+        layer.diagnostics.add('mission', self._mission_status)
+        layer.diagnostics.add('odometry', self._odometry_status)
+        layer.diagnostics.add('landmark file', self._file_status)
         rospy.on_shutdown(self._on_shutdown)
 
-    # --- state ---------------------------------------------------------------
-
+    # --- state ---------------------------------------------------------------------------------
     def set_state(self, new_state, reason=''):
         with self._lock:
             old, self.state = self.state, new_state
-        if self.progress is not None and new_state in (state.HOME, state.ABORTED):
-            self._save_progress(status=new_state)   # persisted before it is announced
-        log = rospy.logerr if new_state == state.ABORTED else rospy.loginfo
-        log('%s: state %s -> %s%s', rospy.get_name(), old, new_state, ': ' + reason if reason else '')
+            self.reason = reason
+        if self.progress is not None and self.progress.unfinished and new_state in state.TERMINAL:
+            self._save_progress(self.progress.finish(new_state, reason, time.time(),
+                                                     self._position()))  # before it is announced
+        (self.log.error if new_state == state.ABORTED else self.log.info)(
+            'state %s -> %s%s', old, new_state, ': ' + reason if reason else '')
+        self.layer.mission.set_local(new_state)
         self.state_pub.publish(String(data=new_state))
+        self._publish_status()
+        if new_state in (state.RECORDING, state.ROTATING, state.RETURNING):
+            self.odometry.acquire(self.ROLE)
+        elif new_state in state.TERMINAL:
+            self.odometry.release(self.ROLE)
+        self.layer.diagnostics.now()
+
+    def _publish_status(self):
+        msg = MissionStatus(state=self.state or '', reason=self.reason, warnings=self.warnings,
+                            landmarks=self.progress.landmarks if self.progress else 0,
+                            completed=self.progress.completed if self.progress else 0)
+        msg.header.stamp = rospy.Time.now()
+        self.status_pub.publish(msg)
 
     def _transition(self, expected, new_state, event):
         """Move to ``new_state`` if the state is ``expected``; log and ignore otherwise."""
@@ -163,134 +185,148 @@ class BackTravelClient(object):
             current = self.state
         if current != expected:
             if event != 'storage':
-                rospy.logwarn('%s: %s ignored in state %s', rospy.get_name(), event, current)
+                self.log.warn('%s ignored in state %s', event, current)
             return False
         self.set_state(new_state)
         return True
 
     def _start_from_progress(self):
-        """First state: ``returning`` to resume an unfinished return, ``aborted``
-        if one was under way but cannot continue, else ``idle``."""
-        try:
-            progress = load_progress(self.progress_file)
-        except ProgressError as error:
-            rospy.logerr('%s: %s; not resuming anything', rospy.get_name(), error)
-            progress = None
-        if progress is None:
+        """First state: ``returning`` to resume an unfinished return of this mission,
+        ``aborted`` if one was under way but cannot continue (or its progress
+        cannot be trusted), else ``idle`` (core/progress.resume_from_file)."""
+        p = self.params
+        if not os.path.lexists(self.progress_file):
             self.set_state(state.IDLE)
             return
-        try:
-            digest = file_digest(progress.landmark_file)
-        except OSError:
-            digest = None
-        decision, why = resume_check(progress, time.time(), digest, self.params.resume_timeout)
-        if decision == 'ignore':
-            rospy.loginfo('%s: %s (%s)', rospy.get_name(), why, self.progress_file)
+        position = self._wait_for_position()
+        decision = resume_from_file(self.progress_file, time.time(), position,
+                                    self.layer.mission_id, p.resume_timeout, p.resume_max_offset,
+                                    self.limits)
+        if decision.action == IGNORE:
+            self.log.info('%s', decision.reason)
             self.set_state(state.IDLE)
             return
-        self.progress = progress
-        if decision == 'abort':
-            self.set_state(state.ABORTED, why)
+        if decision.action == ABORT:
+            try:
+                settle_abort(self.progress_file, decision, time.time())
+            except (OSError, ProgressError) as error:
+                self.log.error('cannot record the abort in %s: %s', self.progress_file, error)
+            self.set_state(state.ABORTED, decision.reason)
             return
-        rospy.logwarn('%s: %s (%s)', rospy.get_name(), why, self.progress_file)
+        self.progress = decision.progress
+        self.log.warn('%s (%s)', decision.reason, self.progress_file)
         self.set_state(state.RETURNING, 'resume after a restart')
         self._return.set()
 
-    def _save_progress(self, **changes):
-        """Update and persist the progress (atomically, next to the landmark file)."""
-        odom = self.odom.fresh(self.params.odom_timeout) if hasattr(self, 'odom') else None
-        if odom is not None:
-            changes.setdefault('position', [odom.x, odom.y])
-        self.progress = self.progress._replace(updated=time.time(), **changes)
+    def _position(self):
+        odom = self.odometry.fresh(self.params.odom_timeout)
+        return [odom.x, odom.y] if odom is not None else None
+
+    def _save_progress(self, progress):
+        """Keep and persist ``progress`` (atomically, next to the landmark file)."""
+        self.progress = progress
         try:
-            save_progress(self.progress_file, self.progress)
-        except OSError as error:
-            rospy.logerr('%s: cannot write the return progress %s: %s', rospy.get_name(),
-                         self.progress_file, error)
+            save_progress(self.progress_file, progress)
+        except (OSError, ProgressError) as error:
+            self.log.error('cannot write the return progress %s: %s', self.progress_file, error)
 
-    # --- events --------------------------------------------------------------
-
-    def _on_storage(self, _msg):
+    # --- events --------------------------------------------------------------------------------
+    def _on_storage(self, msg):
+        if msg.lost or msg.error:
+            warning = 'RECORDING DAMAGED: %d landmark(s) could not be written to %s: %s' % (
+                msg.lost, msg.file, msg.error)
+            if warning != self.warnings:
+                self.warnings = warning
+                self.log.error('%s', warning)
+                self._publish_status()
+                self.layer.diagnostics.now()
         self._transition(state.IDLE, state.RECORDING, 'storage')
 
-    def _on_vision_lost(self, _msg):
-        if self._transition(state.RECORDING, state.ROTATING, 'vision_lost'):
-            odom = self.odom.fresh(self.params.odom_timeout)
-            anchor = [odom.x, odom.y] if odom else None
-            self.progress = ReturnProgress(
-                landmark_file=os.path.realpath(os.path.expanduser(self.params.landmark_file)),
-                digest='', landmarks=0, anchor=anchor, frame_id=self.odom.frame_id, completed=0,
-                position=anchor, status=state.ROTATING, updated=time.time())
-            self._save_progress()
+    def _on_vision_lost(self, msg):
+        sender = msg._connection_header.get('callerid', '?')
+        with self._lock:
+            current = self.state
+        if current != state.RECORDING:
+            if current not in (state.ROTATING, state.RETURNING):   # repeats are simply idempotent
+                self.log.warn('vision_lost from %s ignored in state %s', sender, current)
+            return
+        latest = self.odometry.latest()
+        anchor = [latest.x, latest.y] if latest is not None else None
+        self._turn_start = latest.yaw if latest is not None else None
+        self._save_progress(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
+                                                 time.time(), self.layer.mission_id))
+        self.set_state(state.ROTATING, 'vision lost (%s)' % sender)
+        rospy.Timer(rospy.Duration(self.rotation_timeout), self._check_rotation, oneshot=True)
+
+    def _check_rotation(self, _event):
+        if self.state == state.ROTATING:
+            self.set_state(state.ABORTED, 'no finished pi turn within %.0f s of vision loss (is '
+                           'rotate_pi running?)' % self.rotation_timeout)
 
     def _on_rotation_done(self, msg):
+        with self._lock:
+            rotating = self.state == state.ROTATING
+        if not rotating:
+            return
         if not msg.data:
-            safety = self._trip or ', '.join(self.safety.active)
-            reason = 'the pi rotation failed%s; not travelling back' % (
-                ' (safety stop: %s)' % safety if safety else '')
-            with self._lock:
-                rotating = self.state == state.ROTATING
-            if rotating:
-                self.set_state(state.ABORTED, reason)
+            safety = self._trip or ', '.join(self.layer.safety.active)
+            self.set_state(state.ABORTED, 'the pi rotation failed%s; not travelling back' % (
+                ' (safety stop: %s)' % safety if safety else ''))
+            return
+        problem = self._turn_problem()
+        if problem:
+            self.log.error('rotation_done true refused: %s', problem)
             return
         if self._transition(state.ROTATING, state.RETURNING, 'rotation_done true'):
             self._return.set()
 
-    def _on_correction(self, msg):
-        self.correction = msg
-
-    def _wait_for_correction(self):
-        """The latched heading correction (wall-bounded wait), or None."""
-        deadline = time.monotonic() + self.params.correction_timeout
-        while self.correction is None and time.monotonic() < deadline and not rospy.is_shutdown():
-            time.sleep(0.05)
-        return self.correction
-
-    def _in_corrected_frame(self, landmarks):
-        """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""
-        if not self.params.heading_correction:
-            return landmarks, None
-        msg = self._wait_for_correction()
-        if msg is None:
-            return None, ('no heading correction on %s within %.0f s (is heading_correction '
-                          'running?)' % (names.HEADING_CORRECTION, self.params.correction_timeout))
-        corrected, correction = landmarks_in_corrected_frame(landmarks, msg)
-        rospy.loginfo('%s: landmarks in the corrected odometry frame: %s', rospy.get_name(),
-                      correction.describe())
-        return corrected, None
+    def _turn_problem(self):
+        """Why the robot has not really turned by pi since recording stopped, or None."""
+        latest = self.odometry.latest()
+        if self._turn_start is None or latest is None:
+            return None if latest is not None else 'no odometry to check the turn'
+        turned = abs(wrap_angle(latest.yaw - self._turn_start))
+        if abs(turned - math.pi) > self.params.turn_tolerance:
+            return 'the robot turned %.2f rad since vision loss, not pi' % turned
+        return None
 
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
 
-    def _on_odom(self, odom, msg):
+    def _on_odom(self, raw):
         if self.state != state.RETURNING:
+            return
+        odom = self.odometry.fresh(self.params.odom_timeout)
+        if odom is None:
             return
         poses = self.path.poses
         if poses and distance(poses[-1].pose.position.x, poses[-1].pose.position.y,
                               odom.x, odom.y) < self.params.path_spacing:
             return
         pose = PoseStamped()
-        pose.header = msg.header
+        pose.header.stamp = rospy.Time.from_sec(raw.stamp)
+        pose.header.frame_id = self.odometry.frame_id
         pose.pose.position.x, pose.pose.position.y = odom.x, odom.y
         q = pose.pose.orientation
         q.x, q.y, q.z, q.w = quaternion_from_yaw(odom.yaw)
         poses.append(pose)
-        self.path.header = msg.header
+        self.path.header = pose.header
         self.path_pub.publish(self.path)
 
     def _on_shutdown(self):
         if self.state == state.RETURNING and self.client is not None:
-            self.client.cancel_all_goals()
+            self.client.cancel()
 
-    # --- the return ------------------------------------------------------------
-
-    def spin(self):
+    # --- the return ----------------------------------------------------------------------------
+    def run(self):
+        """Drive returns when the state says so (blocks until shutdown)."""
+        self.odometry.add_listener(self._on_odom)
         while not rospy.is_shutdown():
             if self._return.wait(0.2):
                 self._return.clear()
                 ok, reason = self.travel_back()
-                if not rospy.is_shutdown():
+                if not rospy.is_shutdown() and self.state == state.RETURNING:
                     self.set_state(state.HOME if ok else state.ABORTED, reason)
 
     def travel_back(self):
@@ -307,34 +343,37 @@ class BackTravelClient(object):
         except LandmarkFileError as error:
             return False, 'landmark file unusable: %s' % error
         for warning in loaded.warnings:
-            rospy.logwarn('%s: %s', rospy.get_name(), warning)
+            self.log.warn('%s', warning)
         landmarks, problem = self._in_corrected_frame(loaded.landmarks)
         if problem:
             return False, problem
         goals = list(zip(loaded.labels, landmarks))[::-1]
+        if loaded.gaps:
+            self.warnings = 'the recording has %d gap(s) (%d landmark(s) lost): the return bridges ' \
+                'them' % (len(loaded.gaps), loaded.missing)
+            self.log.warn('%s: %s', path, self.warnings)
         if resuming:
             if digest != self.progress.digest or len(goals) != self.progress.landmarks:
                 return False, 'landmark file %s changed since the return started' % path
-            problem = self._wait_for_position()
-            if problem:
-                return False, 'cannot resume: %s' % problem
-        elif self.progress.anchor is None:
-            odom = self.odom.fresh(p.odom_timeout)
-            if odom is None:
-                return False, 'no odometry for the return: %s' % self.odom.describe_missing(
-                    p.odom_timeout)
-            self.progress = self.progress._replace(anchor=[odom.x, odom.y])
-        done = self.progress.completed if resuming else 0
-        self._save_progress(status=state.RETURNING, digest=digest, landmarks=len(goals),
-                            completed=done)
-        rospy.loginfo('%s: %d landmarks, %.2f m, from %s; %s; waiting for %s', rospy.get_name(),
-                      len(goals), loaded.total_distance, path,
-                      'resuming after %d' % done if done else 'starting', names.BACK_TRAVEL)
+        else:
+            anchor = None
+            if self.progress.anchor is None:
+                anchor = self._position()
+                if anchor is None:
+                    return False, 'no odometry for the return: %s' % self.odometry.describe_missing(
+                        p.odom_timeout)
+            self._save_progress(self.progress.start(digest, len(goals), time.time(), anchor=anchor))
+        done = self.progress.completed
+        budget = RouteBudget(landmarks)
+        self._publish_status()
+        self.log.info('%d landmarks, %.2f m, from %s; %s; waiting for %s', len(goals),
+                      loaded.total_distance, path, 'resuming after %d' % done if done else 'starting',
+                      rospy.resolve_name(names.BACK_TRAVEL))
         if self.client is None:
-            self.client = actionlib.SimpleActionClient(names.BACK_TRAVEL, BackTravelAction)
+            self.client = GoalRunner(names.BACK_TRAVEL, BackTravelAction)
         if not self.client.wait_for_server(rospy.Duration(p.server_timeout)):
             return False, ('action server %s not available after %.0f s (is back_travel_server '
-                           'running?)' % (names.BACK_TRAVEL, p.server_timeout))
+                           'running?)' % (rospy.resolve_name(names.BACK_TRAVEL), p.server_timeout))
         problem = self._set_route([landmark for _, landmark in goals[:done]])
         if problem:
             return False, problem
@@ -342,55 +381,78 @@ class BackTravelClient(object):
         allowance = return_allowance(remaining, p.return_timeout_factor, p.return_timeout_margin,
                                      p.slowest_v)
         deadline = rospy.get_time() + allowance
-        travelled = 0.0
+        travelled = self.progress.travelled or 0.0
         for number, (label, landmark) in enumerate(goals[done:], done + 1):
             where = 'goal %d/%d (%s)' % (number, len(goals), label)
-            self.client.send_goal(BackTravelGoal(*landmark.as_list()))
-            problem = self._wait_for_goal(where, landmark, deadline, allowance)
+            self.client.send(BackTravelGoal(*landmark.as_list()))
+            problem = self._wait_for_goal(where, landmark, deadline, allowance,
+                                          lambda: budget.problem(travelled + self._goal_distance()))
             if problem:
                 return False, problem
-            status = self.client.get_state()
-            if status != GoalStatus.SUCCEEDED:
-                return False, '%s ended %s: %s' % (where, get_name_of_constant(GoalStatus, status),
-                                                    self.client.get_goal_status_text())
-            travelled += self.client.get_result().distance
-            self._save_progress(completed=number)
-        return True, 'travelled %.3f m over %d landmarks%s' % (
-            travelled, len(goals) - done, ' (resumed after %d)' % done if done else '')
+            if not self.client.succeeded:
+                return False, '%s ended %s' % (where, self.client.describe())
+            travelled += self.client.result.distance
+            self._save_progress(self.progress.goal_done(number, time.time(), self._position(),
+                                                        travelled))
+            self._publish_status()
+        return True, 'travelled %.3f m over %d landmarks%s%s' % (
+            travelled, len(goals) - done,
+            ' (resumed after %d)' % done if done else '',
+            '; ' + self.warnings if self.warnings else '')
+
+    def _goal_distance(self):
+        """m driven by the current goal so far (its last feedback)."""
+        return self.client.feedback.distance if self.client.feedback is not None else 0.0
+
+    def _in_corrected_frame(self, landmarks):
+        """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""
+        if self.correction is None:
+            return landmarks, None
+        deadline = time.monotonic() + self.params.correction_timeout
+        while not self.correction.received and time.monotonic() < deadline \
+                and not rospy.is_shutdown():
+            time.sleep(0.05)
+        if not self.correction.received:
+            return None, ('no heading correction on %s within %.0f s (is heading_correction '
+                          'running?)' % (rospy.resolve_name(names.HEADING_CORRECTION),
+                                         self.params.correction_timeout))
+        receiver = self.correction
+        self.log.info('landmarks in the corrected odometry frame: %s', receiver.correction.describe())
+        return correct_landmarks(landmarks, receiver.correction, receiver.reference.yaw), None
 
     def _wait_for_position(self):
-        """Resuming: wait (wall-bounded) for odometry, check the robot is where the
-        return stopped; None if fine, else why not."""
+        """The robot's odometry [x, y], waiting (wall-bounded) for it; None if none came."""
+        self.odometry.acquire(self.ROLE)
         deadline = time.monotonic() + self.params.server_timeout
-        odom = None
-        while odom is None and time.monotonic() < deadline and not rospy.is_shutdown():
-            odom = self.odom.fresh(self.params.odom_timeout)
+        position = self._position()
+        while position is None and time.monotonic() < deadline and not rospy.is_shutdown():
             time.sleep(0.05)
-        return position_check(self.progress, [odom.x, odom.y] if odom else None,
-                              self.params.resume_max_offset)
+            position = self._position()
+        return position
 
     def _set_route(self, completed):
         """Give the server the route: anchor + completed landmarks. None if set."""
-        request_timeout = self.params.server_timeout
+        service = rospy.resolve_name(names.SET_RETURN_ROUTE)
         try:
-            rospy.wait_for_service(names.SET_RETURN_ROUTE, request_timeout)
+            rospy.wait_for_service(names.SET_RETURN_ROUTE, self.params.server_timeout)
             set_route = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
             response = set_route(header=rospy.Header(stamp=rospy.Time.now(),
                                                      frame_id=self.progress.frame_id or ''),
                                  anchor_x=self.progress.anchor[0], anchor_y=self.progress.anchor[1],
                                  completed=[value for lm in completed for value in lm.as_list()])
         except (rospy.ROSException, rospy.ServiceException) as error:
-            return 'cannot set the return route on %s: %s' % (names.SET_RETURN_ROUTE, error)
+            return 'cannot set the return route on %s: %s' % (service, error)
         return None if response.ok else 'return route refused: %s' % response.message
 
-    def _wait_for_goal(self, where, landmark, deadline, allowance):
+    def _wait_for_goal(self, where, landmark, deadline, allowance, over_budget):
         """Wait for the goal's result; cancel it and say why on a safety event, the
-        goal's backstop or the whole return's allowance. None once it ended."""
+        goal's backstop, the whole return's allowance or its distance budget
+        (``over_budget()``: None or why). None once it ended."""
         p = self.params
         goal_allowance = (p.goal_timeout_factor * expected_duration(landmark, p.slowest_v)
                           + p.goal_timeout_margin)
         goal_deadline = rospy.get_time() + goal_allowance
-        while not self.client.wait_for_result(rospy.Duration(WAIT_SLICE)):
+        while not self.client.wait(WAIT_SLICE):
             now = rospy.get_time()
             if self._trip:
                 problem = '%s: safety stop: %s' % (where, self._trip)
@@ -400,8 +462,47 @@ class BackTravelClient(object):
                 problem = '%s: the return exceeded its time allowance of %.0f s' % (where, allowance)
             elif rospy.is_shutdown():
                 problem = '%s: node shutting down' % where
+            elif self.state != state.RETURNING:
+                problem = '%s: the mission is %s' % (where, self.state)
+            elif over_budget():
+                problem = '%s: %s' % (where, over_budget())
             else:
                 continue
-            self.client.cancel_goal()
+            self.client.cancel()
             return problem
         return None
+
+    # --- diagnostics ---------------------------------------------------------------------------
+    def _mission_status(self, stat):
+        stat.add('state', self.state)
+        if self.progress is not None:
+            stat.add('landmarks', self.progress.landmarks)
+            stat.add('completed', self.progress.completed)
+        if self.warnings:
+            stat.add('warnings', self.warnings)
+        if self.state == state.ABORTED:
+            stat.summary(diagnostics.ERROR, 'aborted: %s' % self.reason)
+        elif self.warnings:
+            stat.summary(diagnostics.WARN, '%s: %s' % (self.state, self.warnings))
+        else:
+            stat.summary(diagnostics.OK, '%s%s' % (self.state, ': ' + self.reason if self.reason else ''))
+
+    def _odometry_status(self, stat):
+        blocking = self.state in (state.ROTATING, state.RETURNING)
+        diagnostics.age_status(stat, 'odometry', self.odometry.age(), self.params.odom_timeout,
+                               diagnostics.ERROR if blocking else diagnostics.WARN,
+                               diagnostics.ERROR if blocking else diagnostics.WARN)
+        stat.add('refused messages', self.odometry.refused)
+
+    def _file_status(self, stat):
+        stat.add('file', self.landmark_file)
+        try:
+            real = os.path.realpath(self.landmark_file)
+            stat.add('mission file', real)
+            stat.add('bytes', os.path.getsize(real))
+            stat.summary(diagnostics.OK, os.path.basename(real))
+        except OSError as error:
+            level = diagnostics.ERROR if self.state in (state.RECORDING, state.ROTATING,
+                                                        state.RETURNING) else diagnostics.OK
+            stat.summary(level, 'no landmark file yet' if level == diagnostics.OK else
+                         'landmark file unreadable: %s' % error.strerror)

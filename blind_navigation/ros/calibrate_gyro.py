@@ -1,19 +1,27 @@
 """calibrate_gyro: the one-off gyro scale calibration (core/gyro_calibration.py) as a node.
 
 Spins the robot in place ``turns`` full turns counter-clockwise, pauses, and as
-many clockwise (core/gyro_calibration.SpinCalibration), publishing on
-``cmd_vel_topic`` while feeding the odometry yaw (``odom_topic``) and RTAB-Map's
-visual-odometry yaw (``vo_odom_topic``; a lost message breaks the current
-window) to its GyroVisualFit. When the spins are done it fits the gyro's
-scale error and writes it to ``calibration_file`` (atomically; an existing file
-is first copied to ``<calibration_file>.previous``), which heading_correction
-reads at mission start. On any failure (a turn over its time allowance, a
-calibration the data do not determine, odometry older than ``odom_timeout``, a
-Kobuki bumper/cliff/wheel-drop event, shutdown) the robot is stopped at once,
-the reason is logged as an error and the file is left untouched. The node then
+many clockwise (core/gyro_calibration.SpinCalibration), driving ``cmd_vel``
+while feeding the odometry yaw (``odom``) and RTAB-Map's visual-odometry yaw
+(``rtabmap/odom``; a lost message breaks the current window) to its
+GyroVisualFit. It starts only once both arrive (without visual odometry the
+calibration is impossible: it says so and stops before spinning). When the
+spins are done it fits the gyro's scale error and writes it to
+``calibration_file`` (atomically; an existing file is first copied to
+``<calibration_file>.previous``), which heading_correction reads at mission
+start. On any failure (a turn over its time allowance, a calibration the data
+do not determine, odometry older than ``odom_timeout``, a Kobuki
+bumper/cliff/wheel-drop event, shutdown) the robot is stopped at once, the
+reason is logged as an error and the file is left untouched. The node then
 exits: status 0 on success, 1 on failure; it always ends with zero velocity.
 Stamps come from the messages and the loop is a rospy.Rate, so it works under
 use_sim_time.
+
+Params: core/gyro_calibration's SPIN_DEFAULTS, core/gyro_fit's
+GYRO_FIT_DEFAULTS, ``max_scale`` (core/heading_correction), ``calibration_file``
+(empty: $ROS_HOME/blind_navigation/gyro_calibration.yaml), ``control_rate``
+(Hz), ``odom_timeout`` (s), ``start_timeout`` (s of wall time to wait for
+odometry and visual odometry).
 """
 import os
 import shutil
@@ -21,62 +29,58 @@ import threading
 import time
 
 import rospy
-from nav_msgs.msg import Odometry
 
 from blind_navigation import names
-from blind_navigation.ros.back_travel_common import LatestOdom, SafetyMonitor, VelocityOutput
+from blind_navigation.core import mission_state
+from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import (SPIN_DEFAULTS, CalibrationError, SpinCalibration,
                                                     save_calibration)
 from blind_navigation.core.gyro_fit import GYRO_FIT_DEFAULTS
 from blind_navigation.core.heading_correction import CORRECTION_DEFAULTS
-from blind_navigation.ros.common import load_params, odom_state_from_msg, odometry_lost_reason
+from blind_navigation.core.vision import wire_lost_reason
+from blind_navigation.ros.heading_correction import calibration_file
+from blind_navigation.ros.motion import MotionOutput
 
 
 class CalibrateGyro(object):
-    """Params (DEFAULTS): ``odom_topic`` ('/odom'), ``vo_odom_topic`` ('/rtabmap/odom'),
-    ``cmd_vel_topic`` ('/cmd_vel_mux/input/teleop'), ``calibration_file``
-    ('~/.ros/blind_navigation/gyro_calibration.yaml'), ``control_rate`` (Hz, 50),
-    ``odom_timeout`` (s, 0.4), ``start_timeout`` (s of wall time to wait for the
-    first odometry, 30), ``bumper_topic`` / ``cliff_topic`` / ``wheel_drop_topic``
-    (Kobuki's /mobile_base/events/*); core/gyro_calibration's SPIN_DEFAULTS:
-    ``turns`` (5 each way), ``max_w`` (rad/s, 0.6, also the output clamp; linear
-    velocity is clamped to 0), ``pause`` (s, 3), ``required_scale_std`` (0.002);
-    core/gyro_fit's GYRO_FIT_DEFAULTS (``window``,
-    ``max_gap``, ``min_windows``, ``outlier_k``, ``max_scale``, ...).
-    """
+    """The calibration routine on ROS (module docstring)."""
 
-    DEFAULTS = dict(SPIN_DEFAULTS, **GYRO_FIT_DEFAULTS, max_scale=CORRECTION_DEFAULTS['max_scale'], odom_topic='/odom',
-                    vo_odom_topic='/rtabmap/odom', cmd_vel_topic='/cmd_vel_mux/input/teleop',
-                    calibration_file='~/.ros/blind_navigation/gyro_calibration.yaml',
-                    control_rate=50.0, odom_timeout=0.4, start_timeout=30.0,
-                    **{kind + '_topic': topic for kind, topic in names.SAFETY_EVENTS.items()})
+    ROLE = mission_state.CALIBRATION_ROLE
+    DEFAULTS = dict(SPIN_DEFAULTS, **GYRO_FIT_DEFAULTS, max_scale=CORRECTION_DEFAULTS['max_scale'],
+                    calibration_file='', control_rate=50.0, odom_timeout=0.4, start_timeout=30.0)
 
-    def __init__(self):
-        p = self.params = load_params(self.DEFAULTS)
+    def __init__(self, layer):
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS)
+        self.log = layer.logger(self.ROLE)
         if p.control_rate <= 0 or p.odom_timeout <= 0 or p.start_timeout <= 0:
             raise ValueError('~control_rate, ~odom_timeout and ~start_timeout must be positive')
-        self.path = os.path.abspath(os.path.expanduser(p.calibration_file))
-        self.spin = SpinCalibration(p)   # validates the spin and calibrator params
+        self.path = calibration_file(p.calibration_file)
+        self.spin = SpinCalibration(p)   # validates the spin and fit params
+        self.layer = layer
+        self.odom = layer.odometry
         self._lock = threading.Lock()
         self._tripped = None
-        self.output = VelocityOutput(p.cmd_vel_topic, 0.0, self.spin.max_w)
-        self.safety = SafetyMonitor({kind: getattr(p, kind + '_topic') for kind in names.SAFETY_EVENTS},
-                                    self._on_trip)
-        rospy.Subscriber(p.vo_odom_topic, Odometry, self._on_vo, queue_size=50)
-        self.odom = LatestOdom(p.odom_topic, self._on_odom)
+        self._vo_valid = False
+        self.output = MotionOutput(self.ROLE, 0.0, self.spin.max_w, None, layer.safety)
+        layer.safety.on_trip(self._on_trip)
+        self.odom.add_listener(self._on_odom)
+        layer.visual_odometry.add_listener(self._on_vo, raw=True)
+        self.odom.acquire(self.ROLE)
+        layer.visual_odometry.acquire(self.ROLE)
 
-    def _on_odom(self, state, _msg):
+    def _on_odom(self, state):
         with self._lock:
             self.spin.fit.add_odometry(state.stamp, state.yaw)
 
-    def _on_vo(self, msg):
-        yaw = odom_state_from_msg(msg).yaw if odometry_lost_reason(msg) is None else None
+    def _on_vo(self, wire):
+        valid = wire_lost_reason(wire) is None
+        yaw = yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw) if valid else None
         with self._lock:
-            self.spin.fit.add_visual(msg.header.stamp.to_sec(), yaw)
+            self._vo_valid = self._vo_valid or valid
+            self.spin.fit.add_visual(wire.stamp, yaw)
 
     def _on_trip(self, reason):
         self._tripped = reason
-        self.output.halt('safety: ' + reason)
 
     def run(self):
         """Spin, fit and save; True on success. Always ends with zero velocity."""
@@ -93,11 +97,9 @@ class CalibrateGyro(object):
         finally:
             self.output.halt('calibration over')
         if reason:
-            rospy.logerr('%s: gyro calibration FAILED, %s left untouched: %s',
-                         rospy.get_name(), self.path, reason)
+            self.log.error('gyro calibration FAILED, %s left untouched: %s', self.path, reason)
             return False
-        rospy.loginfo('%s: gyro calibration %s written to %s', rospy.get_name(),
-                      calibration.describe(), self.path)
+        self.log.info('gyro calibration %s written to %s', calibration.describe(), self.path)
         return True
 
     def _spin(self):
@@ -107,18 +109,24 @@ class CalibrateGyro(object):
         # Under use_sim_time, odometry can arrive before this node's first /clock
         # message (time 0): wait for the clock too, or the first check after the
         # clock jumps would find that odometry stale.
-        while rospy.Time.now().is_zero() or self.odom.fresh(p.odom_timeout) is None:
+        while rospy.Time.now().is_zero() or self.odom.fresh(p.odom_timeout) is None \
+                or not self._vo_valid:
             if rospy.is_shutdown() or time.monotonic() > deadline:
+                if not self._vo_valid:
+                    return ('no valid visual odometry on %s within %.0f s: the calibration needs '
+                            "RTAB-Map's visual odometry running and tracking (see the README, "
+                            'TurtleBot2 + RTAB-Map); not spinning'
+                            % (rospy.resolve_name(names.VO_ODOM), p.start_timeout))
                 return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
             time.sleep(0.05)
-        rospy.loginfo('%s: spinning %.1f turns each way at %.2f rad/s against %s', rospy.get_name(),
-                      self.spin.turns, self.spin.max_w, p.vo_odom_topic)
+        self.log.info('spinning %.1f turns each way at %.2f rad/s against %s', self.spin.turns,
+                      self.spin.max_w, rospy.resolve_name(names.VO_ODOM))
         rate = rospy.Rate(p.control_rate)
         while not self.spin.done:
             if rospy.is_shutdown():
                 return 'node shutdown before the spins were done (%s)' % self.spin.progress
-            if self._tripped or self.safety.active:
-                return 'safety stop: %s' % (self._tripped or ', '.join(self.safety.active))
+            if self._tripped or self.layer.safety.active:
+                return 'safety stop: %s' % (self._tripped or ', '.join(self.layer.safety.active))
             odom = self.odom.fresh(p.odom_timeout)
             if odom is None:
                 return self.odom.describe_missing(p.odom_timeout)
@@ -133,5 +141,5 @@ class CalibrateGyro(object):
         """Keep an existing file as ``.previous``, then write the new one atomically."""
         if os.path.exists(self.path):
             shutil.copy2(self.path, self.path + '.previous')
-            rospy.loginfo('%s: previous calibration kept as %s.previous', rospy.get_name(), self.path)
+            self.log.info('previous calibration kept as %s.previous', self.path)
         save_calibration(self.path, calibration, self.spin.turns)

@@ -1,7 +1,9 @@
 """Small rospy glue shared by every node (the layer's and the fake TurtleBot's):
 params, watched subscriptions, message conversions, Twist."""
 import math
+import os
 
+import rospkg
 import rospy
 from geometry_msgs.msg import Twist
 
@@ -12,23 +14,34 @@ from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 COVARIANCE_DIAGONAL = (0, 7, 14, 21, 28, 35)
 
 
+#: The default of a param that the launch file sets (its launch arg holds the default).
+REQUIRED = object()
+
+
 def load_params(defaults, namespace='~'):
     """Read each param ``namespace + name`` (private ``~name`` by default, ``~role/name``
-    for a role hosted with others in one process), falling back to ``defaults[name]``.
+    for a role hosted with others in one process), falling back to ``defaults[name]``;
+    a :data:`REQUIRED` param that is not set is a ValueError naming it.
 
     Returns a plain object with one attribute per param and logs the values, so
     every node documents and reads its params the same way.
     """
     values = {name: rospy.get_param(namespace + name, default) for name, default in defaults.items()}
+    missing = sorted(name for name, value in values.items() if value is REQUIRED)
+    if missing:
+        raise ValueError('%s not set (the launch files set %s; with rosrun give _%s:=...)'
+                         % (', '.join(namespace + name for name in missing),
+                            'them' if len(missing) > 1 else 'it', missing[0]))
     rospy.loginfo('%s params%s: %s', rospy.get_name(), '' if namespace == '~' else ' ' + namespace,
                   ', '.join('%s=%r' % item for item in sorted(values.items())))
     return type('Params', (object,), values)()
 
 
-def subscribe(topic, data_class, callback, **options):
+def subscribe(topic, data_class, callback, callback_args=None, **options):
     """``rospy.Subscriber`` whose registration the subscription watchdog checks
     (a publisher registering at the same moment is not missed)."""
-    return subscription_watchdog.watch(rospy.Subscriber(topic, data_class, callback, **options))
+    return subscription_watchdog.watch(rospy.Subscriber(topic, data_class, callback, callback_args,
+                                                        **options))
 
 
 def odom_state_from_msg(msg):
@@ -82,6 +95,11 @@ def start_node(name, node_class, *args):
     except ValueError as error:
         rospy.logfatal('%s: %s', rospy.get_name(), error)
         raise SystemExit(1)
+
+
+def ros_home_file(relative):
+    """``relative`` under $ROS_HOME (default ~/.ros), where ROS keeps a user's files."""
+    return os.path.join(rospkg.get_ros_home(), relative)
 
 
 def set_pose(pose_msg, x, y, yaw):

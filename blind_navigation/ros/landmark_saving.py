@@ -1,94 +1,107 @@
 """Saving path landmarks at sampling ticks: the one piece of code behind both of
 the paper's recorder variants (section 3.3.3, Figure 4).
 
-- topic variant: ``nodes/landmark_saver.py`` calls :meth:`LandmarkSaving.save`
-  for each blind_navigation/PathSample;
-- service variant: ``nodes/record_server.py`` calls it for each
-  RecordLandmark request (sent by ``nodes/record_client.py``).
+- topic variant: ros/landmark_saver.py calls :meth:`LandmarkSaving.save` for
+  each blind_navigation/PathSample;
+- service variant: ros/record_server.py calls it for each RecordLandmark
+  request (sent by ros/record_client.py).
 
-Either way the saver reads odometry itself (the state at the tick's stamp:
-the latest odometry stamped no later than the tick), makes the landmark with
+Either way the saver reads odometry itself from the process's shared feed (the
+state at the tick's stamp: the latest odometry stamped no later than the tick;
+odometry the plausibility gate refused is never used), makes the landmark with
 core/recorder.PathRecorder and appends it durably with core/store.LandmarkWriter
-to a new time-stamped mission file that the ``landmark_file`` param (a symlink)
-points at. Only that param chooses the file: nothing received over ROS names a
-path. After each landmark it publishes the storage and the recorded path.
+to the mission's time-stamped file that the ``landmark_file`` param (a symlink)
+points at (core/store.open_mission_file: a saver restarted within the same
+mission, ``blind_navigation/mission_id``, continues that file after a gap
+entry; a new mission starts a new file). Only that param chooses the file:
+nothing received over ROS names a path; a ``landmark_file`` that is not a
+regular file or a symlink to one is refused by name. After each landmark it
+publishes the storage used (``blind_navigation/storage``, with the landmarks
+lost to write failures and the last error) and, when someone listens, the
+recorded path (``blind_navigation/recorded_path``, nav_msgs/Path for RViz).
+
+A write failure (a full disk, an I/O error) is an ERROR in the log and in
+``blind_navigation/storage`` (the mission's owner reports it in the mission
+status and diagnostics); the landmark is lost, the file keeps whole lines, and
+the next landmark is tried again. An odometry discontinuity (the gate
+re-anchored on a reset) is a gap in the file: the next landmark measures ``d``
+from the odometry after it.
+
+Params (``layer.params``, role ``landmark_saver`` or ``record_server``):
+``landmark_file`` (the symlink to the mission's file; empty:
+``$ROS_HOME/blind_navigation/landmarks.yaml``), ``fsync`` (fsync every
+landmark, not just flush), ``odom_timeout`` (s of sim time; a sample taken
+with older odometry is saved with a warning), ``odom_wait`` (s of wall time a
+sample waits for odometry covering its stamp).
 """
 import math
 import os
 import threading
+from array import array
 
 import rospy
 from geometry_msgs.msg import PoseStamped
-from nav_msgs.msg import Odometry, Path
+from nav_msgs.msg import Path
 
 from blind_navigation import names
 from blind_navigation.core.geometry import quaternion_from_yaw
-from blind_navigation.core.recorder import OdometryHistory, PathRecorder, storage_usage
-from blind_navigation.core.store import LandmarkWriter, start_mission_file
+from blind_navigation.core.files import StorageError
+from blind_navigation.core.recorder import PathRecorder, storage_usage
+from blind_navigation.core.store import open_mission_file
 from blind_navigation.msg import StorageUsage
-from blind_navigation.ros.common import load_params, usable_odom_state
+from blind_navigation.ros.common import ros_home_file
+from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
+
+#: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
+LANDMARK_FILE = os.path.join('blind_navigation', 'landmarks.yaml')
 
 
-#: PathSample.command values: a regular tick, and the last partial cycle.
-SAMPLE = 'sample'
-FINAL = 'final'
-COMMANDS = (SAMPLE, FINAL)
-
-DEFAULT_LANDMARK_FILE = os.path.join('~', '.ros', 'blind_navigation', 'landmarks.yaml')
+def landmark_file(param):
+    """The configured landmark file: ``param``, or the default under $ROS_HOME."""
+    if not isinstance(param, str):
+        raise ValueError('~landmark_file must be a file path, got %r' % (param,))
+    return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(LANDMARK_FILE)))
 
 
 class LandmarkSaving(object):
-    """Latest odometry -> landmark -> mission file, storage and recorded path.
-
-    Params (DEFAULTS): ``odom_topic`` (nav_msgs/Odometry, '/odom'),
-    ``landmark_file`` (the symlink to the mission's file,
-    '~/.ros/blind_navigation/landmarks.yaml'), ``fsync`` (true: fsync every
-    landmark, not just flush), ``odom_timeout`` (s of sim time; a sample taken
-    with older odometry is saved with a warning, 1.0).
-    """
+    """Latest odometry -> landmark -> mission file, storage and recorded path."""
 
     DEFAULTS = {
-        'odom_topic': '/odom',
-        'landmark_file': DEFAULT_LANDMARK_FILE,
+        'landmark_file': '',
         'fsync': True,
         'odom_timeout': 1.0,
         'odom_wait': 0.2,
     }
 
-    def __init__(self, variant):
-        p = self.params = load_params(self.DEFAULTS)
-        if not isinstance(p.landmark_file, str) or not p.landmark_file.strip():
-            raise ValueError('~landmark_file must be a file path, got %r' % (p.landmark_file,))
+    def __init__(self, layer, role, variant):
+        p = self.params = layer.params(role, self.DEFAULTS)
+        self.log = layer.logger(role)
         if not isinstance(p.fsync, bool):
             raise ValueError('~fsync must be true or false, got %r' % (p.fsync,))
-        self._lock = threading.Condition()
-        self._history = OdometryHistory()
-        self._odom_received = None
-        self._frame = 'odom'
+        self.odometry = layer.odometry
+        self.odometry.acquire(role)
+        self.odometry.on_reanchor(self._on_reanchor)
+        self._lock = threading.Lock()
         self._start = None
+        self._poses = array('d')       # x, y, yaw of every landmark (and the start)
         self.finished = False
+        self.error = ''
         self.recorder = PathRecorder()
-        path = start_mission_file(os.path.expanduser(p.landmark_file))
-        self.writer = LandmarkWriter(path, fsync=p.fsync, metadata={
-            'recorder': variant, 'odom_topic': p.odom_topic,
+        configured = landmark_file(p.landmark_file)
+        self.writer = open_mission_file(configured, layer.mission_id, fsync=p.fsync, metadata={
+            'recorder': variant, 'odom_topic': rospy.resolve_name(names.ODOM),
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
         rospy.on_shutdown(self.writer.close)
-        rospy.loginfo('%s: recording path landmarks into %s (%s -> %s)', rospy.get_name(), path,
-                      p.landmark_file, os.path.basename(path))
-        self.path_msg = Path()
+        path = self.writer.path
+        if self.writer.resumed is not None:
+            self.log.warn('restarted within the mission: continuing %s after its %d landmarks%s',
+                          path, self.writer.count, ' (%d torn entries dropped)'
+                          % self.writer.resumed.dropped if self.writer.resumed.dropped else '')
+        else:
+            self.log.info('recording path landmarks into %s (%s -> %s)', path, configured,
+                          os.path.basename(path))
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
-        self.odom_sub = rospy.Subscriber(p.odom_topic, Odometry, self._on_odom, queue_size=100)
-
-    def _on_odom(self, msg):
-        state = usable_odom_state(msg, self.params.odom_topic)
-        if state is None:
-            return
-        with self._lock:
-            self._history.append(state)
-            self._odom_received = rospy.Time.now()
-            self._frame = msg.header.frame_id or self._frame
-            self._lock.notify_all()
 
     def save(self, command, yaw, period, stamp):
         """Save the landmark of the tick at ``stamp`` (s); return ``(label, '')`` or
@@ -100,59 +113,97 @@ class LandmarkSaving(object):
                                     % (command, ', '.join(COMMANDS)))
             if self.finished:
                 return self._refuse('recording has finished (a final sample was saved)')
-            if self._history.latest is None:
-                return self._refuse('no valid odometry received on %s yet' % self.params.odom_topic)
-            age = (rospy.Time.now() - self._odom_received).to_sec()
+            if self.odometry.latest() is None:
+                return self._refuse('no valid odometry received on %s yet'
+                                    % rospy.resolve_name(names.ODOM))
+            age = self.odometry.age()
             if age > self.params.odom_timeout:
-                rospy.logwarn_throttle(5.0, '%s: odometry on %s is %.1f s old' %
-                                       (rospy.get_name(), self.params.odom_topic, age))
+                self.log.warn_throttle(5.0, 'odometry on %s is %.1f s old',
+                                       rospy.resolve_name(names.ODOM), age)
             if stamp > 0:
-                self._lock.wait_for(lambda: self._history.latest.stamp >= stamp,
-                                    timeout=self.params.odom_wait)
-                odom = self._history.at(stamp)
+                self.odometry.wait_for_stamp(stamp, self.params.odom_wait)
+                odom = self.odometry.state_at(stamp)
             else:                               # an unstamped request: the latest odometry
-                odom = self._history.latest
+                odom = self.odometry.latest()
             if not self.recorder.started:
                 valid = stamp > 0 and math.isfinite(period) and period > 0
-                self._start = self._history.at(stamp - period) if valid else odom
+                self._start = self.odometry.state_at(stamp - period) if valid else odom
                 self.recorder.start(self._start)
+                self._poses.extend((self._start.x, self._start.y, self._start.yaw))
             try:
                 landmark = self.recorder.take(odom, yaw, period)
             except ValueError as error:
                 return self._refuse('bad %s sample: %s' % (command, error))
-            label = self.writer.append(landmark)
+            try:
+                label = self.writer.append(landmark)
+            except StorageError as error:
+                return self._write_failed(error)
+            self._poses.extend((odom.x, odom.y, odom.yaw))
             self.finished = command == FINAL
-        self._report(label, odom, landmark)
+            if self.finished:
+                try:
+                    self.writer.finish()
+                except StorageError as error:
+                    self._write_failed(error)
+        self._report(label, landmark)
         if self.finished:
-            self.writer.close()
-            rospy.loginfo('%s: final landmark saved; recording finished', rospy.get_name())
+            self.log.info('final landmark saved; recording finished')
         return label, ''
 
+    def _write_failed(self, error):
+        """A landmark could not be written: ERROR, and the storage message says so."""
+        self.error = str(error)
+        self.log.error('LANDMARK LOST: %s', error)
+        self._publish_storage(rospy.Time.now())
+        return '', self.error
+
+    def _on_reanchor(self, reason):
+        """The odometry jumped and the gate took the new stream: the d chain breaks here."""
+        with self._lock:
+            if self.finished or not self.recorder.started:
+                return
+            latest = self.odometry.latest()
+            self.recorder = PathRecorder()
+            if latest is not None:
+                self.recorder.start(latest)
+            try:
+                gap = self.writer.note_gap(reason)
+                self.log.error('odometry discontinuity: %s noted in %s; the next landmark counts '
+                               'from the new odometry', gap, self.writer.path)
+            except StorageError as error:
+                self._write_failed(error)
+
     def _refuse(self, reason):
-        rospy.logwarn_throttle(2.0, '%s: landmark not saved: %s' % (rospy.get_name(), reason))
+        self.log.warn_throttle(2.0, 'landmark not saved: %s', reason)
         return '', reason
 
-    def _report(self, label, odom, landmark):
-        """Publish the storage and the recorded path; log the storage."""
+    def _report(self, label, landmark):
+        """Publish the storage and (when listened to) the recorded path; log the storage."""
         now = rospy.Time.now()
+        used = self._publish_storage(now)
+        self.log.info('%s %s: %d landmarks, %d bytes, %.2f m, %.0f B/m', label,
+                      [round(value, 4) for value in landmark], used.landmarks, used.bytes,
+                      used.distance, used.bytes_per_metre)
+        if self.path_pub.get_num_connections() > 0 or self.finished:
+            self.path_pub.publish(self._path(now))
+
+    def _publish_storage(self, now):
         used = storage_usage(self.writer.count, self.writer.bytes, self.writer.total_distance)
         msg = StorageUsage(file=self.writer.path, landmarks=used.landmarks, bytes=used.bytes,
-                        distance=used.distance, bytes_per_metre=used.bytes_per_metre)
+                           distance=used.distance, bytes_per_metre=used.bytes_per_metre,
+                           lost=self.writer.lost, error=self.error)
         msg.header.stamp = now
         self.storage_pub.publish(msg)
-        rospy.loginfo('%s: %s %s: %d landmarks, %d bytes, %.2f m, %.0f B/m', rospy.get_name(),
-                      label, [round(value, 4) for value in landmark], used.landmarks, used.bytes,
-                      used.distance, used.bytes_per_metre)
-        if not self.path_msg.poses:
-            self.path_msg.poses.append(self._pose(self._start, now))
-        self.path_msg.poses.append(self._pose(odom, now))
-        self.path_msg.header = self.path_msg.poses[-1].header
-        self.path_pub.publish(self.path_msg)
+        return used
 
-    def _pose(self, odom, stamp):
-        pose = PoseStamped()
-        pose.header.stamp, pose.header.frame_id = stamp, self._frame
-        pose.pose.position.x, pose.pose.position.y = odom.x, odom.y
-        q = pose.pose.orientation
-        q.x, q.y, q.z, q.w = quaternion_from_yaw(odom.yaw)
-        return pose
+    def _path(self, stamp):
+        path = Path()
+        path.header.stamp, path.header.frame_id = stamp, self.odometry.frame_id
+        for index in range(0, len(self._poses), 3):
+            pose = PoseStamped()
+            pose.header = path.header
+            pose.pose.position.x, pose.pose.position.y = self._poses[index], self._poses[index + 1]
+            q = pose.pose.orientation
+            q.x, q.y, q.z, q.w = quaternion_from_yaw(self._poses[index + 2])
+            path.poses.append(pose)
+        return path

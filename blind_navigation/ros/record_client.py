@@ -1,46 +1,46 @@
-"""record_client: the paper's service client (service variant of the recorder,
-section 3.3.3, Figure 4).
+"""The record client: the paper's service client (service variant of the
+recorder, section 3.3.3, Figure 4).
 
-A subscriber to the sampling publisher's /blind_navigation/sample whose
+A subscriber to the sampling publisher's ``blind_navigation/sample`` whose
 callback (a method of this class, as in the paper) sends each sample as a
-request to /blind_navigation/record_landmark. It waits for the server at start
-(servers are launched first, section 3.4.2).
+request to ``blind_navigation/record_landmark``. It waits for the server first
+(servers are launched first, section 3.4.2). Params: ``wait_log_period`` (s
+between "still waiting for the server" messages).
 """
 import rospy
 
 from blind_navigation import names
 from blind_navigation.msg import PathSample
-from blind_navigation.ros.common import load_params
+from blind_navigation.ros.common import subscribe
 from blind_navigation.srv import RecordLandmark
 
 
 class RecordClient(object):
-    """Forwards every PathSample to the record_landmark service.
+    """Forwards every PathSample to the record_landmark service."""
 
-    Params (DEFAULTS): ``wait_log_period`` (s between "still waiting for the
-    server" messages, 5.0).
-    """
-
+    ROLE = 'record_client'
     DEFAULTS = {'wait_log_period': 5.0}
 
-    def __init__(self):
-        self.params = load_params(self.DEFAULTS)
+    def __init__(self, layer):
+        self.params = layer.params(self.ROLE, self.DEFAULTS)
+        self.log = layer.logger(self.ROLE)
         self.calls = self.failures = 0
+        self.service = rospy.resolve_name(names.RECORD_LANDMARK)
         self.record = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark, persistent=False)
         self.sample_sub = None
 
-    def wait_for_server(self):
+    def run(self):
         """Block until the server is up (or shutdown); then subscribe to the samples."""
         while not rospy.is_shutdown():
             try:
                 rospy.wait_for_service(names.RECORD_LANDMARK, timeout=self.params.wait_log_period)
                 break
             except rospy.ROSException:
-                rospy.logwarn('%s: still waiting for %s', rospy.get_name(), names.RECORD_LANDMARK)
+                self.log.warn('still waiting for %s', self.service)
         else:
             return
-        rospy.loginfo('%s: %s is up; forwarding %s', rospy.get_name(), names.RECORD_LANDMARK, names.SAMPLE)
-        self.sample_sub = rospy.Subscriber(names.SAMPLE, PathSample, self.on_sample, queue_size=20)
+        self.log.info('%s is up; forwarding %s', self.service, rospy.resolve_name(names.SAMPLE))
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.on_sample, queue_size=20)
 
     def on_sample(self, msg):
         self.calls += 1
@@ -49,10 +49,8 @@ class RecordClient(object):
                                    period=msg.period)
         except (rospy.ServiceException, rospy.ROSException) as error:
             self.failures += 1
-            rospy.logerr('%s: %s call %d failed: %s', rospy.get_name(), names.RECORD_LANDMARK,
-                         self.calls, error)
+            self.log.error('%s call %d failed: %s', self.service, self.calls, error)
             return
         if not response.saved:
             self.failures += 1
-            rospy.logwarn('%s: server did not save the %s sample: %s', rospy.get_name(),
-                          msg.command, response.message)
+            self.log.warn('server did not save the %s sample: %s', msg.command, response.message)

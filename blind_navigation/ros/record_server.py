@@ -1,11 +1,11 @@
-"""record_server: the paper's service server (service variant of the recorder,
-section 3.3.3, Figure 4).
+"""The record server: the paper's service server (service variant of the
+recorder, section 3.3.3, Figure 4).
 
-Serves /blind_navigation/record_landmark (blind_navigation/RecordLandmark): for
-each request it reads the latest odometry itself and saves one path landmark
-with exactly the saving code of the topic variant
-(blind_navigation/recording.py). The response says whether it was saved, its
-label in the file, or why not.
+Serves ``blind_navigation/record_landmark`` (blind_navigation/RecordLandmark):
+for each request it reads the odometry itself and saves one path landmark with
+exactly the saving code of the topic variant (ros/landmark_saving.py). The
+response says whether it was saved, its label in the file, or why not.
+Params: those of :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
 import rospy
 
@@ -15,17 +15,15 @@ from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 
 
 class RecordServer(object):
-    """Service server that saves a landmark per request.
+    """Service server that saves a landmark per request."""
 
-    Params: those of :class:`blind_navigation.ros.landmark_saving.LandmarkSaving`
-    (odom_topic, landmark_file, fsync, odom_timeout).
-    """
+    ROLE = 'record_server'
 
-    def __init__(self):
-        self.saving = LandmarkSaving('service')
+    def __init__(self, layer):
+        self.saving = LandmarkSaving(layer, self.ROLE, 'service')
         self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark, self.on_request)
 
     def on_request(self, request):
         label, why_not = self.saving.save(request.command, request.yaw, request.period,
-                                            request.header.stamp.to_sec())
+                                          request.header.stamp.to_sec())
         return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)

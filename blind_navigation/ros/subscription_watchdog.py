@@ -1,21 +1,34 @@
-"""Heals rospy subscriptions that never connected to a publisher.
+"""Heals rospy subscriptions that missed a publisher's registration.
 
 rospy can miss a master's publisherUpdate when a subscriber and a publisher of
-the same topic register at the same moment: the subscriber then never connects
-to that publisher and never hears it (seen in this package's tests: rotate_pi
-never received /blind_navigation/vision_lost, so the robot did not turn). The
-watchdog asks the master, every ``period`` s of wall time, which nodes publish
-each topic this node subscribes to, and hands the URIs of publishers it has no
+the same topic register at the same moment (RegManager keeps only the newest
+update per topic, and the subscriber's own registration call returns the stale
+list): the subscriber then never connects to that publisher and never hears it
+(seen in this package's tests: rotate_pi never received
+``blind_navigation/vision_lost``, so the robot did not turn). The race exists
+only around the subscriber's own registration, so the watchdog is told about
+each new subscription (:func:`watch`) and checks that topic a few times
+shortly afterwards (:data:`CHECK_AFTER` s of wall time): it asks the master
+which nodes publish the topic and hands the URIs of publishers it has no
 connection to, to rospy's own publisher-update path, which connects them.
+Between checks its thread sleeps; with nothing to check it costs nothing.
 Uses rospy 1.15's registration internals (the Noetic line); does nothing if
 they are not there.
 """
+import heapq
 import threading
 import time
 
 import rosgraph
 import rospy
 from rospy.impl.registration import RegManager, get_registration_listeners, get_topic_manager
+
+#: Wall seconds after a subscription at which it is checked.
+CHECK_AFTER = (1.0, 3.0, 10.0)
+
+_lock = threading.Condition()
+_due = []          # heap of (wall time, topic)
+_thread = None
 
 
 def _registration_manager():
@@ -25,16 +38,17 @@ def _registration_manager():
     return None
 
 
-def heal_once(master, reg_manager):
-    """Connect this node's subscriptions to every publisher the master lists; returns
-    the (topic, publisher URI) pairs that were missing."""
-    topics = get_topic_manager()
+def heal_once(master, reg_manager, topics=None):
+    """Connect this node's subscriptions (``topics``: resolved names, or all) to
+    every publisher the master lists; returns the (topic, publisher URI) pairs
+    that were missing."""
+    manager = get_topic_manager()
     publishers, _, _ = master.getSystemState()
     by_topic = dict((topic, nodes) for topic, nodes in publishers)
     missing = []
-    for topic, _ in topics.get_subscriptions():
-        impl = topics.get_subscriber_impl(topic)
-        if impl is None:
+    for topic, _ in manager.get_subscriptions():
+        impl = manager.get_subscriber_impl(topic)
+        if impl is None or (topics is not None and topic not in topics):
             continue
         uris = [master.lookupNode(node) for node in by_topic.get(topic, [])]
         unconnected = [uri for uri in uris if not impl.has_connection(uri)]
@@ -44,30 +58,43 @@ def heal_once(master, reg_manager):
     return missing
 
 
-def start(period=2.0):
-    """Run the watchdog in a daemon thread for the rest of the node's life."""
+def watch(subscriber):
+    """Check ``subscriber``'s topic (a rospy.Subscriber) at :data:`CHECK_AFTER`
+    s from now; starts the watchdog thread at the first call."""
+    global _thread
+    now = time.monotonic()
+    with _lock:
+        for delay in CHECK_AFTER:
+            heapq.heappush(_due, (now + delay, subscriber.resolved_name))
+        if _thread is None:
+            _thread = threading.Thread(target=_run, name='subscription_watchdog', daemon=True)
+            _thread.start()
+        _lock.notify()
+    return subscriber
+
+
+def _run():
     reg_manager = _registration_manager()
     if reg_manager is None:
-        rospy.logdebug('subscription watchdog: no rospy RegManager; not started')
+        rospy.logdebug('subscription watchdog: no rospy RegManager; not running')
         return
-
-    def watch():
-        master = rosgraph.Master(rospy.get_name())
-        strikes = {}
-        while not rospy.is_shutdown():
-            time.sleep(period)
-            try:
-                missing = heal_once(master, reg_manager)
-            except Exception as error:      # master busy or gone: try again next period
-                rospy.logdebug('subscription watchdog: %s', error)
+    master = rosgraph.Master(rospy.get_name())
+    while not rospy.is_shutdown():
+        with _lock:
+            while not _due:
+                _lock.wait()
+            wait = _due[0][0] - time.monotonic()
+            if wait > 0:
+                _lock.wait(wait)
                 continue
-            for topic, uri in missing:
-                # A connection being set up right now is not missing yet: report only
-                # publishers still unconnected at the next check.
-                strikes[(topic, uri)] = strikes.get((topic, uri), 0) + 1
-                if strikes[(topic, uri)] == 2:
-                    rospy.logwarn('%s: reconnected %s to its publisher %s (missed registration)',
-                                  rospy.get_name(), topic, uri)
-            strikes = dict((key, count) for key, count in strikes.items() if key in missing)
-
-    threading.Thread(target=watch, name='subscription_watchdog', daemon=True).start()
+            topics = set()
+            while _due and _due[0][0] <= time.monotonic():
+                topics.add(heapq.heappop(_due)[1])
+        try:
+            missing = heal_once(master, reg_manager, topics)
+        except Exception as error:      # master busy or gone: the next check tries again
+            rospy.logdebug('subscription watchdog: %s', error)
+            continue
+        for topic, uri in missing:
+            rospy.logwarn('%s: reconnected %s to its publisher %s (missed registration)',
+                          rospy.get_name(), topic, uri)

@@ -1,44 +1,57 @@
-"""vision_monitor: notices vision loss by itself and publishes /blind_navigation/vision_lost.
+"""The vision monitor: notices vision loss by itself and publishes
+``blind_navigation/vision_lost``.
 
-Watches the camera stream (stall, dark images), RTAB-Map's visual odometry
-(lost convention, stall) and optionally RTAB-Map's odom_info ``lost`` flag, all
-through the debounced detectors of core/vision.py, and publishes one
-std_msgs/Empty on ``vision_lost_topic`` for the first loss of the mission; the
-reason goes to the log and to the latched ``~loss`` (std_msgs/String). After
-that it stops watching (one loss per mission). A vision_lost published by
-anybody else (the manual trigger) is logged and also ends the watch.
+Watches, through the debounced detectors of core/vision.py:
+
+- the camera: a stall (no message for ``image_timeout``) of its
+  sensor_msgs/CameraInfo (``camera/rgb/camera_info``: published with every frame
+  by the TurtleBot's camera drivers and a few hundred bytes, so watching it
+  costs nothing), or, with ``detect_dark``, the images themselves
+  (``camera/rgb/image_rect_color``: stall and dark images; this pulls every
+  frame into Python);
+- RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
+  lost (RTAB-Map's null pose convention; dark or featureless images end up
+  here too) and stalled;
+- optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
+
+It fires once, while the mission records, and publishes a latched
+std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
+(std_msgs/String). Once the mission left recording it stops watching.
+Whether the loss ends the recording is the mission owner's decision
+(back_travel_client): a loss reported while idle changes nothing. A detector
+with nothing to watch says so once (no camera, no visual odometry after
+``no_input_warning`` s) and in diagnostics.
+
+Params (``layer.params``): ``detect_stall``, ``detect_dark``,
+``detect_vo_lost``, ``detect_vo_stall``, ``detect_odom_info``,
+``detect_manual`` (per-detector enables), ``image_timeout``, ``vo_timeout``,
+``debounce`` (s), ``dark_threshold`` (mean intensity 0..255),
+``dark_frames`` (consecutive dark images), ``check_rate`` (Hz, stall checks),
+``no_input_warning`` (s).
 """
 import threading
 
 import rospy
-from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Image
+from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Empty, String
 
-from blind_navigation.core.vision import VisionLossMonitor, image_mean_intensity, odom_info_lost
-from blind_navigation.ros.common import load_params, odometry_lost_reason
+from blind_navigation import names
+from blind_navigation.core import mission_state
+from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensity,
+                                          odom_info_lost, wire_lost_reason)
+from blind_navigation.ros import diagnostics
+from blind_navigation.ros.common import subscribe
 
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 
 
-class VisionMonitorNode(object):
-    """Debounced vision-loss detection over ROS topics.
+class VisionMonitor(object):
+    """Debounced vision-loss detection (module docstring)."""
 
-    Params (DEFAULTS): camera_topic, vo_odom_topic, odom_info_topic,
-    vision_lost_topic; detect_stall, detect_dark, detect_vo_lost,
-    detect_vo_stall, detect_odom_info, detect_manual (per-detector enables);
-    image_timeout, vo_timeout, debounce (s); dark_threshold (mean intensity
-    0..255); dark_frames (consecutive dark images); check_rate (Hz, stall
-    checks); no_image_warning (s without any image before a warning).
-    """
-
+    ROLE = 'vision_monitor'
     DEFAULTS = {
-        'camera_topic': '/camera/rgb/image_rect_color',
-        'vo_odom_topic': '/rtabmap/odom',
-        'odom_info_topic': '/rtabmap/odom_info',
-        'vision_lost_topic': '/blind_navigation/vision_lost',
         'detect_stall': True,
-        'detect_dark': True,
+        'detect_dark': False,
         'detect_vo_lost': True,
         'detect_vo_stall': True,
         'detect_odom_info': True,
@@ -49,61 +62,77 @@ class VisionMonitorNode(object):
         'dark_threshold': 10.0,
         'dark_frames': 3,
         'check_rate': 20.0,
-        'no_image_warning': 5.0,
+        'no_input_warning': 5.0,
     }
 
-    def __init__(self):
-        p = self.params = load_params(self.DEFAULTS)
+    def __init__(self, layer):
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS)
+        self.log = layer.logger(self.ROLE)
         enabled = {name for name in ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
                    if getattr(p, 'detect_' + name)}
         self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
                                          p.dark_threshold, p.dark_frames)
+        self.layer = layer
         self.lock = threading.Lock()
         self.done = False
         self.warned = set()
-        self.started = None  # first timer tick: sim time may not have arrived yet here
-        # Latched, as `rostopic pub -1` is: a node whose subscription connects late (the
-        # subscription watchdog heals a missed registration) still gets the one loss.
-        self.lost_pub = rospy.Publisher(p.vision_lost_topic, Empty, queue_size=1, latch=True)
+        self.started = None   # first timer tick: sim time may not have arrived yet here
+        self.last_camera = self.last_vo = None
+        self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
-        self.subscribers = [rospy.Subscriber(p.vision_lost_topic, Empty, self.on_vision_lost)]
-        if enabled & {'stall', 'dark'}:
-            self.subscribers.append(rospy.Subscriber(p.camera_topic, Image, self.on_image,
-                                                     queue_size=1, buff_size=IMAGE_BUFFER))
-        if enabled & {'vo_lost', 'vo_stall'}:
-            self.subscribers.append(rospy.Subscriber(p.vo_odom_topic, Odometry, self.on_vo,
-                                                     queue_size=5))
+        self.subscribers = [subscribe(names.VISION_LOST, Empty, self.on_vision_lost)]
+        if 'dark' in enabled:
+            self.camera_topic = names.CAMERA
+            self.subscribers.append(subscribe(names.CAMERA, Image, self.on_image, queue_size=1,
+                                              buff_size=IMAGE_BUFFER))
+        elif 'stall' in enabled:
+            self.camera_topic = names.CAMERA_INFO
+            self.subscribers.append(subscribe(names.CAMERA_INFO, CameraInfo, self.on_camera_info,
+                                              queue_size=1))
+        else:
+            self.camera_topic = None
+        self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
+        if self.watching_vo:
+            layer.visual_odometry.add_listener(self.on_vo, raw=True)
+            layer.visual_odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
-            self.subscribers.append(rospy.Subscriber(p.odom_info_topic, rospy.AnyMsg,
-                                                     self.on_odom_info, queue_size=5))
+            self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg, self.on_odom_info,
+                                              queue_size=5))
+        layer.mission.on_change(self.on_state)
+        layer.diagnostics.add('vision monitor', self.status)
         self.timer = rospy.Timer(rospy.Duration(1.0 / p.check_rate), self.on_timer)
-        rospy.loginfo('vision_monitor: watching with detectors %s', ', '.join(sorted(enabled)))
+        self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
 
     # --- inputs ---------------------------------------------------------------------------------
+    def on_camera_info(self, _msg):
+        self.last_camera = rospy.get_time()
+        self.feed(self.monitor.image, None)
+
     def on_image(self, msg):
-        mean = None
-        if 'dark' in self.monitor.enabled:
-            try:
-                mean = image_mean_intensity(msg.encoding, msg.height, msg.width, msg.step,
-                                            msg.data, bool(msg.is_bigendian))
-            except ValueError as error:
-                self.warn_once('image', '%s on %s: dark detector idle'
-                               % (error, self.params.camera_topic))
+        self.last_camera = rospy.get_time()
+        try:
+            mean = image_mean_intensity(msg.encoding, msg.height, msg.width, msg.step, msg.data,
+                                        bool(msg.is_bigendian))
+        except ValueError as error:
+            mean = None
+            self.warn_once('image', '%s on %s: dark detector idle'
+                           % (error, rospy.resolve_name(names.CAMERA)))
         self.feed(self.monitor.image, mean)
 
-    def on_vo(self, msg):
-        self.feed(self.monitor.vo_odometry, odometry_lost_reason(msg))
+    def on_vo(self, wire):
+        self.last_vo = rospy.get_time()
+        self.feed(self.monitor.vo_odometry, wire_lost_reason(wire))
 
     def on_odom_info(self, msg):
         msg_type = msg._connection_header.get('type', '')
         if not msg_type.endswith('/OdomInfo'):
             self.warn_once('odom_info_type', '%s carries %s, not rtabmap OdomInfo: ignored'
-                           % (self.params.odom_info_topic, msg_type))
+                           % (rospy.resolve_name(names.VO_ODOM_INFO), msg_type))
             return
         try:
             lost = odom_info_lost(msg._buff)
         except ValueError as error:
-            rospy.logwarn_throttle(10.0, 'vision_monitor: %s' % error)
+            self.log.warn_throttle(10.0, '%s', error)
             return
         self.feed(self.monitor.odom_info_flag, lost)
 
@@ -112,14 +141,27 @@ class VisionMonitorNode(object):
         if caller != rospy.get_name():
             self.feed(self.monitor.manual, caller)
 
+    def on_state(self, _old, new):
+        if not mission_state.records(new):
+            with self.lock:
+                if self.done:
+                    return
+                self.done = True
+            self.log.info('mission %s: no longer watching', new)
+            self.stop_watching()
+
     def on_timer(self, _event):
-        now = rospy.Time.now().to_sec()
+        now = rospy.get_time()
         self.started = now if self.started is None else self.started
-        if not self.monitor.stall.armed and self.monitor.enabled & {'stall', 'dark'}:
-            waited = now - self.started
-            if waited >= self.params.no_image_warning:
-                self.warn_once('no_image', 'no image on %s after %.1f s: stall and dark detectors '
-                               'are not armed until the first image' % (self.params.camera_topic, waited))
+        waited = now - self.started
+        if waited >= self.params.no_input_warning:
+            if self.camera_topic and self.last_camera is None:
+                self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
+                               'not armed' % (rospy.resolve_name(self.camera_topic), waited))
+            if self.watching_vo and self.last_vo is None:
+                self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
+                               'detectors are not armed; detection falls back to the camera '
+                               'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
         self.feed(self.monitor.check)
 
     # --- output ---------------------------------------------------------------------------------
@@ -128,22 +170,43 @@ class VisionMonitorNode(object):
         with self.lock:
             if self.done:
                 return
-            losses = method(rospy.Time.now().to_sec(), *args)
-            if losses:
-                self.fire(losses[0])
+            losses = method(rospy.get_time(), *args)
+            if not losses:
+                return
+            self.done = True
+        self.fire(losses[0])
 
     def fire(self, loss):
-        self.done = True
-        rospy.logwarn('vision_monitor: VISION LOST, detector %s: %s (%.2f s after the failure '
-                      'began); no longer watching', loss.detector, loss.reason, loss.t - loss.since)
+        self.log.warn('VISION LOST, detector %s: %s (%.2f s after the failure began); no longer '
+                      'watching', loss.detector, loss.reason, loss.t - loss.since)
         if loss.detector != 'manual':
             self.lost_pub.publish(Empty())
         self.loss_pub.publish(String(data='%s: %s' % (loss.detector, loss.reason)))
+        self.stop_watching()
+        self.layer.diagnostics.now()
+
+    def stop_watching(self):
         self.timer.shutdown()
         for subscriber in self.subscribers:
             subscriber.unregister()
+        if self.watching_vo:
+            self.layer.visual_odometry.remove_listener(self.on_vo)
+            self.layer.visual_odometry.release(self.ROLE)
 
     def warn_once(self, key, text):
         if key not in self.warned:
             self.warned.add(key)
-            rospy.logwarn('vision_monitor: %s', text)
+            self.log.warn('%s', text)
+
+    def status(self, stat):
+        now = rospy.get_time()
+        for what, last in (('camera', self.last_camera), ('visual odometry', self.last_vo)):
+            stat.add('%s age (s)' % what, '-' if last is None else '%.2f' % (now - last))
+        if self.done:
+            stat.summary(diagnostics.OK, 'not watching (vision lost or the mission moved on)')
+        elif self.warned & {'no_camera', 'no_vo'}:
+            stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
+                sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
+                       for key in self.warned & {'no_camera', 'no_vo'})))
+        else:
+            stat.summary(diagnostics.OK, 'watching')

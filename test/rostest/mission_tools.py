@@ -25,7 +25,8 @@ from recording_tools import Collector, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
 from blind_navigation import names
-from blind_navigation.ros.back_travel_common import landmarks_in_corrected_frame
+from blind_navigation.core.heading_correction import correct_landmarks  # noqa: E402
+from blind_navigation.ros.layer import correction_from_message  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
                                   StorageUsage, HeadingCorrection, PathSample)
@@ -185,7 +186,8 @@ class MissionRun(object):
         (blind_navigation.launch runs heading_correction by default)."""
         corrections = self.corrections.snapshot()
         if corrections:
-            landmarks, _ = landmarks_in_corrected_frame(landmarks, corrections[-1])
+            correction, reference = correction_from_message(corrections[-1])
+            landmarks = correct_landmarks(landmarks, correction, reference.yaw)
         return [tuple(landmark) for landmark in reversed(landmarks)]
 
     def goal_outcomes(self):

@@ -15,8 +15,7 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
 from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
-from blind_navigation.ros.common import load_params
-from blind_navigation.ros import subscription_watchdog
+from blind_navigation.ros.common import load_params, subscribe
 
 
 class CmdVelMuxNode(object):
@@ -32,7 +31,7 @@ class CmdVelMuxNode(object):
         self.output = rospy.Publisher(p.output, Twist, queue_size=10)
         self.active = rospy.Publisher('~active', String, queue_size=1, latch=True)
         self.active.publish(String(IDLE))
-        self.subscribers = [rospy.Subscriber('~input/' + entry.topic, Twist,
+        self.subscribers = [subscribe('~input/' + entry.topic, Twist,
                                              functools.partial(self.on_command, index), queue_size=10)
                             for index, entry in enumerate(inputs)]
         self.timer = rospy.Timer(rospy.Duration(1.0 / p.check_rate), self.on_check)
@@ -55,7 +54,6 @@ class CmdVelMuxNode(object):
 
 def main():
     rospy.init_node('cmd_vel_mux')
-    subscription_watchdog.start()
     CmdVelMuxNode()
     rospy.spin()
 

@@ -26,8 +26,7 @@ from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.kobuki import (ODOM_POSE_COVARIANCE, SENSOR_PERIOD, SimulatedKobuki,
                                          load_profile)
-from blind_navigation.ros.common import load_params, set_pose
-from blind_navigation.ros import subscription_watchdog
+from blind_navigation.ros.common import load_params, set_pose, subscribe
 
 DBL_MAX = sys.float_info.max
 # The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
@@ -74,9 +73,9 @@ class FakeKobuki(object):
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
         self._messages()
         self._contacts = self.base.contacts
-        rospy.Subscriber('mobile_base/commands/velocity', Twist, self.on_velocity, queue_size=10)
-        rospy.Subscriber('mobile_base/commands/motor_power', kobuki_msgs.MotorPower, self.on_motor_power)
-        rospy.Subscriber('mobile_base/commands/reset_odometry', Empty, self.on_reset_odometry)
+        subscribe('mobile_base/commands/velocity', Twist, self.on_velocity, queue_size=10)
+        subscribe('mobile_base/commands/motor_power', kobuki_msgs.MotorPower, self.on_motor_power)
+        subscribe('mobile_base/commands/reset_odometry', Empty, self.on_reset_odometry)
 
     def _messages(self):
         """Build the periodic messages once; the loop only updates their fields."""
@@ -195,7 +194,6 @@ class FakeKobuki(object):
 
 def main():
     rospy.init_node('mobile_base')
-    subscription_watchdog.start()
     try:
         node = FakeKobuki()
     except (ValueError, OSError) as error:

@@ -2,7 +2,8 @@
 """Fake RGB-D camera and RTAB-Map-like visual odometry of the fake TurtleBot, with vision failures.
 
 Publishes ``camera/rgb/image_rect_color`` (small rgb8 images of a panorama that
-turns with the robot's true heading) and ``rtabmap/odom`` (true pose from
+turns with the robot's true heading; ``width`` x ``height``, 640 x 480 for a
+Kinect-sized stream), with each frame its ``camera/rgb/camera_info``, and ``rtabmap/odom`` (true pose from
 ``ground_truth/odom`` plus core/visual_odometry drift, TF ``vo_odom`` ->
 ``vo_base_footprint``) at ``rate`` Hz of sim time (clocked by the true pose stamps). Vision fails at
 ``vision_fail_at`` (sim s) or on ``fake_turtlebot/set_vision`` (SetBool, false =
@@ -22,13 +23,12 @@ import rospy
 import tf2_ros
 from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
-from sensor_msgs.msg import Image
+from sensor_msgs.msg import CameraInfo, Image
 from std_srvs.srv import SetBool, SetBoolResponse
 
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
-from blind_navigation.ros.common import load_params, set_pose
-from blind_navigation.ros import subscription_watchdog
+from blind_navigation.ros.common import load_params, set_pose, subscribe
 
 MODES = ('dark', 'stall', 'lost')
 LOST_COVARIANCE = 9999.0
@@ -63,12 +63,13 @@ class FakeVision(object):
         self.panorama = (numpy.repeat(columns, p.height, axis=0) * shade).astype(numpy.uint8)
         self.black = bytes(p.width * p.height * 3)
         self.image_pub = rospy.Publisher('camera/rgb/image_rect_color', Image, queue_size=5)
+        self.info_pub = rospy.Publisher('camera/rgb/camera_info', CameraInfo, queue_size=5)
         self.odom_pub = rospy.Publisher('rtabmap/odom', Odometry, queue_size=10)
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
         rospy.Service('fake_turtlebot/set_vision', SetBool, self.on_set_vision)
         self.period = 1.0 / p.rate
         self.next_frame = None
-        rospy.Subscriber('ground_truth/odom', Odometry, self.on_truth, queue_size=100)
+        subscribe('ground_truth/odom', Odometry, self.on_truth, queue_size=100)
 
     def on_truth(self, msg):
         """Frames are clocked by the base's 50 Hz true pose stamps: one frame per ``period``
@@ -98,7 +99,9 @@ class FakeVision(object):
         mode = self.params.vision_failure if self.failed else None
         if mode == 'stall':
             return
-        self.image_pub.publish(self.image(stamp, dark=(mode == 'dark')))
+        image = self.image(stamp, dark=(mode == 'dark'))
+        self.image_pub.publish(image)
+        self.info_pub.publish(CameraInfo(header=image.header, height=image.height, width=image.width))
         self.odom_pub.publish(self.lost_odometry(stamp) if mode else self.tracked_odometry(stamp))
 
     def image(self, stamp, dark):
@@ -144,7 +147,6 @@ class FakeVision(object):
 
 def main():
     rospy.init_node('fake_vision')
-    subscription_watchdog.start()
     try:
         FakeVision()
     except ValueError as error:

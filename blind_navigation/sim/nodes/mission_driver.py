@@ -18,8 +18,7 @@ from std_msgs.msg import Bool
 from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.sim.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
-from blind_navigation.ros.common import load_params, odom_state_from_msg, twist
-from blind_navigation.ros import subscription_watchdog
+from blind_navigation.ros.common import load_params, odom_state_from_msg, subscribe, twist
 
 STOP_MESSAGES = 3
 
@@ -41,7 +40,7 @@ class MissionDriver(object):
         self.start = None
         self.latest_pose = None
         if self.operator is not None:
-            rospy.Subscriber('ground_truth', Odometry, self._on_ground_truth, queue_size=50)
+            subscribe('ground_truth', Odometry, self._on_ground_truth, queue_size=50)
         rospy.on_shutdown(self.stop)
 
     def _on_ground_truth(self, msg):
@@ -86,7 +85,6 @@ class MissionDriver(object):
 
 def main():
     rospy.init_node('mission_driver')
-    subscription_watchdog.start()
     try:
         driver = MissionDriver()
     except ValueError as error:

@@ -1,0 +1,68 @@
+"""Reading a serialised nav_msgs/Odometry without deserialising it.
+
+The layer subscribes to odometry (50 Hz wheel odometry, RTAB-Map's visual
+odometry) as raw bytes (rospy.AnyMsg) and reads just the fields it uses with
+one precompiled ``struct`` call: about ten times cheaper than building the
+whole message in Python, for every message of the mission.
+
+ROS 1 wire layout (little endian; L1, L2 are the string lengths)::
+
+    0            uint32 header.seq
+    4            uint32 header.stamp.secs, 8: uint32 nsecs
+    12           uint32 L1, then L1 bytes of header.frame_id
+    16+L1        uint32 L2, then L2 bytes of child_frame_id
+    p = 20+L1+L2 pose.pose.position x, y, z and orientation x, y, z, w (7 float64)
+    p+56         pose.covariance (36 float64)
+    p+344        twist.twist.linear x, y, z and angular x, y, z (6 float64)
+    p+392        twist.covariance (36 float64); the message ends at p+680
+
+Everything after ``p`` has a fixed size, so one Struct reads the wanted values
+(the diagonals 0, 7, ..., 35 of each 6x6 covariance) in one call.
+"""
+import struct
+from collections import namedtuple
+
+from .geometry import OdomState, yaw_from_quaternion
+
+_U32 = struct.Struct('<I')
+_STAMP = struct.Struct('<II')
+_DIAGONAL = 'd48x' * 5 + 'd'           # 36 float64, keeping indices 0, 7, ..., 35
+_TAIL = struct.Struct('<2d8x4d' + _DIAGONAL + 'd32xd' + _DIAGONAL)
+FIXED_SIZE = 680
+
+WireOdometry = namedtuple('WireOdometry', 'stamp frame_id x y qx qy qz qw pose_covariance v w '
+                                          'twist_covariance')
+WireOdometry.__doc__ = ('The fields of a nav_msgs/Odometry the layer uses: stamp (s), frame_id, '
+                        'position x, y (m), orientation quaternion, pose covariance diagonal, '
+                        'twist.linear.x v (m/s), twist.angular.z w (rad/s), twist covariance diagonal.')
+
+
+def read_odometry(buff):
+    """The :class:`WireOdometry` of the serialised message ``buff`` (bytes);
+    ValueError when the buffer is shorter than the lengths it declares."""
+    size = len(buff)
+    if size < 20 + FIXED_SIZE:
+        raise ValueError('%d bytes are too few for a nav_msgs/Odometry' % size)
+    secs, nsecs = _STAMP.unpack_from(buff, 4)
+    (frame_length,) = _U32.unpack_from(buff, 12)
+    child_at = 16 + frame_length
+    if child_at + 4 > size:
+        raise ValueError('frame_id of %d bytes runs past the %d-byte message' % (frame_length, size))
+    (child_length,) = _U32.unpack_from(buff, child_at)
+    pose_at = child_at + 4 + child_length
+    if pose_at + FIXED_SIZE > size:
+        raise ValueError('the message needs %d bytes, it has %d' % (pose_at + FIXED_SIZE, size))
+    values = _TAIL.unpack_from(buff, pose_at)
+    frame_id = bytes(buff[16:child_at]).decode('utf-8', 'replace')
+    return WireOdometry(secs + nsecs * 1e-9, frame_id, values[0], values[1], values[2], values[3],
+                        values[4], values[5], values[6:12], values[12], values[13], values[14:20])
+
+
+def odom_state(wire):
+    """OdomState of a :class:`WireOdometry`; ValueError (naming what) for a
+    non-finite pose or twist or a null quaternion (RTAB-Map's "lost")."""
+    values = (wire.x, wire.y, wire.v, wire.w)
+    if not all(value == value and abs(value) != float('inf') for value in values):
+        raise ValueError('non-finite odometry (x, y, v, w) = %r' % (values,))
+    yaw = yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw)
+    return OdomState(wire.x, wire.y, yaw, wire.v, wire.w, wire.stamp)

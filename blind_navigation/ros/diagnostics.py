@@ -1,0 +1,60 @@
+"""The layer's /diagnostics: one diagnostic_updater.Updater per process, one
+status line per thing a user must see (odometry age, visual odometry,
+calibration, landmark file, mission state and the return's progress).
+
+Each role adds its own checks with :meth:`Diagnostics.add`; a check function
+fills a DiagnosticStatusWrapper and returns nothing. A condition that blocks
+the return is an ERROR, one that only degrades it a WARN. Updates follow ROS
+time (a 0.5 s rospy.Timer, published once per ``~diagnostic_period``, 1 s by
+default), and :meth:`Diagnostics.now` publishes at once after a significant
+event (a state change, a write failure).
+"""
+import diagnostic_updater
+import rospy
+from diagnostic_msgs.msg import DiagnosticStatus
+
+OK = DiagnosticStatus.OK
+WARN = DiagnosticStatus.WARN
+ERROR = DiagnosticStatus.ERROR
+
+
+class Diagnostics(object):
+    """``hardware_id``: what the statuses are about (the robot's namespace, or 'none')."""
+
+    def __init__(self, hardware_id):
+        self.updater = diagnostic_updater.Updater()
+        self.updater.setHardwareID(hardware_id or 'none')
+        self._timer = rospy.Timer(rospy.Duration(0.5), self._update, reset=True)
+
+    def add(self, name, check):
+        """Publish the status ``name`` filled by ``check(stat)`` at every update."""
+        def task(stat):
+            check(stat)
+            return stat
+        self.updater.add(name, task)
+
+    def now(self):
+        """Publish every status now."""
+        try:
+            self.updater.force_update()
+        except rospy.ROSException:
+            pass  # shutting down
+
+    def _update(self, _event):
+        try:
+            self.updater.update()
+        except rospy.ROSException:
+            pass
+
+
+def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR):
+    """Fill ``stat`` for a stream last heard ``age`` s ago (None: never): OK while
+    fresh, ``level_when_stale`` beyond ``stale`` s, ``missing_level`` if never heard."""
+    if age is None:
+        stat.summary(missing_level, 'no %s received yet' % what)
+        return
+    stat.add('age (s)', '%.2f' % age)
+    if age > stale:
+        stat.summary(level_when_stale, '%s is %.1f s old' % (what, age))
+    else:
+        stat.summary(OK, '%s fresh (%.2f s)' % (what, age))

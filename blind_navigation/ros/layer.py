@@ -1,0 +1,173 @@
+"""What the roles hosted in one process share: params, logs, odometry, the
+mission state, the Kobuki's safety events, the heading correction and
+/diagnostics.
+
+A *role* is one of the layer's node classes in this package (sampling
+publisher, landmark saver, record server and client, heading correction,
+rotate_pi, back-travel server and client, vision monitor). A role runs alone
+in its own node (launch/paper.launch: the paper's layout, one process per
+node) or together with the others in one process (nodes/blind_navigation_node.py,
+the default of launch/blind_navigation.launch). Either way it is built as
+``Role(layer)`` and finds here what it shares with the roles beside it:
+
+- :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
+  with others (each role's DEFAULTS are the one source of its defaults);
+- :meth:`Layer.logger`: log lines that name the role;
+- :attr:`Layer.odometry` / :attr:`Layer.visual_odometry`: one shared
+  subscription each (ros/odometry.py), held only while a role needs it;
+- :attr:`Layer.mission`: the mission state (ros/mission.py), owned by
+  back_travel_client (``~mission_owner`` names its node when it runs alone);
+- :attr:`Layer.safety`: the Kobuki's bumper, cliff and wheel-drop events;
+- :meth:`Layer.heading_correction`: the latched gyro correction, installed into
+  the shared odometry as soon as it arrives;
+- :attr:`Layer.diagnostics`: the process's /diagnostics.
+"""
+import threading
+
+import rospy
+
+from .. import names
+from ..core.geometry import OdomState
+from ..core.heading_correction import GyroCorrection
+from blind_navigation.msg import HeadingCorrection
+from .common import load_params, subscribe
+from .diagnostics import Diagnostics
+from .mission import MissionStateView
+from .motion import SafetyMonitor
+from .odometry import OdometryFeed
+
+#: The node that owns the mission state when back_travel_client runs as its own node.
+MISSION_OWNER = 'back_travel_client'
+#: The param holding the mission's id (blind_navigation.launch sets it to $(anon mission)).
+MISSION_ID = 'blind_navigation/mission_id'
+
+
+class RoleLog(object):
+    """rospy logging with the role's name in every line."""
+
+    def __init__(self, prefix):
+        self.prefix = prefix + ': '
+
+    def info(self, text, *args):
+        rospy.loginfo(self.prefix + text, *args)
+
+    def warn(self, text, *args):
+        rospy.logwarn(self.prefix + text, *args)
+
+    def error(self, text, *args):
+        rospy.logerr(self.prefix + text, *args)
+
+    def warn_throttle(self, period, text, *args):
+        rospy.logwarn_throttle(period, self.prefix + (text % args if args else text))
+
+
+class Layer(object):
+    """Shared context of the roles of one process; ``compact``: several roles in
+    this process (params under ``~<role>/``)."""
+
+    def __init__(self, compact=False):
+        self.compact = compact
+        self.node = rospy.get_name()
+        owner = self.node if compact else rospy.get_param('~mission_owner', MISSION_OWNER)
+        self.mission_owner = rospy.resolve_name(owner)
+        #: This mission's id: the same for every restart of a node within one launch of the
+        #: layer, new for each launch (the recorder continues its file, the client its return).
+        self.mission_id = rospy.get_param(MISSION_ID, None)
+        self.odometry = OdometryFeed(names.ODOM)
+        self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False)
+        self.mission = MissionStateView(self.mission_owner)
+        self.safety = SafetyMonitor()
+        namespace = rospy.get_namespace().strip('/')
+        self.diagnostics = Diagnostics(namespace or 'none')
+        self._correction = None
+        self._correction_lock = threading.Lock()
+
+    def params(self, role, defaults, shared=()):
+        """The params of ``role`` (a name) with their ``defaults`` (a dict). Hosted with
+        other roles, a role's params are ``~<role>/name``, except the ``shared`` ones that
+        several roles read (e.g. ``straight_rate``): ``~name`` for the whole process."""
+        if not self.compact:
+            return load_params(defaults, '~')
+        own = load_params({k: v for k, v in defaults.items() if k not in shared}, '~%s/' % role)
+        for name in shared:
+            setattr(own, name, rospy.get_param('~' + name, defaults[name]))
+        return own
+
+    def logger(self, role):
+        """A RoleLog naming the node, and the role when it shares the node."""
+        return RoleLog('%s/%s' % (self.node, role) if self.compact else self.node)
+
+    def heading_correction(self):
+        """The process's receiver of the latched heading correction (created at the
+        first call: only the roles that drive on it subscribe)."""
+        with self._correction_lock:
+            if self._correction is None:
+                self._correction = CorrectionReceiver(self.odometry)
+            return self._correction
+
+
+def correction_from_message(msg):
+    """(core GyroCorrection, raw reference OdomState) of a blind_navigation/HeadingCorrection."""
+    correction = GyroCorrection(msg.bias, msg.scale, msg.bias_std, msg.scale_std, msg.windows,
+                                msg.status, msg.reason)
+    reference = OdomState(msg.reference_x, msg.reference_y, msg.reference_yaw, 0.0, 0.0,
+                          msg.header.stamp.to_sec())
+    return correction, reference
+
+
+def start_roles(role_classes, compact=False):
+    """Build the roles (classes taking the Layer) of this process, in order, after
+    ``rospy.init_node``; a ValueError (a bad param) is logged as fatal and exits with
+    status 1. Returns the roles; :func:`run_roles` runs them."""
+    layer = Layer(compact)
+    roles = []
+    for role_class in role_classes:
+        try:
+            roles.append(role_class(layer))
+        except ValueError as error:
+            rospy.logfatal('%s: %s: %s', rospy.get_name(), role_class.ROLE, error)
+            raise SystemExit(1)
+    return roles
+
+
+def run_roles(roles):
+    """Run each role's blocking ``run()`` loop (if it has one) in its own thread, and
+    spin until shutdown."""
+    for role in roles:
+        if hasattr(role, 'run'):
+            threading.Thread(target=role.run, name=role.ROLE, daemon=True).start()
+    rospy.spin()
+
+
+class CorrectionReceiver(object):
+    """Receives blind_navigation/HeadingCorrection (latched) and installs it into
+    ``odometry`` (ros/odometry.OdometryFeed.set_correction); ``message`` is the
+    last one, ``correction`` its core GyroCorrection, ``reference`` the raw
+    OdomState where the corrected frame starts."""
+
+    def __init__(self, odometry):
+        self.odometry = odometry
+        self.message = self.correction = self.reference = None
+        self._received = threading.Event()
+        self._callbacks = []
+        subscribe(names.HEADING_CORRECTION, HeadingCorrection, self._on_correction, queue_size=1)
+
+    def on_receive(self, callback):
+        """Call ``callback()`` once the correction is installed (at once if it is)."""
+        self._callbacks.append(callback)
+        if self._received.is_set():
+            callback()
+
+    @property
+    def received(self):
+        return self._received.is_set()
+
+    def _on_correction(self, msg):
+        if self._received.is_set():
+            return              # one correction per mission
+        self.message = msg
+        self.correction, self.reference = correction_from_message(msg)
+        self.odometry.set_correction(self.correction, self.reference)
+        self._received.set()
+        for callback in list(self._callbacks):
+            callback()

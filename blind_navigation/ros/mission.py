@@ -1,0 +1,57 @@
+"""The mission state as every role of a process sees it (core/mission_state.py).
+
+The mission's owner (back_travel_client) publishes the state latched on
+``blind_navigation/state``; :class:`MissionStateView` follows it and tells the
+roles of this process when it changes. Only the owner's messages count: a
+state published by any other node (a stray script, a bag played back) is
+refused and logged, so nobody can make the layer turn or drive by publishing a
+state. In the process that hosts the owner, the owner sets the view directly
+(:meth:`MissionStateView.set_local`) before it publishes.
+"""
+import threading
+
+import rospy
+from std_msgs.msg import String
+
+from .. import names
+from ..core import mission_state
+from .common import subscribe
+
+
+class MissionStateView(object):
+    """Current mission state (None before any) of the owner node ``owner``
+    (a node name, resolved in this node's namespace)."""
+
+    def __init__(self, owner):
+        self.owner = rospy.resolve_name(owner)
+        self.state = None
+        self._lock = threading.Lock()
+        self._callbacks = []
+        self._subscriber = subscribe(names.STATE, String, self._on_state, queue_size=10)
+
+    def on_change(self, callback):
+        """Call ``callback(old, new)`` on every change of state, from the thread that saw it."""
+        self._callbacks.append(callback)
+
+    def set_local(self, new):
+        """The owner, hosted in this process, moved the mission to ``new``."""
+        self._change(new)
+
+    def _on_state(self, msg):
+        sender = msg._connection_header.get('callerid', '?')
+        if sender != self.owner and sender != rospy.get_name():
+            rospy.logwarn_throttle(5.0, '%s: mission state %r from %s refused: only %s owns the '
+                                   'mission state' % (rospy.get_name(), msg.data, sender, self.owner))
+            return
+        if msg.data not in mission_state.ALL:
+            rospy.logwarn_throttle(5.0, '%s: unknown mission state %r from %s refused'
+                                   % (rospy.get_name(), msg.data, sender))
+            return
+        self._change(msg.data)
+
+    def _change(self, new):
+        with self._lock:
+            old, self.state = self.state, new
+        if old != new:
+            for callback in list(self._callbacks):
+                callback(old, new)

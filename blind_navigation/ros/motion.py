@@ -1,0 +1,125 @@
+"""What may move the robot: the Kobuki's safety events and the one velocity
+output every moving role uses (the pi turn, the back travel, the gyro
+calibration).
+
+:class:`SafetyMonitor` watches the Kobuki's bumper, cliff and wheel-drop events
+(core/safety.SafetyEvents) once per process and calls every registered
+output's halt from the event callback, at once.
+
+:class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
+name, remappable) for one role, and only when that role may move in the
+current mission state (core/mission_state.may_move): in any other state every
+command becomes zero. Commands are clamped to ``max_v``/``max_w`` and the
+current goal's :meth:`~MotionOutput.limit` (v and w scaled together, the
+curvature kept); :meth:`~MotionOutput.halt` stops at once and turns every
+later :meth:`~MotionOutput.publish` into zero until
+:meth:`~MotionOutput.release`, so a control loop that computed its command
+before a cancel or a safety event cannot move the robot again. Zero is
+published on node shutdown.
+"""
+import threading
+
+import rospy
+from geometry_msgs.msg import Twist
+
+from .. import names
+from ..core import mission_state
+from ..core.safety import SafetyEvents, VelocityLimits
+from . import kobuki_msgs_compat as kobuki
+from .common import subscribe, twist
+
+#: kind -> (message class, field naming the sensor)
+EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
+               'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
+
+
+class SafetyMonitor(object):
+    """The Kobuki's safety events (names.SAFETY_EVENTS) for this process;
+    ``active`` lists the conditions active now; :meth:`on_trip` registers
+    ``callback(reason)``, called from the event's thread when a sensor becomes active."""
+
+    def __init__(self):
+        self._events = SafetyEvents()
+        self._lock = threading.Lock()
+        self._callbacks = []
+        for kind, topic in names.SAFETY_EVENTS.items():
+            msg_type, index_field = EVENT_TYPES[kind]
+            subscribe(topic, msg_type, self._on_event, (kind, index_field), queue_size=10)
+
+    def on_trip(self, callback):
+        self._callbacks.append(callback)
+
+    def _on_event(self, msg, args):
+        kind, index_field = args
+        with self._lock:
+            reason = self._events.update(kind, getattr(msg, index_field), msg.state)
+        if reason:
+            rospy.logerr('%s: SAFETY STOP: %s', rospy.get_name(), reason)
+            for callback in list(self._callbacks):
+                callback(reason)
+
+    @property
+    def active(self):
+        with self._lock:
+            return self._events.active
+
+
+class MotionOutput(object):
+    """The velocity output of ``role`` (see module docstring); ``mission`` is the
+    process's ros/mission.MissionStateView (None: no mission, e.g. the calibration)."""
+
+    def __init__(self, role, max_v, max_w, mission=None, safety=None):
+        if max_v < 0 or max_w <= 0:
+            raise ValueError('velocity limits: need max_v >= 0 and max_w > 0 (max_v %r, max_w %r)'
+                             % (max_v, max_w))
+        self.role = role
+        self.mission = mission
+        self.max_v, self.max_w = float(max_v), float(max_w)
+        self.limits = VelocityLimits(self.max_v, self.max_w)
+        self.halted = None          # why, while halted
+        self._lock = threading.Lock()
+        self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
+        if safety is not None:
+            safety.on_trip(lambda reason: self.halt('safety: ' + reason))
+        if mission is not None:
+            mission.on_change(self._on_state)
+        rospy.on_shutdown(lambda: self.halt('node shutdown'))
+
+    @property
+    def allowed(self):
+        """True when the mission state lets this role move."""
+        return mission_state.may_move(self.role, self.mission.state if self.mission else None)
+
+    def _on_state(self, old, new):
+        if mission_state.may_move(self.role, old) and not mission_state.may_move(self.role, new):
+            self.halt('mission state %s' % new)
+
+    def limit(self, limits=None):
+        """Clamp to ``limits`` (a goal's) as well as the configured ones; None resets."""
+        with self._lock:
+            self.limits = VelocityLimits(min(self.max_v, limits.max_v), min(self.max_w, limits.max_w)) \
+                if limits else VelocityLimits(self.max_v, self.max_w)
+
+    def publish(self, v, w):
+        with self._lock:
+            moving = self.halted is None and self.allowed
+            self._send(*(self.limits.clamp(v, w) if moving else (0.0, 0.0)))
+
+    def stop(self):
+        with self._lock:
+            self._send(0.0, 0.0)
+
+    def halt(self, reason):
+        with self._lock:
+            self.halted = reason
+            self._send(0.0, 0.0)
+
+    def release(self):
+        with self._lock:
+            self.halted = None
+
+    def _send(self, v, w):
+        try:
+            self._pub.publish(twist(v, w))
+        except rospy.ROSException:
+            pass  # publisher already closed at shutdown

@@ -1,0 +1,204 @@
+"""One odometry subscription per process, shared by the roles that need it.
+
+:class:`OdometryFeed` subscribes to a nav_msgs/Odometry topic as raw bytes
+(rospy.AnyMsg) and reads the few fields the layer uses with
+core/odometry_wire.py, so the 50 Hz stream costs little. It subscribes only
+while some role holds it (:meth:`~OdometryFeed.acquire` /
+:meth:`~OdometryFeed.release`): an idle role does not listen to 50 Hz streams.
+
+For wheel odometry (``checked``) every message is checked before it is used:
+non-finite values and a null quaternion are dropped, and the plausibility gate
+(core/plausibility.OdometryGate) refuses what no Kobuki can do (a jump, an
+impossible twist); refused odometry never refreshes the feed, so whoever drives
+on it holds as for stale odometry. When the refused stream turns out to be a
+genuine discontinuity (an odometry reset: consistent with itself for a
+second), the gate re-anchors on it and the roles hear of it
+(:meth:`~OdometryFeed.on_reanchor`): the recorder notes a gap, a return aborts. The accepted states of the last ``history`` seconds are
+kept (:meth:`~OdometryFeed.state_at`: the state at a sampling tick's stamp).
+
+Once the heading correction is known (:meth:`~OdometryFeed.set_correction`),
+:meth:`~OdometryFeed.fresh` returns odometry in the corrected frame
+(core/heading_correction.CorrectedOdometry), updated with every message from
+then on: the pi turn and the return drive on it. Visual odometry is fed
+unchecked to raw listeners (a lost message is information there).
+"""
+import bisect
+import threading
+from collections import deque
+
+import rospy
+
+from ..core.heading_correction import CorrectedOdometry
+from ..core.odometry_wire import odom_state, read_odometry
+from ..core.plausibility import OdometryGate
+from .common import subscribe
+
+
+class OdometryFeed(object):
+    """Shared odometry of ``topic`` (see module docstring)."""
+
+    def __init__(self, topic, checked=True, history=10.0):
+        self.topic = topic
+        self.checked = checked
+        self.history = float(history)
+        self.gate = OdometryGate(on_reanchor=self._on_reanchor) if checked else None
+        self._reanchor_listeners = []
+        self.frame_id = 'odom'
+        self._lock = threading.Condition()
+        self._holders = set()
+        self._subscriber = None
+        self._states = deque()      # accepted OdomStates, oldest first
+        self._received = None       # rospy time (s) the newest accepted state arrived
+        self._listeners = []        # f(state) for every accepted state
+        self._raw_listeners = []    # f(wire) for every message
+        self._corrector = None
+        self.refused = 0            # messages not used (invalid or implausible)
+
+    # --- subscription --------------------------------------------------------------------------
+    def acquire(self, holder):
+        """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
+        with self._lock:
+            self._holders.add(holder)
+            if self._subscriber is None:
+                self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
+                                             queue_size=5, tcp_nodelay=True)
+
+    def release(self, holder):
+        """``holder`` no longer needs it: unsubscribe when nobody does."""
+        with self._lock:
+            self._holders.discard(holder)
+            subscriber = self._subscriber if not self._holders else None
+            if subscriber is not None:
+                self._subscriber = None
+        if subscriber is not None:
+            subscriber.unregister()
+
+    @property
+    def subscribed(self):
+        return self._subscriber is not None
+
+    def add_listener(self, callback, raw=False):
+        """Call ``callback(state)`` for every accepted state, or with ``raw``
+        ``callback(wire)`` (core/odometry_wire.WireOdometry) for every message."""
+        with self._lock:
+            (self._raw_listeners if raw else self._listeners).append(callback)
+
+    def on_reanchor(self, callback):
+        """Call ``callback(reason)`` when the gate re-anchored on a discontinuity."""
+        self._reanchor_listeners.append(callback)
+
+    def _on_reanchor(self, reason):
+        rospy.logwarn('%s: %s', rospy.get_name(), reason)
+        with self._lock:
+            self._states.clear()            # the history before the jump is another frame
+        for callback in list(self._reanchor_listeners):
+            callback(reason)
+
+    def remove_listener(self, callback):
+        with self._lock:
+            for listeners in (self._listeners, self._raw_listeners):
+                if callback in listeners:
+                    listeners.remove(callback)
+
+    # --- input ---------------------------------------------------------------------------------
+    def _on_message(self, msg):
+        try:
+            wire = read_odometry(msg._buff)
+        except ValueError as error:
+            self._refuse('not a nav_msgs/Odometry: %s' % error)
+            return
+        for listener in list(self._raw_listeners):
+            listener(wire)
+        if not self.checked:
+            return
+        try:
+            state = odom_state(wire)
+        except ValueError as error:
+            self._refuse(str(error))
+            return
+        problem = self.gate.check(state)
+        if problem:
+            self._refuse(problem)
+            return
+        now = rospy.get_time()
+        with self._lock:
+            if self._states and state.stamp < self._states[-1].stamp:
+                self._states.clear()                    # the clock went back (sim time reset)
+            self._states.append(state)
+            while state.stamp - self._states[0].stamp > self.history:
+                self._states.popleft()
+            self._received = now
+            self.frame_id = wire.frame_id or self.frame_id
+            if self._corrector is not None:
+                self._corrector.update(state)
+            listeners = list(self._listeners)
+            self._lock.notify_all()
+        for listener in listeners:
+            listener(state)
+
+    def _refuse(self, reason):
+        self.refused += 1
+        rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s'
+                               % (rospy.get_name(), rospy.resolve_name(self.topic), reason))
+
+    # --- output --------------------------------------------------------------------------------
+    def latest(self):
+        """The newest accepted raw OdomState, or None."""
+        with self._lock:
+            return self._states[-1] if self._states else None
+
+    def state_at(self, stamp):
+        """The newest accepted raw state stamped at or before ``stamp`` (the oldest
+        kept if all are newer), None if there is none."""
+        with self._lock:
+            if not self._states:
+                return None
+            index = bisect.bisect_right([s.stamp for s in self._states], stamp) - 1
+            return self._states[max(index, 0)]
+
+    def wait_for_stamp(self, stamp, timeout):
+        """Wait at most ``timeout`` wall seconds until a state stamped at or after
+        ``stamp`` was accepted; True if one was."""
+        with self._lock:
+            return self._lock.wait_for(lambda: bool(self._states) and self._states[-1].stamp >= stamp,
+                                       timeout=timeout)
+
+    def age(self):
+        """Seconds since the newest accepted state arrived, None before any."""
+        with self._lock:
+            received = self._received
+        return None if received is None else rospy.get_time() - received
+
+    def fresh(self, timeout):
+        """The newest state (in the corrected frame once a correction is set) if it
+        arrived within ``timeout`` s, stamped now; else None."""
+        now = rospy.get_time()
+        with self._lock:
+            if self._received is None or now - self._received > timeout:
+                return None
+            state = self._corrector.state if self._corrector is not None else self._states[-1]
+        return state._replace(stamp=now)
+
+    def describe_missing(self, timeout):
+        """Why :meth:`fresh` returned None, for logs and results."""
+        topic = rospy.resolve_name(self.topic)
+        if self._received is None:
+            return 'no valid odometry received on %s' % topic
+        return 'odometry on %s is older than %.2f s' % (topic, timeout)
+
+    # --- the heading-corrected frame -------------------------------------------------------------
+    def set_correction(self, correction, reference):
+        """From now on :meth:`fresh` is in the frame of ``correction``
+        (core/heading_correction.GyroCorrection) that equals the raw one at the raw
+        OdomState ``reference`` (where vision was lost)."""
+        corrector = CorrectedOdometry(correction)
+        corrector.update(reference)
+        with self._lock:
+            latest = self._states[-1] if self._states else None
+            if latest is not None and latest.stamp > reference.stamp:
+                corrector.update(latest)
+            self._corrector = corrector
+
+    @property
+    def corrected(self):
+        return self._corrector is not None
