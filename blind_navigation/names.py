@@ -38,6 +38,8 @@ STATUS = 'blind_navigation/status'
 #: nav_msgs/Path for RViz: the path recorded so far, the return driven so far
 RECORDED_PATH = 'blind_navigation/recorded_path'
 RETURN_PATH = 'blind_navigation/return_path'
+#: nav_msgs/Path, latched: the route the return will drive (after pruning), when it starts
+RETURN_ROUTE = 'blind_navigation/return_route'
 #: action blind_navigation/BackTravel: one landmark per goal
 BACK_TRAVEL = 'blind_navigation/back_travel'
 #: service blind_navigation/RecordLandmark: the paper's service recorder

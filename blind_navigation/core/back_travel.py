@@ -377,6 +377,11 @@ class RouteFollower(object):
 
     # --- progress ---------------------------------------------------------------
     @property
+    def started(self):
+        """True once :meth:`start` was called."""
+        return self._last is not None
+
+    @property
     def progress(self):
         """(m along the route, phase of the turn at the corner there)."""
         return self._mark

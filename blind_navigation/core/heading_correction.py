@@ -35,6 +35,7 @@ from collections import namedtuple
 
 from .geometry import OdomState, wrap_angle
 from .gyro_bias import fuse_bias
+from .route import period_turn
 
 #: Parameters of the decision (max_bias rad/s, max_scale, significance and
 #: scale_significance in standard errors).
@@ -172,6 +173,34 @@ class CorrectedOdometry(object):
                                self.correction.rate(odom.w), odom.stamp)
         return self.state
 
+    def snapshot(self):
+        """The frame's state as plain numbers (a return's progress keeps it, so a
+        restarted layer continues the same frame: :meth:`restored`); None before
+        the first update."""
+        if self._last is None:
+            return None
+        last = self._last
+        return {'raw': [last.x, last.y, last.yaw, last.stamp], 'raw_yaw': self._raw_yaw,
+                'pose': [self._x, self._y, self._yaw]}
+
+    @classmethod
+    def restored(cls, correction, snapshot):
+        """The CorrectedOdometry of ``correction`` continuing from :meth:`snapshot`'s
+        ``snapshot``; ValueError naming what is wrong with it."""
+        try:
+            raw, raw_yaw, pose = snapshot['raw'], float(snapshot['raw_yaw']), snapshot['pose']
+            values = [float(v) for v in raw] + [raw_yaw] + [float(v) for v in pose]
+        except (KeyError, TypeError, ValueError):
+            raise ValueError('corrected-frame snapshot must hold raw [x, y, yaw, stamp], raw_yaw and '
+                             'pose [x, y, yaw], got %r' % (snapshot,))
+        if len(values) != 8 or not all(math.isfinite(v) for v in values):
+            raise ValueError('corrected-frame snapshot must hold 8 finite numbers, got %r' % (values,))
+        frame = cls(correction)
+        frame._last = OdomState(values[0], values[1], values[2], 0.0, 0.0, values[3])
+        frame._raw_yaw, (frame._x, frame._y, frame._yaw) = values[4], values[5:]
+        frame.state = OdomState(frame._x, frame._y, wrap_angle(frame._yaw), 0.0, 0.0, values[3])
+        return frame
+
 
 def correct_landmarks(landmarks, correction, reference_yaw=None):
     """``landmarks`` (recording order, raw odometry frame) in the corrected frame
@@ -191,7 +220,7 @@ def correct_landmarks(landmarks, correction, reference_yaw=None):
         if index < len(landmarks) - 1:
             newer = landmarks[index + 1]
             before += newer.T
-            turned += wrap_angle(landmark.psi - newer.psi)
+            turned -= period_turn(landmark, newer)   # not wrapped: turns beyond pi per period
         # raw yaw relative to the reference = turned; corrected = increment(turned, -before)
         psi = landmark.psi - turned + correction.increment(turned, -before)
         corrected.append(landmark._replace(w=correction.rate(landmark.w), psi=wrap_angle(psi)))

@@ -53,6 +53,7 @@ gyro_bias.standstill_timeout of the shared ``standstill_time``, plus
 ``rotation_margin``), ``turn_tolerance`` (rad a finished pi turn may differ
 from pi).
 """
+import json
 import math
 import os
 import threading
@@ -70,6 +71,7 @@ from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_time
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 from blind_navigation.core.plausibility import RouteBudget
+from blind_navigation.core.route import ROUTE_DEFAULTS, Route, build_route
 from blind_navigation.core.progress import (ABORT, IGNORE, PROGRESS_DEFAULTS, ProgressError,
                                             ReturnProgress, file_digest, progress_path,
                                             resume_from_file, save_progress, settle_abort)
@@ -90,7 +92,7 @@ class BackTravelClient(object):
     """Mission state machine and goal sender (module docstring)."""
 
     ROLE = 'back_travel_client'
-    DEFAULTS = {
+    DEFAULTS = dict(ROUTE_DEFAULTS, **{
         'landmark_file': '',
         'odom_timeout': 0.5,
         'server_timeout': 10.0,
@@ -109,7 +111,7 @@ class BackTravelClient(object):
         'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
         'rotation_margin': 60.0,
         'turn_tolerance': 0.3,
-    }
+    })
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
@@ -138,6 +140,7 @@ class BackTravelClient(object):
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=1, latch=True)
         self.path_pub = rospy.Publisher(names.RETURN_PATH, Path, queue_size=1, latch=True)
+        self.route_pub = rospy.Publisher(names.RETURN_ROUTE, Path, queue_size=1, latch=True)
         self.path = Path()
         # Made when the return starts, not here: rospy drops a publisherUpdate that
         # arrives while registerSubscriber is in flight, so subscribing at start-up,
@@ -344,6 +347,12 @@ class BackTravelClient(object):
             return False, 'landmark file unusable: %s' % error
         for warning in loaded.warnings:
             self.log.warn('%s', warning)
+        kept = (self.progress.route or {}).get('heading') if resuming else None
+        if kept and self.correction is not None and not self.correction.received:
+            try:
+                self.correction.install_plain(kept)   # the whole layer restarted mid-return
+            except ValueError as error:
+                return False, 'cannot resume: %s' % error
         landmarks, problem = self._in_corrected_frame(loaded.landmarks)
         if problem:
             return False, problem
@@ -355,14 +364,22 @@ class BackTravelClient(object):
         if resuming:
             if digest != self.progress.digest or len(goals) != self.progress.landmarks:
                 return False, 'landmark file %s changed since the return started' % path
+            try:
+                route = Route.from_lists((self.progress.route or {}).get('route'))
+            except ValueError as error:
+                return False, 'cannot resume: the route in %s: %s' % (self.progress_file, error)
         else:
-            anchor = None
-            if self.progress.anchor is None:
-                anchor = self._position()
-                if anchor is None:
-                    return False, 'no odometry for the return: %s' % self.odometry.describe_missing(
-                        p.odom_timeout)
-            self._save_progress(self.progress.start(digest, len(goals), time.time(), anchor=anchor))
+            anchor = self.progress.anchor or self._position()
+            if anchor is None:
+                return False, 'no odometry for the return: %s' % self.odometry.describe_missing(
+                    p.odom_timeout)
+            try:
+                route = build_route(landmarks, anchor, p)
+            except ValueError as error:
+                return False, 'cannot build the return route: %s' % error
+            self._save_progress(self.progress.start(digest, len(goals), time.time(),
+                                                    route=self._route_data(route), anchor=anchor))
+        self._publish_route(route)
         done = self.progress.completed
         budget = RouteBudget(landmarks)
         self._publish_status()
@@ -374,7 +391,7 @@ class BackTravelClient(object):
         if not self.client.wait_for_server(rospy.Duration(p.server_timeout)):
             return False, ('action server %s not available after %.0f s (is back_travel_server '
                            'running?)' % (rospy.resolve_name(names.BACK_TRAVEL), p.server_timeout))
-        problem = self._set_route([landmark for _, landmark in goals[:done]])
+        problem = self._set_route(route, [landmark for _, landmark in goals], done)
         if problem:
             return False, problem
         remaining = [landmark for _, landmark in goals[done:]]
@@ -392,8 +409,8 @@ class BackTravelClient(object):
             if not self.client.succeeded:
                 return False, '%s ended %s' % (where, self.client.describe())
             travelled += self.client.result.distance
-            self._save_progress(self.progress.goal_done(number, time.time(), self._position(),
-                                                        travelled))
+            progress = self.progress.goal_done(number, time.time(), self._position(), travelled)
+            self._save_progress(progress._replace(route=self._route_data(route)).checked())
             self._publish_status()
         return True, 'travelled %.3f m over %d landmarks%s%s' % (
             travelled, len(goals) - done,
@@ -430,16 +447,39 @@ class BackTravelClient(object):
             position = self._position()
         return position
 
-    def _set_route(self, completed):
-        """Give the server the route: anchor + completed landmarks. None if set."""
+    def _route_data(self, route):
+        """What the progress keeps of the route: the route itself and, with the heading
+        correction, the correction and the corrected frame's state now (a restarted
+        layer continues in the same frame)."""
+        heading = self.correction.to_plain() if self.correction is not None else None
+        return {'route': route.to_lists(), 'heading': heading}
+
+    def _publish_route(self, route):
+        """The route the return will drive, latched, for RViz."""
+        msg = Path()
+        msg.header.stamp, msg.header.frame_id = rospy.Time.now(), self.progress.frame_id or 'odom'
+        for index, (x, y) in enumerate(zip(route.x, route.y)):
+            pose = PoseStamped()
+            pose.header = msg.header
+            pose.pose.position.x, pose.pose.position.y = x, y
+            q = pose.pose.orientation
+            q.x, q.y, q.z, q.w = quaternion_from_yaw(route.direction(min(index, route.vertices - 2))
+                                                     if route.vertices > 1 else 0.0)
+            msg.poses.append(pose)
+        self.route_pub.publish(msg)
+
+    def _set_route(self, route, landmarks, completed):
+        """Give the server the route, the landmarks of its goals (return order) and how
+        many are done. None if set, else why not."""
         service = rospy.resolve_name(names.SET_RETURN_ROUTE)
         try:
             rospy.wait_for_service(names.SET_RETURN_ROUTE, self.params.server_timeout)
             set_route = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
             response = set_route(header=rospy.Header(stamp=rospy.Time.now(),
                                                      frame_id=self.progress.frame_id or ''),
-                                 anchor_x=self.progress.anchor[0], anchor_y=self.progress.anchor[1],
-                                 completed=[value for lm in completed for value in lm.as_list()])
+                                 route=json.dumps(route.to_lists()),
+                                 landmarks=[value for lm in landmarks for value in lm.as_list()],
+                                 completed=completed)
         except (rospy.ROSException, rospy.ServiceException) as error:
             return 'cannot set the return route on %s: %s' % (service, error)
         return None if response.ok else 'return route refused: %s' % response.message

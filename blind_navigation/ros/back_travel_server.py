@@ -1,45 +1,46 @@
 """The back-travel server: the paper's action server (sections 3.3.5-3.3.6).
 
 Serves ``blind_navigation/back_travel`` (blind_navigation/BackTravel): each
-goal is one path landmark ``(v, w, d, T, psi)``, driven on ``cmd_vel`` by the
-core/back_travel.py controller of mode ``control`` (time | distance |
-closed_loop). Feedback (distance so far) at ``feedback_rate``; result =
-odometry distance and duration.
+goal is one path landmark ``(v, w, d, T, psi)``, driven on ``cmd_vel`` in the
+mode ``control`` (core/goal.py): ``time`` and ``distance`` (the paper's: the
+landmark's own controller, core/back_travel.py) or ``closed_loop`` (the goals
+of a return share one core/back_travel.RouteFollower over the whole route, and
+a goal ends when its section of the route is done). Feedback (distance so far)
+at ``feedback_rate``; result = odometry distance and duration.
 
-It serves its own mission only: a goal is accepted while the mission is
-``returning``, from the mission's owner (back_travel_client, the node that
-owns the mission state), one at a time; any other goal is rejected with the
-reason (a second client neither preempts nor drives). When the mission leaves
-``returning`` the active goal is aborted and the output halted at once
-(ros/motion.MotionOutput moves only in ``returning``).
-
-closed_loop: the goals of one return share a core/back_travel.ReturnRoute, set
-by back_travel_client through ``blind_navigation/set_return_route``
-(blind_navigation/SetReturnRoute: the anchor where recording stopped and the
-landmarks already completed, so a restarted layer resumes on the same route).
-The anchor must be finite and within ``route_max_offset`` of the robot, where
-the completed landmarks leave it; anything else is refused.
+It serves its own mission only. ``blind_navigation/set_return_route``
+(blind_navigation/SetReturnRoute), from the mission's owner while the mission
+is ``returning``, gives the route (core/route.Route, built by the client), the
+landmarks of its goals in return order and how many are done; it is refused
+(with the reason) if the route or a landmark is not valid or the robot is more
+than ``route_max_offset`` from where the route continues. A goal is accepted
+while the mission is ``returning``, from the mission's owner, one at a time,
+and only if it is the next landmark of that route; any other goal is rejected
+with the reason (a second client neither preempts nor drives). When the
+mission leaves ``returning`` the active goal is aborted and the output halted
+at once (ros/motion.MotionOutput moves only in ``returning``).
 
 Between goals the last command holds (the next goal follows within
 milliseconds); if no new goal starts within ``handover_timeout`` of a success,
 zero velocity is published, so the robot stops after the last landmark.
 
 Safety (core/safety.py, docs/safety.md): each goal is clamped to ``max_v`` /
-``max_w`` and to what was recorded (goal_limits); odometry older than
-``odom_timeout`` commands zero at once and holds the goal, which continues if
-odometry comes back within ``odom_grace`` s and is aborted otherwise; a Kobuki
+``max_w`` and to what was recorded; odometry older than ``odom_timeout``
+commands zero at once and holds the goal, which continues if odometry comes
+back within ``odom_grace`` s and is aborted otherwise (core/allowance.OdomGrace;
+refused, implausible odometry holds too); a closed-loop return fails only when
+it stops making progress (core/allowance.ProgressWatch: ``stall_timeout``, or
+its whole allowance spent), a goal over its nominal time is logged; a Kobuki
 bumper, cliff or wheel-drop event halts the output at once and aborts the goal
 naming the sensor; while a sensor is still active no goal starts. Cancel,
 error and shutdown publish zero velocity.
 
 Params (``layer.params``): core/back_travel's BACK_TRAVEL_DEFAULTS (but
-``straight_period``: from the shared ``straight_rate``), ``control`` (set by
-the launch files),
-``control_rate``, ``feedback_rate`` (Hz), ``odom_timeout``, ``odom_grace``,
-``handover_timeout`` (s), ``correction_w`` (rad/s a goal may turn beyond its
-recorded |w|), ``route_max_offset`` (m).
+``straight_period``: from the shared ``straight_rate``), core/allowance's
+ALLOWANCE_DEFAULTS, ``control`` (set by the launch files), ``control_rate``,
+``feedback_rate`` (Hz), ``handover_timeout`` (s), ``route_max_offset`` (m).
 """
-import math
+import json
 import threading
 import types
 
@@ -48,11 +49,13 @@ import rospy
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
-from blind_navigation.core.back_travel import (BACK_TRAVEL_DEFAULTS, MODES, ReturnRoute,
-                                               make_controller)
+from blind_navigation.core.allowance import ABORT, ALLOWANCE_DEFAULTS, HOLD, OdomGrace
+from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES, RouteFollower
 from blind_navigation.core.geometry import distance
+from blind_navigation.core.goal import make_goal
 from blind_navigation.core.landmark import landmark_from_values
-from blind_navigation.core.safety import SAFETY_DEFAULTS, goal_limits, landmarks_from_flat
+from blind_navigation.core.route import Route
+from blind_navigation.core.safety import goal_limits, landmarks_from_flat
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros.common import REQUIRED
@@ -65,24 +68,22 @@ class BackTravelServer(object):
 
     ROLE = mission_state.BACK_TRAVEL_ROLE
     DEFAULTS = dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
-                    control=REQUIRED, straight_rate=SAMPLING_DEFAULTS['straight_rate'],
-                    control_rate=50.0, feedback_rate=5.0, odom_timeout=0.4, odom_grace=3.0,
-                    handover_timeout=0.1, correction_w=SAFETY_DEFAULTS['correction_w'],
-                    route_max_offset=0.5)
+                    **ALLOWANCE_DEFAULTS, control=REQUIRED,
+                    straight_rate=SAMPLING_DEFAULTS['straight_rate'], control_rate=50.0,
+                    feedback_rate=5.0, handover_timeout=0.1, route_max_offset=0.5)
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('straight_rate',))
         self.log = layer.logger(self.ROLE)
         if p.control not in MODES:
             raise ValueError('~control must be one of %s, got %r' % (', '.join(MODES), p.control))
-        for name in ('control_rate', 'feedback_rate', 'odom_timeout', 'handover_timeout',
-                     'route_max_offset'):
+        for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
-        if not p.correction_w >= 0 or not p.odom_grace >= 0:
-            raise ValueError('~correction_w and ~odom_grace must be >= 0 (%r, %r)'
-                             % (p.correction_w, p.odom_grace))
+        OdomGrace(p)                     # validates the odometry params now
         self.straight_period = period_of(p.straight_rate, '~straight_rate')
+        self.goal_params = types.SimpleNamespace(**dict(
+            {name: getattr(p, name) for name in self.DEFAULTS}, straight_period=self.straight_period))
         self.layer = layer
         self.odometry = layer.odometry
         self.output = MotionOutput(self.ROLE, p.max_v, p.max_w, layer.mission, layer.safety)
@@ -93,7 +94,10 @@ class BackTravelServer(object):
         self._wake = threading.Event()
         self._handover = None
         self._tripped = None             # safety reason that stopped the current goal
-        self.route = None
+        self.route = None                # core Route of the return
+        self.landmarks = []              # its goals' landmarks, return order
+        self.next_goal = 0               # index of the goal the route expects next
+        self.follower = None             # closed_loop: the RouteFollower of the return
         layer.safety.on_trip(self._on_trip)
         layer.mission.on_change(self._on_state)
         rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, self._on_set_route)
@@ -106,51 +110,51 @@ class BackTravelServer(object):
 
     # --- who may send what -------------------------------------------------------------------
     def _on_set_route(self, request):
-        """A new return route: anchor + the landmarks already completed."""
-        problem = self._route_problem(request)
-        if problem:
-            self.log.error('return route refused: %s', problem)
-            return SetReturnRouteResponse(ok=False, message=problem)
-        completed = landmarks_from_flat(request.completed)
-        route = ReturnRoute((request.anchor_x, request.anchor_y), self.straight_period)
-        for landmark in completed:
-            route.add(landmark)
-            route.locate(*route.points[-1])   # progress tracking follows the rebuilt route
+        """The return's route, its goals' landmarks and how many are done."""
+        try:
+            route, landmarks = self._read_route(request)
+        except ValueError as error:
+            self.log.error('return route refused: %s', error)
+            return SetReturnRouteResponse(ok=False, message=str(error))
         with self._lock:
-            self.route = route
-        self.odometry.acquire(self.ROLE)
-        self.log.info('return route anchored at (%.3f, %.3f) in %s, %d landmarks completed',
-                      request.anchor_x, request.anchor_y, request.header.frame_id or '?',
-                      len(completed))
+            if self._active is not None or self._pending is not None:
+                return SetReturnRouteResponse(ok=False, message='a goal is being driven')
+            self.route, self.landmarks, self.next_goal = route, landmarks, request.completed
+            self.follower = RouteFollower(route, self.goal_params) \
+                if self.params.control == 'closed_loop' else None
+        self.log.info('return route of %d landmarks (%.2f m) in %s, %d completed',
+                      len(landmarks), route.length, request.header.frame_id or '?', request.completed)
         return SetReturnRouteResponse(ok=True, message='')
 
-    def _route_problem(self, request):
-        """Why a SetReturnRoute request is refused, or None."""
+    def _read_route(self, request):
+        """(Route, landmarks) of a SetReturnRoute request; ValueError naming what is wrong."""
         state = self.layer.mission.state
         if state != mission_state.RETURNING:
-            return 'the mission is %s, not returning' % state
+            raise ValueError('the mission is %s, not returning' % state)
         sender = request._connection_header.get('callerid', '?')
         if sender != self.layer.mission_owner:
-            return 'only %s sets the return route, not %s' % (self.layer.mission_owner, sender)
-        if not (math.isfinite(request.anchor_x) and math.isfinite(request.anchor_y)):
-            return 'anchor (%r, %r) is not finite' % (request.anchor_x, request.anchor_y)
+            raise ValueError('only %s sets the return route, not %s' % (self.layer.mission_owner, sender))
         try:
-            completed = landmarks_from_flat(request.completed)
-        except ValueError as error:
-            return str(error)
-        odom = self.odometry.fresh(self.params.odom_grace) or self._wait_for_odometry()
+            route = Route.from_lists(json.loads(request.route))
+        except (TypeError, ValueError) as error:   # json's errors are ValueErrors
+            raise ValueError('route: %s' % error)
+        landmarks = landmarks_from_flat(request.landmarks)
+        if len(landmarks) != len(route.sections):
+            raise ValueError('%d landmarks for a route of %d sections'
+                             % (len(landmarks), len(route.sections)))
+        if request.completed > len(landmarks):
+            raise ValueError('completed %d of only %d landmarks' % (request.completed, len(landmarks)))
+        odom = self.odometry.fresh(self.params.odom_timeout) or self._wait_for_odometry()
         if odom is None:
-            return 'no odometry to check where the robot is'
-        route = ReturnRoute((request.anchor_x, request.anchor_y), self.straight_period)
-        for landmark in completed:
-            route.add(landmark)
-        offset = distance(odom.x, odom.y, *route.points[-1])
+            raise ValueError('no odometry to check where the robot is')
+        vertex = route.sections[request.completed - 1].end_vertex if request.completed else 0
+        x, y = route.x[int(vertex)], route.y[int(vertex)]
+        offset = distance(odom.x, odom.y, x, y)
         if offset > self.params.route_max_offset:
-            return ('the robot is %.2f m from where the route continues (%.2f, %.2f) after %d '
-                    'landmarks (route_max_offset %.2f m)' % (offset, route.points[-1][0],
-                                                            route.points[-1][1], len(completed),
-                                                            self.params.route_max_offset))
-        return None
+            raise ValueError('the robot is %.2f m from where the route continues (%.2f, %.2f) after '
+                             '%d landmarks (route_max_offset %.2f m)'
+                             % (offset, x, y, request.completed, self.params.route_max_offset))
+        return route, landmarks
 
     def _wait_for_odometry(self):
         self.odometry.acquire(self.ROLE)
@@ -173,17 +177,30 @@ class BackTravelServer(object):
         self._wake.set()
 
     def _goal_problem(self, handle):
+        """Why a goal is rejected, or None (module docstring)."""
         state = self.layer.mission.state
         if state != mission_state.RETURNING:
             return 'the mission is %s, not returning' % state
         sender = handle.goal._connection_header.get('callerid', '?') if handle.goal else '?'
         if sender != self.layer.mission_owner:
             return 'only %s sends back-travel goals, not %s' % (self.layer.mission_owner, sender)
+        goal = handle.get_goal()
+        values = [goal.v, goal.w, goal.d, goal.T, goal.psi]
+        try:
+            landmark = landmark_from_values(values)
+        except ValueError as error:
+            return 'bad goal %r: %s' % (values, error)
         with self._lock:
             if self._active is not None or self._pending is not None:
                 return 'a goal is being driven (one at a time)'
-        if self.params.control == 'closed_loop' and self.route is None:
-            return 'no return route set (%s)' % rospy.resolve_name(names.SET_RETURN_ROUTE)
+            if self.route is None:
+                return 'no return route set (%s)' % rospy.resolve_name(names.SET_RETURN_ROUTE)
+            if self.next_goal >= len(self.landmarks):
+                return 'the route has no goal left (%d done)' % self.next_goal
+            expected = self.landmarks[self.next_goal]
+        if tuple(landmark) != tuple(expected):
+            return 'not the next landmark of the route (goal %d expects %r)' % (
+                self.next_goal + 1, list(expected))
         return None
 
     def _on_cancel(self, handle):
@@ -198,7 +215,9 @@ class BackTravelServer(object):
                 self._tripped = reason
 
     def _on_state(self, _old, new):
-        if new in mission_state.TERMINAL:
+        if new == mission_state.RETURNING:
+            self.odometry.acquire(self.ROLE)
+        elif new in mission_state.TERMINAL:
             self.odometry.release(self.ROLE)
 
     def _on_handover_timeout(self, _event):
@@ -235,25 +254,23 @@ class BackTravelServer(object):
         with self._lock:
             self._active = None
             if kind == 'succeeded':
+                self.next_goal += 1
                 self._handover = rospy.Timer(rospy.Duration(self.params.handover_timeout),
                                              self._on_handover_timeout, oneshot=True)
         getattr(handle, {'succeeded': 'set_succeeded', 'aborted': 'set_aborted',
                          'canceled': 'set_canceled'}[kind])(result, text)
 
-    def _cancelled(self, handle):
+    @staticmethod
+    def _cancelled(handle):
         return handle.get_goal_status().status in (actionlib.GoalStatus.PREEMPTING,
                                                    actionlib.GoalStatus.RECALLING)
 
     def _run(self, handle):
         """Drive one goal; returns (succeeded|canceled|aborted, result, text)."""
         p = self.params
-        goal = handle.get_goal()
-        values = [goal.v, goal.w, goal.d, goal.T, goal.psi]
-        try:
-            landmark = landmark_from_values(values)
-        except ValueError as error:
-            self.output.stop()
-            return 'aborted', BackTravelResult(), 'bad goal %r: %s' % (values, error)
+        goal_message = handle.get_goal()
+        landmark = landmark_from_values([goal_message.v, goal_message.w, goal_message.d,
+                                         goal_message.T, goal_message.psi])
         if self.layer.safety.active:
             self.output.halt('safety')
             return 'aborted', BackTravelResult(), 'safety stop: %s' % ', '.join(self.layer.safety.active)
@@ -261,58 +278,61 @@ class BackTravelServer(object):
         if odom is None:
             self.output.halt('odometry')
             return 'aborted', BackTravelResult(), self.odometry.describe_missing(p.odom_timeout)
-        limits = goal_limits(landmark, p.max_v, p.max_w, p.correction_w)
-        self.output.limit(limits)
+        self.output.limit(goal_limits(landmark, p.max_v, p.max_w, p.correction_w))
         self.output.release()
-        goal_params = types.SimpleNamespace(**dict(
-            {name: getattr(p, name) for name in self.DEFAULTS if hasattr(p, name)},
-            max_v=limits.max_v, straight_period=self.straight_period))
-        controller = make_controller(p.control, landmark, goal_params, self.route)
-        controller.start(odom)
+        goal = make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal)
+        goal.start(odom)
         started = odom.stamp
-        result = lambda: BackTravelResult(distance=controller.travelled,
-                                          duration=rospy.get_time() - started)
+        result = lambda: BackTravelResult(distance=goal.travelled, duration=rospy.get_time() - started)
+        grace = OdomGrace(p)
         rate = rospy.Rate(p.control_rate)
         next_feedback = started
-        held_since = None
-        while True:
+        while not goal.done:
             if self._tripped:
                 self.output.halt('safety')
                 return 'aborted', result(), 'safety stop: %s after %.3f m' % (self._tripped,
-                                                                              controller.travelled)
+                                                                              goal.travelled)
             if self._cancelled(handle) or rospy.is_shutdown():
                 self.output.halt('cancel')
-                return 'canceled', result(), 'canceled after %.3f m' % controller.travelled
+                return 'canceled', result(), 'canceled after %.3f m' % goal.travelled
             if self.layer.mission.state != mission_state.RETURNING:
                 return 'aborted', result(), 'the mission is %s' % self.layer.mission.state
-            odom = self.odometry.fresh(p.odom_timeout)
-            now = rospy.get_time()
-            if odom is None:
-                if held_since is None:
-                    held_since = now
-                    self.output.stop()
-                    self.log.warn('goal held: %s', self.odometry.describe_missing(p.odom_timeout))
-                elif now - held_since > p.odom_grace:
-                    self.output.halt('odometry')
-                    return 'aborted', result(), '%s for %.1f s (odom_grace %.1f s)' % (
-                        self.odometry.describe_missing(p.odom_timeout), now - held_since, p.odom_grace)
+            now, age = rospy.get_time(), self.odometry.age()
+            decision, message = grace.check(now, None if age is None else now - age)
+            if message:
+                (self.log.error if decision == ABORT else self.log.warn)('goal %d: %s',
+                                                                        self.next_goal + 1, message)
+            if decision == ABORT:
+                self.output.halt('odometry')
+                return 'aborted', result(), '%s (%s)' % (
+                    message, self.odometry.describe_missing(p.odom_timeout))
+            if decision == HOLD:
+                self.output.stop()
                 self._sleep(rate)
                 continue
-            if held_since is not None:
-                self.log.warn('goal resumed after a %.2f s hold without odometry', now - held_since)
-                held_since = None
-            v, w = controller.step(odom)
-            if controller.failed:
-                self.output.halt('time allowance')
-                return 'aborted', result(), ('time allowance %.1f s exceeded after %.3f m of %.3f m'
-                                             % (controller.allowance, controller.travelled, landmark.d))
-            if controller.done:
-                return 'succeeded', result(), ''
+            odom = self.odometry.fresh(p.odom_timeout)
+            v, w = goal.step(odom)
+            if goal.failed:
+                self.output.halt('no progress')
+                return 'aborted', result(), goal.reason
+            if goal.done:
+                break
             self.output.publish(v, w)
             if odom.stamp >= next_feedback:
-                handle.publish_feedback(BackTravelFeedback(distance=controller.travelled))
+                handle.publish_feedback(BackTravelFeedback(distance=goal.travelled))
                 next_feedback = odom.stamp + 1.0 / p.feedback_rate
             self._sleep(rate)
+        self._report_late()
+        return 'succeeded', result(), ''
+
+    def _report_late(self):
+        """Log the sections that took longer than their nominal time (not a failure)."""
+        if self.follower is not None:
+            while self.follower.late:
+                index, taken, nominal = self.follower.late.pop(0)
+                self.log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the '
+                              'return stops only when it stops making progress)',
+                              index + 1, taken, nominal)
 
     @staticmethod
     def _sleep(rate):

@@ -22,6 +22,7 @@ the default of launch/blind_navigation.launch). Either way it is built as
   the shared odometry as soon as it arrives;
 - :attr:`Layer.diagnostics`: the process's /diagnostics.
 """
+import math
 import threading
 
 import rospy
@@ -141,13 +142,15 @@ def run_roles(roles):
 
 class CorrectionReceiver(object):
     """Receives blind_navigation/HeadingCorrection (latched) and installs it into
-    ``odometry`` (ros/odometry.OdometryFeed.set_correction); ``message`` is the
-    last one, ``correction`` its core GyroCorrection, ``reference`` the raw
-    OdomState where the corrected frame starts."""
+    ``odometry`` (ros/odometry.OdometryFeed.set_correction); ``correction`` is
+    its core GyroCorrection, ``reference`` the raw OdomState where the corrected
+    frame starts. A return resumed after the whole layer restarted installs the
+    correction it kept in its progress (:meth:`install_plain`)."""
 
     def __init__(self, odometry):
         self.odometry = odometry
-        self.message = self.correction = self.reference = None
+        self.correction = self.reference = None
+        self._lock = threading.Lock()
         self._received = threading.Event()
         self._callbacks = []
         subscribe(names.HEADING_CORRECTION, HeadingCorrection, self._on_correction, queue_size=1)
@@ -163,11 +166,39 @@ class CorrectionReceiver(object):
         return self._received.is_set()
 
     def _on_correction(self, msg):
-        if self._received.is_set():
-            return              # one correction per mission
-        self.message = msg
-        self.correction, self.reference = correction_from_message(msg)
-        self.odometry.set_correction(self.correction, self.reference)
-        self._received.set()
+        self._install(*correction_from_message(msg))
+
+    def _install(self, correction, reference, snapshot=None):
+        with self._lock:
+            if self._received.is_set():
+                return              # one correction per mission
+            self.correction, self.reference = correction, reference
+            self.odometry.set_correction(correction, reference, snapshot)
+            self._received.set()
         for callback in list(self._callbacks):
             callback()
+
+    def to_plain(self):
+        """The installed correction and the corrected frame's state now, as plain
+        data for a return's progress; None before one is installed."""
+        if not self.received:
+            return None
+        reference = self.reference
+        # an unknown standard error is inf, which plain data cannot hold: None
+        return {'correction': [None if isinstance(v, float) and not math.isfinite(v) else v
+                               for v in self.correction],
+                'reference': [reference.x, reference.y, reference.yaw, reference.stamp],
+                'frame': self.odometry.correction_snapshot()}
+
+    def install_plain(self, plain):
+        """Install a correction kept by :meth:`to_plain` (a resumed return), unless one
+        arrived already; ValueError naming what is wrong with ``plain``."""
+        try:
+            correction = GyroCorrection(*(float('inf') if v is None else v
+                                          for v in plain['correction']))
+            reference = OdomState(*(float(v) for v in plain['reference'][:3]), 0.0, 0.0,
+                                  float(plain['reference'][3]))
+            frame = plain.get('frame')
+        except (KeyError, TypeError, ValueError, IndexError):
+            raise ValueError('the kept heading correction is not readable: %r' % (plain,))
+        self._install(correction, reference, frame)

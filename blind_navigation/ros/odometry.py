@@ -187,12 +187,17 @@ class OdometryFeed(object):
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
 
     # --- the heading-corrected frame -------------------------------------------------------------
-    def set_correction(self, correction, reference):
+    def set_correction(self, correction, reference, snapshot=None):
         """From now on :meth:`fresh` is in the frame of ``correction``
         (core/heading_correction.GyroCorrection) that equals the raw one at the raw
-        OdomState ``reference`` (where vision was lost)."""
-        corrector = CorrectedOdometry(correction)
-        corrector.update(reference)
+        OdomState ``reference`` (where vision was lost); with ``snapshot``
+        (:meth:`correction_snapshot` of an earlier run of this return) the frame
+        continues from there."""
+        if snapshot is not None:
+            corrector = CorrectedOdometry.restored(correction, snapshot)
+        else:
+            corrector = CorrectedOdometry(correction)
+            corrector.update(reference)
         with self._lock:
             latest = self._states[-1] if self._states else None
             if latest is not None and latest.stamp > reference.stamp:
@@ -202,3 +207,8 @@ class OdometryFeed(object):
     @property
     def corrected(self):
         return self._corrector is not None
+
+    def correction_snapshot(self):
+        """The corrected frame's state as plain data (core CorrectedOdometry.snapshot), or None."""
+        with self._lock:
+            return self._corrector.snapshot() if self._corrector is not None else None

@@ -1,0 +1,79 @@
+"""One goal of the back travel (one landmark), whatever the control mode.
+
+The action server drives one landmark per goal (the paper's protocol). In the
+paper's modes each goal has its own controller (core/back_travel.make_controller:
+``time``, ``distance``); in ``closed_loop`` the goals of a return share one
+core/back_travel.RouteFollower over the whole route, and a goal ends when the
+follower has finished the goal's section of the route. :func:`make_goal` gives
+both the same interface::
+
+    goal = make_goal(mode, landmark, params, follower, index)
+    goal.start(odom_state)
+    v, w = goal.step(odom_state)     # until goal.done or goal.failed (goal.reason says why)
+    goal.travelled                   # m of odometry driven during this goal
+
+The back_travel server and the simulation harness both drive goals through it.
+"""
+from .back_travel import make_controller
+
+
+class SectionGoal(object):
+    """Goal ``index`` (return order) of a closed-loop return driven by ``follower``
+    (shared by the goals; started at the first goal it drives, at its section)."""
+
+    def __init__(self, follower, index):
+        self.follower = follower
+        self.index = index
+        self.done = self.failed = False
+        self.reason = ''
+        self._travelled_before = 0.0
+
+    @property
+    def travelled(self):
+        return self.follower.travelled - self._travelled_before
+
+    def start(self, odom_state):
+        if not self.follower.started:
+            self.follower.start(odom_state, section=self.index)
+        self._travelled_before = self.follower.travelled
+        self.done = self.follower.section_finished(self.index)
+
+    def step(self, odom_state):
+        command = self.follower.step(odom_state)
+        self.failed, self.reason = self.follower.failed, self.follower.reason
+        self.done = not self.failed and self.follower.section_finished(self.index)
+        return (0.0, 0.0) if self.done or self.failed else command
+
+
+class ControllerGoal(object):
+    """A paper-mode goal: its own core/back_travel controller."""
+
+    def __init__(self, controller):
+        self.controller = controller
+
+    done = property(lambda self: self.controller.done)
+    failed = property(lambda self: self.controller.failed)
+    travelled = property(lambda self: self.controller.travelled)
+
+    @property
+    def reason(self):
+        if not self.controller.failed:
+            return ''
+        return 'time allowance %.1f s exceeded after %.3f m of %.3f m' % (
+            self.controller.allowance, self.controller.travelled, self.controller.landmark.d)
+
+    def start(self, odom_state):
+        self.controller.start(odom_state)
+
+    def step(self, odom_state):
+        return self.controller.step(odom_state)
+
+
+def make_goal(mode, landmark, params=None, follower=None, index=None):
+    """The goal for ``landmark`` in control ``mode``; closed_loop needs the
+    return's ``follower`` and the goal's ``index`` (return order)."""
+    if mode == 'closed_loop':
+        if follower is None or index is None:
+            raise ValueError('a closed_loop goal needs the return route follower and its index')
+        return SectionGoal(follower, index)
+    return ControllerGoal(make_controller(mode, landmark, params))
