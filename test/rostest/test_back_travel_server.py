@@ -1,7 +1,11 @@
 #!/usr/bin/env python3
 """rostest: back_travel_server (distance mode) drives an ideal fake base: a goal
 covers d, a curved goal's turn is mirrored, feedback flows, a cancel publishes
-zero velocity at once, a bad goal is refused without moving the robot."""
+zero velocity at once, a bad goal is refused without moving the robot.
+
+This node is the mission's owner (the server's ~mission_owner): it publishes the
+state ``returning``, so the server takes its goals; another node's goals are
+rejected, and so are goals once the mission has ended."""
 import time
 import unittest
 
@@ -13,6 +17,7 @@ from actionlib_msgs.msg import GoalStatus
 from blind_navigation.msg import BackTravelAction, BackTravelGoal
 
 from fake_base import FakeBase
+from mission_owner import MissionOwner
 
 TIMEOUT = 20.0
 
@@ -25,7 +30,9 @@ class BackTravelServerTest(unittest.TestCase):
         cls.base = FakeBase()
         cls.client = actionlib.SimpleActionClient('/blind_navigation/back_travel', BackTravelAction)
         assert cls.client.wait_for_server(rospy.Duration(TIMEOUT)), 'server did not come up'
-        cls.base.wait_for_listeners(1, TIMEOUT)     # the server's odometry subscription
+        cls.owner = MissionOwner('/back_travel_server')
+        cls.owner.publish('returning')
+        cls.owner.wait_until_server_takes_goals(cls.client, TIMEOUT)
 
     def send(self, **goal):
         feedback = []
@@ -52,7 +59,8 @@ class BackTravelServerTest(unittest.TestCase):
         self.assertTrue(all(c[1:] == (0.1, -0.3) for c in moving), moving[:3])
 
     def test_cancel_publishes_zero_at_once(self):
-        self.send(v=0.2, w=0.0, d=5.0, T=2.0, psi=0.0)
+        # a long goal (5 s at 0.2 m/s; d must be within what the base covers in T)
+        self.send(v=0.2, w=0.0, d=1.0, T=5.0, psi=0.0)
         deadline = time.time() + 10.0
         while time.time() < deadline and self.base.v <= 0.0:
             time.sleep(0.02)

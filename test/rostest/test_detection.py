@@ -4,7 +4,9 @@ and ignores a flicker shorter than its debounce.
 
 With ~source ``own`` (default) this node is its own small sensor rig under sim
 time: it publishes /clock (100 Hz ticks of 10 ms at real-time factor ~rtf), a
-20 Hz camera (sensor_msgs/Image rgb8), RTAB-Map-like visual odometry
+20 Hz camera (sensor_msgs/Image rgb8) with its sensor_msgs/CameraInfo (what the
+camera-stall detector watches unless ``detect_dark`` makes the monitor read the
+images), RTAB-Map-like visual odometry
 (nav_msgs/Odometry with RTAB-Map's lost convention) and RTAB-Map-like odom_info
 (a runtime-generated rtabmap_msgs/OdomInfo, so no rtabmap package is needed).
 With ~source ``fake_turtlebot`` the sensors are launch/fake_turtlebot.launch's,
@@ -29,11 +31,11 @@ import rospy
 import rostest
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock, Log
-from sensor_msgs.msg import Image
+from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Empty, String
 from std_srvs.srv import SetBool
 
-from blind_navigation.ros.vision_monitor import VisionMonitorNode
+from blind_navigation.ros.vision_monitor import VisionMonitor
 
 TICK = 0.01             # sim seconds per /clock message
 SENSOR_EVERY = 5        # ticks between sensor messages: 20 Hz
@@ -88,10 +90,12 @@ class OwnSensors(SensorRig):
         self.dark = rng.randint(0, 5, size=(48, 64, 3)).astype(numpy.uint8).tobytes()
         self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
         self.image_pub = rospy.Publisher('/camera/rgb/image_rect_color', Image, queue_size=5)
+        self.camera_info_pub = rospy.Publisher('/camera/rgb/camera_info', CameraInfo, queue_size=5)
         self.vo_pub = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=5)
         self.info_pub = rospy.Publisher('/rtabmap/odom_info', ODOM_INFO, queue_size=5)
         self.sensor_topics = {pub.resolved_name
-                              for pub in (self.image_pub, self.vo_pub, self.info_pub)}
+                              for pub in (self.image_pub, self.camera_info_pub, self.vo_pub,
+                                          self.info_pub)}
         self.thread = threading.Thread(target=self.run, daemon=True)
         self.thread.start()
 
@@ -125,8 +129,12 @@ class OwnSensors(SensorRig):
         camera = self.camera_fail if failed else 'ok'
         vo = self.vo_fail if failed else 'ok'
         if camera is not None:
-            self.image_pub.publish(Image(height=48, width=64, encoding='rgb8', step=64 * 3,
-                                         data=self.dark if camera == 'dark' else self.bright))
+            image = Image(height=48, width=64, encoding='rgb8', step=64 * 3,
+                          data=self.dark if camera == 'dark' else self.bright)
+            image.header.stamp = stamp
+            self.image_pub.publish(image)
+            self.camera_info_pub.publish(CameraInfo(header=image.header, height=image.height,
+                                                    width=image.width))
         if vo is not None:
             odom = Odometry()
             odom.header.stamp = stamp
@@ -147,7 +155,7 @@ class OwnSensors(SensorRig):
 class FakeTurtleBotSensors(SensorRig):
     """launch/fake_turtlebot.launch's camera and VO, failed through /fake_turtlebot/set_vision."""
 
-    sensor_topics = {'/camera/rgb/image_rect_color', '/rtabmap/odom'}
+    sensor_topics = {'/camera/rgb/image_rect_color', '/camera/rgb/camera_info', '/rtabmap/odom'}
 
     def __init__(self, _mode, _rtf):
         rospy.wait_for_service('/fake_turtlebot/set_vision', timeout=WALL_TIMEOUT)
@@ -240,7 +248,7 @@ class DetectionTest(unittest.TestCase):
 
     def latency_bound(self, name):
         def param(key):
-            return rospy.get_param('/%s/%s' % (name, key), VisionMonitorNode.DEFAULTS[key])
+            return rospy.get_param('/%s/%s' % (name, key), VisionMonitor.DEFAULTS[key])
         timeout = param('image_timeout') if self.mode == 'stall' else 0.0
         return timeout + param('debounce') + LATENCY_MARGIN
 
