@@ -35,6 +35,15 @@ class MissionOwner(object):
     def publish(self, state):
         self.pub.publish(String(data=state))
 
+    def wait_heard(self, count, timeout):
+        """Until ``count`` nodes subscribe to the state from this node."""
+        deadline = time.monotonic() + timeout
+        while self.pub.get_num_connections() < count:
+            if time.monotonic() > deadline or rospy.is_shutdown():
+                raise AssertionError('%d node(s) do not follow the mission state on %s after %.0f s'
+                                     % (count, self.pub.resolved_name, timeout))
+            time.sleep(0.02)
+
     def wait_until_server_takes_goals(self, action, timeout):
         """Until the back-travel server behind ``action`` (a SimpleActionClient) sees
         the mission ``returning``: an undrivable goal is then aborted for its speed

@@ -6,7 +6,9 @@ The mission is a long straight, a quarter-turn arc at the paper's set velocities
 a long straight. Each tick's period is the cycle that just ended, decided from the
 four yaws before it, so a change of segment shows at most DETECTION_LAG after it.
 Checked: straight period on the straights, curved period on the arc, the same
-periods in the file, and no other period but the final partial cycle's.
+periods in the file, and no other period but the final partial cycle's. This node
+is the sampling publisher's ~mission_owner: it ends the recording by moving the
+mission state to rotating (vision lost).
 """
 import os
 import shutil
@@ -16,7 +18,7 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
-from std_msgs.msg import Bool, Empty
+from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from recording_tools import Collector, wait_for  # noqa: E402
@@ -25,6 +27,7 @@ from blind_navigation import names
 from blind_navigation.sim.mission import load_mission  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import PathSample  # noqa: E402
+from mission_owner import MissionOwner  # noqa: E402
 
 STRAIGHT_T, CURVED_T = 2.0, 1.0
 #: Four yaws (three straight cycles) to see a change, one more cycle to act on it.
@@ -42,12 +45,13 @@ class RecordingCurvesTest(unittest.TestCase):
         cls.operator_start = []
         rospy.Subscriber('/cmd_vel_mux/input/teleop', Twist, cls.on_teleop)
         done = Collector('/mission_driver/done', Bool)
-        lost = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
+        owner = MissionOwner('/sampling_publisher')
+        owner.publish('recording')
         wait_for(lambda: any(msg.data for msg in done.snapshot()), 'the mission never finished',
                  timeout=MISSION_WALL_TIMEOUT)
-        lost.publish(Empty())
+        owner.publish('rotating')    # vision lost: the mission's owner ends the recording
         wait_for(lambda: any(s.command == 'final' for s in cls.samples.snapshot()),
-                 'no final sample after vision_lost')
+                 'no final sample after the mission moved to rotating')
         cls.ticks = [s for s in cls.samples.snapshot() if s.command == 'sample']
         wait_for(lambda: cls.saved() >= len(cls.ticks), 'the saver did not save every tick')
         cls.loaded = load_landmarks(cls.landmark_file)

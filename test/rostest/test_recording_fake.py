@@ -4,8 +4,9 @@
 Three recorders take the same sampling publisher's ticks: the topic variant
 (recording.launch's landmark_saver), the service variant (record_server +
 record_client) and a second topic saver that is killed with SIGKILL
-mid-mission. When the scripted operator is done, vision is lost
-(/blind_navigation/vision_lost) and the files are checked:
+mid-mission. When the scripted operator is done, vision is lost (this node,
+the sampling publisher's ~mission_owner, moves the mission state to rotating)
+and the files are checked:
 
 - periods are only the configured ones (except the final partial cycle) and are
   what the paper's classifier gives on the recorded yaws (that the rate follows
@@ -26,7 +27,7 @@ import unittest
 import rospy
 import rostest
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool, Empty
+from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from recording_tools import Collector, kill_node, landmark_info, subscribers_of, wait_for  # noqa: E402
@@ -36,6 +37,7 @@ from blind_navigation.sim.mission import load_mission  # noqa: E402
 from blind_navigation.core.segment import SamplingSchedule  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import StorageUsage, PathSample  # noqa: E402
+from mission_owner import MissionOwner  # noqa: E402
 
 STRAIGHT_T, CURVED_T = 2.0, 1.0
 #: Paper Table VI: 35-137 samples and 4-14 KB over 2.6-13.2 m.
@@ -74,7 +76,8 @@ class FakeTurtleBotRecordingTest(unittest.TestCase):
         cls.storage_msgs = Collector(names.STORAGE, StorageUsage)
         cls.jitter = OdometryJitter()
         done = Collector('/mission_driver/done', Bool)
-        lost = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
+        owner = MissionOwner('/sampling_publisher')
+        owner.publish('recording')
         wait_for(lambda: {'/landmark_saver', '/record_client', '/landmark_saver_killed'}
                  <= subscribers_of(names.SAMPLE), 'the recorders never subscribed to the samples')
         cls.killed = {}
@@ -82,9 +85,9 @@ class FakeTurtleBotRecordingTest(unittest.TestCase):
                  timeout=MISSION_WALL_TIMEOUT)
         wait_for(lambda: any(msg.data for msg in done.snapshot()), 'the mission never finished',
                  timeout=MISSION_WALL_TIMEOUT)
-        lost.publish(Empty())
+        owner.publish('rotating')    # vision lost: the mission's owner ends the recording
         wait_for(lambda: any(s.command == 'final' for s in cls.samples.snapshot()),
-                 'no final sample after vision_lost')
+                 'no final sample after the mission moved to rotating')
         ticks = sum(s.command in ('sample', 'final') for s in cls.samples.snapshot())
         wait_for(lambda: cls.saved_by(cls.files['topic']) >= ticks
                  and cls.saved_by(cls.files['service']) >= ticks,

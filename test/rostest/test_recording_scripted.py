@@ -11,6 +11,9 @@ real time, so its expectations are exact. Scenarios (``~scenario``):
   model (core/recorder.record_path), the files against the truth and each
   other, the storage and recorded-path topics, refusals of bad commands, and
   that the yaml-cpp reader (landmark_info) reads the numbers PyYAML reads.
+  This node is the mission's owner (the sampling publisher's ~mission_owner):
+  vision loss is the mission state moving from recording to rotating, which
+  ends the recording.
 - ``kill``: the saver is killed with SIGKILL mid-mission; its file must load
   with every landmark it reported saved before the kill.
 """
@@ -26,7 +29,6 @@ import rospy
 import rostest
 from nav_msgs.msg import Odometry, Path
 from rosgraph_msgs.msg import Clock
-from std_msgs.msg import Empty
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:0] = [HERE, os.path.join(HERE, '..')]
@@ -39,6 +41,7 @@ from blind_navigation.core.segment import SamplingSchedule  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import StorageUsage, PathSample  # noqa: E402
 from blind_navigation.srv import RecordLandmark  # noqa: E402
+from mission_owner import MissionOwner  # noqa: E402
 from recording_tools import (WALL_TIMEOUT, Collector, kill_node, landmark_info,  # noqa: E402
                              subscribers_of, wait_for)
 
@@ -62,11 +65,11 @@ class SimWorld(object):
         self.path, self.rtf = path, rtf
         self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=10)
         self.odom_pub = rospy.Publisher('/odom', Odometry, queue_size=50)
-        self.vision_lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1)
         self.t = 0.0                    # s since the clock started
 
     def path_time(self):
         return self.t - PREROLL
+
 
     def odometry(self):
         state = self.path.state(self.path_time())
@@ -141,9 +144,12 @@ class CompareTest(RecordingTestBase):
         wait_for(lambda: cls.bad_sample_pub.get_num_connections() >= 3,
                  'the saver, the record client and this test are not all connected to %s'
                  % names.SAMPLE)
+        owner = MissionOwner('/sampling_publisher')
+        owner.publish('recording')
+        owner.wait_heard(1, WALL_TIMEOUT)
         bad_samples = threading.Thread(target=cls.send_bad_samples)   # not blocking the clock
         events = [(10.0, bad_samples.start),
-                  (VISION_LOST_AT, lambda: cls.world.vision_lost_pub.publish(Empty()))]
+                  (VISION_LOST_AT, lambda: owner.publish('rotating'))]
         cls.world.run_until(VISION_LOST_AT + 2.0, events)
         bad_samples.join(WALL_TIMEOUT)
         samples = cls.samples.snapshot()
