@@ -38,6 +38,8 @@ STATUS = 'blind_navigation/status'
 #: nav_msgs/Path for RViz: the path recorded so far, the return driven so far
 RECORDED_PATH = 'blind_navigation/recorded_path'
 RETURN_PATH = 'blind_navigation/return_path'
+#: nav_msgs/Path, latched: the route the return will drive, published when the return starts
+RETURN_ROUTE = 'blind_navigation/return_route'
 #: nav_msgs/Path, latched: the route the return will drive (after pruning), when it starts
 RETURN_ROUTE = 'blind_navigation/return_route'
 #: action blind_navigation/BackTravel: one landmark per goal
@@ -58,3 +60,13 @@ SET_RETURN_ROUTE = 'blind_navigation/set_return_route'
 HEADING_CORRECTION = 'blind_navigation/heading_correction'
 #: nav_msgs/Odometry in the heading-corrected frame, for the turn and the return
 ODOM_CORRECTED = 'blind_navigation/odom_corrected'
+
+# --- the fake TurtleBot's evaluation names (sim/ and evaluation/ only, INTERFACE.md)
+#: nav_msgs/Odometry, the true pose (frame world)
+GROUND_TRUTH = 'ground_truth/odom'
+#: service std_srvs/SetBool: false makes vision fail now, true restores it
+SET_VISION = 'fake_turtlebot/set_vision'
+#: std_msgs/Bool, latched: the scripted operator has played its mission
+MISSION_DONE = 'mission_driver/done'
+#: std_msgs/Empty, latched: the scripted operator may start (with its ``wait_for_go``)
+MISSION_GO = 'mission_driver/go'

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Summarise catkin's xunit results: one line per failure, then `N passed, N failed`.
 
-Counts every case of the pytest unit results (pytest-*.xml) and of each rostest
-test node (rosunit-*.xml); a rostest <test> node that wrote no results counts as
+Counts every case of the pytest unit results (pytest-*.xml), of the package
+lint (lint-*.xml, scripts/catkin_lint_junit.py) and of each rostest test node
+(rosunit-*.xml); a rostest <test> node that wrote no results counts as
 its rostest-*.xml entry (a failure). Exits 1 when a test failed or none ran.
 """
 import glob
@@ -36,6 +37,7 @@ def result_files(results_dir):
     """pytest files, each test node's rosunit file, and the rostest entry of any
     <test> node that produced no rosunit file (it crashed or timed out)."""
     files = glob.glob(os.path.join(results_dir, 'pytest-*.xml'))
+    files += glob.glob(os.path.join(results_dir, 'lint-*.xml'))
     files += glob.glob(os.path.join(results_dir, 'rosunit-*.xml'))
     files += glob.glob(os.path.join(results_dir, 'MISSING-*.xml'))
     fallbacks = []

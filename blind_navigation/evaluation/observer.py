@@ -1,18 +1,22 @@
 """The demo observer (nodes demo_observer and bench_probe): runs the demo's script and reports it (launch/demo.launch).
 
-Waits for the scripted mission to finish (/mission_driver/done), lets the robot
-stop for ``settle`` s, makes vision fail (/fake_turtlebot/set_vision false),
-waits for /blind_navigation/state ``home`` or ``aborted`` (``timeout`` s of sim
+Waits for the layer to record (blind_navigation/state ``recording``), tells the
+scripted operator to start (mission_driver/go: demo.launch's operator waits for
+it, so the whole path is recorded and the observer sees the start), waits for the
+mission to finish (mission_driver/done), lets the robot
+stop for ``settle`` s, makes vision fail (fake_turtlebot/set_vision false),
+waits for blind_navigation/state ``home`` or ``aborted`` (``timeout`` s of sim
 time), then prints a Table-VI-style row (distance, samples, memory, position
 error = ground-truth distance between start and end) and writes a PNG of the
 forward and return ground-truth paths (like the paper's Figures 12-13) and a
-one-line text file to ``results_dir``. Exits the launch when done.
+one-line text file to ``results_dir``. Names are relative (names.py): in a
+robot's namespace it observes that robot.
 """
 import os
 
 import rospy
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool, String
+from std_msgs.msg import Bool, Empty, String
 from std_srvs.srv import SetBool
 
 from blind_navigation import names
@@ -38,8 +42,9 @@ class DemoObserver(object):
         self.paths = {'forward': [], 'return': []}
         rospy.Subscriber(names.STATE, String, self._on_state)
         rospy.Subscriber(names.STORAGE, StorageUsage, self._on_storage)
-        rospy.Subscriber('/mission_driver/done', Bool, self._on_done)
-        rospy.Subscriber('/ground_truth/odom', Odometry, self._on_truth, queue_size=20)
+        rospy.Subscriber(names.MISSION_DONE, Bool, self._on_done)
+        rospy.Subscriber(names.GROUND_TRUTH, Odometry, self._on_truth, queue_size=20)
+        self.go = rospy.Publisher(names.MISSION_GO, Empty, queue_size=1, latch=True)
 
     def _on_state(self, msg):
         self.state = msg.data
@@ -66,10 +71,13 @@ class DemoObserver(object):
 
     def run(self):
         p = self.params
+        self.wait(lambda: self.state == 'recording' and self.paths['forward'], 300.0,
+                  'the layer to record (state recording) and the ground truth')
+        self.go.publish(Empty())
         self.wait(lambda: self.mission_done, 3600.0, 'the scripted mission to finish')
         rospy.sleep(p.settle)
-        rospy.wait_for_service('/fake_turtlebot/set_vision', timeout=30.0)
-        rospy.ServiceProxy('/fake_turtlebot/set_vision', SetBool)(False)
+        rospy.wait_for_service(names.SET_VISION, timeout=30.0)
+        rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
         rospy.loginfo('demo: vision failed on purpose; waiting for the return')
         self.wait(lambda: self.state in FINAL, p.timeout, 'state home or aborted')
         rospy.sleep(p.settle)
@@ -94,27 +102,63 @@ class DemoObserver(object):
 
     @staticmethod
     def plot(forward, back, path, title):
+        """Forward and return ground truth on equal axes with margins; start, turn (where
+        the return began) and end marked; the legend below the axes, off the paths."""
         import matplotlib
         matplotlib.use('Agg')
         import matplotlib.pyplot as plt
-        figure, axes = plt.subplots(figsize=(8, 4))
-        axes.plot(*zip(*forward), '-', label='forward (ground truth)')
+        figure, axes = plt.subplots(figsize=(8, 6.5))
+        axes.plot(*zip(*forward), '-', color='tab:blue', label='forward (ground truth)')
+        # start: a large open ring, so that the end drawn on it stays visible
+        axes.plot(*forward[0], 'o', markersize=14, markerfacecolor='none', markeredgewidth=2,
+                  color='tab:green', linestyle='none', label='start', zorder=3)
         if back:
-            axes.plot(*zip(*back), '--', label='back travel (ground truth)')
-        axes.plot(*forward[0], 'go', label='start')
-        axes.set_aspect('equal')
+            axes.plot(*zip(*back), '--', color='tab:orange', label='return (ground truth)')
+            axes.plot(*back[0], 's', markersize=9, color='tab:purple', markeredgecolor='black',
+                      linestyle='none', label='turn (vision lost)', zorder=3)
+            axes.plot(*back[-1], 'X', markersize=8, color='tab:red', markeredgecolor='black',
+                      linestyle='none', label='end', zorder=4)
+        if back:
+            (x0, y0), (x1, y1) = forward[0], back[-1]
+            axes.plot([x0, x1], [y0, y1], ':', color='tab:red', linewidth=1,
+                      label='position error %.3f m' % distance(x0, y0, x1, y1))
+        axes.set_aspect('equal', adjustable='box')
+        (x_low, x_high), (y_low, y_high) = padded_limits(forward + back)
+        axes.set_xlim(x_low, x_high)
+        axes.set_ylim(y_low, y_high)
+        axes.grid(alpha=0.3)
         axes.set_xlabel('x [m]')
         axes.set_ylabel('y [m]')
         axes.set_title(title)
-        axes.legend(loc='best')
+        figure.canvas.draw()                       # where the x label ended up: the legend goes below
+        label_bottom = axes.xaxis.label.get_window_extent().y0
+        below = axes.transAxes.inverted().transform((0.0, label_bottom))[1]
+        axes.legend(loc='upper center', bbox_to_anchor=(0.5, below), ncol=3, fontsize=9,
+                    frameon=False)
         figure.savefig(path, dpi=120, bbox_inches='tight')
+        plt.close(figure)
+
+
+def padded_limits(points, margin=0.1, least=0.5):
+    """((x_low, x_high), (y_low, y_high)) around ``points`` [(x, y)], each side padded by
+    ``margin`` (a fraction) of the larger span and at least ``least`` m wide in all."""
+    xs, ys = [p[0] for p in points], [p[1] for p in points]
+    span = max(max(xs) - min(xs), max(ys) - min(ys), least)
+    pad = margin * span
+    limits = []
+    for low, high in ((min(xs), max(xs)), (min(ys), max(ys))):
+        extra = max(0.0, least - (high - low)) / 2.0
+        limits.append((low - pad - extra, high + pad + extra))
+    return tuple(limits)
 
 
 def main(name='demo_observer', node_class=DemoObserver):
-    """Run an observer node (``node_class``: DemoObserver or a subclass) until its report is out."""
+    """Run an observer node (``node_class``: DemoObserver or a subclass) until its report
+    is out; returns it (its ``state`` is the mission's last). Exits 1 on a timeout."""
     node = start_node(name, node_class)
     try:
         node.run()
     except (RuntimeError, rospy.ROSException) as error:
         rospy.logerr('%s', error)
         raise SystemExit(1)
+    return node

@@ -25,6 +25,7 @@ plus ``out`` (JSON path, '' = none), ``layer_nodes`` (names), ``bag_node``
 ``monitor_node``, ``landmark_file``, ``seed``.
 """
 import json
+import os
 import signal
 import time
 import xmlrpc.client
@@ -127,9 +128,9 @@ class BenchProbe(DemoObserver):
         cpu_end, wall_end = self.cpu_snapshot(), time.time()
         self.times['recording_start'], self.times['failure'] = sim_start, rospy.Time.now().to_sec()
         self.stop_bag()
-        rospy.wait_for_service('/fake_turtlebot/set_vision', timeout=30.0)
+        rospy.wait_for_service(names.SET_VISION, timeout=30.0)
         from std_srvs.srv import SetBool
-        rospy.ServiceProxy('/fake_turtlebot/set_vision', SetBool)(False)
+        rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
         self.wait(lambda: self.state in ('home', 'aborted'), p.timeout, 'state home or aborted')
         rss_timer.shutdown()
         rospy.sleep(p.settle)
@@ -150,7 +151,7 @@ class BenchProbe(DemoObserver):
         if not self.params.landmark_file:
             return None
         count = 0
-        for landmark in load_landmarks(self.params.landmark_file).landmarks:
+        for landmark in load_landmarks(os.path.expanduser(self.params.landmark_file)).landmarks:
             if landmark.v != 0.0 or landmark.d >= 1e-3:
                 break
             count += 1

@@ -22,7 +22,7 @@ class CmdVelMuxNode(object):
     """Params (DEFAULTS): ``subscribers`` list of {name, topic, timeout, priority} ([] = TurtleBot's
     mux.yaml); ``output`` topic; ``check_rate`` Hz (sim time) of the timeout check.
     """
-    DEFAULTS = {'subscribers': [], 'output': '/mobile_base/commands/velocity', 'check_rate': 50.0}
+    DEFAULTS = {'subscribers': [], 'output': 'mobile_base/commands/velocity', 'check_rate': 50.0}
 
     def __init__(self):
         p = load_params(self.DEFAULTS)

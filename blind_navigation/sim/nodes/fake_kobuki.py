@@ -7,6 +7,10 @@ Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
 ``joint_states``, ``ground_truth/odom`` (frame ``world``), Kobuki safety events on
 ``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and
 ``/clock`` at ``rtf`` x wall time. Stamps are sim time (launch with use_sim_time).
+
+``/clock`` is global, so on a master shared by several fakes (two robots in two
+namespaces) only one publishes it; the others run with ``~clock`` false and step
+their base with that clock, stamping from the time they joined it.
 """
 import sys
 import threading
@@ -22,6 +26,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Empty
 
+from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.kobuki import (ODOM_POSE_COVARIANCE, SENSOR_PERIOD, SimulatedKobuki,
@@ -40,11 +45,12 @@ class FakeKobuki(object):
     profile name or path; ``world`` YAML with ``arena``/``obstacles`` ('' = open floor);
     ``clock_period`` s of sim time per /clock message (divides 0.02); ``odom_frame``,
     ``base_frame``, ``world_frame``, ``imu_frame``; ``publish_tf``; ``stats_period`` s of wall
-    time between CPU/rtf log lines (0 = never).
+    time between CPU/rtf log lines (0 = never); ``clock``: publish /clock at ``rtf`` (true) or
+    follow another node's /clock (false; ``rtf`` then unused).
     """
     DEFAULTS = {'rtf': 1.0, 'seed': 0, 'noise': 'ideal', 'world': '', 'clock_period': 0.01,
                 'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
-                'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0}
+                'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True}
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
@@ -60,9 +66,10 @@ class FakeKobuki(object):
                 arena = arena_from_dict(yaml.safe_load(stream), p.world)
         self.base = SimulatedKobuki(load_profile(p.noise), seed=int(p.seed), arena=arena)
         self.lock = threading.Lock()
-        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS)
+        self.ticks = 0
+        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS) if p.clock else None
         self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=SYNCHRONOUS)
-        self.truth_pub = rospy.Publisher('ground_truth/odom', Odometry, queue_size=SYNCHRONOUS)
+        self.truth_pub = rospy.Publisher(names.GROUND_TRUTH, Odometry, queue_size=SYNCHRONOUS)
         self.imu_pub = rospy.Publisher('mobile_base/sensors/imu_data', Imu, queue_size=SYNCHRONOUS)
         self.joint_pub = rospy.Publisher('joint_states', JointState, queue_size=SYNCHRONOUS)
         self.event_pubs = {
@@ -161,8 +168,23 @@ class FakeKobuki(object):
                 rospy.logwarn('fake_kobuki: %s %s %s', field, name, 'on' if name in after else 'off')
         self._contacts = new
 
+    def step(self, start):
+        """One clock period of physics; the sensors when their period is due. Returns the
+        sim time reached: ``start`` (s) plus the base's own time."""
+        with self.lock:
+            self.base.step(self.params.clock_period)
+            self.ticks += 1
+            now = rospy.Time.from_sec(start + self.base.t)
+            if self.ticks % self.sensor_every == 0:
+                self.publish_sensors(now)
+        return now
+
     def run(self):
-        """Step physics and publish the clock, paced to rtf x wall time."""
+        """Step physics and publish the clock, paced to rtf x wall time; or, with ``~clock``
+        false, follow the clock another node publishes."""
+        if not self.params.clock:
+            self.follow_clock()
+            return
         p = self.params
         wall_period = p.clock_period / p.rtf
         start = time.monotonic()
@@ -170,12 +192,7 @@ class FakeKobuki(object):
         stats_start, cpu_start = start, time.process_time()
         while not rospy.is_shutdown():
             tick += 1
-            with self.lock:
-                self.base.step(p.clock_period)
-                now = rospy.Time.from_sec(self.base.t)
-                if tick % self.sensor_every == 0:
-                    self.publish_sensors(now)
-            self.clock_pub.publish(Clock(clock=now))
+            self.clock_pub.publish(Clock(clock=self.step(0.0)))
             delay = start + tick * wall_period - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
@@ -184,6 +201,23 @@ class FakeKobuki(object):
                 rospy.logwarn_throttle(10.0, 'fake_kobuki: behind real time x %.1f' % p.rtf)
             if p.stats_period > 0 and time.monotonic() - stats_start >= p.stats_period:
                 stats_start, cpu_start = self.log_stats(stats_start, cpu_start)
+
+    def follow_clock(self):
+        """Step the base as far as /clock has gone, then sleep (sim time) until it goes on.
+        The base starts at the first clock time seen (a period boundary), standing still."""
+        p = self.params
+        rospy.loginfo('fake_kobuki: following the /clock of another node')
+        while not rospy.is_shutdown() and rospy.get_rostime().is_zero():
+            time.sleep(0.01)
+        start = p.clock_period * int(rospy.get_time() / p.clock_period)
+        while not rospy.is_shutdown():
+            target = rospy.get_time() - start
+            while self.base.t + p.clock_period <= target + 1e-9 and not rospy.is_shutdown():
+                self.step(start)
+            try:
+                rospy.sleep(p.clock_period)
+            except rospy.ROSInterruptException:
+                return
 
     def log_stats(self, wall_start, cpu_start):
         wall, cpu = time.monotonic(), time.process_time()

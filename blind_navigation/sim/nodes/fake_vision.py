@@ -26,6 +26,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import CameraInfo, Image
 from std_srvs.srv import SetBool, SetBoolResponse
 
+from blind_navigation import names
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 from blind_navigation.ros.common import load_params, set_pose, subscribe
@@ -66,10 +67,10 @@ class FakeVision(object):
         self.info_pub = rospy.Publisher('camera/rgb/camera_info', CameraInfo, queue_size=5)
         self.odom_pub = rospy.Publisher('rtabmap/odom', Odometry, queue_size=10)
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
-        rospy.Service('fake_turtlebot/set_vision', SetBool, self.on_set_vision)
+        rospy.Service(names.SET_VISION, SetBool, self.on_set_vision)
         self.period = 1.0 / p.rate
         self.next_frame = None
-        subscribe('ground_truth/odom', Odometry, self.on_truth, queue_size=100)
+        subscribe(names.GROUND_TRUTH, Odometry, self.on_truth, queue_size=100)
 
     def on_truth(self, msg):
         """Frames are clocked by the base's 50 Hz true pose stamps: one frame per ``period``

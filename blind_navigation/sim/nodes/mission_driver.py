@@ -3,17 +3,23 @@
 
 Publishes the mission's (v, w) on ``cmd_vel`` (remap to
 ``/cmd_vel_mux/input/teleop``) at the mission's rate, starting ``start_delay``
-s of sim time after the clock starts; then sends zero velocity and latches
-``~done`` true. Zero velocity also on shutdown. A mission with an ``operator``
+s of sim time after the clock starts (with ``wait_for_go``: once a message came
+on ``mission_driver/go`` as well, e.g. from the demo's observer once the layer
+records); then sends
+zero velocity and latches ``~done`` true. Zero velocity also on shutdown. A mission with an ``operator``
 (core/operator.py: a person watching the robot and tapping the turn keys)
 watches the true pose on ``ground_truth`` (nav_msgs/Odometry, remap to
 ``/ground_truth/odom``) and ends when the person sees the robot at the end of
 the route; the same core runs in the plain-Python harness (core/simulation.py).
 """
+import threading
+
 import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool
+from std_msgs.msg import Bool, Empty
+
+from blind_navigation import names
 
 from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.sim.mission import load_mission
@@ -25,8 +31,9 @@ STOP_MESSAGES = 3
 
 class MissionDriver(object):
     """Params (DEFAULTS): ``mission`` name in config/missions/ or path; ``start_delay`` s;
-    ``max_v`` m/s, ``max_w`` rad/s (commands are clamped to these)."""
-    DEFAULTS = {'mission': '', 'start_delay': 1.0, 'max_v': MAX_V, 'max_w': MAX_W}
+    ``max_v`` m/s, ``max_w`` rad/s (commands are clamped to these); ``wait_for_go``: start
+    only after a message on ``mission_driver/go`` (std_msgs/Empty)."""
+    DEFAULTS = {'mission': '', 'start_delay': 1.0, 'max_v': MAX_V, 'max_w': MAX_W, 'wait_for_go': False}
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
@@ -39,6 +46,11 @@ class MissionDriver(object):
         self.operator = self.mission.make_operator()
         self.start = None
         self.latest_pose = None
+        self.go = threading.Event()
+        if p.wait_for_go:
+            subscribe(names.MISSION_GO, Empty, lambda _msg: self.go.set())
+        else:
+            self.go.set()
         if self.operator is not None:
             subscribe('ground_truth', Odometry, self._on_ground_truth, queue_size=50)
         rospy.on_shutdown(self.stop)
@@ -56,9 +68,15 @@ class MissionDriver(object):
         while not rospy.is_shutdown() and rospy.Time.now().is_zero():
             rospy.sleep(0.01)          # wait for /clock
         start = rospy.Time.now() + rospy.Duration(self.params.start_delay)
-        rospy.loginfo('mission_driver: %s (%.1f s, %.2f m nominal) starts at sim t %.2f s',
-                      self.mission.name, self.mission.duration, self.mission.nominal_length(), start.to_sec())
+        rospy.loginfo('mission_driver: %s (%.1f s, %.2f m nominal) starts at sim t %.2f s%s',
+                      self.mission.name, self.mission.duration, self.mission.nominal_length(), start.to_sec(),
+                      ' at the earliest, after the go on %s' % rospy.resolve_name(names.MISSION_GO) if self.params.wait_for_go else '')
         rospy.sleep(start - rospy.Time.now())
+        if self.params.wait_for_go:
+            while not rospy.is_shutdown() and not self.go.wait(0.1):
+                pass
+            start = rospy.Time.now()
+            rospy.loginfo('mission_driver: go at sim t %.2f s', start.to_sec())
         if self.operator is not None:
             while not rospy.is_shutdown() and self.latest_pose is None:
                 rospy.logwarn_throttle(5.0, 'mission_driver: waiting for ground_truth (%s)',
