@@ -36,7 +36,8 @@ HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
 FINAL_STATES = ('home', 'aborted')
 TELEOP_TOPIC = '/cmd_vel_mux/input/teleop'
 MISSION_DONE_TOPIC = '/mission_driver/done'
-VISION_LOSS_TOPIC = '/vision_monitor/loss'
+#: The one process of blind_navigation.launch (its default): every role's params under it.
+ONE_PROCESS = '/blind_navigation'
 #: s of sim time: the operator has stopped sending; the base stops (paper profile's
 #: motor time constant 0.25 s) before vision is lost, as in demo_observer.
 SETTLE = 2.0
@@ -75,13 +76,22 @@ class GroundTruth(object):
 class MissionRun(object):
     """One mission on the fake TurtleBot, watched from the test node.
 
-    ``wall_timeout`` (s) bounds each wait; the launch sets
-    ``sampling_publisher/min_subscribers`` to 3 (recorder, rotate_pi, this test), so the
-    recording cannot start before :meth:`wait_for_layer` has seen ``idle``.
+    ``wall_timeout`` (s) bounds each wait; the launch sets the sampling publisher's
+    ``min_subscribers`` so that the recording starts only once this test takes the
+    samples, which :meth:`wait_for_layer` does after it has seen ``idle``.
+
+    The layer runs in one process (``/blind_navigation``, blind_navigation.launch's
+    default) or in the paper's node layout (one_process:=false); ``compact`` tells
+    which, ``owner`` is the node that owns the mission (back_travel_client's),
+    :meth:`param` reads a role's param in either.
     """
 
     def __init__(self, wall_timeout):
         self.wall_timeout = wall_timeout
+        self.compact = rospy.has_param(ONE_PROCESS + '/recorder')
+        self.owner = ONE_PROCESS if self.compact else '/back_travel_client'
+        #: vision_monitor's latched ~loss (the detector that fired and why)
+        self.loss_topic = (ONE_PROCESS if self.compact else '/vision_monitor') + '/loss'
         self.states = Collector(names.STATE, String)
         self.truth = GroundTruth()
         self.goals = Collector(names.BACK_TRAVEL + '/goal', BackTravelActionGoal)
@@ -92,6 +102,10 @@ class MissionRun(object):
         self.samples = None
         self.operator = None
         self.start = None
+
+    def param(self, role, name):
+        """The param ``name`` of ``role`` (e.g. back_travel_server, control)."""
+        return rospy.get_param('%s/%s/%s' % (ONE_PROCESS if self.compact else '', role, name))
 
     def state_names(self):
         return [msg.data for msg in self.states.snapshot()]
@@ -139,8 +153,9 @@ class MissionRun(object):
                                           'cmd_vel:=%s' % TELEOP_TOPIC, 'ground_truth:=/ground_truth/odom'])
 
     def wait_for_trigger_subscribers(self):
-        self.wait(lambda: {'/back_travel_client', '/rotate_pi'} <= subscribers_of(names.VISION_LOST),
-                  'back_travel_client and rotate_pi do not subscribe %s' % names.VISION_LOST)
+        """Until the mission's owner (it decides what vision loss does) subscribes the trigger."""
+        self.wait(lambda: self.owner in subscribers_of(names.VISION_LOST),
+                  '%s (back_travel_client) does not subscribe %s' % (self.owner, names.VISION_LOST))
 
     def trigger_by_rostopic(self):
         """The paper's manual trigger, exactly as typed in a shell."""
@@ -152,8 +167,8 @@ class MissionRun(object):
         """The same message from this node (latched: late subscribers get it too)."""
         self.wait_for_trigger_subscribers()
         self.trigger = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
-        self.wait(lambda: self.trigger.get_num_connections() >= 2,
-                  'no connection to the %s subscribers' % names.VISION_LOST)
+        self.wait(lambda: self.trigger.get_num_connections() >= len(subscribers_of(names.VISION_LOST)),
+                  'no connection to every %s subscriber' % names.VISION_LOST)
         self.trigger.publish(Empty())
 
     def wait_until_final(self):

@@ -27,7 +27,7 @@ from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import HOME_WALK, STOPPED_SPEED, VISION_LOSS_TOPIC, MissionRun  # noqa: E402
+from mission_tools import HOME_WALK, STOPPED_SPEED, MissionRun  # noqa: E402
 from recording_tools import Collector  # noqa: E402
 
 from blind_navigation.core.geometry import wrap_angle  # noqa: E402
@@ -49,7 +49,7 @@ class MissionTest(unittest.TestCase):
                              % (', '.join(triggers), cls.trigger, operator))
         cls.max_error = float(rospy.get_param('~max_error'))
         cls.mission_run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
-        cls.loss = Collector(VISION_LOSS_TOPIC, String)
+        cls.loss = Collector(cls.mission_run.loss_topic, String)
         try:
             cls.mission_run.wait_for_layer()
             if operator == 'test':
@@ -63,10 +63,11 @@ class MissionTest(unittest.TestCase):
             cls.loaded = cls.mission_run.recorded()
         finally:
             cls.mission_run.stop_operator()
-        rospy.loginfo('MISSION %s (%s, %s recorder, %s trigger): state %s, final error %.3f m '
+        rospy.loginfo('MISSION %s (%s, %s recorder, %s trigger, %s): state %s, final error %.3f m '
                       '(limit %.3f m), %d landmarks, %.2f m recorded, speed %.4f m/s',
-                      cls.mission, rospy.get_param('/back_travel_server/control'), cls.recorder,
-                      cls.trigger, cls.mission_run.state_names()[-1], cls.error, cls.max_error,
+                      cls.mission, cls.mission_run.param('back_travel_server', 'control'), cls.recorder,
+                      cls.trigger, 'one process' if cls.mission_run.compact else 'paper layout',
+                      cls.mission_run.state_names()[-1], cls.error, cls.max_error,
                       len(cls.loaded.landmarks), cls.loaded.total_distance, cls.speed)
 
     @classmethod
