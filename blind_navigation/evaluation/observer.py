@@ -92,8 +92,9 @@ class DemoObserver(object):
         row = ('| %s | %s | %s | distance %.2f m | samples %d | memory %.1f KB | position error %.3f m |'
                % (p.scenario, p.control, self.state, fp.distance if fp else 0.0,
                   fp.landmarks if fp else 0, (fp.bytes if fp else 0) / 1024.0, error))
-        os.makedirs(p.results_dir, exist_ok=True)
-        stem = os.path.join(p.results_dir, 'demo_%s_%s' % (p.scenario, p.control))
+        results_dir = os.path.expanduser(p.results_dir)
+        os.makedirs(results_dir, exist_ok=True)
+        stem = os.path.join(results_dir, 'demo_%s_%s' % (p.scenario, p.control))
         with open(stem + '.txt', 'w') as stream:
             stream.write(row + '\n')
         self.plot(forward, back, stem + '.png', '%s, %s: position error %.3f m'
@@ -154,10 +155,14 @@ def padded_limits(points, margin=0.1, least=0.5):
 
 def main(name='demo_observer', node_class=DemoObserver):
     """Run an observer node (``node_class``: DemoObserver or a subclass) until its report
-    is out; returns it (its ``state`` is the mission's last). Exits 1 on a timeout."""
+    is out; returns it (its ``state`` is the mission's last). Exits 1 on a timeout or a
+    shutdown before the report."""
     node = start_node(name, node_class)
     try:
         node.run()
+    except rospy.ROSInterruptException:
+        rospy.loginfo('%s: shut down before the report', name)
+        raise SystemExit(1)
     except (RuntimeError, rospy.ROSException) as error:
         rospy.logerr('%s', error)
         raise SystemExit(1)
