@@ -2,7 +2,8 @@
 integrates the latest Twist on ``cmd_topic`` (dropped after 0.6 s, as Kobuki)
 and publishes nav_msgs/Odometry on /odom at 50 Hz; it records every Twist.
 ``publish_odom = False`` cuts the odometry; ``stuck = True`` stops the wheels
-(commands are still recorded)."""
+(commands are still recorded); :meth:`FakeBase.turn` turns it in place as an
+operator would (the pi turn the layer checks, without a rotate_pi node)."""
 import math
 import threading
 
@@ -24,6 +25,7 @@ class FakeBase(object):
         self.v = self.w = 0.0
         self.publish_odom = True
         self.stuck = False
+        self._turn_w = self._turn_left = 0.0     # a turn in place under way (rad/s, rad)
         self.odom_stamps = []       # sim time of each odometry published
         self.commands = []          # (receipt time s, v, w)
         self._lock = threading.Lock()
@@ -38,6 +40,15 @@ class FakeBase(object):
                          '%d subscriber(s) of the fake base\'s /odom' % count, timeout)
         rospy.sleep(3.0 / RATE)
 
+    def turn(self, angle, rate=1.0, timeout=30.0):
+        """Turn in place by ``angle`` rad at ``rate`` rad/s (odometry follows, as a real
+        turn; commands are ignored meanwhile); returns when done."""
+        with self._lock:
+            self._turn_w = math.copysign(rate, angle)
+            self._turn_left = abs(angle)
+        waiting.wait_for(lambda: self._turn_left == 0.0, 'the base turned by %.2f rad' % angle,
+                         timeout)
+
     def _on_cmd(self, msg):
         with self._lock:
             self.commands.append((rospy.get_time(), msg.linear.x, msg.angular.z))
@@ -46,7 +57,12 @@ class FakeBase(object):
         dt = 1.0 / RATE
         now = rospy.get_time()
         with self._lock:
-            if self.commands and now - self.commands[-1][0] < COMMAND_TIMEOUT and not self.stuck:
+            if self._turn_left > 0.0:
+                self.v, self.w = 0.0, self._turn_w
+                step = min(abs(self._turn_w) * dt, self._turn_left)
+                self._turn_left = max(0.0, self._turn_left - step)
+                self.w = math.copysign(step / dt, self._turn_w)
+            elif self.commands and now - self.commands[-1][0] < COMMAND_TIMEOUT and not self.stuck:
                 self.v, self.w = self.commands[-1][1:]
             else:
                 self.v = self.w = 0.0

@@ -1,7 +1,10 @@
 """Shared rig of the safety rostests (test_safety_*.py): a sim clock owned by the
-test, a straight recorded path (landmarks written by the test, the ideal
-FakeBase at its end already turned), layer nodes started and killed by the
-test (rosrun), state and /rosout collectors, and the walk to ``returning``."""
+test, a straight recorded path (landmarks written by the test as a recorder
+would, the ideal FakeBase at its end), layer nodes started and killed by the
+test (rosrun), state and /rosout collectors, and the walk of a
+back_travel_client (the mission's owner) to ``returning``: recording,
+vision lost, the base turned by pi (the client checks the real turn), the pi
+turn reported done."""
 import math
 import os
 import signal
@@ -52,18 +55,20 @@ def straight_landmarks(speeds, period=2.0):
     return [Landmark(v, 0.0, v * period, period, 0.0) for v in speeds]
 
 
-def write_mission(directory, landmarks, name='landmarks'):
-    """A recorder-like mission: a time-stamped file and the ``<name>.yaml``
-    symlink to it. Returns (symlink path, real file path)."""
+def write_mission(directory, landmarks, name='landmarks', mission=None):
+    """A recorder-like mission: a time-stamped file (of ``mission``, an id, if given),
+    finished as at vision loss, and the ``<name>.yaml`` symlink to it. Returns
+    (symlink path, real file path)."""
     os.makedirs(directory, exist_ok=True)
     real = os.path.join(directory, '%s-20240101-000000.yaml' % name)
     link = os.path.join(directory, name + '.yaml')
     for path in (real, link):
         if os.path.lexists(path):
             os.remove(path)
-    with LandmarkWriter(real, fsync=False) as writer:
-        for landmark in landmarks:
-            writer.append(landmark)
+    writer = LandmarkWriter(real, {'mission': mission} if mission else None, fsync=False)
+    for landmark in landmarks:
+        writer.append(landmark)
+    writer.finish()
     os.symlink(os.path.basename(real), link)
     return link, real
 
@@ -98,6 +103,12 @@ class Node(object):
                 self.process.wait(timeout)
 
 
+#: What a back_travel_client started by a test needs (the launch files set it).
+CLIENT_PARAMS = {'heading_correction': 'false'}
+#: What a back_travel_server started by a test needs (the launch files set it).
+SERVER_PARAMS = {'control': 'closed_loop'}
+
+
 class Layer(object):
     """The mission-state side of a test: state and /rosout collectors and the
     publishers that walk a fresh client from idle to returning."""
@@ -113,32 +124,44 @@ class Layer(object):
     def state_list(self, since=0):
         return [msg.data for msg in self.states.snapshot(since)]
 
-    def walk_to_returning(self, since, timeout=60.0):
-        """idle -> recording -> rotating -> returning, publishing each trigger until
-        the client (started after ``since`` states) has moved on."""
+    def walk_to_returning(self, since, base, timeout=60.0):
+        """idle -> recording -> rotating -> returning for the client started after
+        ``since`` states, turning ``base`` (a FakeBase) by pi after vision loss."""
+        self.walk_to_rotating(since, timeout)
+        base.turn(math.pi)
+        self.finish_rotation(since, timeout)
+
+    def walk_to_rotating(self, since, timeout=60.0):
+        """idle -> recording (a storage message) -> rotating (vision_lost)."""
         wait_for(lambda: 'idle' in self.state_list(since), 'the new client publishes idle', timeout)
-        for publisher, msg, target in ((self.storage, StorageUsage(file='x'), 'recording'),
-                                       (self.vision_lost, Empty(), 'rotating'),
-                                       (self.rotation_done, Bool(data=True), 'returning')):
-            deadline = time.monotonic() + timeout
-            while target not in self.state_list(since):
-                if time.monotonic() > deadline:
-                    raise AssertionError('state %s not reached (states %s)'
-                                         % (target, self.state_list(since)))
-                publisher.publish(msg)
-                time.sleep(0.2)
+        self._publish_until(self.storage, StorageUsage(file='x'), 'recording', since, timeout)
+        self._publish_until(self.vision_lost, Empty(), 'rotating', since, timeout)
+
+    def finish_rotation(self, since, timeout=60.0):
+        """rotating -> returning: rotation_done true (after the base really turned)."""
+        self._publish_until(self.rotation_done, Bool(data=True), 'returning', since, timeout)
+
+    def _publish_until(self, publisher, msg, target, since, timeout):
+        """Publish ``msg`` every 0.2 s until the state ``target`` is seen."""
+        deadline = time.monotonic() + timeout
+        while target not in self.state_list(since):
+            if time.monotonic() > deadline:
+                raise AssertionError('state %s not reached (states %s)'
+                                     % (target, self.state_list(since)))
+            publisher.publish(msg)
+            time.sleep(0.2)
 
     def wait_final(self, since, timeout=120.0):
         wait_for(lambda: set(self.state_list(since)) & {'home', 'aborted'},
                  'state home or aborted', timeout)
         return self.state_list(since)[-1]
 
-    def logged(self, node, text):
-        """/rosout lines of ``node`` containing ``text``."""
-        return [m.msg for m in self.rosout.snapshot() if m.name == node and text in m.msg]
+    def logged(self, node, text, since=0):
+        """/rosout lines of ``node`` containing ``text`` (from the ``since``-th line on)."""
+        return [m.msg for m in self.rosout.snapshot(since) if m.name == node and text in m.msg]
 
-    def abort_reason(self, node):
-        lines = self.logged(node, '-> aborted')
+    def abort_reason(self, node, since=0):
+        lines = self.logged(node, '-> aborted', since)
         return lines[-1] if lines else ''
 
 

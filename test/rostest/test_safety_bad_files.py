@@ -2,7 +2,10 @@
 """rostest: each bad landmark file is refused when the return starts: state
 ``aborted``, the reason names the file and the entry, no goal is sent and no
 velocity is published. One client per case (topics remapped under /bad_<case>),
-all in parallel, against one back_travel_server and the ideal base."""
+all in parallel, against one back_travel_server and the ideal base, which the
+test turns by pi once every client has moved to rotating (each client checks
+the real turn before it returns)."""
+import math
 import os
 import shutil
 import unittest
@@ -14,7 +17,7 @@ from blind_navigation.core.progress import load_progress, progress_path
 from blind_navigation.msg import BackTravelActionGoal
 
 from fake_base import FakeBase
-from safety_rig import Collector, Layer, Node, SimClock
+from safety_rig import CLIENT_PARAMS, Collector, Layer, Node, SimClock
 
 HEADER = "blind_navigation: {format: 1, fields: [v, w, d, T, psi]}\n"
 GOOD = "landmark_000001: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n"
@@ -38,9 +41,9 @@ CASES = {
     'zero_T': (HEADER + GOOD + "landmark_000002: {data: [0.1, 0.0, 0.2, 0.0, 0.0]}\n",
                ['landmark_000002', 'T must be positive']),
     'too_fast': (HEADER + GOOD + "landmark_000002: {data: [0.9, 0.0, 1.8, 2.0, 0.0]}\n",
-                 ['landmark_000002', '|v| = 0.9 exceeds the limit 0.7']),
+                 ['landmark_000002', '|v| = 0.9 m/s exceeds the limit 0.7 m/s']),
     'spinning': (HEADER + GOOD + "landmark_000002: {data: [0.1, 4.0, 0.2, 1.0, 0.0]}\n",
-                 ['landmark_000002', '|w| = 4 exceeds the limit']),
+                 ['landmark_000002', '|w| = 4 rad/s exceeds the limit']),
 }
 TOPICS = ('state', 'storage', 'vision_lost', 'rotation_done')
 
@@ -64,11 +67,14 @@ class BadFilesTest(unittest.TestCase):
             prefix = '/bad_' + case
             layers[case] = Layer(prefix)
             nodes.append(Node('back_travel_client.py', 'client_' + case,
-                              {'landmark_file': files[case]},
+                              dict(CLIENT_PARAMS, landmark_file=files[case]),
                               {'/blind_navigation/' + t: prefix + '/' + t for t in TOPICS}))
         try:
-            for case, layer in layers.items():
-                self.walk(layer)
+            for layer in layers.values():
+                layer.walk_to_rotating(0, timeout=90.0)
+            base.turn(math.pi)
+            for layer in layers.values():
+                layer.finish_rotation(0, timeout=90.0)
             for case, layer in layers.items():
                 self.assertEqual(layer.wait_final(0, timeout=60.0), 'aborted', case)
                 reason = layer.abort_reason('/client_' + case)
@@ -80,17 +86,13 @@ class BadFilesTest(unittest.TestCase):
                 node.kill()
         self.assertEqual(len(goals), 0, 'a goal was sent for a bad file')
         self.assertEqual(base.commands, [], 'a velocity was published for a bad file')
+        # (the turn by pi is the test's own, inside the fake base: no command)
         progress = {case + '.progress.yaml' for case in CASES}      # next to each landmark file
         recorded = {os.path.basename(f) for c, f in files.items() if CASES[c][0] is not None}
         self.assertEqual(set(os.listdir(directory)), recorded | progress,
                          'the layer wrote something besides its progress files')
         for case in CASES:
             self.assertEqual(load_progress(progress_path(files[case])).status, 'aborted', case)
-
-    @staticmethod
-    def walk(layer):
-        """idle -> recording -> rotating -> returning (the return then loads the file)."""
-        layer.walk_to_returning(0, timeout=90.0)
 
 
 if __name__ == '__main__':

@@ -3,24 +3,28 @@
 quaternion (bursts between good messages, with absurd positions) is never
 recorded and is warned about at a limited rate; path-like strings in
 PathSample.command, RecordLandmark.command, StorageUsage.file and the state
-topic never make the layer write outside its directory; a restarted saver
-starts a new file behind the symlink and keeps the old one unchanged."""
+topic never make the layer write outside its directory; a saver restarted
+within the same mission (``blind_navigation/mission_id``) continues the
+mission's file (finished: it adds nothing), one started for a new mission
+starts a new file behind the symlink and keeps the old one unchanged. This
+node owns the mission (the sampling publisher's ~mission_owner): it ends the
+recording by moving the state to rotating (vision lost)."""
 import math
 import os
 import subprocess
-import threading
 import unittest
 
 import rospy
 import rostest
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Empty, Header, String
+from std_msgs.msg import Header, String
 
 from blind_navigation.core.progress import file_digest
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import StorageUsage, PathSample
 from blind_navigation.srv import RecordLandmark
 
+from mission_owner import MissionOwner
 from safety_rig import Collector, Node, SimClock
 from waiting import wait_for
 
@@ -89,7 +93,7 @@ class RecorderInputTest(unittest.TestCase):
                 storage.publish(StorageUsage(file=text, landmarks=1))
                 state.publish(String(data=text))
             rospy.sleep(1.0)
-        rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1, latch=True).publish(Empty())
+        MissionOwner('/sampling_publisher').publish('rotating')    # vision lost: recording ends
         wait_for(lambda: any('recording finished' in m.msg for _, m in rosout.items
                              if m.name == '/landmark_saver'), 'the saver finished', 60.0)
 
@@ -113,10 +117,21 @@ class RecorderInputTest(unittest.TestCase):
         saver2 = Node('landmark_saver.py', 'landmark_saver_restarted',
                       {'landmark_file': link, 'fsync': 'false'})
         try:
-            wait_for(lambda: os.path.realpath(link) != first_file, 'the restarted saver starts a new file',
-                     60.0)
+            wait_for(lambda: any(m.name == '/landmark_saver_restarted' and 'continuing %s' % first_file
+                                 in m.msg for _, m in rosout.items),
+                     'the saver restarted within the mission continues its file', 60.0)
         finally:
             saver2.kill()
+        self.assertEqual(os.path.realpath(link), first_file, 'the restarted saver left the mission\'s file')
+        self.assertEqual(file_digest(first_file), digest, 'the finished mission file changed')
+        rospy.set_param('/blind_navigation/mission_id', 'next_' + rospy.get_param('/blind_navigation/mission_id'))
+        saver3 = Node('landmark_saver.py', 'landmark_saver_next_mission',
+                      {'landmark_file': link, 'fsync': 'false'})
+        try:
+            wait_for(lambda: os.path.realpath(link) != first_file,
+                     'the saver of a new mission starts a new file', 60.0)
+        finally:
+            saver3.kill()
         self.assertEqual(file_digest(first_file), digest, 'the old mission file changed')
         self.assertEqual(sorted(os.listdir(directory)), sorted(
             ['landmarks.yaml', 'service', os.path.basename(first_file),

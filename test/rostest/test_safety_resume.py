@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """rostest: a layer killed (SIGKILL) mid-return and restarted resumes from the
 last completed landmark and still ends ``home`` at the start; the recorded file
-is never modified; the restarted recorder starts a new file behind the symlink
-and keeps the old one; the layer writes nothing but the progress file and the
-recorder's new file, all in the landmark directory."""
+is never modified; the restarted recorder, in the same mission
+(``blind_navigation/mission_id``), continues the mission's file behind the
+symlink, which is finished, so it adds nothing; the layer writes nothing but
+the progress file, in the landmark directory."""
 import os
 import shutil
 import signal
@@ -16,8 +17,8 @@ from blind_navigation.core.progress import file_digest, load_progress, progress_
 from blind_navigation.msg import BackTravelActionGoal
 
 from fake_base import FakeBase
-from safety_rig import (Collector, Layer, Node, SimClock, distance_from_origin, path_length,
-                        straight_landmarks, write_mission)
+from safety_rig import (CLIENT_PARAMS, SERVER_PARAMS, Collector, Layer, Node, SimClock,
+                        distance_from_origin, path_length, straight_landmarks, write_mission)
 from waiting import wait_for
 
 COUNT = 10
@@ -32,18 +33,20 @@ class ResumeTest(unittest.TestCase):
         directory = rospy.get_param('~directory')
         shutil.rmtree(directory, ignore_errors=True)
         landmarks = straight_landmarks([0.1] * COUNT)
-        link, recorded = write_mission(directory, landmarks)
+        link, recorded = write_mission(directory, landmarks,
+                                       mission=rospy.get_param('/blind_navigation/mission_id'))
         digest, mtime = file_digest(recorded), os.stat(recorded).st_mtime_ns
         progress_file = progress_path(link)
         if os.path.exists(progress_file):
             os.remove(progress_file)
-        base = FakeBase(x=path_length(landmarks), yaw=3.141592653589793)
+        base = FakeBase(x=path_length(landmarks))
         layer = Layer()
         goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
+        client_params = dict(CLIENT_PARAMS, landmark_file=link)
 
-        nodes = [Node('back_travel_server.py', 'back_travel_server'),
-                 Node('back_travel_client.py', 'back_travel_client', {'landmark_file': link})]
-        layer.walk_to_returning(0)
+        nodes = [Node('back_travel_server.py', 'back_travel_server', SERVER_PARAMS),
+                 Node('back_travel_client.py', 'back_travel_client', client_params)]
+        layer.walk_to_returning(0, base)
         wait_for(lambda: os.path.exists(progress_file)
                  and load_progress(progress_file).completed >= KILL_AFTER,
                  '%d landmarks completed' % KILL_AFTER, timeout=90.0)
@@ -56,9 +59,11 @@ class ResumeTest(unittest.TestCase):
 
         restart_states, restart_goals = len(layer.states), len(goals)
         nodes = [Node('landmark_saver.py', 'landmark_saver', {'landmark_file': link, 'fsync': 'false'}),
-                 Node('back_travel_server.py', 'back_travel_server'),
-                 Node('back_travel_client.py', 'back_travel_client', {'landmark_file': link})]
+                 Node('back_travel_server.py', 'back_travel_server', SERVER_PARAMS),
+                 Node('back_travel_client.py', 'back_travel_client', client_params)]
         try:
+            wait_for(lambda: layer.logged('/landmark_saver', 'continuing %s' % recorded),
+                     'the restarted saver continues the mission\'s file %s' % recorded, 60.0)
             final = layer.wait_final(restart_states, timeout=120.0)
             states = layer.state_list(restart_states)
             self.assertEqual(final, 'home', layer.abort_reason('/back_travel_client'))
@@ -85,12 +90,11 @@ class ResumeTest(unittest.TestCase):
                 node.kill()
         self.assertEqual((file_digest(recorded), os.stat(recorded).st_mtime_ns), (digest, mtime),
                          'the recorded file was modified')
-        new_file = os.path.join(directory, os.readlink(link))
-        self.assertNotEqual(new_file, recorded, 'the restarted recorder did not start a new file')
-        self.assertTrue(os.path.isfile(new_file))
+        self.assertEqual(os.path.join(directory, os.readlink(link)), recorded,
+                         'the restarted recorder left its mission\'s file')
         self.assertEqual(sorted(os.listdir(directory)),
                          sorted(['landmarks.yaml', 'landmarks.progress.yaml',
-                                 os.path.basename(recorded), os.path.basename(new_file)]))
+                                 os.path.basename(recorded)]))
 
 
 if __name__ == '__main__':

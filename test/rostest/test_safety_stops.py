@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """rostest: what stops the robot during a return (sim time, ideal base in the
 test, back_travel_server with max_v 0.15 launched by the .test, a fresh
-back_travel_client per case): every command within the configured and the
-recorded speed; odometry cut -> zero within 0.5 s, aborted; a bumper event ->
-zero at once, aborted naming it, no goal while pressed; a cancel -> zero
-within one control cycle; a goal's and the whole return's time allowance;
-server shutdown -> zero."""
+back_travel_client per case, each the mission's owner the server obeys): every
+command within the configured and the recorded speed; odometry cut -> zero
+within 0.5 s, and aborted only if it stays away longer than odom_grace (back
+sooner: the return continues and ends home); a bumper event -> zero at once,
+aborted naming it, and a new return started while it is pressed moves nothing
+(its goal aborted naming it); a cancel -> zero within one control cycle; a
+goal's and the whole return's time allowance; server shutdown -> zero."""
 import os
 import unittest
 
@@ -13,20 +15,23 @@ import actionlib
 import rosnode
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalID, GoalStatus
+from actionlib_msgs.msg import GoalID
 
 from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.core.safety import recorded_speed
-from blind_navigation.msg import BackTravelAction, BackTravelActionGoal, BackTravelGoal
+from blind_navigation.msg import BackTravelAction, BackTravelActionGoal
 
 from fake_base import FakeBase
-from safety_rig import (Collector, Layer, Node, SimClock, first_zero_after, moving,
+from safety_rig import (CLIENT_PARAMS, Collector, Layer, Node, SimClock, first_zero_after, moving,
                         distance_from_origin, path_length, straight_landmarks, write_mission)
 from waiting import wait_for
 
 CONTROL_PERIOD = 0.02   # s, the server's control_rate 50 Hz
 MAX_V = 0.15            # the server's ~max_v in safety_stops.test
 ODOM_TIMEOUT = 0.5      # the issue's bound: older odometry -> zero velocity
+ODOM_GRACE = 3.0        # s the server holds without odometry before it aborts (its default)
+#: The client's node name: the mission owner the server takes goals from (its default).
+CLIENT = '/back_travel_client'
 
 
 class SafetyStopsTest(unittest.TestCase):
@@ -36,7 +41,7 @@ class SafetyStopsTest(unittest.TestCase):
         rospy.init_node('test_safety_stops')
         cls.clock = SimClock(rtf=1.0)
         cls.root = rospy.get_param('~directory')
-        cls.base = FakeBase(yaw=3.141592653589793)
+        cls.base = FakeBase()
         cls.layer = Layer()
         cls.goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
         cls.cancel = rospy.Publisher('/blind_navigation/back_travel/cancel', GoalID, queue_size=1)
@@ -45,19 +50,26 @@ class SafetyStopsTest(unittest.TestCase):
         assert cls.action.wait_for_server(rospy.Duration(60.0)), 'back_travel_server did not come up'
         cls.client = None
 
-    def start_return(self, case, speeds, **params):
-        """A fresh client for ``case`` returning over a straight path of ``speeds``,
-        the base at the path's end; waits until the base moves."""
+    def start_return(self, case, speeds, expect_motion=True, **params):
+        """A fresh client for ``case`` returning over a straight path of ``speeds`` along
+        +x, the base placed at the path's end facing +x (between cases: the server does
+        not listen to odometry then) and turned by pi after vision loss; waits until the
+        base moves (``expect_motion``). Returns the number of states and /rosout lines
+        before this case."""
         self.landmarks = straight_landmarks(speeds)
         link, self.recorded = write_mission(os.path.join(self.root, case), self.landmarks)
-        self.base.x, self.base.y = path_length(self.landmarks), 0.0
-        since = len(self.layer.states)
-        params.update(landmark_file=link)
-        self.client = Node('back_travel_client.py', 'client_' + case, params)
-        self.client_name = '/client_' + case
-        self.layer.walk_to_returning(since)
-        wait_for(lambda: moving(self.base), 'the base moves on the return')
+        self.base.x, self.base.y, self.base.yaw = path_length(self.landmarks), 0.0, 0.0
+        since, self.log_since = len(self.layer.states), len(self.layer.rosout)
+        params.update(CLIENT_PARAMS, landmark_file=link)
+        self.client = Node('back_travel_client.py', CLIENT.lstrip('/'), params)
+        self.layer.walk_to_returning(since, self.base)
+        if expect_motion:
+            wait_for(lambda: moving(self.base), 'the base moves on the return')
         return since
+
+    def abort_reason(self):
+        """The client's abort line of this case (from /rosout)."""
+        return self.layer.abort_reason(CLIENT, self.log_since)
 
     def tearDown(self):
         if self.client:
@@ -83,7 +95,7 @@ class SafetyStopsTest(unittest.TestCase):
     def test_1_commands_within_configured_and_recorded_speed_and_home(self):
         goal_index = len(self.goals)
         since = self.start_return('home', [0.08, 0.08, 0.2, 0.2, 0.05, 0.05])
-        self.assertEqual(self.layer.wait_final(since), 'home', self.layer.abort_reason(self.client_name))
+        self.assertEqual(self.layer.wait_final(since), 'home', self.abort_reason())
         goals = [(t, g.goal) for t, g in self.goals.items[goal_index:]]
         self.assertEqual(len(goals), 6)
         checked = 0
@@ -100,7 +112,7 @@ class SafetyStopsTest(unittest.TestCase):
         self.assertLess(distance_from_origin(self.base), 0.05, 'ended %.3f m from the start'
                         % distance_from_origin(self.base))
 
-    def test_2_odometry_cut_stops_within_half_a_second(self):
+    def test_2_odometry_cut_stops_within_half_a_second_and_aborts_after_the_grace(self):
         since = self.start_return('odom_cut', [0.1] * 5)
         rospy.sleep(1.0)
         self.base.publish_odom = False
@@ -108,9 +120,32 @@ class SafetyStopsTest(unittest.TestCase):
             last_odom = self.base.odom_stamps[-1]
             self.assertEqual(self.layer.wait_final(since), 'aborted')
             self.assert_stopped_after(last_odom, ODOM_TIMEOUT, 'the odometry cut')
-            self.assertIn('odometry', self.layer.abort_reason(self.client_name))
+            aborted = [t for t, msg in self.layer.states.items[since:] if msg.data == 'aborted'][0]
+            self.assertGreaterEqual(aborted - last_odom, ODOM_GRACE,
+                                    'aborted %.2f s after the cut, before odom_grace'
+                                    % (aborted - last_odom))
+            self.assertIn('odometry', self.abort_reason())
         finally:
             self.base.publish_odom = True
+
+    def test_2b_short_odometry_hiccup_holds_then_continues_home(self):
+        since = self.start_return('odom_hiccup', [0.1] * 5)
+        rospy.sleep(1.0)
+        self.base.publish_odom = False
+        last_odom = self.base.odom_stamps[-1]
+        rospy.sleep(ODOM_GRACE / 2)
+        back = rospy.get_time()
+        self.base.publish_odom = True
+        held = [c for c in self.commands_after(last_odom) if c[0] < back]
+        found = first_zero_after(held, last_odom)
+        self.assertIsNotNone(found, 'no zero velocity while odometry was away')
+        self.assertLessEqual(found[0] - last_odom, ODOM_TIMEOUT,
+                             'zero velocity %.3f s after the cut' % (found[0] - last_odom))
+        self.assertFalse([c for c in held[found[1]:] if c[1:] != (0.0, 0.0)],
+                         'motion commanded while odometry was away')
+        self.assertEqual(self.layer.wait_final(since), 'home', self.abort_reason())
+        self.assertLess(distance_from_origin(self.base), 0.05, 'ended %.3f m from the start'
+                        % distance_from_origin(self.base))
 
     def test_3_bumper_event_aborts_and_blocks_goals_while_pressed(self):
         since = self.start_return('bumper', [0.1] * 5)
@@ -121,12 +156,14 @@ class SafetyStopsTest(unittest.TestCase):
         try:
             self.assertEqual(self.layer.wait_final(since), 'aborted')
             self.assert_stopped_after(pressed, CONTROL_PERIOD, 'the bumper event')
-            self.assertIn('bumper center pressed', self.layer.abort_reason(self.client_name))
+            self.assertIn('bumper center pressed', self.abort_reason())
+            # a new mission's return while the bumper is still pressed: its first goal is
+            # aborted naming the bumper, nothing moves
+            self.client.kill()
             before = len(self.base.commands)
-            self.action.send_goal(BackTravelGoal(v=0.1, w=0.0, d=0.2, T=2.0, psi=0.0))
-            self.assertTrue(self.action.wait_for_result(rospy.Duration(10.0)), 'no result')
-            self.assertEqual(self.action.get_state(), GoalStatus.ABORTED)
-            self.assertIn('bumper center pressed', self.action.get_goal_status_text())
+            since = self.start_return('bumper_pressed', [0.1] * 3, expect_motion=False)
+            self.assertEqual(self.layer.wait_final(since), 'aborted')
+            self.assertIn('bumper center pressed', self.abort_reason())
             self.assertFalse([c for c in self.base.commands[before:] if c[1:] != (0.0, 0.0)],
                              'a goal moved the robot while the bumper was pressed')
         finally:
@@ -140,14 +177,14 @@ class SafetyStopsTest(unittest.TestCase):
         self.cancel.publish(GoalID())          # cancel every goal, as `rostopic pub` would
         self.assertEqual(self.layer.wait_final(since), 'aborted')
         self.assert_stopped_after(cancelled, CONTROL_PERIOD, 'the cancel')
-        self.assertIn('PREEMPTED', self.layer.abort_reason(self.client_name))
+        self.assertIn('PREEMPTED', self.abort_reason())
 
     def test_5_goal_time_allowance(self):
         since = self.start_return('stuck', [0.1] * 3)
         self.base.stuck = True                 # wheels blocked: no progress
         try:
             self.assertEqual(self.layer.wait_final(since, timeout=60.0), 'aborted')
-            self.assertIn('time allowance', self.layer.abort_reason(self.client_name))
+            self.assertIn('time allowance', self.abort_reason())
             self.assertEqual(self.base.commands[-1][1:], (0.0, 0.0))
         finally:
             self.base.stuck = False
@@ -156,13 +193,12 @@ class SafetyStopsTest(unittest.TestCase):
         since = self.start_return('return_allowance', [0.1] * 5, return_timeout_factor=0.2,
                                   return_timeout_margin=0.5)
         self.assertEqual(self.layer.wait_final(since), 'aborted')
-        reason = self.layer.abort_reason(self.client_name)
+        reason = self.abort_reason()
         self.assertIn('exceeded its time allowance of 2 s', reason)
         wait_for(lambda: self.base.commands[-1][1:] == (0.0, 0.0), 'zero velocity after the abort')
 
     def test_9_server_shutdown_publishes_zero(self):
-        self.action.send_goal(BackTravelGoal(v=0.1, w=0.0, d=2.0, T=2.0, psi=3.14159))
-        wait_for(lambda: moving(self.base), 'the goal drives the base')
+        self.start_return('server_shutdown', [0.1] * 5)
         stopped = rospy.get_time()
         killed, failed = rosnode.kill_nodes(['/back_travel_server'])   # its shutdown API, as rosnode kill
         self.assertEqual((killed, failed), (['/back_travel_server'], []))
