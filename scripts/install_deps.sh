@@ -9,7 +9,8 @@ set -euo pipefail
 
 COMMON=(g++ cmake make libyaml-cpp-dev python3-yaml python3-numpy python3-rospkg
         python3-setuptools python3-catkin-pkg python3-docutils
-        python3-matplotlib python3-psutil python3-pytest "catkin-lint|python3-catkin-lint")
+        python3-matplotlib python3-psutil python3-pytest python3-hypothesis
+        "catkin-lint|python3-catkin-lint")
 DEBIAN_ROS=(catkin ros-message-generation ros-message-runtime
             ros-std-msgs python3-std-msgs ros-geometry-msgs python3-geometry-msgs
             ros-nav-msgs python3-nav-msgs ros-sensor-msgs python3-sensor-msgs
