@@ -21,7 +21,9 @@ landmark file does not otherwise hold, is recorded. A landmark taken at each
 event, from the odometry at the event's stamp (as the landmark saver reads
 odometry at a tick's stamp: core/recorder.OdometryHistory), with ``T`` = the
 time since the previous landmark (as for the final partial period), keeps the
-file format unchanged; the periodic ticks continue as before.
+file format unchanged. The periodic ticks keep their times but are taken
+``event_latency`` s late (from the odometry at their stamp), so an event dated
+back before a tick is stored before it.
 
 Plain Python; the harness uses it with ``event_sampling`` on (off by default:
 the paper's sampling).
@@ -35,6 +37,7 @@ EVENT_DEFAULTS = {
     'event_window': 0.2,       # s of odometry averaged
     'event_debounce': 0.1,     # s a new state must hold before it is an event
     'event_turn_rate': 0.15,   # rad/s; averaged |w| crossing this is an event too (0: off)
+    'event_latency': 0.5,      # s periodic ticks wait, so that an event dated back comes first
 }
 
 STILL, FORWARD, BACKWARD = 'still', 'forward', 'backward'

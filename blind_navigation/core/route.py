@@ -8,6 +8,7 @@ and the harness)::
     route.sections            # one per landmark, in RETURN order (goal i = landmarks[-1 - i])
     route.section_end(i)      # (vertex, phase): where goal i ends (see "Progress" below)
     route.length              # m along the route
+    landmark_positions(landmarks, anchor)  # where each landmark was taken, rebuilt
     data = route.to_lists()   # {name: [float, ...]}: plain, serialisable (progress file, ROS)
     route = Route.from_lists(data)  # the same route back; ValueError naming the bad field
 
@@ -28,8 +29,9 @@ the route follows the recorded arcs instead of cutting across them. ``v`` keeps
 its sign: a stretch recorded reversing has the direction ``psi + pi``.
 
 Points closer than ``merge_distance`` merge, and so do the points of a
-period that turned on a radius below ``in_place_radius`` (a turn in place:
-the base's wheel jitter moves it a centimetre or two while it turns), so
+period that turned on a radius below ``in_place_radius`` and moved at most a
+few merge distances (a turn in place: the base's wheel jitter moves it a
+centimetre or two while it turns), so
 pauses, turns in place and odometry jitter leave no short, noisy pieces. Where the route turns by more than
 ``corner_angle`` at one point (a turn in place, a cusp where the recorded
 motion reversed, a turn-then-drive) the point is a *corner*: the follower drives
@@ -75,6 +77,8 @@ ROUTE_DEFAULTS = {
 MAX_SUBDIVISIONS = 32
 #: A modelled chord this many times longer or shorter than d is not trusted for its shape.
 SHAPE_TRUST = 3.0
+#: A turn in place moves the base by wheel jitter only: at most this many merge distances.
+IN_PLACE_JITTER = 3.0
 
 SECTION_FIELDS = ('end_vertex', 'end_phase', 'speed', 'turn_rate', 'nominal_time', 'turn')
 ROUTE_FIELDS = ('x', 'y', 'speed', 'corner') + tuple('section_' + f for f in SECTION_FIELDS)
@@ -215,11 +219,13 @@ class Route(object):
 
 
 # --- the model of one period ------------------------------------------------------
-def _turn_between(a, b, period):
-    """Heading change from landmark state ``a`` to ``b`` over ``period`` s: the
-    branch of wrap(psi_b - psi_a) + 2 pi m nearest the mean recorded turn rate's."""
-    change = wrap_angle(b.psi - a.psi)
-    expected = (a.w + b.w) / 2.0 * period
+def period_turn(previous, landmark):
+    """Heading change (rad) from landmark ``previous`` to the next one,
+    ``landmark``, over its period: the branch of wrap(psi - psi_previous) + 2 pi m
+    nearest what the mean of the two recorded turn rates gives (a turn faster
+    than pi per period is not unwrapped the short way)."""
+    change = wrap_angle(landmark.psi - previous.psi)
+    expected = (previous.w + landmark.w) / 2.0 * landmark.T
     return change + 2.0 * math.pi * round((expected - change) / (2.0 * math.pi))
 
 
@@ -236,34 +242,46 @@ def _velocity_model(v_a, v_b, d, period):
     return v_a, v_b, math.copysign(missing, v_a + v_b if v_a + v_b != 0.0 else 1.0)
 
 
-def _period_shape(a, b, d, subdivisions):
-    """Modelled motion from landmark state ``a`` to ``b`` (``b.T`` s): the chord
-    direction (rad), intermediate points as offsets from the period's start
-    scaled to ``d`` (or [] when the model is not trusted for the shape), and the
-    modelled speed at each point (start, intermediate..., end)."""
+def _motion(a, b, d, turn):
+    """The modelled motion of the period: ``state(t)`` -> (signed speed, heading),
+    t in [0, 1] (module docstring)."""
     period = b.T
-    turn = _turn_between(a, b, period)
     v_a, v_b, bump = _velocity_model(a.v, b.v, d, period)
-    steps = max(2, subdivisions)
 
     def state(t):
         t2, t3 = t * t, t * t * t
         heading = (a.psi + period * a.w * (t3 - 2.0 * t2 + t) + turn * (3.0 * t2 - 2.0 * t3)
                    + period * b.w * (t3 - t2))
-        speed = v_a + (v_b - v_a) * t + bump * 6.0 * t * (1.0 - t)
+        return v_a + (v_b - v_a) * t + bump * 6.0 * t * (1.0 - t), heading
+    return state
+
+
+def _period_shape(a, b, d, subdivisions):
+    """Modelled motion from landmark state ``a`` to ``b`` (``b.T`` s): the chord
+    direction (rad), intermediate points as offsets from the period's start
+    scaled to ``d`` (or [] when the model is not trusted for the shape), the
+    modelled speed at each point (start, intermediate..., end) and the turn."""
+    period = b.T
+    turn = period_turn(a, b)
+    state = _motion(a, b, d, turn)
+    steps = max(2, subdivisions)
+    grid = [k / float(steps) for k in range(steps + 1)]
+
+    def velocity(t):
+        speed, heading = state(t)
         return speed * math.cos(heading), speed * math.sin(heading), speed, heading
 
-    points, speeds = [], [abs(v_a)]
+    points, speeds = [], [abs(state(0.0)[0])]
     x = y = 0.0
-    previous = state(0.0)
     heading_sum_x = heading_sum_y = 0.0
-    for k in range(1, steps + 1):
-        middle, end = state((k - 0.5) / steps), state(float(k) / steps)
-        h = period / steps
+    previous = velocity(0.0)
+    for t0, t1 in zip(grid, grid[1:]):
+        middle, end = velocity((t0 + t1) / 2.0), velocity(t1)
+        h = period * (t1 - t0)
         x += h * (previous[0] + 4.0 * middle[0] + end[0]) / 6.0
         y += h * (previous[1] + 4.0 * middle[1] + end[1]) / 6.0
-        heading_sum_x += math.cos(middle[3])
-        heading_sum_y += math.sin(middle[3])
+        heading_sum_x += math.cos(middle[3]) * (t1 - t0)
+        heading_sum_y += math.sin(middle[3]) * (t1 - t0)
         points.append((x, y))
         speeds.append(abs(end[2]))
         previous = end
@@ -271,7 +289,7 @@ def _period_shape(a, b, d, subdivisions):
     if modelled > 1e-12:
         direction = math.atan2(y, x)
     else:   # no modelled motion: the mean heading, reversed if the motion was
-        direction = math.atan2(heading_sum_y, heading_sum_x) + (math.pi if v_a + v_b < 0 else 0.0)
+        direction = math.atan2(heading_sum_y, heading_sum_x) + (math.pi if a.v + b.v < 0 else 0.0)
     points.pop()        # the end is the next landmark's point, placed exactly by d
     if d <= 0.0 or modelled <= 1e-12 or not 1.0 / SHAPE_TRUST <= d / modelled <= SHAPE_TRUST:
         return direction, [], [speeds[0], speeds[-1]], turn
@@ -280,7 +298,7 @@ def _period_shape(a, b, d, subdivisions):
 
 
 def _subdivisions(a, b, d, params):
-    turn = abs(_turn_between(a, b, b.T))
+    turn = abs(period_turn(a, b))
     step, spacing = _param(params, 'curve_step'), _param(params, 'curve_spacing')
     count = max(turn / step if step > 0 else 1.0, d / spacing if spacing > 0 else 1.0)
     return int(min(MAX_SUBDIVISIONS, max(1, math.ceil(count - 1e-9))))
@@ -309,20 +327,34 @@ def build_route(landmarks, anchor, params=None):
         if len(landmark) != 5 or not all(math.isfinite(v) for v in landmark) \
                 or landmark.d < 0 or landmark.T <= 0:
             raise ValueError('landmark %d is not a valid landmark: %r' % (index + 1, landmark))
-    # Recording order: points P_k (k = -1 .. n-1, P_-1 the start) from the anchor back.
-    n = len(landmarks)
-    point = (ax, ay)
-    chain = []   # per landmark k, in reverse: (P_k, [intermediate points in return order], speeds, turn)
-    for k in range(n - 1, -1, -1):
+    return _assemble((ax, ay), landmarks, _chain((ax, ay), landmarks, params), params)
+
+
+def landmark_positions(landmarks, anchor, params=None):
+    """Where each landmark was taken, rebuilt as the route does, in recording
+    order and starting with the start of the recording: [(x, y)] * (n + 1)."""
+    landmarks = list(landmarks)
+    chain = _chain(tuple(float(c) for c in anchor), landmarks, params)
+    return [chain[-1][3] if chain else tuple(anchor)] + [link[0] for link in reversed(chain)]
+
+
+def _chain(anchor, landmarks, params):
+    """Per landmark, in return order: (its point, the modelled points of its period
+    in return order, their speeds, the previous landmark's point, the period's
+    turn, whether it was a turn in place), the points placed back from ``anchor``."""
+    point = anchor
+    chain = []
+    for k in range(len(landmarks) - 1, -1, -1):
         b = landmarks[k]
         a = landmarks[k - 1] if k > 0 else _start_state(b)
         direction, offsets, speeds, turn = _period_shape(a, b, b.d, _subdivisions(a, b, b.d, params))
         start = (point[0] - b.d * math.cos(direction), point[1] - b.d * math.sin(direction))
         inner = [(start[0] + ox, start[1] + oy) for ox, oy in offsets]
-        in_place = b.d < _param(params, 'in_place_radius') * abs(turn)
+        in_place = b.d < min(_param(params, 'in_place_radius') * abs(turn),
+                             IN_PLACE_JITTER * _param(params, 'merge_distance'))
         chain.append((point, [] if in_place else inner[::-1], speeds[::-1], start, turn, in_place))
         point = start
-    return _assemble((ax, ay), landmarks, chain, params)
+    return chain
 
 
 def _assemble(anchor, landmarks, chain, params):
@@ -332,8 +364,9 @@ def _assemble(anchor, landmarks, chain, params):
     end_vertex = []        # per section (return order): the kept vertex where it ends
     start_vertex = []
 
-    def add(p, speed, merged=False):
-        if not merged and math.hypot(p[0] - xs[-1], p[1] - ys[-1]) >= merge:
+    def add(p, speed, in_place=False):
+        gap = math.hypot(p[0] - xs[-1], p[1] - ys[-1])
+        if gap >= (IN_PLACE_JITTER * merge if in_place else merge):
             xs.append(p[0])
             ys.append(p[1])
             speeds.append(speed)
@@ -347,16 +380,17 @@ def _assemble(anchor, landmarks, chain, params):
             add(p, speed)
         add(start, 0.0 if in_place else inner_speeds[-1], in_place)
         end_vertex.append(len(xs) - 1)
-    if chain:
+    if chain:   # the start of the recording is the goal: the last vertex exactly on it
         final = chain[-1][3]
-        if len(xs) > 1 and (xs[-1], ys[-1]) != final:
-            # the start of the recording is the goal: put the last vertex exactly on it
+        if len(xs) > 1:
             xs[-1], ys[-1] = final
-        elif len(xs) == 1 and math.hypot(final[0] - xs[0], final[1] - ys[0]) > 1e-9:
+        elif math.hypot(final[0] - xs[0], final[1] - ys[0]) > 1e-9:
             xs.append(final[0])
             ys.append(final[1])
             speeds.append(speeds[0])
-            end_vertex[-1] = 1
+        for index, link in enumerate(chain):     # those recorded where the recording started
+            if link[3] == final:
+                end_vertex[index] = len(xs) - 1
     corner = _corners(xs, ys, _param(params, 'corner_angle'))
     sections = _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params)
     return Route(xs, ys, speeds, corner, sections)

@@ -1,22 +1,19 @@
 """How well the landmarks describe the path: the path rebuilt from a recording's
-(d, psi) chain (core/back_travel.ReturnRoute, the route the closed-loop return
-follows) against the ground truth and against the odometry it sampled, for the
+landmarks (core/route.landmark_positions, the points the closed-loop return's
+route runs through) against the ground truth and against the odometry it sampled, for the
 paper's adaptive two-rate sampling and for uniform sampling at the same sample
 count (one period = recording time / adaptive sample count)."""
 import numpy
 
-from ..core.back_travel import ReturnRoute
+from ..core.route import landmark_positions
 from ..sim.mission import load_mission
 from .forward import harness_settings, record_forward
 
 
-def rebuild_path(landmarks, anchor, straight_period=2.0):
-    """Landmark positions rebuilt from (d, psi), anchored at ``anchor`` (where
+def rebuild_path(landmarks, anchor):
+    """Landmark positions rebuilt from the landmarks, anchored at ``anchor`` (where
     recording stopped), in forward order: [(x, y)], start first."""
-    route = ReturnRoute(anchor, straight_period)
-    for landmark in reversed(landmarks):
-        route.add(landmark)
-    return list(reversed(route.points))
+    return landmark_positions(landmarks, anchor)
 
 
 def tick_times(landmarks):
@@ -56,7 +53,7 @@ def compare_sampling(mission, profile='paper', seed=0, step=5, deadband=0.0):
     out = {}
     for name, record, straight in (('adaptive', adaptive, defaults['straight_period']),
                                    ('uniform', uniform, period)):
-        rebuilt = rebuild_path(record.landmarks, record.anchor, straight)
+        rebuilt = rebuild_path(record.landmarks, record.anchor)
         truth = [(pose.x, pose.y) for _, pose in record.truth[::step]]
         odom = [(o.x, o.y) for o in record.odometry[::step]]
         truth_mean, truth_max = _summary(deviation(truth, rebuilt))

@@ -24,10 +24,11 @@ same robot). The pi turn and the return then run on the corrected odometry with
 the landmarks expressed in the same frame, as the heading_correction node and
 back_travel_client do.
 
-``closed_loop`` builds the whole route at once (core/route.build_route) and
-drives it with core/back_travel.RouteFollower, one goal per landmark in return
-order as back_travel_server does (a goal ends when its section is finished);
-``time`` and ``distance`` run one controller per landmark.
+Goals are driven as back_travel_server drives them (core/goal.make_goal), one
+per landmark in return order: ``closed_loop`` builds the whole route at once
+(core/route.build_route) and the goals are the sections of one
+core/back_travel.RouteFollower; ``time`` and ``distance`` run one controller
+per landmark.
 
 Missions are mission files (sim/mission.py) or command series
 (sim/command_series.py: seeded random paths from sim/random_paths.py,
@@ -56,7 +57,8 @@ import tempfile
 from collections import namedtuple
 from types import SimpleNamespace
 
-from ..core.back_travel import RouteFollower, make_controller
+from ..core.back_travel import RouteFollower
+from ..core.goal import make_goal
 from ..core.geometry import distance, wrap_angle
 from ..core.landmark import Landmark
 from ..core.motion_events import MotionEvents
@@ -188,8 +190,23 @@ def _record(run, mission, settings, store_path):
         operator.start(base.true_pose)
     settle_steps = int(round(settings['settle_time'] / dt))
     events = MotionEvents() if settings['event_sampling'] else None
-    history = OdometryHistory(2.0)
+    latency = events.event_latency if events else 0.0
+    history, pending = OdometryHistory(max(2.0, 2.0 * latency)), []
     with LandmarkWriter(store_path, fsync=False, metadata={'mission': mission.name}) as writer:
+
+        def take(state, period):
+            writer.append(recorder.take(state, state.yaw, period))
+            return state.stamp
+
+        def take_events(before, last_tick):
+            """Landmarks at the motion events stamped before ``before`` (time order);
+            returns the stamp of the last landmark."""
+            while pending and pending[0] < before - 1e-9:
+                state = history.at(pending.pop(0) + 1e-9)
+                if state.stamp > last_tick + 1e-9:
+                    last_tick = take(state, state.stamp - last_tick)
+            return last_tick
+
         k, finished_at, split = 0, None, False
         while finished_at is None or k < finished_at + settle_steps:
             command = None
@@ -201,18 +218,22 @@ def _record(run, mission, settings, store_path):
             k += 1
             if operator is not None:
                 operator.observe(k * dt, base.true_pose)
-            if base.t >= next_tick - 1e-9:
-                writer.append(recorder.take(base.odom, base.odom.yaw, base.t - last_tick if split else period))
-                last_tick, split = base.t, False
-                period = schedule.update(base.odom.yaw)
-                next_tick = base.t + period
-            elif events is not None:
+            if events is not None:
                 history.append(base.odom)
                 event = events.update(base.odom)
-                if event is not None and event - last_tick > 1e-9:
-                    state = history.at(event + 1e-9)
-                    writer.append(recorder.take(state, state.yaw, state.stamp - last_tick))
-                    last_tick, split = state.stamp, True
+                if event is not None:
+                    pending.append(event)
+            if base.t >= next_tick + latency - 1e-9:
+                # with event sampling the tick is taken latency s late, from the odometry at its
+                # stamp (as the saver reads it), so events dated back before it come first
+                state = history.at(next_tick + 1e-9) if latency else base.odom
+                taken, last_tick = last_tick, take_events(state.stamp, last_tick)
+                split = split or last_tick != taken
+                last_tick = take(state, state.stamp - last_tick if split else period)
+                split = False
+                period = schedule.update(state.yaw)
+                next_tick = state.stamp + period
+        last_tick = take_events(base.t + 1.0, last_tick)
         if base.t - last_tick > 1e-9:   # vision lost: the final partial cycle
             writer.append(recorder.take(base.odom, base.odom.yaw, base.t - last_tick))
     return load_landmarks(store_path), (base.odom.x, base.odom.y)
@@ -230,44 +251,28 @@ def _turn(run, params):
 
 
 def _return(run, landmarks, anchor, mode, params, settings):
-    """Drive the landmarks back, one goal per landmark (return order); returns
-    (why it aborted or '', closed_loop goals over their nominal time)."""
+    """Drive ``landmarks`` back, one goal per landmark in return order, through
+    core/goal.make_goal as back_travel_server does (closed_loop: the sections of
+    one RouteFollower over the whole route). Returns (why it aborted or '', the
+    follower or None)."""
+    follower = None
     if mode == 'closed_loop':
-        return _follow(run, build_route(landmarks, anchor, params), params, settings)
+        follower = RouteFollower(build_route(landmarks, anchor, params), params)
     command = (0.0, 0.0)
     for index, landmark in enumerate(reversed(landmarks)):
-        controller = make_controller(mode, landmark, params)
-        controller.start(run.odom())
-        while True:
-            v, w = controller.step(run.odom())
-            if controller.failed:
+        goal = make_goal(mode, landmark, params, follower, index)
+        goal.start(run.odom())
+        while not goal.done:
+            v, w = goal.step(run.odom())
+            if goal.failed:
                 run.base.command(0.0, 0.0)
-                return 'goal %d: time allowance %.1f s exceeded' % (index + 1, controller.allowance), []
-            if controller.done:
+                return 'goal %d: %s' % (index + 1, goal.reason), follower
+            if goal.done:
                 break
             command = (v, w)
             run.advance(command)
     _hand_over(run, command, settings)
-    return '', []
-
-
-def _follow(run, route, params, settings):
-    """closed_loop: a RouteFollower over ``route``, goal by goal as the server drives it."""
-    follower = RouteFollower(route, params)
-    follower.start(run.odom())
-    command = (0.0, 0.0)
-    for index in range(len(route.sections)):
-        while not follower.section_finished(index):
-            v, w = follower.step(run.odom())
-            if follower.failed:
-                run.base.command(0.0, 0.0)
-                return 'goal %d: %s' % (index + 1, follower.reason), follower.late
-            if follower.section_finished(index):
-                break
-            command = (v, w)
-            run.advance(command)
-    _hand_over(run, command, settings)
-    return '', follower.late
+    return '', follower
 
 
 def _hand_over(run, command, settings):
@@ -279,12 +284,14 @@ def _hand_over(run, command, settings):
 
 def dense_landmarks(odometry, spacing=0.01, turn=0.05):
     """The recorded odometry as landmarks (v, w, d, T, psi) at every state that moved
-    ``spacing`` m or turned ``turn`` rad since the previous one kept (the route
-    merges closer points anyway): the recorded path at the odometry's own rate."""
+    ``spacing`` m or turned ``turn`` rad since the previous one kept, or reversed
+    (the route merges closer points anyway): the recorded path at the odometry's
+    own rate."""
     landmarks, kept = [], odometry[0] if odometry else None
     for index, state in enumerate(odometry[1:], 1):
         step = distance(kept.x, kept.y, state.x, state.y)
-        if step >= spacing or abs(wrap_angle(state.yaw - kept.yaw)) >= turn or index == len(odometry) - 1:
+        if step >= spacing or abs(wrap_angle(state.yaw - kept.yaw)) >= turn or state.v * kept.v < 0 \
+                or index == len(odometry) - 1:
             if state.stamp > kept.stamp:
                 landmarks.append(Landmark(state.v, state.w, step, state.stamp - kept.stamp,
                                           wrap_angle(state.yaw)))
@@ -295,8 +302,8 @@ def dense_landmarks(odometry, spacing=0.01, turn=0.05):
 def _floor(run, odometry, anchor, correction, params, settings):
     """(floor_error, dense_error) of the physical floor (module docstring) on ``run``."""
     dense = correct_landmarks(dense_landmarks(odometry), correction)
-    route = build_route(dense, anchor, params)
-    reason, _ = _follow(run, route, params, settings)
+    reason, follower = _return(run, dense, anchor, 'closed_loop', params, settings)
+    route = follower.route
     _stop(run, settings)
     truth, odom = run.base.true_pose, run.odom()
     start = run.path_start
@@ -386,8 +393,9 @@ class _Recorded(object):
 
     def finish(self, run, mode, params, floor):
         """Drive ``mode``'s return on ``run`` (this state or a copy): the MissionResult."""
-        reason, late = ('pi rotation failed', []) if not self.turned else \
+        reason, follower = ('pi rotation failed', None) if not self.turned else \
             _return(run, self.landmarks, self.anchor, mode, params, self.settings)
+        late = follower.late if follower is not None else []
         _stop(run, self.settings)
         end, odom = run.base.true_pose, run.base.odom
         start = run.path_start

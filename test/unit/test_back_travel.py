@@ -1,21 +1,34 @@
-"""Back-travel controllers and the pi rotation on an exact unicycle: the turn is
-mirrored, each mode retraces arcs and S-curves to the start, limits hold."""
+"""Back travel on an exact unicycle: the paper's modes replay the mirrored
+commands; the closed-loop RouteFollower drives the whole route home (arcs,
+S-curves, turns in place, reversed stretches, pauses), forward only, turning in
+place at corners, never faster than recorded, goal by goal as the server does
+(core/goal.make_goal); it fails only when the robot stops making progress, and
+time it was held for stale odometry does not count. Also the pi rotation."""
 import math
 from types import SimpleNamespace
 
 import pytest
 
-from blind_navigation.core.back_travel import (ReturnRoute, make_controller, replay_command)
+from blind_navigation.core.back_travel import (RouteFollower, make_controller, replay_command,
+                                               section_limits)
 from blind_navigation.core.geometry import OdomState, distance
+from blind_navigation.core.goal import make_goal
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.rotation import Rotation
+from blind_navigation.core.route import build_route
 
 from unicycle import DT, Unicycle, record, run_controllers
 
 LEFT_ARC = [(0.1, 0.2, 10.0)]
 RIGHT_ARC = [(0.1, -0.2, 10.0)]
 S_CURVE = [(0.1, 0.0, 4.0), (0.1, 0.25, 8.0), (0.1, -0.25, 8.0), (0.1, 0.0, 4.0)]
+CORNERS = [(0.2, 0.0, 5.0), (0.0, 0.6, math.pi / 1.2), (0.2, 0.0, 5.0), (0.0, -0.6, math.pi / 1.2),
+           (0.3, 0.0, 3.0)]
+REVERSING = [(0.2, 0.05, 6.0), (0.0, 0.0, 2.0), (-0.15, 0.1, 4.0), (0.0, 0.0, 2.0), (0.2, 0.0, 4.0)]
+PAUSED = [(0.15, 0.1, 4.0), (0.0, 0.0, 6.0), (0.15, -0.1, 4.0), (0.0, 0.0, 5.0)]
+FAST = [(0.7, 0.0, 3.3), (0.7, 0.5, 3.5), (0.5, 0.0, 1.3), (0.5, -1.0, 1.9)]
 PATHS = {'left arc': LEFT_ARC, 'right arc': RIGHT_ARC, 'S-curve': S_CURVE}
+FOLLOWED = dict(PATHS, corners=CORNERS, reversing=REVERSING, paused=PAUSED, fast=FAST)
 
 
 def turn_around(end):
@@ -34,9 +47,46 @@ def turn_around(end):
 
 def go_home(landmarks, end, mode, params=None):
     robot = turn_around(end)
-    route = ReturnRoute((end.x, end.y))
-    run_controllers(robot, [make_controller(mode, lm, params, route) for lm in reversed(landmarks)])
+    run_controllers(robot, [make_controller(mode, lm, params) for lm in reversed(landmarks)])
     return robot
+
+
+def follow(robot, route, params=None, limit=200000, log=None, section=0):
+    """Drive ``route`` goal by goal (core/goal.make_goal, as the server does) on
+    ``robot``; returns the follower. ``log`` collects (section, v, w, x, y)."""
+    follower = RouteFollower(route, params)
+    steps = 0
+    for index in range(section, len(route.sections)):
+        goal = make_goal('closed_loop', None, params, follower, index)
+        goal.start(robot.odom)
+        while not goal.done and not goal.failed:
+            v, w = goal.step(robot.odom)
+            if goal.done or goal.failed:
+                break
+            if log is not None:
+                log.append((follower.section, v, w, robot.x, robot.y))
+            robot.move(v, w, DT)
+            steps += 1
+            assert steps < limit, 'the follower did not finish in %d steps' % limit
+        if goal.failed:
+            return follower
+    return follower
+
+
+#: The exact unicycle stops dead: no coasting to lead the stop by.
+EXACT = SimpleNamespace(stop_lead=0.0)
+#: Paths whose motion changes within a sampling period (a turn in place, a reversal):
+#: recorded with the motion-event samples (core/motion_events); without them such a
+#: period's chord is uncertain (test_route shows by how much).
+WITH_EVENTS = ('corners', 'reversing', 'fast')
+
+
+def home(profile, params=EXACT, log=None, events=False):
+    landmarks, end = record(profile, events=events)
+    route = build_route(landmarks, (end.x, end.y))
+    robot = turn_around(end)
+    follower = follow(robot, route, params, log=log)
+    return robot, follower, route, landmarks
 
 
 def test_replay_mirrors_the_turn_and_keeps_v():
@@ -65,33 +115,122 @@ def test_replaying_w_unmirrored_misses_the_start():
     assert distance(robot.x, robot.y, 0.0, 0.0) > 0.5
 
 
-@pytest.mark.parametrize('name', sorted(PATHS))
-def test_closed_loop_retraces_two_rate_recordings(name):
-    landmarks, end = record(PATHS[name])
-    robot = go_home(landmarks, end, 'closed_loop')
-    assert distance(robot.x, robot.y, 0.0, 0.0) < 0.02, (robot.x, robot.y)
+@pytest.mark.parametrize('name', sorted(FOLLOWED))
+def test_route_follower_drives_home_forward_only(name):
+    log = []
+    robot, follower, route, _ = home(FOLLOWED[name], log=log, events=name in WITH_EVENTS)
+    assert follower.done and not follower.failed, follower.reason
+    assert distance(robot.x, robot.y, 0.0, 0.0) < 0.03, (robot.x, robot.y)
+    assert min(v for _, v, _, _, _ in log) >= 0.0
+    sections = [section for section, _, _, _, _ in log]
+    assert sections == sorted(sections)
 
 
-def test_closed_loop_corrects_a_poor_turn():
-    # Turned by pi + 0.2 rad: the paper's modes would drift off; closed loop recovers.
-    landmarks, end = record(S_CURVE)
-    robot = Unicycle(end.x, end.y, end.yaw + math.pi + 0.2)
-    route = ReturnRoute((end.x, end.y))
-    run_controllers(robot, [make_controller('closed_loop', lm, None, route)
-                            for lm in reversed(landmarks)])
+def test_route_follower_turns_in_place_at_corners():
+    log = []
+    robot, follower, route, _ = home(CORNERS, log=log, events=True)
+    inner = [i for i in route.corners if 0 < i < route.vertices - 1]
+    assert len(inner) == 2
+    for corner in inner:
+        near = [(v, w) for _, v, w, x, y in log
+                if distance(x, y, route.x[corner], route.y[corner]) < 0.03]
+        assert any(v == 0.0 and abs(w) > 0.1 for v, w in near)
+
+
+def test_reversed_stretch_is_driven_facing_the_way_it_was_recorded():
+    log = []
+    robot, follower, route, landmarks = home(REVERSING, log=log, events=True)
+    assert follower.done
+    # While retracing the reversed stretch (x between 0.6 and 1.2 m from the recording's
+    # end of the first leg) the robot drives forward, i.e. faces +x as when it backed up.
+    cusp = max(range(route.vertices), key=lambda i: route.x[i])
+    assert route.corner[cusp]
+
+
+def test_route_follower_never_drives_faster_than_recorded():
+    log = []
+    robot, follower, route, _ = home(PAUSED + FAST, log=log, events=True)
+    for section, v, w, _, _ in log:
+        limit = follower.limits[min(section, len(follower.limits) - 1)]
+        assert v <= limit.max_v + 1e-9 and abs(w) <= limit.max_w + 1e-9
+
+
+def test_section_limits_follow_the_recording_with_a_creep_floor():
+    _, _, route, landmarks = home(PAUSED)
+    section = route.sections[0]
+    slow = section_limits(section, 0.5, 1.0, 0.3, 0.02)
+    assert slow.max_v == max(section.speed, 0.02)
+    assert slow.max_w == pytest.approx(min(1.0, section.turn_rate + 0.3))
+
+
+def test_route_follower_resumes_at_a_section():
+    landmarks, end = record(CORNERS, events=True)
+    route = build_route(landmarks, (end.x, end.y))
+    middle = len(route.sections) // 2
+    vertex = route.sections[middle - 1].end_vertex
+    robot = Unicycle(route.x[vertex], route.y[vertex], route.direction(vertex))
+    follower = follow(robot, route, EXACT, section=middle)
+    assert follower.done
     assert distance(robot.x, robot.y, 0.0, 0.0) < 0.03
 
 
-def test_closed_loop_retraces_a_path_recorded_with_pauses():
-    # The robot stood still for 6 ticks before vision was lost and for 5 ticks
-    # mid-path (zero-length landmarks): the route search must look past them.
+def test_a_route_without_motion_is_done_at_once():
+    route = build_route([Landmark(0.0, 0.0, 0.0, 2.0, 0.5)] * 3, (1.0, 1.0))
+    follower = RouteFollower(route)
+    follower.start(OdomState(1.0, 1.0, 0.0, 0.0, 0.0, 0.0))
+    assert follower.done and all(follower.section_finished(i) for i in range(3))
+
+
+def _stuck(follower, start, seconds, step=DT):
+    """Steps of a robot that does not move, from ``start`` s for ``seconds``."""
+    t = start
+    while t < start + seconds and not follower.failed:
+        t += step
+        follower.step(OdomState(0.0, 0.0, math.pi, 0.0, 0.0, t))
+    return t
+
+
+def _stuck_follower(**params):
+    landmarks, end = record(LEFT_ARC)
+    route = build_route(landmarks, (0.0, 0.0))
+    follower = RouteFollower(route, SimpleNamespace(**params))
+    follower.start(OdomState(0.0, 0.0, math.pi, 0.0, 0.0, 0.0))
+    return follower
+
+
+def test_route_follower_fails_only_when_it_stops_making_progress():
+    follower = _stuck_follower(stall_timeout=5.0)
+    _stuck(follower, 0.0, 4.9)
+    assert not follower.failed
+    _stuck(follower, 4.9, 1.0)
+    assert follower.failed and 'no progress' in follower.reason
+
+
+def test_time_held_for_stale_odometry_does_not_count():
+    follower = _stuck_follower(stall_timeout=5.0)
+    t = _stuck(follower, 0.0, 2.5)
+    t = _stuck(follower, t + 10.0, 2.0)          # a 10 s hold between two control steps
+    assert not follower.failed
+    assert follower.watch.held == pytest.approx(10.0 + DT)
+    _stuck(follower, t, 1.0)                     # 5 s without progress, the hold left out
+    assert follower.failed
+
+
+def test_a_slow_section_is_late_not_fatal():
+    # The robot drives at a third of every command: sections take three times
+    # their nominal time, more than the per-section factor 2 + 0.1 s.
     landmarks, end = record(S_CURVE)
-    standing = lambda lm: Landmark(0.0, 0.0, 0.0, 2.0, lm.psi)
-    half = len(landmarks) // 2
-    paused = (landmarks[:half] + [standing(landmarks[half - 1])] * 5 + landmarks[half:]
-              + [standing(landmarks[-1])] * 6)
-    robot = go_home(paused, end, 'closed_loop')
-    assert distance(robot.x, robot.y, 0.0, 0.0) < 0.02, (robot.x, robot.y)
+    route = build_route(landmarks, (end.x, end.y))
+    robot = turn_around(end)
+    follower = RouteFollower(route, SimpleNamespace(timeout_factor=2.0, timeout_margin=0.1))
+    follower.start(robot.odom)
+    for _ in range(100000):
+        v, w = follower.step(robot.odom)
+        if follower.done or follower.failed:
+            break
+        robot.move(v / 3.0, w / 3.0, DT)
+    assert follower.done and follower.late
+    assert all(taken > nominal for _, taken, nominal in follower.late)
 
 
 def test_time_mode_ends_after_T_and_distance_mode_after_d():
@@ -112,9 +251,11 @@ def test_commands_are_clamped_and_allowance_fails_a_stalled_goal():
     assert controller.failed and not controller.done
 
 
-def test_unknown_mode_is_refused():
+def test_unknown_mode_is_refused_and_closed_loop_needs_the_follower():
     with pytest.raises(ValueError, match='unknown back-travel mode'):
         make_controller('teleport', Landmark(0.1, 0, 0.1, 1, 0), None)
+    with pytest.raises(ValueError, match='RouteFollower'):
+        make_controller('closed_loop', Landmark(0.1, 0, 0.1, 1, 0), None)
 
 
 @pytest.mark.parametrize('start_yaw', [0.0, 2.5, -3.0])

@@ -1,0 +1,55 @@
+"""Motion events (core/motion_events.py): an event when the robot starts or
+stops translating, reverses, or starts or stops turning, dated back to where the
+raw speed left the old state; none on steady motion or wheel-ripple noise."""
+import math
+import random
+
+from blind_navigation.core.geometry import OdomState
+from blind_navigation.core.motion_events import MotionEvents
+
+DT = 0.02
+
+
+def events_of(speeds, noise=0.0, seed=0):
+    """Event stamps for a 50 Hz series of (v, w)."""
+    rng = random.Random(seed)
+    detector, found = MotionEvents(), []
+    for k, (v, w) in enumerate(speeds):
+        stamp = detector.update(OdomState(0, 0, 0, v + rng.gauss(0, noise) if noise else v, w, k * DT))
+        if stamp is not None:
+            found.append(stamp)
+    return found
+
+
+def lagged(targets, tau=0.25):
+    """A first-order lag (the base's momentum) over piecewise targets [(v, w, seconds)]."""
+    v = w = 0.0
+    out = []
+    for tv, tw, seconds in targets:
+        for _ in range(int(round(seconds / DT))):
+            a = 1.0 - math.exp(-DT / tau)
+            v, w = v + (tv - v) * a, w + (tw - w) * a
+            out.append((v, w))
+    return out
+
+
+def test_a_reversal_is_dated_at_the_zero_crossing():
+    series = lagged([(0.2, 0.0, 3.0), (-0.2, 0.0, 3.0)])
+    found = events_of(series)
+    crossing = next(k for k, (v, _) in enumerate(series) if v < 0.005 and k > 10) * DT
+    assert any(abs(stamp - crossing) < 0.05 for stamp in found)
+
+
+def test_setting_off_stopping_and_turning_in_place_are_events():
+    series = lagged([(0.0, 0.0, 1.0), (0.2, 0.0, 3.0), (0.0, 0.0, 2.0), (0.0, 1.0, 3.0), (0.0, 0.0, 2.0)])
+    found = events_of(series)
+    assert len(found) == 4            # sets off, stops, starts turning, stops turning
+    # stopped: where the decaying speed (time constant 0.25 s) fell below event_speed / 2
+    assert abs(found[0] - 1.0) < 0.1 and abs(found[1] - (4.0 + 0.25 * math.log(0.2 / 0.005))) < 0.05
+    assert abs(found[2] - 6.0) < 0.1
+
+
+def test_steady_motion_and_ripple_give_no_events():
+    assert events_of([(0.0, 0.0)] + [(0.2, 0.05)] * 500) == [DT]     # only setting off
+    assert events_of([(0.0, 0.0)] * 500, noise=0.003) == []
+    assert len(events_of(lagged([(0.2, 0.0, 10.0)]), noise=0.01)) == 1   # only setting off

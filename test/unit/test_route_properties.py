@@ -1,0 +1,78 @@
+"""Property tests (hypothesis) of the whole-route return: whatever valid
+landmarks a recording holds (still, creeping, reversing, turning in place
+faster than pi per period, millimetre-long, periods of a millisecond), the
+route is built, stays where the recorded motion could have taken the robot,
+survives its plain form, and a follower on an exact unicycle drives it home
+without aborting."""
+import math
+from types import SimpleNamespace
+
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from blind_navigation.core.back_travel import RouteFollower
+from blind_navigation.core.geometry import distance
+from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Landmark
+from blind_navigation.core.route import IN_PLACE_JITTER, ROUTE_DEFAULTS, SHAPE_TRUST, Route, build_route
+
+from unicycle import Unicycle
+
+
+def _speed(limit):
+    return st.one_of(st.just(0.0), st.floats(-1e-3, 1e-3), st.floats(-limit, limit))
+
+
+LANDMARK = st.builds(
+    Landmark,
+    v=_speed(KOBUKI_MAX_V),
+    w=_speed(KOBUKI_MAX_W),
+    d=st.one_of(st.just(0.0), st.floats(0.0, 0.003), st.floats(0.0, 0.2)),
+    T=st.one_of(st.just(2.0), st.just(1.0), st.floats(0.001, 2.5)),
+    psi=st.floats(-math.pi, math.pi))
+ANCHOR = st.tuples(st.floats(-10, 10), st.floats(-10, 10))
+
+
+def reach(landmark, previous):
+    """How far from where its period started a landmark's robot could have got (its
+    modelled motion), plus where merged points leave the vertices at both ends."""
+    fastest = max(abs(landmark.v), abs(previous.v) if previous else abs(landmark.v))
+    return (SHAPE_TRUST * (landmark.T * fastest + 1.5 * landmark.d)
+            + 2.0 * IN_PLACE_JITTER * ROUTE_DEFAULTS['merge_distance'])
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(LANDMARK, max_size=25), ANCHOR)
+def test_any_landmarks_give_a_sane_route_within_the_recorded_reach(landmarks, anchor):
+    route = build_route(landmarks, anchor)
+    n = len(landmarks)
+    assert len(route.sections) == n
+    assert all(math.isfinite(v) for v in route.x + route.y + route.speed)
+    marks = [route.section_end(i) for i in range(n)]
+    assert marks == sorted(marks)
+    assert (route.x[0], route.y[0]) == tuple(anchor)
+    start = 0
+    for index, section in enumerate(route.sections):
+        k = n - 1 - index
+        limit = reach(landmarks[k], landmarks[k - 1] if k else None)
+        for vertex in range(start + 1, section.end_vertex + 1):
+            assert distance(route.x[vertex], route.y[vertex], route.x[start], route.y[start]) <= limit
+        start = section.end_vertex
+    again = Route.from_lists(route.to_lists())
+    assert again.x == route.x and [again.section_end(i) for i in range(n)] == marks
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(LANDMARK, min_size=1, max_size=8), ANCHOR, st.floats(-math.pi, math.pi))
+def test_no_landmark_makes_the_follower_abort(landmarks, anchor, yaw):
+    route = build_route(landmarks, anchor)
+    follower = RouteFollower(route, SimpleNamespace(stop_lead=0.0))
+    robot, dt = Unicycle(anchor[0], anchor[1], yaw), 0.05
+    follower.start(robot.odom)
+    for _ in range(20000):
+        v, w = follower.step(robot.odom)
+        if follower.done or follower.failed:
+            break
+        robot.move(v, w, dt)
+    assert follower.done and not follower.failed, follower.reason
+    assert all(follower.section_finished(i) for i in range(len(landmarks)))
+    assert distance(robot.x, robot.y, route.x[-1], route.y[-1]) < 0.05
