@@ -4,7 +4,10 @@ last completed landmark and still ends ``home`` at the start; the recorded file
 is never modified; the restarted recorder, in the same mission
 (``blind_navigation/mission_id``), continues the mission's file behind the
 symlink, which is finished, so it adds nothing; the layer writes nothing but
-the progress file, in the landmark directory."""
+the progress file, in the landmark directory. A client restarted with a
+progress file it cannot trust ends ``aborted`` naming the file (a return may
+have been under way), sends no goal, and records the abort, so the next start
+is ``idle``."""
 import os
 import shutil
 import signal
@@ -27,26 +30,63 @@ KILL_AFTER = 4          # completed landmarks before the layer is killed
 
 class ResumeTest(unittest.TestCase):
 
-    def test_restart_mid_return_resumes_and_ends_home(self):
+    @classmethod
+    def setUpClass(cls):
         rospy.init_node('test_safety_resume')
-        SimClock(rtf=2.0)
+        cls.clock = SimClock(rtf=2.0)
+        cls.landmarks = straight_landmarks([0.1] * COUNT)
+        cls.base = FakeBase(x=path_length(cls.landmarks))
+        cls.layer = Layer()
+        cls.goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
+        cls.mission = rospy.get_param('/blind_navigation/mission_id')
+
+    def test_corrupt_progress_aborts_the_restarted_client(self):
+        directory = rospy.get_param('~directory') + '_corrupt'
+        shutil.rmtree(directory, ignore_errors=True)
+        link, _ = write_mission(directory, self.landmarks, mission=self.mission)
+        progress_file = progress_path(link)
+        with open(progress_file, 'w') as stream:
+            stream.write('status: returning\ncompleted: [4\n')      # torn: not YAML
+        layer, goals, commands = self.layer, len(self.goals), len(self.base.commands)
+        since, log_since = len(layer.states), len(layer.rosout)
+        client_params = dict(CLIENT_PARAMS, landmark_file=link)
+        client = Node('back_travel_client.py', 'back_travel_client', client_params)
+        try:
+            final = layer.wait_final(since, timeout=60.0)
+            reason = layer.abort_reason('/back_travel_client', log_since)
+        finally:
+            client.kill()
+        self.assertEqual(layer.state_list(since), ['aborted'], 'not aborted at once: %s' % reason)
+        self.assertEqual(final, 'aborted')
+        self.assertIn(progress_file, reason)
+        self.assertEqual((len(self.goals), len(self.base.commands)), (goals, commands),
+                         'a goal or a velocity after a corrupt progress file')
+        self.assertEqual(load_progress(progress_file).status, 'aborted', 'the abort is not recorded')
+        since = len(layer.states)
+        client = Node('back_travel_client.py', 'back_travel_client', client_params)
+        try:
+            wait_for(lambda: layer.state_list(since), 'the next client publishes its state', 60.0)
+        finally:
+            client.kill()
+        self.assertEqual(layer.state_list(since)[0], 'idle', 'the settled abort is not clean')
+        shutil.rmtree(directory, ignore_errors=True)
+
+    def test_restart_mid_return_resumes_and_ends_home(self):
         directory = rospy.get_param('~directory')
         shutil.rmtree(directory, ignore_errors=True)
-        landmarks = straight_landmarks([0.1] * COUNT)
-        link, recorded = write_mission(directory, landmarks,
-                                       mission=rospy.get_param('/blind_navigation/mission_id'))
+        landmarks = self.landmarks
+        link, recorded = write_mission(directory, landmarks, mission=self.mission)
         digest, mtime = file_digest(recorded), os.stat(recorded).st_mtime_ns
         progress_file = progress_path(link)
         if os.path.exists(progress_file):
             os.remove(progress_file)
-        base = FakeBase(x=path_length(landmarks))
-        layer = Layer()
-        goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
+        base, layer, goals = self.base, self.layer, self.goals
         client_params = dict(CLIENT_PARAMS, landmark_file=link)
 
         nodes = [Node('back_travel_server.py', 'back_travel_server', SERVER_PARAMS),
                  Node('back_travel_client.py', 'back_travel_client', client_params)]
-        layer.walk_to_returning(0, base)
+        started = len(layer.states)
+        layer.walk_to_returning(started, base)
         wait_for(lambda: os.path.exists(progress_file)
                  and load_progress(progress_file).completed >= KILL_AFTER,
                  '%d landmarks completed' % KILL_AFTER, timeout=90.0)
