@@ -19,8 +19,9 @@ import statistics
 
 from ..core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W
 from .mission import Mission
+from .config_dir import config_dir
 
-PATHS_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'paths'))
+PATHS_DIR = config_dir('paths')
 #: Tolerance on mission times, s (operator ticks are k * control_dt, summed in floats).
 TIME_EPSILON = 1e-9
 

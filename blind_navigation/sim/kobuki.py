@@ -26,6 +26,7 @@ import random
 import yaml
 
 from ..core.geometry import OdomState, Pose2D, wrap_angle
+from .config_dir import config_dir
 
 WHEEL_RADIUS = 0.035          # m
 WHEEL_SEPARATION = 0.230      # m
@@ -58,7 +59,7 @@ PROFILE_DEFAULTS = {
     'gyro_scale_error': 0.0,       # fraction, measured rate = (1 + e) true rate
     'gyro_noise_std': 0.0,         # rad/s, white noise of each 50 Hz rate sample
 }
-PROFILE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'noise'))
+PROFILE_DIR = config_dir('noise')
 
 
 def load_profile(name_or_path):

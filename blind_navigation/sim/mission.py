@@ -28,8 +28,9 @@ import yaml
 
 from ..core.geometry import wrap_angle
 from .operator import Operator, operator_params
+from .config_dir import config_dir
 
-MISSION_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..', 'config', 'missions'))
+MISSION_DIR = config_dir('missions')
 DEFAULT_RATE = 10.0
 
 
