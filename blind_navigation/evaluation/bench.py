@@ -1,6 +1,7 @@
 """`make bench`: the whole evaluation, written to results/ (Markdown, CSV, PNG, TUM, bags).
 
     /usr/bin/python3 -m blind_navigation.evaluation.bench [--seeds 20] [--processes 2]
+        [--real-like-paths 60] [--real-like-seed 1000] [--no-real-like-events]
         [--no-ros] [--ros-seeds 2] [--rtf 4] [--out results]
 
 Sections (docs/evaluation.md says what each number means):
@@ -9,7 +10,9 @@ Sections (docs/evaluation.md says what each number means):
 2. reconstruction: adaptive two-rate vs uniform sampling at the same count;
 3. storage: landmark file vs a rosbag of /odom (harness, real bags);
 4. TUM trajectories and the figures;
-5. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
+5. real-like paths (evaluation/real_like.py): seeded random paths per category
+   and replayed real trajectories, every mode, error against the physical floor;
+6. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
    CPU/RSS of the layer vs rosbag record, detection and rotation latency.
 """
 import argparse
@@ -20,7 +23,7 @@ import time
 
 from ..core.back_travel import MODES
 from ..sim.mission import load_mission
-from . import paper, plots, tables
+from . import paper, plots, real_like, tables
 from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
@@ -142,6 +145,24 @@ def figures(args, rows):
         'Table VI missions, paper noise profile, %d seeds per point' % args.seeds)
     shutil.copyfile(out['error'], os.path.join(args.out, 'headline.png'))
     return out
+
+
+def real_like_section(args):
+    """Real-like paths (evaluation/real_like.py): the table and the rows."""
+    jobs = real_like.jobs_for(args.real_like_paths, args.real_like_seed, args.real_like_trajectory_seeds,
+                              not args.no_real_like_events)
+    started = time.time()
+    rows = real_like.run_jobs(jobs, args.processes,
+                              lambda done, total: log('real-like paths %d/%d missions (%.0f s)'
+                                                      % (done, total, time.time() - started))
+                              if done % 20 == 0 or done == total else None)
+    write_csv(os.path.join(args.out, 'real_like.csv'), rows)
+    text = ('%d seeded random paths (seeds %d..%d, %s) and the real trajectories of config/paths '
+            '(%d seeds each), paper noise profile.\n\n%s\n%s'
+            % (args.real_like_paths, args.real_like_seed, args.real_like_seed + args.real_like_paths - 1,
+               ', '.join(sorted(real_like.CATEGORIES)), args.real_like_trajectory_seeds,
+               real_like.table(rows), real_like.NOTE))
+    return text, rows
 
 
 # --------------------------------------------------------------- ROS runs
@@ -267,6 +288,13 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--seeds', type=int, default=20, help='Monte-Carlo seeds per mission (>= 10 for the tables)')
     parser.add_argument('--processes', type=int, default=2)
+    parser.add_argument('--real-like-paths', type=int, default=60,
+                        help='random paths of the real-like section (spread over the categories; 0: skip)')
+    parser.add_argument('--real-like-seed', type=int, default=1000, help='first seed of the real-like paths')
+    parser.add_argument('--real-like-trajectory-seeds', type=int, default=2,
+                        help='seeds per real trajectory in the real-like section')
+    parser.add_argument('--no-real-like-events', action='store_true',
+                        help='real-like section without closed_loop+events (the proposed motion-event samples)')
     parser.add_argument('--no-ros', action='store_true', help='skip the ROS runs')
     parser.add_argument('--ros-seeds', type=int, default=2)
     parser.add_argument('--rtf', type=float, default=4.0, help='real-time factor of the agreement runs')
@@ -288,6 +316,9 @@ def main(argv=None):
     recon_text, _ = timed('reconstruction', reconstruction, args)
     foot_text = timed('storage + TUM', storage_and_tum, args)
     timed('figures', figures, args, rows)
+    real_text = ''
+    if args.real_like_paths > 0:
+        real_text, _ = timed('real-like paths', real_like_section, args)
     ros_text = ''
     if not args.no_ros:
         ros_text, _ = timed('ROS runs', ros_section, args, rows)
@@ -305,6 +336,9 @@ def main(argv=None):
         ('reconstruction', 'Reconstruction: adaptive two-rate vs uniform sampling, same sample count', recon_text),
         ('storage', 'Storage: landmark file (paper configuration) vs rosbag of /odom (harness, 50 Hz, real bags)', foot_text),
     ]
+    if real_text:
+        sections.append(('real_like', 'Real-like paths: random paths per category and real trajectories, '
+                         'error against the physical floor', real_text))
     note = ('\nRecorded statistics (RLV, RAV, samples, memory) are those of the `time` runs, i.e. the '
             'paper\'s configuration (launch/paper.launch, classifier dead-band 0); `closed_loop` records '
             'with blind_navigation.launch\'s dead-band 0.01 rad (montecarlo.csv has every mode\'s).\n')
@@ -330,7 +364,7 @@ def main(argv=None):
             stream.write('## ROS runs\n\n' + ros_text)
         stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
                      'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
-                     'CSV: montecarlo.csv, reconstruction.csv, storage.csv, ros_runs.csv.\n')
+                     'CSV: montecarlo.csv, reconstruction.csv, storage.csv, real_like.csv, ros_runs.csv.\n')
     print(open(os.path.join(args.out, 'report.md')).read())
     log('wrote %s/report.md in %.0f s' % (args.out, total))
 

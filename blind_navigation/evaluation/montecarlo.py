@@ -1,12 +1,13 @@
 """Monte-Carlo runs of the paper's missions on the plain-Python harness.
 
 One job = one mission and one seed: the whole mission is run by
-``core.simulation.run_mission`` once per control mode, each mode in the
-recording configuration it is launched with (:func:`recording_settings`), and
-the forward part is recorded once per configuration
-(:func:`.forward.record_forward`, the same forward run as run_mission's) for
-the landmark statistics of Tables III, V and VI. Each job returns one row (a
-dict of plain numbers) per mode; :func:`run_jobs` spreads jobs over processes.
+sim/harness.run_modes for every control mode, each mode in the recording
+configuration it is launched with (:func:`recording_settings`; modes of one
+configuration share the recording, the standstill and the pi turn, and get
+the same results as separate run_mission calls), with the physical floor of
+each configuration; the landmark statistics of Tables III, V and VI come from
+the recorded landmarks. Each job returns one row (a dict of plain numbers) per
+mode; :func:`run_jobs` spreads jobs over processes.
 """
 import math
 import multiprocessing
@@ -14,8 +15,8 @@ import multiprocessing
 from ..core.back_travel import MODES
 from ..core.geometry import distance, wrap_angle
 from ..sim.mission import load_mission
-from ..sim.harness import run_mission, simulate_gyro_calibration
-from .forward import harness_settings, record_forward
+from ..sim.harness import run_modes, simulate_gyro_calibration
+from .forward import harness_settings
 
 
 #: Modes launched in the paper's configuration (launch/paper.launch: the paper's
@@ -92,30 +93,41 @@ def return_geometry(forward_path, return_path):
             'pe': 100.0 * (d - cd) / d if d > 0 else float('nan'), 'rm': d - cd}
 
 
+def settings_for(profile, seed):
+    """``settings_of(mode)``: the harness settings ``mode`` is launched with
+    (:func:`recording_settings`), with the gyro calibration of this robot
+    (:func:`gyro_calibration_for`, made once) where the heading correction runs."""
+    calibration = []
+
+    def settings_of(mode):
+        settings = recording_settings(mode)
+        if harness_settings(**settings)['heading_correction']:
+            if not calibration:
+                calibration.append(gyro_calibration_for(profile, seed))
+            settings['gyro_calibration'] = calibration[0]
+        return settings
+    return settings_of
+
+
 def run_job(job):
-    """One (mission, profile, seed, modes, keep_paths) job -> list of row dicts."""
+    """One (mission, profile, seed, modes, keep_paths) job -> list of row dicts. The
+    modes of one launch configuration share the recording (sim/harness.run_modes)."""
     mission_name, profile, seed, modes, keep_paths = job
     mission = load_mission(mission_name)
     sv, asv = set_velocities(mission)
-    stats, rows, calibration = {}, [], None
+    settings_of = settings_for(profile, seed)
+    results = run_modes(mission, profile, modes, seed, settings_of=settings_of)
+    rows = []
     for mode in modes:
-        settings = recording_settings(mode)
-        key = tuple(sorted(settings.items()))
-        if key not in stats:
-            forward = record_forward(mission, profile, seed, **settings)
-            stats[key] = landmark_stats(forward.landmarks, sv, asv, harness_settings()['settle_time'])
-        if harness_settings(**settings)['heading_correction']:
-            calibration = calibration or gyro_calibration_for(profile, seed)
-            settings['gyro_calibration'] = calibration
-        result = run_mission(mission, profile, mode, seed, **settings)
+        result = results[mode]
         row = {'mission': mission_name, 'profile': profile, 'mode': mode, 'seed': seed,
                'sv': sv, 'asv': asv, 'status': result.status, 'reason': result.reason,
                'length': result.distance, 'samples': result.samples, 'bytes': result.bytes,
                'error': result.position_error, 'odom_error': result.odom_error,
-               'duration': result.duration}
+               'floor': result.floor_error, 'duration': result.duration}
         row['error_pct'] = 100.0 * result.position_error / result.distance if result.distance else float('nan')
-        row['deadband'] = harness_settings(**settings)['deadband']
-        row.update(stats[key])
+        row['deadband'] = harness_settings(**settings_of(mode))['deadband']
+        row.update(landmark_stats(result.landmarks, sv, asv, harness_settings()['settle_time']))
         row.update(return_geometry(result.forward_path, result.return_path))
         if keep_paths:
             row['forward_path'] = result.forward_path

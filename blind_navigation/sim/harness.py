@@ -426,11 +426,13 @@ def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=Non
 
 
 def run_modes(mission, profile='ideal', modes=('closed_loop',), seed=0, params=None,
-              settings_of=None, store_dir=None):
+              settings_of=None, store_dir=None, run_mode=None):
     """{mode: MissionResult}: like :func:`run_mission` for each of ``modes`` (same
     results), recording once per configuration. ``settings_of(mode)`` gives a
     mode's settings (default: none); modes with equal settings share the
-    recording, the standstill, the pi turn and the floor."""
+    recording, the standstill, the pi turn and the floor. ``run_mode(mode)``, if
+    given, is the control mode a mode label drives (a label can name a mode in
+    another configuration)."""
     results, shared = {}, {}
     for mode in modes:
         settings = _settings(settings_of(mode) if settings_of else {})
@@ -441,5 +443,6 @@ def run_modes(mission, profile='ideal', modes=('closed_loop',), seed=0, params=N
             recorded.turn(mode_params)
             shared[key] = (recorded, mode_params, recorded.floor(mode_params))
         recorded, mode_params, floor = shared[key]
-        results[mode] = recorded.finish(copy.deepcopy(recorded.run), mode, mode_params, floor)
+        results[mode] = recorded.finish(copy.deepcopy(recorded.run), run_mode(mode) if run_mode else mode,
+                                        mode_params, floor)
     return results
