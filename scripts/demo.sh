@@ -48,8 +48,19 @@ rosparam get /use_sim_time >/dev/null 2>&1 || { echo "demo: no master at $ROS_MA
 
 # as roslaunch finds it (rosrun would also search the workspace inside the repo)
 observer=$(catkin_find --first-only --libexec blind_navigation demo_observer.py)
+"$observer" _scenario:="$scenario" _control:="$control" _results_dir:="$BN_RESULTS_DIR" &
+observing=$!
+# the observer waits in sim time: if the launch ends (a required node died), no clock is left
+while kill -0 "$observing" 2>/dev/null; do
+  if ! kill -0 "$launch" 2>/dev/null; then
+    echo "demo: demo.launch ended before the observer's report (see above)" >&2
+    kill -INT "$observing"
+    break
+  fi
+  sleep 1
+done
 status=0
-"$observer" _scenario:="$scenario" _control:="$control" _results_dir:="$BN_RESULTS_DIR" || status=$?
+wait "$observing" || status=$?
 stop_launch
 if [ "$status" -eq 0 ]; then
   echo "demo: the robot came home"
