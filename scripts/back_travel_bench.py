@@ -4,7 +4,7 @@ of each control mode on the paper's Table VI missions, over seeds.
 
     /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]
         [--modes time distance closed_loop] [--heading-correction on|off]
-        [--standstill-time 120] [--out results/back_travel_bench.md]
+        [--standstill-time 120] [--events] [--out results/back_travel_bench.md]
 
 Prints and writes a Markdown table: per mission, profile and mode the median
 and worst error (m), the median as % of the recorded length, and the paper's
@@ -15,9 +15,13 @@ with blind_navigation.launch's (dead-band 0.01, heading correction with a gyro
 calibration made on another seed: evaluation/montecarlo.gyro_calibration_for).
 ``--heading-correction off`` turns the heading correction off for
 ``closed_loop`` too; ``--standstill-time`` sets its longest standstill after vision
-loss. Same seeds for every mode and profile (on ``ideal`` the seed changes
-nothing). The ``calibration`` column counts the runs whose correction used
-bias and scale, the bias only, the scale only, or nothing.
+loss; ``--events`` records ``closed_loop`` with the proposed motion-event samples
+(core/motion_events.py). Same seeds for every mode and profile (on ``ideal`` the
+seed changes nothing). The ``calibration`` column counts the runs whose
+correction used bias and scale, the bias only, the scale only, or nothing; the
+``floor`` column is the median physical floor (sim/harness: the recorded
+odometry tracked back perfectly on the same robot).
+For paths other than the paper's missions: evaluation/real_like.py.
 """
 import argparse
 import os
@@ -42,6 +46,8 @@ def settings_for(mode, profile, seed, args):
     if settings.get('heading_correction', SIMULATION_DEFAULTS['heading_correction']):
         settings['gyro_calibration'] = gyro_calibration_for(profile, seed)
         settings['standstill_time'] = args.standstill_time
+    if args.events and mode == 'closed_loop':
+        settings['event_sampling'] = True
     return settings
 
 
@@ -56,11 +62,14 @@ def main():
     parser.add_argument('--standstill-time', type=float,
                         default=SIMULATION_DEFAULTS['standstill_time'],
                         help='the longest standstill after vision loss measuring the gyro bias, s')
+    parser.add_argument('--events', action='store_true',
+                        help='closed_loop recorded with the motion-event samples (a proposal)')
     parser.add_argument('--out', default='results/back_travel_bench.md')
     args = parser.parse_args()
     lines = ['| mission | profile | mode | length m | samples | KB | median err m | max err m | '
-             'median % of length | aborted | correction full/bias/scale/none | paper err m |',
-             '|' + '---|' * 12]
+             'median % of length | median floor m | aborted | correction full/bias/scale/none | '
+             'paper err m |',
+             '|' + '---|' * 13]
     for mission in args.missions:
         for profile in args.profiles:
             seeds = range(args.seeds)
@@ -71,10 +80,11 @@ def main():
                 errors = [r.position_error for r in runs]
                 length = statistics.median(r.distance for r in runs)
                 median = statistics.median(errors)
-                line = '| %s | %s | %s | %.2f | %d | %.1f | %.3f | %.3f | %.2f | %d | %s | %s |' % (
+                line = '| %s | %s | %s | %.2f | %d | %.1f | %.3f | %.3f | %.2f | %.3f | %d | %s | %s |' % (
                     mission, profile, mode, length, statistics.median(r.samples for r in runs),
                     statistics.median(r.bytes for r in runs) / 1024.0, median, max(errors),
-                    100.0 * median / length, sum(r.status != 'home' for r in runs),
+                    100.0 * median / length, statistics.median(r.floor_error for r in runs),
+                    sum(r.status != 'home' for r in runs),
                     '/'.join(str(statuses.count(k)) for k in STATUSES),
                     PAPER_TABLE6.get(mission, ''))
                 print(line, flush=True)

@@ -165,12 +165,17 @@ def test_modelled_chord_beats_the_mean_heading_on_turn_then_drive():
 
 
 class _Counting(list):
-    """A list that counts item reads."""
+    """A list that counts item reads (an iteration or a slice reads every item it yields)."""
     reads = 0
 
     def __getitem__(self, index):
-        _Counting.reads += 1
-        return list.__getitem__(self, index)
+        value = list.__getitem__(self, index)
+        _Counting.reads += len(value) if isinstance(index, slice) else 1
+        return value
+
+    def __iter__(self):
+        _Counting.reads += len(self)
+        return list.__iter__(self)
 
 
 def test_building_is_linear_in_the_landmark_count():
@@ -191,3 +196,30 @@ def test_building_is_linear_in_the_landmark_count():
             assert route.vertices <= (route_module.MAX_SUBDIVISIONS + 1) * n
     finally:
         route_module._period_shape = original
+
+
+def _count_reads(route):
+    """Make every read of the route's geometry lists counted (class attribute)."""
+    for name in ('x', 'y', 's', 'speed', 'corner', 'corners'):
+        setattr(route, name, _Counting(getattr(route, name)))
+
+
+def test_following_costs_the_same_per_step_however_long_the_route():
+    from blind_navigation.core.back_travel import RouteFollower
+    from unicycle import Unicycle
+    per_step = []
+    for n in (1000, 4000):
+        landmarks = [Landmark(0.3, 0.1 * math.sin(k / 9.0), 0.3, 1.0, wrap_angle(0.9 * math.cos(k / 9.0)))
+                     for k in range(n)]
+        route = build_route(landmarks, (0.0, 0.0))
+        follower = RouteFollower(route)
+        robot = Unicycle(0.0, 0.0, route.direction(0))
+        follower.start(robot.odom)
+        _count_reads(route)
+        _Counting.reads = 0
+        for _ in range(1000):
+            v, w = follower.step(robot.odom)
+            robot.move(v, w, 0.02)
+        assert not follower.failed and follower.section > 5
+        per_step.append(_Counting.reads / 1000.0)
+    assert per_step[1] < 1.2 * per_step[0], per_step

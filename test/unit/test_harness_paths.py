@@ -1,0 +1,39 @@
+"""The harness on command-series missions: run_modes shares one recording per
+configuration and gives what separate run_mission calls give; the physical floor
+comes with every run; event sampling adds landmarks at motion events."""
+import math
+
+import pytest
+
+from blind_navigation.sim.command_series import CommandSeries
+from blind_navigation.sim.harness import run_mission, run_modes
+
+#: 1.5 m, a 90 deg turn in place, 1 m, a pause, 0.5 m reversing, a final turn in place.
+MISSION = CommandSeries([(0.25, 0.0, 6.0), (0.0, 0.8, math.pi / 1.6), (0.2, 0.1, 5.0), (0.0, 0.0, 1.0),
+                         (-0.15, 0.0, 3.3), (0.0, -0.6, 1.5), (0.0, 0.0, 0.5)], name='small')
+SETTINGS = {'heading_correction': False}
+
+
+def test_run_modes_gives_what_run_mission_gives():
+    shared = run_modes(MISSION, 'paper', ('time', 'closed_loop'), 3, settings_of=lambda mode: SETTINGS)
+    for mode in ('time', 'closed_loop'):
+        alone = run_mission(MISSION, 'paper', mode, 3, **SETTINGS)
+        assert shared[mode].position_error == alone.position_error
+        assert shared[mode].floor_error == alone.floor_error
+        assert shared[mode].landmarks == alone.landmarks
+
+
+def test_closed_loop_comes_home_near_its_floor():
+    result = run_mission(MISSION, 'paper', 'closed_loop', 3, **SETTINGS)
+    assert result.status == 'home', result.reason
+    assert 0.0 < result.floor_error < 0.05 * result.distance
+    assert result.position_error < 0.05 * result.distance
+    assert result.dense_error is not None and math.isfinite(result.dense_error)
+
+
+def test_event_sampling_adds_landmarks_at_motion_events():
+    plain = run_mission(MISSION, 'ideal', 'closed_loop', 0, floor=False, **SETTINGS)
+    events = run_mission(MISSION, 'ideal', 'closed_loop', 0, floor=False, event_sampling=True, **SETTINGS)
+    assert len(events.landmarks) > len(plain.landmarks) + 4
+    assert sum(lm.T for lm in events.landmarks) == pytest.approx(sum(lm.T for lm in plain.landmarks))
+    assert events.status == 'home' and events.position_error < 0.02
