@@ -57,6 +57,7 @@ import tempfile
 from collections import namedtuple
 from types import SimpleNamespace
 
+from ..core.allowance import ABORT, DRIVE, HOLD, OdomGrace
 from ..core.back_travel import RouteFollower
 from ..core.goal import make_goal
 from ..core.geometry import distance, wrap_angle
@@ -96,6 +97,8 @@ SIMULATION_DEFAULTS = {
     'floor': True,             # also run the physical floor (module docstring)
     'event_sampling': False,   # an extra landmark at each motion event (core/motion_events.py:
                                # a proposal; off = the paper's sampling)
+    'odometry_gaps': (),       # ((start, length), ...) s after the pi turn starts: odometry stops
+                               # arriving (held as the nodes hold: core/allowance.OdomGrace)
 }
 
 MissionResult = namedtuple('MissionResult', [
@@ -239,11 +242,39 @@ def _record(run, mission, settings, store_path):
     return load_landmarks(store_path), (base.odom.x, base.odom.y)
 
 
-def _turn(run, params):
-    rotation = Rotation(params)
+class _OdometryFeed(object):
+    """The odometry the nodes would act on, with the gaps of the ``odometry_gaps``
+    setting (odometry stops arriving): within ``odom_timeout`` of the last state
+    the control loop still steps on it (stamped now, as LatestOdom.fresh gives
+    it), then holds at zero (core/allowance.OdomGrace) until odometry returns,
+    or aborts after ``odom_grace``."""
+
+    def __init__(self, run, gaps, params):
+        start = run.base.t
+        self.run = run
+        self.gaps = [(start + begin, start + begin + length) for begin, length in gaps]
+        self.grace = OdomGrace(params)
+        self.last = None
+
+    def state(self):
+        """(decision, OdomState or None, message): DRIVE with the state to step on,
+        HOLD (command zero) or ABORT."""
+        now = self.run.base.t
+        if not any(begin <= now < end for begin, end in self.gaps):
+            self.last = self.run.odom()
+        decision, message = self.grace.check(now, self.last.stamp)
+        return decision, self.last._replace(stamp=now) if decision == DRIVE else None, message
+
+
+def _turn(run, params, settings):
+    rotation, feed = Rotation(params), _OdometryFeed(run, settings['odometry_gaps'], params)
     rotation.start(run.odom())
     while True:
-        command = rotation.step(run.odom())
+        decision, odom, _ = feed.state()
+        if decision == ABORT:
+            run.base.command(0.0, 0.0)
+            return False
+        command = rotation.step(odom) if decision == DRIVE else (0.0, 0.0)
         if rotation.done or rotation.failed:
             run.base.command(0.0, 0.0)
             return rotation.done
@@ -258,12 +289,20 @@ def _return(run, landmarks, anchor, mode, params, settings):
     follower = None
     if mode == 'closed_loop':
         follower = RouteFollower(build_route(landmarks, anchor, params), params)
-    command = (0.0, 0.0)
+    command, feed = (0.0, 0.0), _OdometryFeed(run, settings['odometry_gaps'], params)
     for index, landmark in enumerate(reversed(landmarks)):
         goal = make_goal(mode, landmark, params, follower, index)
         goal.start(run.odom())
         while not goal.done:
-            v, w = goal.step(run.odom())
+            decision, odom, message = feed.state()
+            if decision == ABORT:
+                run.base.command(0.0, 0.0)
+                return 'goal %d: %s' % (index + 1, message), follower
+            if decision == HOLD:
+                command = (0.0, 0.0)
+                run.advance(command)
+                continue
+            v, w = goal.step(odom)
             if goal.failed:
                 run.base.command(0.0, 0.0)
                 return 'goal %d: %s' % (index + 1, goal.reason), follower
@@ -381,7 +420,7 @@ class _Recorded(object):
 
     def turn(self, params):
         if self.turned is None:
-            self.turned = _turn(self.run, params)
+            self.turned = _turn(self.run, params, self.settings)
         return self.turned
 
     def floor(self, params):

@@ -37,3 +37,18 @@ def test_event_sampling_adds_landmarks_at_motion_events():
     assert len(events.landmarks) > len(plain.landmarks) + 4
     assert sum(lm.T for lm in events.landmarks) == pytest.approx(sum(lm.T for lm in plain.landmarks))
     assert events.status == 'home' and events.position_error < 0.02
+
+
+@pytest.mark.parametrize('gap', [(2.0, 3.0), (15.0, 3.0)], ids=['during the pi turn', 'during the return'])
+def test_a_3_s_odometry_gap_is_held_and_the_return_comes_home(gap):
+    steady = run_mission(MISSION, 'paper', 'closed_loop', 3, floor=False, **SETTINGS)
+    result = run_mission(MISSION, 'paper', 'closed_loop', 3, floor=False, odometry_gaps=(gap,), **SETTINGS)
+    assert result.status == 'home', result.reason
+    assert result.position_error < 0.05 * result.distance
+    assert result.duration > steady.duration + 2.0      # held (zero) for most of the gap
+
+
+def test_odometry_gone_longer_than_odom_grace_aborts():
+    result = run_mission(MISSION, 'paper', 'closed_loop', 3, floor=False, odometry_gaps=((15.0, 60.0),),
+                         **SETTINGS)
+    assert result.status == 'aborted' and 'odom_grace' in result.reason
