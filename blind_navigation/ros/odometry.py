@@ -33,6 +33,10 @@ from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from .common import subscribe
 
+#: Messages the subscription queues while its thread is busy (1 s of 50 Hz odometry;
+#: each costs tens of microseconds, so a backlog is worked off at once).
+RECEIVE_QUEUE = 50
+
 
 class OdometryFeed(object):
     """Shared odometry of ``topic`` (see module docstring)."""
@@ -60,8 +64,11 @@ class OdometryFeed(object):
         with self._lock:
             self._holders.add(holder)
             if self._subscriber is None:
+                # a queue of RECEIVE_QUEUE messages: rospy drops all but the newest when its
+                # receive thread falls behind, and a dropped message is a hole in the
+                # history state_at reads the sampling ticks' odometry from
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
-                                             queue_size=5, tcp_nodelay=True)
+                                             queue_size=RECEIVE_QUEUE, tcp_nodelay=True)
 
     def release(self, holder):
         """``holder`` no longer needs it: unsubscribe when nobody does."""

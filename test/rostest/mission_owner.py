@@ -5,17 +5,20 @@ The layer's roles obey only the mission state published by the mission's owner
 without a client names itself as that role's ``~mission_owner`` in its .test file
 and publishes the state with :class:`MissionOwner`.
 """
+import json
 import time
 
 import rospy
-from actionlib_msgs.msg import GoalStatus
-from std_msgs.msg import String
+from std_msgs.msg import Header, String
 
 from blind_navigation import names
+from blind_navigation.core.landmark import Landmark
+from blind_navigation.core.route import build_route
 from blind_navigation.msg import BackTravelGoal
+from blind_navigation.srv import SetReturnRoute
 
-#: A goal no server drives (|v| far beyond the Kobuki's): accepted only in ``returning``,
-#: then aborted for its speed without any motion.
+#: A goal no server takes (|v| far beyond the Kobuki's): rejected as a bad goal while
+#: the mission is returning, for the mission state otherwise.
 UNDRIVABLE = BackTravelGoal(v=5.0, w=0.0, d=1.0, T=2.0, psi=0.0)
 
 
@@ -44,19 +47,21 @@ class MissionOwner(object):
                                      % (count, self.pub.resolved_name, timeout))
             time.sleep(0.02)
 
-    def wait_until_server_takes_goals(self, action, timeout):
-        """Until the back-travel server behind ``action`` (a SimpleActionClient) sees
-        the mission ``returning``: an undrivable goal is then aborted for its speed
-        instead of rejected for the mission state."""
+    def set_route(self, goals, anchor, timeout):
+        """As back_travel_client does when the return starts: give the back-travel
+        server the route back from ``anchor`` (x, y: where the robot is) through
+        ``goals`` (landmark tuples in the order they will be sent), none done yet;
+        retried while the server has not yet seen the mission ``returning``."""
+        route = build_route([Landmark(*goal) for goal in reversed(goals)], anchor)
+        rospy.wait_for_service(names.SET_RETURN_ROUTE, timeout)
+        set_route = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
         deadline = time.monotonic() + timeout
         while True:
-            action.send_goal(UNDRIVABLE)
-            if not action.wait_for_result(rospy.Duration(timeout)):
-                raise AssertionError('no result for a probe goal within %.0f s' % timeout)
-            text = action.get_goal_status_text()
-            if action.get_state() == GoalStatus.ABORTED:
+            response = set_route(header=Header(stamp=rospy.Time.now(), frame_id='odom'),
+                                 route=json.dumps(route.to_lists()),
+                                 landmarks=[value for goal in goals for value in goal], completed=0)
+            if response.ok:
                 return
-            if 'the mission is' not in text or time.monotonic() > deadline:
-                raise AssertionError('the server did not take goals within %.0f s: %s'
-                                     % (timeout, text))
+            if 'the mission is' not in response.message or time.monotonic() > deadline:
+                raise AssertionError('return route refused: %s' % response.message)
             time.sleep(0.05)

@@ -4,8 +4,11 @@ covers d, a curved goal's turn is mirrored, feedback flows, a cancel publishes
 zero velocity at once, a bad goal is refused without moving the robot.
 
 This node is the mission's owner (the server's ~mission_owner): it publishes the
-state ``returning``, so the server takes its goals; another node's goals are
-rejected, and so are goals once the mission has ended."""
+state ``returning`` and, as back_travel_client does, sets the return's route
+(blind_navigation/set_return_route) before each test's goals, which must be the
+route's landmarks in order. Another node's goals are rejected, and so are the
+owner's once the mission has ended."""
+import subprocess
 import time
 import unittest
 
@@ -14,10 +17,11 @@ import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus
 
-from blind_navigation.msg import BackTravelAction, BackTravelGoal
+from blind_navigation.msg import BackTravelAction, BackTravelActionResult, BackTravelGoal
 
 from fake_base import FakeBase
-from mission_owner import MissionOwner
+from mission_owner import UNDRIVABLE, MissionOwner
+from waiting import wait_for
 
 TIMEOUT = 20.0
 
@@ -32,16 +36,21 @@ class BackTravelServerTest(unittest.TestCase):
         assert cls.client.wait_for_server(rospy.Duration(TIMEOUT)), 'server did not come up'
         cls.owner = MissionOwner('/back_travel_server')
         cls.owner.publish('returning')
-        cls.owner.wait_until_server_takes_goals(cls.client, TIMEOUT)
 
-    def send(self, **goal):
+    def drive(self, *goals):
+        """Set the route of ``goals`` (landmark tuples) from where the base is, send the
+        first; returns the feedback list it fills."""
+        self.owner.set_route(goals, (self.base.x, self.base.y), TIMEOUT)
+        return self.send(*goals[0])
+
+    def send(self, *goal):
         feedback = []
-        self.client.send_goal(BackTravelGoal(**goal), feedback_cb=feedback.append)
+        self.client.send_goal(BackTravelGoal(*goal), feedback_cb=feedback.append)
         return feedback
 
     def test_distance_goal_covers_d_with_feedback(self):
         x0 = self.base.x
-        feedback = self.send(v=0.2, w=0.0, d=0.3, T=2.0, psi=0.0)
+        feedback = self.drive((0.2, 0.0, 0.3, 2.0, 0.0))
         self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED)
         self.assertAlmostEqual(self.client.get_result().distance, 0.3, delta=0.02)
@@ -52,7 +61,7 @@ class BackTravelServerTest(unittest.TestCase):
 
     def test_curved_goal_mirrors_the_turn(self):
         start = len(self.base.commands)
-        self.send(v=0.1, w=0.3, d=0.1, T=1.0, psi=0.5)
+        self.drive((0.1, 0.3, 0.1, 1.0, 0.5))
         self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
         moving = [c for c in self.base.commands[start:] if c[1] != 0.0]
         self.assertTrue(moving, 'no command published')
@@ -60,7 +69,7 @@ class BackTravelServerTest(unittest.TestCase):
 
     def test_cancel_publishes_zero_at_once(self):
         # a long goal (5 s at 0.2 m/s; d must be within what the base covers in T)
-        self.send(v=0.2, w=0.0, d=1.0, T=5.0, psi=0.0)
+        self.drive((0.2, 0.0, 1.0, 5.0, 0.0))
         deadline = time.time() + 10.0
         while time.time() < deadline and self.base.v <= 0.0:
             time.sleep(0.02)
@@ -78,12 +87,65 @@ class BackTravelServerTest(unittest.TestCase):
                         % (stamp - cancelled))
 
     def test_bad_goal_is_refused_without_motion(self):
+        # screened when it arrives: rejected (it used to be accepted, then aborted); the
+        # route set first (the server then sees the mission returning) holds another goal
+        self.owner.set_route([(0.1, 0.0, 0.2, 2.0, 0.0)], (self.base.x, self.base.y), TIMEOUT)
         start = len(self.base.commands)
-        self.send(v=5.0, w=0.0, d=1.0, T=2.0, psi=0.0)
+        self.send(5.0, 0.0, 1.0, 2.0, 0.0)
         self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
-        self.assertEqual(self.client.get_state(), GoalStatus.ABORTED)
+        self.assertEqual(self.client.get_state(), GoalStatus.REJECTED)
         self.assertIn('|v|', self.client.get_goal_status_text())
         self.assertFalse([c for c in self.base.commands[start:] if c[1:] != (0.0, 0.0)])
+
+    def test_only_the_routes_next_landmark_is_taken(self):
+        first, second = (0.1, 0.0, 0.1, 1.0, 0.0), (0.1, 0.0, 0.2, 2.0, 0.0)
+        self.owner.set_route((first, second), (self.base.x, self.base.y), TIMEOUT)
+        self.send(*second)
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
+        self.assertEqual(self.client.get_state(), GoalStatus.REJECTED)
+        self.assertIn('not the next landmark of the route', self.client.get_goal_status_text())
+        for goal in (first, second):
+            self.send(*goal)
+            self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
+            self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED,
+                             self.client.get_goal_status_text())
+
+    def test_goals_only_from_the_mission_owner_while_returning(self):
+        self.owner.set_route([(0.1, 0.0, 0.2, 2.0, 0.0)], (self.base.x, self.base.y), TIMEOUT)
+        start = len(self.base.commands)
+        results = []
+        subscriber = rospy.Subscriber('/blind_navigation/back_travel/result', BackTravelActionResult,
+                                      results.append)
+        try:
+            # another node's goal (a second client) is rejected, even the route's next one
+            subprocess.run(['rostopic', 'pub', '-1', '/blind_navigation/back_travel/goal',
+                            'blind_navigation/BackTravelActionGoal',
+                            "{goal_id: {id: 'stranger'}, goal: {v: 0.1, w: 0.0, d: 0.2, T: 2.0, psi: 0.0}}"],
+                           check=True, timeout=TIMEOUT, stdout=subprocess.DEVNULL)
+            wait_for(lambda: [r for r in results if r.status.goal_id.id == 'stranger'],
+                     'a result for the goal of another node', TIMEOUT)
+        finally:
+            subscriber.unregister()
+        stranger = [r for r in results if r.status.goal_id.id == 'stranger'][0].status
+        self.assertEqual(stranger.status, GoalStatus.REJECTED, stranger.text)
+        self.assertIn('only %s sends back-travel goals' % rospy.get_name(), stranger.text)
+        # the owner's goal once the mission has ended is rejected too
+        self.owner.publish('home')
+        try:
+            deadline = time.monotonic() + TIMEOUT
+            while True:     # until the server has seen the state, a probe is a bad goal
+                self.client.send_goal(UNDRIVABLE)
+                self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
+                text = self.client.get_goal_status_text()
+                if 'the mission is' in text or time.monotonic() > deadline:
+                    break
+                time.sleep(0.05)
+            self.assertEqual(self.client.get_state(), GoalStatus.REJECTED)
+            self.assertIn('the mission is home', text)
+        finally:
+            self.owner.publish('returning')
+        self.assertFalse([c for c in self.base.commands[start:] if c[1:] != (0.0, 0.0)],
+                         'a rejected goal moved the base')
 
 
 if __name__ == '__main__':

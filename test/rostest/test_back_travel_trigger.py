@@ -16,6 +16,7 @@ from nav_msgs.msg import Path
 from std_msgs.msg import String
 
 from blind_navigation.core.landmark import Landmark
+from blind_navigation.core.progress import progress_path
 from blind_navigation.core.store import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
@@ -37,8 +38,9 @@ class TriggerTest(unittest.TestCase):
         rospy.init_node('test_back_travel_trigger')
         path = rospy.get_param('~landmark_file')
         os.makedirs(os.path.dirname(path), exist_ok=True)
-        if os.path.exists(path):
-            os.remove(path)
+        for stale in (path, progress_path(path)):   # a progress file left over would resume
+            if os.path.exists(stale):
+                os.remove(stale)
         with LandmarkWriter(path, fsync=False) as writer:
             for landmark in arc_landmarks():
                 writer.append(landmark)
