@@ -15,10 +15,12 @@ direction, landmarks in reverse order, one action goal per landmark. Modes:
   (core/route.build_route: modelled curves between ticks, reversed stretches,
   corners where the robot turned in place or reversed) and
   :class:`RouteFollower` drives it: pure pursuit along each piece between
-  corners, at the recorded speed (never faster: core/safety.goal_limits per
-  section), slowing down towards each corner and the end, stopping at a
-  corner and turning in place to face along the next piece. The robot always
-  drives forward (the Kobuki's bumper is at its front).
+  corners (lookahead growing with speed), at the recorded speed (never
+  faster: :func:`section_limits`, core/safety.goal_limits per section, except
+  that a stretch recorded slower than ``creep_v`` may be driven at it),
+  slowing down towards each corner and the end, stopping at a corner and
+  turning in place (core/rotation.Rotation) to face the route a little ahead.
+  The robot always drives forward (the Kobuki's bumper is at its front).
 
 Closed-loop API (the ROS action server and client, and the harness)::
 
@@ -28,6 +30,7 @@ Closed-loop API (the ROS action server and client, and the harness)::
     while not (follower.done or follower.failed):
         v, w = follower.step(odom_state)     # clamped to the section's limits
         follower.section_finished(i)         # goal i (return order) done?
+    follower.limits[i]                       # goal i's VelocityLimits (clamp the output by these)
     follower.reason                          # why it failed ('' otherwise)
     follower.progress                        # (m along the route, corner turn phase)
     follower.section                         # first unfinished section

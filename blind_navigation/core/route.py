@@ -6,7 +6,7 @@ and the harness)::
     route = build_route(landmarks, anchor, params=None)   # landmarks in recording order,
                                                           # anchor = (x, y) where recording stopped
     route.sections            # one per landmark, in RETURN order (goal i = landmarks[-1 - i])
-    route.section_end(i)      # (vertex, phase): where goal i ends (see "Progress" below)
+    route.section_end(i)      # (s, phase): the progress at which goal i ends ("Progress" below)
     route.length              # m along the route
     landmark_positions(landmarks, anchor)  # where each landmark was taken, rebuilt
     data = route.to_lists()   # {name: [float, ...]}: plain, serialisable (progress file, ROS)
@@ -26,13 +26,17 @@ exact on arcs; on turn-then-drive within one period it is the heading the
 robot drove at, not the mean of the two ``psi``) and intermediate points
 (``curve_step`` rad, ``curve_spacing`` m apart), scaled to the recorded ``d``, so
 the route follows the recorded arcs instead of cutting across them. ``v`` keeps
-its sign: a stretch recorded reversing has the direction ``psi + pi``.
+its sign: a stretch recorded reversing has the direction ``psi + pi``. What
+the landmarks cannot tell is when within a period the way of moving changed: a
+reversal within one period leaves even the sign of its chord open, a turn in
+place and driving off within one period its timing (core/motion_events.py
+proposes a landmark at each such change).
 
-Points closer than ``merge_distance`` merge, and so do the points of a
-period that turned on a radius below ``in_place_radius`` and moved at most a
-few merge distances (a turn in place: the base's wheel jitter moves it a
-centimetre or two while it turns), so
-pauses, turns in place and odometry jitter leave no short, noisy pieces. Where the route turns by more than
+Points closer than ``merge_distance`` merge, and so do the points of a period
+that turned on a radius below ``in_place_radius`` and moved at most a few merge
+distances (a turn in place: the base's wheel jitter moves it a centimetre or
+two while it turns), so pauses, turns in place and odometry jitter leave no
+short, noisy pieces. Where the route turns by more than
 ``corner_angle`` at one point (a turn in place, a cusp where the recorded
 motion reversed, a turn-then-drive) the point is a *corner*: the follower drives
 to it, stops, turns in place to face along the next piece, and drives on; the
