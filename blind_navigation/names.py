@@ -58,8 +58,6 @@ ROTATION_DONE = 'blind_navigation/rotation_done'
 SET_RETURN_ROUTE = 'blind_navigation/set_return_route'
 #: blind_navigation/HeadingCorrection, latched: the gyro correction of the return
 HEADING_CORRECTION = 'blind_navigation/heading_correction'
-#: nav_msgs/Odometry in the heading-corrected frame, for the turn and the return
-ODOM_CORRECTED = 'blind_navigation/odom_corrected'
 
 # --- the fake TurtleBot's evaluation names (sim/ and evaluation/ only, INTERFACE.md)
 #: nav_msgs/Odometry, the true pose (frame world)

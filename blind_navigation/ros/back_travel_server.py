@@ -58,6 +58,7 @@ from blind_navigation.core.route import Route
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
@@ -105,6 +106,8 @@ class BackTravelServer(object):
                                              self._on_cancel, auto_start=False)
         self.server.start()
         threading.Thread(target=self._work, name='back_travel_goals', daemon=True).start()
+        self.last_abort = ''
+        layer.diagnostics.add('back travel', self._diagnose)
         self.log.info('serving %s in %s mode on %s', rospy.resolve_name(names.BACK_TRAVEL),
                       p.control, rospy.resolve_name(names.CMD_VEL))
 
@@ -220,6 +223,17 @@ class BackTravelServer(object):
         elif new in mission_state.TERMINAL:
             self.odometry.release(self.ROLE)
 
+    def _diagnose(self, stat):
+        stat.add('control', self.params.control)
+        stat.add('goals done', '%d of %d' % (self.next_goal, len(self.landmarks)))
+        if self.layer.mission.state == mission_state.RETURNING:
+            diagnostics.age_status(stat, 'odometry', self.odometry.age(), self.params.odom_timeout,
+                                   diagnostics.ERROR)
+        elif self.last_abort:
+            stat.summary(diagnostics.ERROR, 'last goal aborted: %s' % self.last_abort)
+        else:
+            stat.summary(diagnostics.OK, 'ready' if self.route is None else 'route set')
+
     def _on_handover_timeout(self, _event):
         with self._lock:
             if self._active is None:
@@ -251,6 +265,7 @@ class BackTravelServer(object):
             kind, result, text = 'aborted', BackTravelResult(), 'internal error: %s' % error
         if kind == 'aborted':
             self.log.error('goal aborted: %s', text)
+            self.last_abort = text
         with self._lock:
             self._active = None
             if kind == 'succeeded':

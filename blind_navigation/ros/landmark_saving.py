@@ -49,6 +49,7 @@ from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder, storage_usage
 from blind_navigation.core.store import open_mission_file
 from blind_navigation.msg import StorageUsage
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import ros_home_file
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
@@ -102,6 +103,20 @@ class LandmarkSaving(object):
                           os.path.basename(path))
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
+        layer.diagnostics.add('%s: recording' % role, self._diagnose)
+
+    def _diagnose(self, stat):
+        stat.add('file', self.writer.path)
+        stat.add('landmarks', self.writer.count)
+        stat.add('bytes', self.writer.bytes)
+        stat.add('lost', self.writer.lost)
+        if self.error:
+            stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (self.writer.lost, self.error))
+        elif self.finished:
+            stat.summary(diagnostics.OK, 'recording finished: %d landmarks' % self.writer.count)
+        else:
+            stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
+                         % (self.writer.count, self.writer.total_distance))
 
     def save(self, command, yaw, period, stamp):
         """Save the landmark of the tick at ``stamp`` (s); return ``(label, '')`` or

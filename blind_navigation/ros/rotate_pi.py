@@ -17,10 +17,11 @@ most ``correction_timeout`` s (core/gyro_bias.standstill_timeout of
 ``standstill_time`` plus a margin); none by then: no turn, rotation_done false.
 The turn then runs on the corrected odometry.
 
-Odometry hiccups: odometry older than ``odom_timeout`` commands zero at once
-and holds the turn (the hold does not count against the time allowance); the
-turn continues when odometry comes back within ``odom_grace`` s and fails
-otherwise. Every hold is logged with its length.
+Odometry hiccups (core/allowance.OdomGrace, as the back travel): odometry older
+than ``odom_timeout`` (or refused as implausible) commands zero at once and
+holds the turn (the hold does not count against the time allowance); the turn
+continues when odometry comes back within ``odom_grace`` s and fails otherwise.
+Every hold is logged with its length.
 
 A rotate_pi (re)started while the mission is already ``rotating`` does not know
 how far the robot turned: it reports rotation_done false at once, so the
@@ -38,9 +39,11 @@ from std_msgs.msg import Bool
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
+from blind_navigation.core.allowance import ABORT, ALLOWANCE_DEFAULTS, HOLD, OdomGrace
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.msg import PathSample
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED, subscribe
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.sampling_publisher import FINAL
@@ -50,18 +53,20 @@ class RotatePi(object):
     """Turns by ``angle`` when vision is lost (module docstring)."""
 
     ROLE = mission_state.ROTATION_ROLE
-    DEFAULTS = dict(ROTATION_DEFAULTS, control_rate=50.0, odom_timeout=0.4, odom_grace=3.0,
+    DEFAULTS = dict(ROTATION_DEFAULTS, control_rate=50.0,
+                    odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],
+                    odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],
                     recording_end_timeout=1.0, wait_for_heading_correction=REQUIRED,
                     standstill_time=STANDSTILL_DEFAULTS['standstill_time'], correction_margin=25.0)
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
         self.log = layer.logger(self.ROLE)
-        if p.control_rate <= 0 or p.odom_timeout <= 0 or p.odom_grace < 0 \
-                or p.recording_end_timeout < 0 or p.correction_margin < 0:
-            raise ValueError('~control_rate and ~odom_timeout must be positive, ~odom_grace, '
-                             '~recording_end_timeout and ~correction_margin not negative')
+        if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
+            raise ValueError('~control_rate must be positive, ~recording_end_timeout and '
+                             '~correction_margin not negative')
         Rotation(p)  # validates the rotation params now, not at the first vision loss
+        OdomGrace(p)
         self.correction_timeout = standstill_timeout(p) + p.correction_margin
         self.layer = layer
         self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety)
@@ -71,8 +76,18 @@ class RotatePi(object):
         self._recording_ended = threading.Event()
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
         subscribe(names.SAMPLE, PathSample, self._on_sample, queue_size=10)
+        self.status = 'waiting for vision loss'
         layer.safety.on_trip(self._on_trip)
         layer.mission.on_change(self._on_state)
+        layer.diagnostics.add('pi turn', self._diagnose)
+
+    def _diagnose(self, stat):
+        failed = self.status.startswith('failed')
+        stat.summary(diagnostics.ERROR if failed else diagnostics.OK, self.status)
+        if self.correction is not None:
+            stat.add('heading correction', 'installed' if self.correction.received else 'awaited')
+        if self.layer.safety.active:
+            stat.add('safety', ', '.join(self.layer.safety.active))
 
     # --- events ----------------------------------------------------------------------------------
     def _on_sample(self, msg):
@@ -104,14 +119,17 @@ class RotatePi(object):
                 continue
             self._trigger.clear()
             self.layer.odometry.acquire(self.ROLE)
+            self.status = 'turning'
             try:
                 self._wait_for_recording_end()
                 ok = self._wait_for_heading_correction() and self.rotate()
             finally:
                 self.output.halt('turn over')
                 self.layer.odometry.release(self.ROLE)
+            self.status = 'turned' if ok else 'failed (see the log)'
             if self.rotating:
                 self.done_pub.publish(Bool(data=ok))
+            self.layer.diagnostics.now()
 
     def _wait_for_recording_end(self):
         """Until the recorder's final sample is seen or ``recording_end_timeout`` (sim) passes."""
@@ -166,30 +184,26 @@ class RotatePi(object):
         rotation.start(odom)
         rate = rospy.Rate(p.control_rate)
         self.output.release()
-        held_since = None
+        grace = OdomGrace(p)
         try:
             while not rospy.is_shutdown() and self.rotating:
                 if self._tripped:
                     self.log.error('turn stopped: safety stop: %s', self._tripped)
                     return False
-                odom = odometry.fresh(p.odom_timeout)
-                now = rospy.get_time()
-                if odom is None:
-                    if held_since is None:
-                        held_since = now
-                        self.output.stop()
-                        self.log.warn('turn held: %s', odometry.describe_missing(p.odom_timeout))
-                    elif now - held_since > p.odom_grace:
-                        self.log.error('turn stopped: %s for %.1f s (odom_grace %.1f s)',
-                                       odometry.describe_missing(p.odom_timeout), now - held_since,
-                                       p.odom_grace)
-                        return False
+                now, age = rospy.get_time(), odometry.age()
+                held = len(grace.holds)
+                decision, message = grace.check(now, None if age is None else now - age)
+                if message:
+                    (self.log.error if decision == ABORT else self.log.warn)('turn: %s', message)
+                if decision == ABORT:
+                    return False
+                if decision == HOLD:
+                    self.output.stop()
                     rate.sleep()
                     continue
-                if held_since is not None:
-                    self.log.warn('turn resumed after a %.2f s hold without odometry', now - held_since)
-                    rotation.hold(now - held_since)
-                    held_since = None
+                if len(grace.holds) > held:
+                    rotation.hold(grace.holds[-1][1])   # held time is not turning time
+                odom = odometry.fresh(p.odom_timeout)
                 v, w = rotation.step(odom)
                 if rotation.done or rotation.failed:
                     break

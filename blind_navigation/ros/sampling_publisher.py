@@ -34,6 +34,7 @@ from blind_navigation import names
 from blind_navigation.core import mission_state
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, SamplingSchedule, period_of
 from blind_navigation.msg import PathSample
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 
 #: PathSample.command values: a regular tick, and the last partial cycle.
@@ -72,6 +73,17 @@ class SamplingPublisher(object):
             self.source = rospy.resolve_name(names.ODOM)
             layer.odometry.acquire(self.ROLE)
         layer.mission.on_change(self._on_state)
+        layer.diagnostics.add('sampling', self._diagnose)
+
+    def _diagnose(self, stat):
+        stat.add('segment', self.schedule.segment)
+        stat.add('period (s)', '%.3g' % self.schedule.period)
+        if self.stopped:
+            stat.summary(diagnostics.OK, 'recording stopped')
+        elif self._last_tick is None:
+            stat.summary(diagnostics.WARN, 'waiting for a valid yaw on %s and the recorder' % self.source)
+        else:
+            stat.summary(diagnostics.OK, 'sampling: %s segment' % self.schedule.segment)
 
     # -- inputs -------------------------------------------------------------
     def _on_pose2d(self, msg):
