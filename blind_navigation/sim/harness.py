@@ -6,7 +6,7 @@ control step: a scripted operator (sim/mission.py) drives a SimulatedKobuki
 landmarks from its odometry; the mission ends, the robot is left to stop,
 vision is lost (a final landmark covers the partial cycle, the return route is
 anchored at the odometry position), core/rotation.py turns by pi, and the
-core/back_travel.py controllers drive the landmarks back in reverse order.
+landmarks are driven back in reverse order.
 Between goals the last command holds; after the last goal it is dropped after
 ``handover_timeout`` (as back_travel_server does). The landmark store is
 written for real (core/store.LandmarkWriter) to measure its size, and landmarks
@@ -36,9 +36,10 @@ replayed real trajectories from config/paths).
 
 The physical floor (``floor`` setting): on a copy of the same robot after the
 same recording, standstill and pi turn (same seed, same state), a follower
-tracks the recorded 50 Hz odometry poses backwards (each odometry sample a
-landmark, in the same heading-corrected frame, the same route builder and
-follower): ``dense_error`` is its true final error, ``floor_error`` the true
+tracks the recorded 50 Hz odometry poses backwards (every odometry state that
+moved 1 cm, turned 0.05 rad or reversed since the last one kept, as a landmark:
+:func:`dense_landmarks`; in the same heading-corrected frame, the same route
+builder and follower): ``dense_error`` is its true final error, ``floor_error`` the true
 error it would have had had its odometry ended exactly on the start (the
 residual odometry offset at its end mapped out through the odometry-to-truth
 transform there): what tracking the recorded odometry perfectly leaves, which
