@@ -1,4 +1,4 @@
-"""Motion events: where an extra landmark makes the recorded path unambiguous (a proposal).
+"""Motion events: where an extra landmark makes the recorded path unambiguous.
 
 The paper samples at fixed periods (1 s on curves, 2 s on straight segments).
 Five numbers at each end of a period describe smooth motion well (core/route.py
@@ -25,8 +25,10 @@ file format unchanged. The periodic ticks keep their times but are taken
 ``event_latency`` s late (from the odometry at their stamp), so an event dated
 back before a tick is stored before it.
 
-Plain Python; the harness uses it with ``event_sampling`` on (off by default:
-the paper's sampling).
+:class:`EventSampler` interleaves those landmarks with the periodic ticks, the
+same way for the sampling publisher (blind_navigation.launch: ``event_sampling``
+on; launch/paper.launch keeps the paper's sampling) and the simulation harness.
+Plain Python.
 """
 from collections import deque
 
@@ -103,3 +105,49 @@ class MotionEvents(object):
             since, self._left_old = self._left_old, None
             return since if since is not None else stamp
         return None
+
+
+class EventSampler(object):
+    """The motion-event samples of one recording, in time order with the periodic
+    ticks (module docstring). Feed every odometry state to :meth:`odometry`;
+    before taking the periodic tick stamped ``t`` (``latency`` s after it), take
+    the samples :meth:`before` gives, then the tick itself with the period
+    :meth:`tick` gives."""
+
+    def __init__(self, params=None):
+        self.events = MotionEvents(params)
+        self.latency = self.events.event_latency
+        self.pending = []          # event stamps not taken yet
+        self.last = None           # stamp of the last sample taken (event or tick)
+        self._split = False        # an event sample was taken since the last tick
+
+    def start(self, stamp):
+        """The recording starts at ``stamp`` (s)."""
+        self.last = stamp
+
+    def odometry(self, state):
+        """One odometry state (every one, in order)."""
+        event = self.events.update(state)
+        if event is not None:
+            self.pending.append(event)
+
+    def before(self, stamp, state_at):
+        """[(state, period)]: the event samples to take before a sample at ``stamp``,
+        oldest first; ``state_at(t)`` gives the odometry state at ``t`` (the
+        latest stamped no later than it). Each period is the time since the
+        previous sample."""
+        taken = []
+        while self.pending and self.pending[0] < stamp - 1e-9:
+            state = state_at(self.pending.pop(0) + 1e-9)
+            if state is not None and state.stamp > self.last + 1e-9:
+                taken.append((state, state.stamp - self.last))
+                self.last, self._split = state.stamp, True
+        return taken
+
+    def tick(self, stamp, period):
+        """The period to record for the periodic tick at ``stamp`` whose own period
+        is ``period``: the time since the last event sample if one came between."""
+        if self._split:
+            period = stamp - self.last
+        self.last, self._split = stamp, False
+        return period

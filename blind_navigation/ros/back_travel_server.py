@@ -293,7 +293,8 @@ class BackTravelServer(object):
         if odom is None:
             self.output.halt('odometry')
             return 'aborted', BackTravelResult(), self.odometry.describe_missing(p.odom_timeout)
-        self.output.limit(goal_limits(landmark, p.max_v, p.max_w, p.correction_w))
+        self.output.limit(self.follower.limits[self.next_goal] if self.follower is not None
+                          else goal_limits(landmark, p.max_v, p.max_w, p.correction_w))
         self.output.release()
         goal = make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal)
         goal.start(odom)

@@ -10,6 +10,16 @@ the next cycle. Each cycle it publishes blind_navigation/PathSample (command
 ``sample``, the yaw, the period of the cycle that just ended) on
 ``blind_navigation/sample``.
 
+With ``event_sampling`` (blind_navigation.launch; launch/paper.launch keeps the
+paper's sampling) it also takes a sample at each motion event
+(core/motion_events.EventSampler: the robot starts or stops translating,
+reverses, starts or stops turning in place), stamped where the change began,
+with the time since the previous sample as its period: the periods alone
+cannot tell when within a period the robot reversed or turned in place. The
+periodic ticks keep their times but are published ``event_latency`` s late
+(stamped at their tick, with the yaw of the odometry there: the saver reads the
+odometry at a sample's stamp), so an event dated back before a tick comes first.
+
 Recording starts with the first valid yaw, once the recorder (and rotate_pi,
 ``min_subscribers``) listen (launch this role last, section 3.4.2). It ends
 when the mission leaves recording (core/mission_state.records: the owner
@@ -22,7 +32,8 @@ trigger while idle changes nothing.
 Params (``layer.params``): ``straight_rate``, ``curved_rate`` (Hz) and
 ``deadband`` (rad per yaw difference) of core/segment.SAMPLING_DEFAULTS,
 ``yaw_source`` (``odom`` or ``pose2d``), ``min_subscribers`` (recording starts
-once this many nodes subscribe to the samples).
+once this many nodes subscribe to the samples), ``event_sampling`` (set by the
+launch files) and core/motion_events.EVENT_DEFAULTS.
 """
 import math
 import threading
@@ -32,10 +43,11 @@ from geometry_msgs.msg import Pose2D
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
+from blind_navigation.core.motion_events import EVENT_DEFAULTS, EventSampler
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, SamplingSchedule, period_of
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.common import REQUIRED, subscribe
 
 #: PathSample.command values: a regular tick, and the last partial cycle.
 SAMPLE = 'sample'
@@ -50,7 +62,8 @@ class SamplingPublisher(object):
     """Two-rate sampling publisher (module docstring)."""
 
     ROLE = 'sampling_publisher'
-    DEFAULTS = dict(SAMPLING_DEFAULTS, yaw_source='odom', min_subscribers=1)
+    DEFAULTS = dict(SAMPLING_DEFAULTS, **EVENT_DEFAULTS, yaw_source='odom', min_subscribers=1,
+                    event_sampling=REQUIRED)
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS)
@@ -60,6 +73,13 @@ class SamplingPublisher(object):
                                                                           p.yaw_source))
         self.schedule = SamplingSchedule(period_of(p.straight_rate, '~straight_rate'),
                                          period_of(p.curved_rate, '~curved_rate'), p.deadband)
+        if p.event_sampling and p.yaw_source != 'odom':
+            raise ValueError('~event_sampling needs ~yaw_source odom (the events come from odometry)')
+        self.events = EventSampler(p) if p.event_sampling else None
+        if self.events is not None and self.events.latency >= min(self.schedule.straight_period,
+                                                                  self.schedule.curved_period):
+            raise ValueError('~event_latency %.2f s must be shorter than the sampling periods'
+                             % self.events.latency)
         self.layer = layer
         self._lock = threading.Lock()
         self._pose2d_yaw = None
@@ -112,20 +132,34 @@ class SamplingPublisher(object):
             if self._last_tick is None:
                 self.log.info('%s before recording started; nothing recorded', reason)
             else:
+                if self.events is not None:
+                    self._publish_events(rospy.get_time())
                 elapsed = (rospy.Time.now() - self._last_tick).to_sec()
                 if elapsed >= MIN_FINAL_PERIOD:
                     self._publish(FINAL, self._yaw(), elapsed)
                 self.log.info('%s: recording stopped (final partial cycle %.3f s)', reason, elapsed)
         if self.params.yaw_source == 'odom':
+            if self.events is not None:
+                self.layer.odometry.remove_listener(self._on_odometry)
             self.layer.odometry.release(self.ROLE)
 
-    def _publish(self, command, yaw, period):
-        """Publish one sample (lock held) and mark the tick."""
-        now = rospy.Time.now()
+    def _publish(self, command, yaw, period, stamp=None):
+        """Publish one sample (lock held) stamped ``stamp`` (rospy.Time, default now)
+        and mark the tick."""
         msg = PathSample(command=command, yaw=yaw, period=period)
-        msg.header.stamp = now
+        msg.header.stamp = stamp or rospy.Time.now()
         self.sample_pub.publish(msg)
-        self._last_tick = now
+        self._last_tick = msg.header.stamp
+
+    def _on_odometry(self, state):
+        with self._lock:
+            if not self.stopped:
+                self.events.odometry(state)
+
+    def _publish_events(self, before):
+        """Publish the motion-event samples stamped before ``before`` (s; lock held)."""
+        for state, period in self.events.before(before, self.layer.odometry.state_at):
+            self._publish(SAMPLE, state.yaw, period, rospy.Time.from_sec(state.stamp))
 
     def _wait_for_start(self):
         """Until a valid yaw arrives and the state allows recording; False if stopped."""
@@ -139,6 +173,9 @@ class SamplingPublisher(object):
                 if ready and yaw is not None and mission_state.records(self.layer.mission.state):
                     self._last_tick = rospy.Time.now()
                     self.schedule.update(yaw)
+                    if self.events is not None:
+                        self.events.start(self._last_tick.to_sec())
+                        self.layer.odometry.add_listener(self._on_odometry)
                     return True
             if not logged:
                 self.log.info('waiting for a valid yaw on %s and %d subscriber(s) of %s', self.source,
@@ -157,13 +194,22 @@ class SamplingPublisher(object):
         while not rospy.is_shutdown():
             try:
                 rate.sleep()
+                tick = rospy.Time.now()
+                if self.events is not None:   # taken late: motion events before the tick first
+                    rospy.sleep(self.events.latency)
             except rospy.ROSInterruptException:
                 return
             with self._lock:
                 if self.stopped:
                     return
-                yaw = self._yaw()
-                self._publish(SAMPLE, yaw, period)
+                if self.events is None:
+                    yaw = self._yaw()
+                    self._publish(SAMPLE, yaw, period)
+                else:
+                    state = self.layer.odometry.state_at(tick.to_sec())
+                    yaw = state.yaw if state is not None else self._yaw()
+                    self._publish_events(tick.to_sec())
+                    self._publish(SAMPLE, yaw, self.events.tick(tick.to_sec(), period), tick)
                 next_period = self.schedule.update(yaw)
             if next_period != period:
                 self.log.info('%s segment: period %.3g s -> %.3g s', self.schedule.segment, period,

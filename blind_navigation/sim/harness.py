@@ -63,7 +63,7 @@ from ..core.back_travel import RouteFollower
 from ..core.goal import make_goal
 from ..core.geometry import distance, wrap_angle
 from ..core.landmark import Landmark
-from ..core.motion_events import MotionEvents
+from ..core.motion_events import EventSampler
 from ..core.route import build_route
 from ..core.gyro_bias import (STANDSTILL_DEFAULTS, StandstillBias, standstill_complete,
                               standstill_timeout)
@@ -193,9 +193,11 @@ def _record(run, mission, settings, store_path):
     if operator is not None:
         operator.start(base.true_pose)
     settle_steps = int(round(settings['settle_time'] / dt))
-    events = MotionEvents() if settings['event_sampling'] else None
-    latency = events.event_latency if events else 0.0
-    history, pending = OdometryHistory(max(2.0, 2.0 * latency)), []
+    events = EventSampler() if settings['event_sampling'] else None
+    latency = events.latency if events else 0.0
+    history = OdometryHistory(max(2.0, 2.0 * latency))
+    if events:
+        events.start(0.0)
     with LandmarkWriter(store_path, fsync=False, metadata={'mission': mission.name}) as writer:
 
         def take(state, period):
@@ -205,13 +207,11 @@ def _record(run, mission, settings, store_path):
         def take_events(before, last_tick):
             """Landmarks at the motion events stamped before ``before`` (time order);
             returns the stamp of the last landmark."""
-            while pending and pending[0] < before - 1e-9:
-                state = history.at(pending.pop(0) + 1e-9)
-                if state.stamp > last_tick + 1e-9:
-                    last_tick = take(state, state.stamp - last_tick)
+            for state, event_period in events.before(before, history.at) if events else ():
+                last_tick = take(state, event_period)
             return last_tick
 
-        k, finished_at, split = 0, None, False
+        k, finished_at = 0, None
         while finished_at is None or k < finished_at + settle_steps:
             command = None
             if finished_at is None and k % operator_every == 0:
@@ -224,17 +224,13 @@ def _record(run, mission, settings, store_path):
                 operator.observe(k * dt, base.true_pose)
             if events is not None:
                 history.append(base.odom)
-                event = events.update(base.odom)
-                if event is not None:
-                    pending.append(event)
+                events.odometry(base.odom)
             if base.t >= next_tick + latency - 1e-9:
                 # with event sampling the tick is taken latency s late, from the odometry at its
                 # stamp (as the saver reads it), so events dated back before it come first
                 state = history.at(next_tick + 1e-9) if latency else base.odom
-                taken, last_tick = last_tick, take_events(state.stamp, last_tick)
-                split = split or last_tick != taken
-                last_tick = take(state, state.stamp - last_tick if split else period)
-                split = False
+                take_events(state.stamp, last_tick)
+                last_tick = take(state, events.tick(state.stamp, period) if events else period)
                 period = schedule.update(state.yaw)
                 next_tick = state.stamp + period
         last_tick = take_events(base.t + 1.0, last_tick)
