@@ -8,6 +8,11 @@ Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
 ``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and
 ``/clock`` at ``rtf`` x wall time. Stamps are sim time (launch with use_sim_time).
 
+With ``~wall_time`` it runs as a robot does: no /clock, ``rtf`` 1, every stamp
+the wall time its period was due (launch with use_sim_time false), so what a
+node costs is measured without the /clock every node under sim time receives
+(evaluation/cost.py).
+
 ``/clock`` is global, so on a master shared by several fakes (two robots in two
 namespaces) only one publishes it; the others run with ``~clock`` false and step
 their base with that clock, stamping from the time they joined it.
@@ -46,16 +51,22 @@ class FakeKobuki(object):
     ``clock_period`` s of sim time per /clock message (divides 0.02); ``odom_frame``,
     ``base_frame``, ``world_frame``, ``imu_frame``; ``publish_tf``; ``stats_period`` s of wall
     time between CPU/rtf log lines (0 = never); ``clock``: publish /clock at ``rtf`` (true) or
-    follow another node's /clock (false; ``rtf`` then unused).
+    follow another node's /clock (false; ``rtf`` then unused); ``wall_time``: no /clock, stamps
+    in wall time, paced at ``rtf`` 1 (the only rtf it accepts; ``clock`` then unused).
     """
     DEFAULTS = {'rtf': 1.0, 'seed': 0, 'noise': 'ideal', 'world': '', 'clock_period': 0.01,
                 'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
-                'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True}
+                'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True,
+                'wall_time': False}
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
         if not p.rtf > 0:
             raise ValueError('~rtf must be > 0, got %r' % p.rtf)
+        if p.wall_time and p.rtf != 1.0:
+            raise ValueError('~wall_time runs at real time: ~rtf must be 1, got %r' % p.rtf)
+        if p.wall_time and rospy.get_param('/use_sim_time', False):
+            raise ValueError('~wall_time stamps in wall time: /use_sim_time must be false')
         ticks = SENSOR_PERIOD / p.clock_period
         if p.clock_period <= 0 or abs(ticks - round(ticks)) > 1e-6:
             raise ValueError('~clock_period %r must divide %.2f s' % (p.clock_period, SENSOR_PERIOD))
@@ -67,7 +78,8 @@ class FakeKobuki(object):
         self.base = SimulatedKobuki(load_profile(p.noise), seed=int(p.seed), arena=arena)
         self.lock = threading.Lock()
         self.ticks = 0
-        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS) if p.clock else None
+        publishes_clock = p.clock and not p.wall_time
+        self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS) if publishes_clock else None
         self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=SYNCHRONOUS)
         self.truth_pub = rospy.Publisher(names.GROUND_TRUTH, Odometry, queue_size=SYNCHRONOUS)
         self.imu_pub = rospy.Publisher('mobile_base/sensors/imu_data', Imu, queue_size=SYNCHRONOUS)
@@ -180,19 +192,25 @@ class FakeKobuki(object):
         return now
 
     def run(self):
-        """Step physics and publish the clock, paced to rtf x wall time; or, with ``~clock``
-        false, follow the clock another node publishes."""
-        if not self.params.clock:
+        """Step physics and publish the clock, paced to rtf x wall time; with ``~wall_time``
+        stamp in wall time instead of publishing a clock; or, with ``~clock`` false, follow
+        the clock another node publishes."""
+        p = self.params
+        if not p.clock and not p.wall_time:
             self.follow_clock()
             return
-        p = self.params
         wall_period = p.clock_period / p.rtf
         start = time.monotonic()
+        # wall time of the monotonic clock's zero: a tick is stamped with the wall time it was due
+        wall_offset = time.time() - start if p.wall_time else None
         tick = 0
         stats_start, cpu_start = start, time.process_time()
         while not rospy.is_shutdown():
             tick += 1
-            self.clock_pub.publish(Clock(clock=self.step(0.0)))
+            if wall_offset is None:
+                self.clock_pub.publish(Clock(clock=self.step(0.0)))
+            else:                                    # stamped when this period was due
+                self.step(wall_offset + start - wall_period)
             delay = start + tick * wall_period - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
