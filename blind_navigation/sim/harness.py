@@ -28,7 +28,9 @@ Goals are driven as back_travel_server drives them (core/goal.make_goal), one
 per landmark in return order: ``closed_loop`` builds the whole route at once
 (core/route.build_route) and the goals are the sections of one
 core/back_travel.RouteFollower; ``time`` and ``distance`` run one controller
-per landmark.
+per landmark. With ``prune_loops`` the closed-loop route is pruned first
+(core/pruning.prune_route, with the mission's heading correction), as
+back_travel_client prunes it.
 
 Missions are mission files (sim/mission.py) or command series
 (sim/command_series.py: seeded random paths from sim/random_paths.py,
@@ -64,6 +66,7 @@ from ..core.goal import make_goal
 from ..core.geometry import distance, wrap_angle
 from ..core.landmark import Landmark
 from ..core.motion_events import EventSampler
+from ..core.pruning import prune_route
 from ..core.route import build_route
 from ..core.gyro_bias import (STANDSTILL_DEFAULTS, StandstillBias, standstill_complete,
                               standstill_timeout)
@@ -100,20 +103,30 @@ SIMULATION_DEFAULTS = {
                                # a proposal; off = the paper's sampling)
     'odometry_gaps': (),       # ((start, length), ...) s after the pi turn starts: odometry stops
                                # arriving (held as the nodes hold: core/allowance.OdomGrace)
+    'prune_loops': False,      # closed_loop: cut loops and doubled-back stretches from the route
+                               # (core/pruning.py, its params from ``params``), as the client's
+                               # prune_loops does
 }
+#: Settings that change only the return: modes differing in them share a recording (run_modes).
+RETURN_SETTINGS = ('prune_loops',)
 
 MissionResult = namedtuple('MissionResult', [
     'mission', 'profile', 'mode', 'seed', 'status', 'reason',
     'distance', 'samples', 'bytes', 'position_error', 'odom_error',
     'forward_path', 'return_path', 'duration', 'landmarks', 'heading_correction',
-    'floor_error', 'dense_error', 'late'])
+    'floor_error', 'dense_error', 'late', 'route_length', 'return_length', 'return_time',
+    'pruning'])
 MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
                          'samples, bytes (landmark file), position_error (m, ground truth), '
                          'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s), '
                          'landmarks (as stored and read back), heading_correction '
                          '(core/heading_correction.GyroCorrection), floor_error and dense_error '
                          '(m, the physical floor, module docstring; None without the floor), '
-                         'late (closed_loop goals over their nominal time).')
+                         'late (closed_loop goals over their nominal time), route_length (m, the '
+                         'closed_loop route driven, pruned or not; None otherwise), return_length (m, '
+                         'the true path from the return\'s start) and return_time (s, from the return\'s '
+                         'start to its last goal), pruning (core/pruning.PruneResult with prune_loops, '
+                         'else None).')
 
 
 class _Run(object):
@@ -278,14 +291,19 @@ def _turn(run, params, settings):
         run.advance(command)
 
 
-def _return(run, landmarks, anchor, mode, params, settings):
+def _return(run, landmarks, anchor, mode, params, settings, correction=None, prune=False):
     """Drive ``landmarks`` back, one goal per landmark in return order, through
     core/goal.make_goal as back_travel_server does (closed_loop: the sections of
-    one RouteFollower over the whole route). Returns (why it aborted or '', the
-    follower or None)."""
-    follower = None
+    one RouteFollower over the whole route, pruned with ``prune`` as the client
+    prunes it: core/pruning.prune_route with the heading ``correction``). Returns
+    (why it aborted or '', the follower or None, the PruneResult or None)."""
+    follower = pruning = None
     if mode == 'closed_loop':
-        follower = RouteFollower(build_route(landmarks, anchor, params), params)
+        route = build_route(landmarks, anchor, params)
+        if prune:
+            pruning = prune_route(route, landmarks, correction, params)
+            route = pruning.route
+        follower = RouteFollower(route, params)
     command, feed = (0.0, 0.0), _OdometryFeed(run, settings['odometry_gaps'], params)
     for index, landmark in enumerate(reversed(landmarks)):
         goal = make_goal(mode, landmark, params, follower, index)
@@ -294,7 +312,7 @@ def _return(run, landmarks, anchor, mode, params, settings):
             decision, odom, message = feed.state()
             if decision == ABORT:
                 run.base.command(0.0, 0.0)
-                return 'goal %d: %s' % (index + 1, message), follower
+                return 'goal %d: %s' % (index + 1, message), follower, pruning
             if decision == HOLD:
                 command = (0.0, 0.0)
                 run.advance(command)
@@ -302,13 +320,13 @@ def _return(run, landmarks, anchor, mode, params, settings):
             v, w = goal.step(odom)
             if goal.failed:
                 run.base.command(0.0, 0.0)
-                return 'goal %d: %s' % (index + 1, goal.reason), follower
+                return 'goal %d: %s' % (index + 1, goal.reason), follower, pruning
             if goal.done:
                 break
             command = (v, w)
             run.advance(command)
     _hand_over(run, command, settings)
-    return '', follower
+    return '', follower, pruning
 
 
 def _hand_over(run, command, settings):
@@ -338,7 +356,7 @@ def dense_landmarks(odometry, spacing=0.01, turn=0.05):
 def _floor(run, odometry, anchor, correction, params, settings):
     """(floor_error, dense_error) of the physical floor (module docstring) on ``run``."""
     dense = correct_landmarks(dense_landmarks(odometry), correction)
-    reason, follower = _return(run, dense, anchor, 'closed_loop', params, settings)
+    reason, follower, _ = _return(run, dense, anchor, 'closed_loop', params, settings)
     route = follower.route
     _stop(run, settings)
     truth, odom = run.base.true_pose, run.odom()
@@ -427,12 +445,19 @@ class _Recorded(object):
         return _floor(copy.deepcopy(self.run), self.odometry, self.anchor, self.correction,
                       params, self.settings)
 
-    def finish(self, run, mode, params, floor):
-        """Drive ``mode``'s return on ``run`` (this state or a copy): the MissionResult."""
-        reason, follower = ('pi rotation failed', None) if not self.turned else \
-            _return(run, self.landmarks, self.anchor, mode, params, self.settings)
+    def finish(self, run, mode, params, floor, settings=None):
+        """Drive ``mode``'s return on ``run`` (this state or a copy) with ``settings``
+        (default: the recording's; they may differ in :data:`RETURN_SETTINGS`): the
+        MissionResult."""
+        settings = self.settings if settings is None else settings
+        returned_from, started = len(run.path) - 1, run.base.t
+        reason, follower, pruning = ('pi rotation failed', None, None) if not self.turned else \
+            _return(run, self.landmarks, self.anchor, mode, params, settings, self.correction,
+                    settings['prune_loops'])
         late = follower.late if follower is not None else []
-        _stop(run, self.settings)
+        return_time = run.base.t - started
+        _stop(run, settings)
+        driven = run.path[max(0, returned_from):]
         end, odom = run.base.true_pose, run.base.odom
         start = run.path_start
         floor_error, dense_error = floor
@@ -441,7 +466,10 @@ class _Recorded(object):
             'aborted' if reason else 'home', reason, self.loaded.total_distance,
             len(self.loaded.landmarks), self.size, distance(start[0], start[1], end.x, end.y),
             math.hypot(odom.x, odom.y), self.forward_path, run.path, run.base.t,
-            self.loaded.landmarks, self.correction, floor_error, dense_error, late)
+            self.loaded.landmarks, self.correction, floor_error, dense_error, late,
+            follower.route.length if follower is not None else None,
+            sum(distance(a[0], a[1], b[0], b[1]) for a, b in zip(driven, driven[1:])), return_time,
+            pruning)
 
 
 def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=None,
@@ -465,14 +493,15 @@ def run_modes(mission, profile='ideal', modes=('closed_loop',), seed=0, params=N
               settings_of=None, store_dir=None, run_mode=None):
     """{mode: MissionResult}: like :func:`run_mission` for each of ``modes`` (same
     results), recording once per configuration. ``settings_of(mode)`` gives a
-    mode's settings (default: none); modes with equal settings share the
-    recording, the standstill, the pi turn and the floor. ``run_mode(mode)``, if
+    mode's settings (default: none); modes whose settings differ at most in
+    :data:`RETURN_SETTINGS` share the recording, the standstill, the pi turn and
+    the floor (the floor is the unpruned route's). ``run_mode(mode)``, if
     given, is the control mode a mode label drives (a label can name a mode in
     another configuration)."""
     results, shared = {}, {}
     for mode in modes:
         settings = _settings(settings_of(mode) if settings_of else {})
-        key = tuple(sorted((k, repr(v)) for k, v in settings.items()))
+        key = tuple(sorted((k, repr(v)) for k, v in settings.items() if k not in RETURN_SETTINGS))
         if key not in shared:
             recorded = _Recorded(mission, profile, seed, settings, store_dir)
             mode_params = params if params is not None else default_params(settings, recorded.profile)
@@ -480,5 +509,5 @@ def run_modes(mission, profile='ideal', modes=('closed_loop',), seed=0, params=N
             shared[key] = (recorded, mode_params, recorded.floor(mode_params))
         recorded, mode_params, floor = shared[key]
         results[mode] = recorded.finish(copy.deepcopy(recorded.run), run_mode(mode) if run_mode else mode,
-                                        mode_params, floor)
+                                        mode_params, floor, settings)
     return results

@@ -20,11 +20,28 @@ span 1 to 150 m over the categories:
 - ``move_base_like``: what a navigation stack sends, 5-50 m: a 180 deg turn in
   place at the start, straight legs with acceleration ramps, 90 or 45 deg turns
   in place between them, and a final goal-alignment turn in place.
+
+Paths that come back to where they have been (:data:`LOOP_CATEGORIES`, for the
+pruning of the return, core/pruning.py) are plans a localised robot drives
+closed loop on ground truth (sim/path_tracker.TrackedSeries: before vision is
+lost RTAB-Map localises it, so its loops really close), every piece a whole
+number of operator ticks with its speed set so that the plan closes exactly:
+
+- ``figure_eight``: 6-30 m: a lead-in, one or two figure eights (two circles
+  touching where the path passes three times, or two 270 deg teardrop lobes
+  crossing at right angles), a lead-out;
+- ``side_room``: 6-40 m: a corridor, a door into a side room, a loop round the
+  room back to the door, out the way it came, on along the corridor;
+- ``patrol``: 5-50 m: one to three rounds of a rectangular patrol through the
+  start area (the path passes the start again), then away from it;
+- ``dead_end``: 4-30 m: corridor legs and one to three dead ends, each driven
+  into and backed out of, reversing along the way in.
 """
 import math
 import random
 
 from .command_series import CommandSeries
+from .path_tracker import TrackedSeries
 
 RATE = 10.0                 # Hz: the operator's command rate
 STEP = 1.0 / RATE           # s: every piece lasts a whole number of operator ticks
@@ -207,14 +224,141 @@ CATEGORIES = {
 }
 
 
+# --- paths that come back: plans that close exactly (whole ticks) ----------------------
+def _ticks(duration):
+    return max(1, int(round(duration / STEP)))
+
+
+def _plan_straight(p, v, length):
+    """``length`` m at about ``v`` m/s (sign: direction), exactly."""
+    duration = _ticks(length / abs(v)) * STEP
+    p.hold(math.copysign(length / duration, v), 0.0, duration)
+
+
+def _plan_arc(p, v, radius, angle):
+    """An arc of ``radius`` m turning by ``angle`` rad at about ``v`` m/s, exactly."""
+    duration = _ticks(abs(angle) * radius / abs(v)) * STEP
+    p.hold(math.copysign(abs(angle) * radius / duration, v), angle / duration, duration)
+
+
+def _plan_turn(p, angle, rate):
+    """A turn in place by ``angle`` rad at about ``rate`` rad/s, exactly."""
+    duration = _ticks(abs(angle) / rate) * STEP
+    p.hold(0.0, angle / duration, duration)
+
+
+def _plan_corner(p, v, angle, rate, rounded):
+    """Turn by ``angle``: in place, or (``rounded``: a radius, m) on an arc whose
+    ends the caller's legs lose (``rounded`` each)."""
+    if rounded:
+        _plan_arc(p, v, rounded, angle)
+    else:
+        _plan_turn(p, angle, rate)
+
+
+def _style(p):
+    """(speed m/s, turn rate rad/s, corner radius m or 0) of one path."""
+    return p.uniform(0.1, 0.35), p.uniform(0.4, 1.2), p.uniform(0.2, 0.5) if p.rng.random() < 0.4 else 0.0
+
+
+def _figure_eight(p, target):
+    v = p.uniform(0.1, 0.35)
+    side = p.sign()
+    _plan_straight(p, v, p.uniform(0.5, 3.0))
+    while True:
+        if p.rng.random() < 0.5:       # two circles touching where the path passes three times
+            for turn in (side, -side):
+                _plan_arc(p, v, p.uniform(0.5, 1.5), turn * 2.0 * math.pi)
+        else:                           # teardrops crossing at right angles: legs = radius
+            radius = p.uniform(0.4, 1.2)
+            _plan_turn(p, side * math.pi / 4.0, p.uniform(0.4, 1.2))
+            for turn in (-side, side):
+                _plan_straight(p, v, radius)
+                _plan_arc(p, v, radius, turn * 1.5 * math.pi)
+                _plan_straight(p, v, radius)
+            _plan_turn(p, -side * math.pi / 4.0, p.uniform(0.4, 1.2))
+        if p.length >= target - 3.0 or p.rng.random() < 0.5:
+            break
+        if p.rng.random() < 0.3:
+            p.pause(p.uniform(0.5, 2.0))
+    _plan_straight(p, v, p.uniform(0.5, 3.0))
+
+
+def _plan_rectangle(p, v, along, across, side, rate, rounded):
+    """Round a rectangle (``along`` m the way the robot faces, ``across`` m to the
+    ``side``) from the middle of a side, back to the same pose."""
+    for index, leg in enumerate((along / 2.0, across, along, across)):
+        _plan_straight(p, v, leg - (rounded if index == 0 else 2.0 * rounded))
+        _plan_corner(p, v, side * math.pi / 2.0, rate, rounded)
+    _plan_straight(p, v, along / 2.0 - rounded)
+
+
+def _side_room(p, target):
+    v, rate, rounded = _style(p)
+    side = p.sign()
+    while True:
+        _plan_straight(p, v, p.uniform(1.0, 4.0) - rounded)
+        _plan_corner(p, v, side * math.pi / 2.0, rate, rounded)
+        door = p.uniform(0.8, 2.5)
+        _plan_straight(p, v, door - rounded)
+        _plan_rectangle(p, v, p.uniform(1.0, 3.0), p.uniform(1.0, 3.0), p.sign(), rate, rounded)
+        _plan_turn(p, math.pi, rate)    # and out the way it came
+        _plan_straight(p, v, door)
+        _plan_turn(p, side * math.pi / 2.0, rate)
+        if p.length >= target - 4.0 or p.rng.random() < 0.5:
+            break
+    _plan_straight(p, v, p.uniform(1.0, 4.0))
+
+
+def _patrol(p, target):
+    v, rate, rounded = _style(p)
+    width, height = p.uniform(1.0, 4.0), p.uniform(1.0, 4.0)
+    side = p.sign()
+    for _ in range(max(1, min(3, int(target // (2.0 * (width + height)))))):
+        _plan_rectangle(p, v, width, height, side, rate, rounded)   # past the start again
+        if p.rng.random() < 0.3:
+            p.pause(p.uniform(0.5, 3.0))
+    _plan_straight(p, v, p.uniform(0.5, 2.0))
+    _plan_turn(p, -side * math.pi / 2.0, rate)
+    _plan_straight(p, v, p.uniform(1.0, 3.0))
+
+
+def _dead_end(p, target):
+    v, rate, _ = _style(p)
+    for _ in range(p.rng.randint(1, 3)):
+        _plan_straight(p, v, p.uniform(1.0, 3.0))
+        side = p.sign()
+        _plan_turn(p, side * math.pi / 2.0, rate)
+        depth = p.uniform(1.0, 4.0)
+        _plan_straight(p, v, depth)                     # into the dead end
+        p.pause(p.uniform(0.5, 2.0))
+        _plan_straight(p, -p.uniform(0.08, 0.2), depth)  # backed out the way it came
+        _plan_turn(p, -side * math.pi / 2.0, rate)
+        if p.length >= target:
+            break
+    _plan_straight(p, v, p.uniform(1.0, 3.0))
+
+
+#: Paths that come back to where they have been: category -> (length range m, generator).
+LOOP_CATEGORIES = {
+    'figure_eight': ((6.0, 30.0), _figure_eight),
+    'side_room': ((6.0, 40.0), _side_room),
+    'patrol': ((5.0, 50.0), _patrol),
+    'dead_end': ((4.0, 30.0), _dead_end),
+}
+
+
 def random_mission(category, seed):
-    """The mission of ``category`` for ``seed`` (see module docstring)."""
-    if category not in CATEGORIES:
-        raise ValueError('unknown path category %r (known: %s)' % (category, ', '.join(sorted(CATEGORIES))))
-    (low, high), generate = CATEGORIES[category]
+    """The mission of ``category`` (:data:`CATEGORIES` or :data:`LOOP_CATEGORIES`)
+    for ``seed`` (see module docstring)."""
+    known = dict(CATEGORIES, **LOOP_CATEGORIES)
+    if category not in known:
+        raise ValueError('unknown path category %r (known: %s)' % (category, ', '.join(sorted(known))))
+    (low, high), generate = known[category]
     rng = random.Random('%s:%d' % (category, seed))
     path = _Path(rng)
     generate(path, rng.uniform(low, high))
     path.pause(0.5)
-    return CommandSeries(path.pieces, RATE, '%s_%d' % (category, seed),
-                         'random %s path, seed %d' % (category, seed))
+    series = TrackedSeries if category in LOOP_CATEGORIES else CommandSeries
+    return series(path.pieces, RATE, '%s_%d' % (category, seed),
+                  'random %s path, seed %d' % (category, seed))

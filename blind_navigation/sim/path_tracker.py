@@ -1,0 +1,102 @@
+"""A planned path driven closed loop on ground truth: how a robot that still has its
+localisation (RTAB-Map, before vision is lost) or a person watching it drives
+a route that revisits places, so that its loops really close.
+
+:class:`TrackedSeries` is a command series (sim/command_series.py) whose
+pieces ``(v, w, duration)`` are the plan: the pose an ideal unicycle would
+have at each time from the true start pose. Its operator,
+:class:`PathTracker`, follows that reference in time with Kanayama's
+tracking law (Kanayama et al., "A stable tracking control method for an
+autonomous mobile robot", ICRA 1990) on the true pose::
+
+    e = R(-yaw) (p_ref - p),  e_yaw = yaw_ref - yaw
+    v = v_ref cos e_yaw + k_x e_x
+    w = w_ref + v_ref k_y e_y + k_yaw sin e_yaw
+
+The lateral term carries ``v_ref``'s sign (backing up steers the other way)
+and the heading term does not (so turns in place and reversing stay stable:
+the small-error dynamics ``de_y/dt = v_ref e_yaw``, ``de_yaw/dt = -v_ref k_y e_y
+- k_yaw e_yaw`` are stable for either sign of ``v_ref``). Commands go out at
+the mission's rate, clamped to the Kobuki's limits; the mission is over at
+the plan's end.
+"""
+import bisect
+import math
+
+from ..core.geometry import wrap_angle
+from ..core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W
+from .command_series import CommandSeries
+
+#: Tracking gains (see module docstring).
+TRACKER_GAINS = {'k_x': 1.0, 'k_y': 10.0, 'k_yaw': 2.0}
+
+
+class TrackedSeries(CommandSeries):
+    """Command pieces driven as a plan by a :class:`PathTracker` (module docstring)."""
+
+    def make_operator(self):
+        return PathTracker(self)
+
+
+class PathTracker(object):
+    """The operator interface of sim/operator.Operator: ``start(pose)``,
+    ``observe(t, pose)``, ``command(t)`` -> (v, w) or None once the plan is over."""
+
+    def __init__(self, mission, gains=None):
+        self.mission = mission
+        self.gains = dict(TRACKER_GAINS, **(gains or {}))
+        self._starts = None
+        self._pose = None
+
+    @property
+    def started(self):
+        return self._starts is not None
+
+    def start(self, pose):
+        """The plan starts now (t = 0) at the true ``pose``: the pose at each piece's start."""
+        x, y, yaw = pose.x, pose.y, pose.yaw
+        self._starts, self._times = [], []
+        elapsed = 0.0
+        for v, w, duration in self.mission.segments:
+            self._starts.append((x, y, yaw))
+            self._times.append(elapsed)
+            x, y, yaw = _advance(x, y, yaw, v, w, duration)
+            elapsed += duration
+        self._end = (x, y, yaw)
+        self._pose = pose
+
+    def observe(self, t, pose):
+        if self._starts is None:
+            raise RuntimeError('PathTracker.observe before start')
+        self._pose = pose
+
+    def reference(self, t):
+        """(x, y, yaw, v, w) of the plan at time ``t``."""
+        index = max(0, bisect.bisect_right(self._times, t) - 1)
+        v, w, duration = self.mission.segments[index]
+        x, y, yaw = _advance(*self._starts[index], v, w, min(duration, t - self._times[index]))
+        return x, y, yaw, v, w
+
+    def command(self, t):
+        if self._starts is None:
+            raise RuntimeError('PathTracker.command before start')
+        if t >= self.mission.duration - 1e-9:
+            return None
+        x_ref, y_ref, yaw_ref, v_ref, w_ref = self.reference(t)
+        pose, g = self._pose, self.gains
+        dx, dy = x_ref - pose.x, y_ref - pose.y
+        c, s = math.cos(pose.yaw), math.sin(pose.yaw)
+        e_x, e_y = c * dx + s * dy, -s * dx + c * dy
+        e_yaw = wrap_angle(yaw_ref - pose.yaw)
+        v = v_ref * math.cos(e_yaw) + g['k_x'] * e_x
+        w = w_ref + v_ref * g['k_y'] * e_y + g['k_yaw'] * math.sin(e_yaw)
+        return (max(-KOBUKI_MAX_V, min(KOBUKI_MAX_V, v)), max(-KOBUKI_MAX_W, min(KOBUKI_MAX_W, w)))
+
+
+def _advance(x, y, yaw, v, w, duration):
+    """The pose after ``duration`` s of (v, w) from (x, y, yaw), exactly (a unicycle)."""
+    if abs(w) < 1e-12:
+        return x + v * duration * math.cos(yaw), y + v * duration * math.sin(yaw), yaw
+    end = yaw + w * duration
+    radius = v / w
+    return x + radius * (math.sin(end) - math.sin(yaw)), y - radius * (math.cos(end) - math.cos(yaw)), end
