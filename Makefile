@@ -7,7 +7,7 @@ SHELL := /bin/bash
 export PATH := /usr/bin:/bin:$(PATH)
 export BN_WS ?= $(CURDIR)/.ws
 
-.PHONY: all deps build test demo bench clean
+.PHONY: all deps build test demo bench soak clean
 
 all: build
 
@@ -25,6 +25,10 @@ demo: build
 
 bench: build
 	@bash scripts/bench.sh
+
+# one hour of the default launch recording at rtf 1 (scripts/soak.py; not part of test)
+soak: build
+	@source scripts/ros_env.sh && /usr/bin/python3 scripts/soak.py --out results/soak.md $(SOAK_ARGS)
 
 clean:
 	rm -rf $(BN_WS) results

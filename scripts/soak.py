@@ -1,201 +1,153 @@
 #!/usr/bin/env python3
-"""Soak run of the recording layer under sim time (issue 6): a long mission
-(default one hour of sim time) with 50 Hz odometry, recorded by the real
-sampling_publisher + landmark_saver on a private roscore; reports the saver's
-and the publisher's resident memory (RSS) at the start and the end, and checks
-the recording: every landmark valid, the count matching the sampling rates,
-the summed d matching the driven path length.
+"""Soak run of the layer as a robot runs it (issues 6 and 14): the default launch
+(blind_navigation.launch, every role in one process) records for an hour at rtf 1
+in wall time while the fake TurtleBot (``paper`` noise, 640x480 camera) drives
+laps, ``rosbag record /odom`` beside it; then vision fails and the recording
+ends. One run of evaluation/cost.py with windows of ``--window`` s.
 
-    /usr/bin/python3 scripts/soak.py [--duration 3600] [--rtf 10] [--out results/soak.md]
+    source scripts/ros_env.sh
+    /usr/bin/python3 scripts/soak.py [--duration 3600] [--window 600] [--out results/soak.md]
 
-Needs the built workspace (source scripts/ros_env.sh first). Exit status 0 when
-the recording is correct and the RSS growth is within --max-growth-mb.
-The odometry drives laps of a rounded square (20 s straight at 0.1 m/s, then a
-90 degree left arc at 0.1 rad/s), integrated exactly.
+(`make soak` does both.) It reports the layer's resident memory (VmRSS) at the
+end of each window and its CPU per window beside the bag's, and checks:
+
+- memory: RSS growth from the end of the warm-up to the end <= ``--max-growth-mb``;
+- CPU: no growth: the layer's CPU relative to the bag's in the same window (the
+  bag's work per message is constant: the ratio takes out what the shared
+  machine does to both) in the last ``--compare`` windows is within
+  ``--max-cpu-growth`` of the first ones';
+- the recording: every landmark valid (core/store), their periods summing to the
+  time recorded (the first landmark's start to ``rotating``) and their summed ``d`` to the path length
+  of the odometry in the bag over the same time, both within 1 %.
+
+Exit status 0 when all hold.
 """
 import argparse
 import math
 import os
-import socket
-import subprocess
 import sys
-import tempfile
-import time
 
-SPEED, TURN_RATE, STRAIGHT_TIME = 0.1, 0.1, 20.0
-ARC_TIME = (math.pi / 2) / TURN_RATE
-LAP_TIME = 4 * (STRAIGHT_TIME + ARC_TIME)
+from blind_navigation.core.geometry import distance
+from blind_navigation.core.store import load_landmarks
+from blind_navigation.evaluation import cost
 
 
-def pose_at(t):
-    """(x, y, yaw, v, w) on the lap path at t s (exact unicycle integration)."""
-    x = y = yaw = 0.0
-    laps, t_lap = divmod(t, LAP_TIME)
-    del laps                      # each lap ends where it started
-    for _ in range(4):
-        step = min(t_lap, STRAIGHT_TIME)
-        x, y = x + SPEED * step * math.cos(yaw), y + SPEED * step * math.sin(yaw)
-        t_lap -= step
-        if t_lap <= 0:
-            return x, y, yaw, SPEED, 0.0
-        step = min(t_lap, ARC_TIME)
-        radius = SPEED / TURN_RATE
-        end = yaw + TURN_RATE * step
-        x, y = x + radius * (math.sin(end) - math.sin(yaw)), y - radius * (math.cos(end) - math.cos(yaw))
-        yaw = end
-        t_lap -= step
-        if t_lap <= 0:
-            return x, y, yaw, SPEED, TURN_RATE
-    return x, y, yaw, SPEED, 0.0
+def odometry_path(bag_path, start, end):
+    """Length (m) of the /odom positions in the bag stamped within [start, end] (s)."""
+    import rosbag
+    length, last = 0.0, None
+    with rosbag.Bag(bag_path) as bag:
+        for _, msg, _ in bag.read_messages():
+            stamp = msg.header.stamp.to_sec()
+            if stamp < start or stamp > end:
+                continue
+            p = msg.pose.pose.position
+            if last is not None:
+                length += distance(last[0], last[1], p.x, p.y)
+            last = (p.x, p.y)
+    return length
 
 
-def rss_kb(pid):
-    with open('/proc/%d/status' % pid) as stream:
-        for line in stream:
-            if line.startswith('VmRSS:'):
-                return int(line.split()[1])
-    return 0
+def window_table(result):
+    """[(end of window s after the first mark, layer RSS MiB, layer CPU %, bag CPU %)]."""
+    marks = [m for m in result['marks'] if m['label'].startswith('recording ')]
+    layer = [name for name, kind in result['kinds'].items() if kind == 'layer']
+    bag = [name for name, kind in result['kinds'].items() if kind == 'bag']
+    rows = [(0.0, sum(marks[0]['processes'][n]['rss_kb'] for n in layer) / 1024.0, None, None)]
+    for start, end in zip(marks, marks[1:]):
+        rows.append((end['t'] - marks[0]['t'],
+                     sum(end['processes'][n]['rss_kb'] for n in layer) / 1024.0,
+                     sum(cost.cpu_pct(start, end, n) for n in layer),
+                     sum(cost.cpu_pct(start, end, n) for n in bag)))
+    return rows
 
 
-def free_port():
-    with socket.socket() as sock:
-        sock.bind(('127.0.0.1', 0))
-        return sock.getsockname()[1]
+def check_recording(result, run_dir):
+    """(lines, problems) about the landmark file against the bag's odometry."""
+    landmarks = load_landmarks(os.path.join(run_dir, 'landmarks', 'landmarks.yaml')).landmarks
+    # the mission turns ``recording`` when the first landmark is saved, one period after the start
+    started = result['state_times']['recording'] - landmarks[0].T
+    ended = result['state_times']['rotating']
+    recorded = sum(lm.d for lm in landmarks)
+    periods = sum(lm.T for lm in landmarks)
+    driven = odometry_path(os.path.join(run_dir, 'odom.bag'), started, ended)
+    problems = []
+    if abs(periods - (ended - started)) > 0.01 * (ended - started):
+        problems.append('landmark periods sum to %.1f s, recorded %.1f s' % (periods, ended - started))
+    if abs(recorded - driven) > 0.01 * driven:
+        problems.append('summed d %.2f m vs %.2f m of odometry' % (recorded, driven))
+    lines = ['%d landmarks over %.0f s recorded (periods sum to %.1f s), summed d %.2f m against '
+             '%.2f m of odometry in the bag (%+.2f %%)' % (len(landmarks), ended - started, periods,
+                                                         recorded, driven,
+                                                         100.0 * (recorded / driven - 1.0) if driven else math.nan)]
+    return lines, problems
+
+
+def report(result, args):
+    """(Markdown text, problems)."""
+    rows = window_table(result)
+    growth = rows[-1][1] - rows[0][1]
+    ratios = [layer / bag for _, _, layer, bag in rows[1:] if bag]
+    first = sum(ratios[:args.compare]) / len(ratios[:args.compare])
+    last = sum(ratios[-args.compare:]) / len(ratios[-args.compare:])
+    cpu_growth = last / first - 1.0
+    problems = []
+    if growth > args.max_growth_mb:
+        problems.append('RSS grew by %.2f MiB (> %.2f)' % (growth, args.max_growth_mb))
+    if cpu_growth > args.max_cpu_growth:
+        problems.append('CPU relative to the bag grew by %.1f %% (> %.0f %%)'
+                        % (100 * cpu_growth, 100 * args.max_cpu_growth))
+    recording, recording_problems = check_recording(result, result['run_dir'])
+    problems += recording_problems
+    lines = ['# Soak run (scripts/soak.py)', '',
+             'Default launch (blind_navigation.launch, one process) recording at rtf 1 in wall '
+             'time, fake TurtleBot (paper noise, 640x480 camera at 30 Hz) driving laps, `rosbag '
+             'record /odom` beside it; %.0f s of windows after %.0f s of warm-up. Run directory: %s'
+             % (args.duration, args.warmup, result['run_dir']), '',
+             '| window end, s | layer RSS MiB | layer CPU % | bag CPU % | layer / bag |',
+             '|---|---|---|---|---|']
+    for t, rss, layer, bag in rows:
+        lines.append('| %.0f | %.2f | %s | %s | %s |' % (
+            t, rss, '—' if layer is None else '%.2f' % layer, '—' if bag is None else '%.2f' % bag,
+            '%.2f' % (layer / bag) if layer is not None and bag else '—'))
+    lines += ['', 'RSS growth %+.2f MiB (limit %.2f); CPU relative to the bag, last %d windows vs '
+              'first %d: %+.1f %% (limit %+.0f %%).' % (growth, args.max_growth_mb, args.compare,
+                                                        args.compare, 100 * cpu_growth,
+                                                        100 * args.max_cpu_growth), '']
+    lines += recording + ['', 'result: ' + ('OK' if not problems else 'FAILED: ' + '; '.join(problems))]
+    return '\n'.join(lines), problems
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n\n')[0])
-    parser.add_argument('--duration', type=float, default=3600.0, help='sim seconds recorded')
-    parser.add_argument('--rtf', type=float, default=10.0, help='sim time / wall time')
-    parser.add_argument('--max-growth-mb', type=float, default=10.0,
-                        help='largest accepted RSS growth of each node, MB')
-    parser.add_argument('--out', default='', help='also write the report (markdown) here')
+    parser.add_argument('--duration', type=float, default=3600.0, help='s of measured recording')
+    parser.add_argument('--window', type=float, default=600.0, help='s per window')
+    parser.add_argument('--warmup', type=float, default=60.0, help='s of recording before the first mark')
+    parser.add_argument('--max-growth-mb', type=float, default=1.0, help='largest accepted RSS growth, MiB')
+    parser.add_argument('--max-cpu-growth', type=float, default=0.10,
+                        help='largest accepted growth of the CPU ratio to the bag (0.10: 10 %%)')
+    parser.add_argument('--compare', type=int, default=2, help='windows compared at each end')
+    parser.add_argument('--run-dir', default='results/soak', help='where the run writes (bag, logs)')
+    parser.add_argument('--out', default='', help='also write the report (Markdown) here')
     args = parser.parse_args()
-
-    port = free_port()
-    os.environ['ROS_MASTER_URI'] = 'http://127.0.0.1:%d' % port
-    work = tempfile.mkdtemp(prefix='bn_soak_')
-    os.environ['ROS_HOME'] = work
-    roscore = subprocess.Popen(['roscore', '-p', str(port)], stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL, start_new_session=True)
-    nodes = []
-    try:
-        import roslib.packages
-        import rosgraph
-        import rospy
-        from nav_msgs.msg import Odometry
-        from rosgraph_msgs.msg import Clock
-        from std_msgs.msg import Empty
-        deadline = time.monotonic() + 60
-        while not rosgraph.is_master_online():
-            if time.monotonic() > deadline:
-                raise SystemExit('soak: roscore did not start on port %d' % port)
-            time.sleep(0.2)
-        rospy.set_param('/use_sim_time', True)
-        link = os.path.join(work, 'landmarks.yaml')
-        for node_type, params in (('landmark_saver.py', ['_landmark_file:=' + link, '_fsync:=false']),
-                                  ('sampling_publisher.py', [])):
-            found = roslib.packages.find_node('blind_navigation', node_type)
-            if not found:
-                raise SystemExit('soak: %s not found (build the workspace and source '
-                                 'scripts/ros_env.sh)' % node_type)
-            nodes.append(subprocess.Popen([found[0]] + params, stdout=subprocess.DEVNULL,
-                                          stderr=subprocess.DEVNULL, start_new_session=True))
-        rospy.init_node('soak', disable_signals=True)
-        clock = rospy.Publisher('/clock', Clock, queue_size=10)
-        odom = rospy.Publisher('/odom', Odometry, queue_size=100)
-        base, dt = 100.0, 0.02
-        clock.publish(Clock(clock=rospy.Time.from_sec(base)))
-        deadline = time.monotonic() + 60
-        while odom.get_num_connections() < 2 or not os.path.islink(link):
-            if time.monotonic() > deadline:
-                raise SystemExit('soak: the recording nodes did not subscribe to /odom')
-            clock.publish(Clock(clock=rospy.Time.from_sec(base)))
-            time.sleep(0.1)
-        rss = {}
-        names = ('landmark_saver', 'sampling_publisher')
-        steps = int(round(args.duration / dt))
-        warmup = min(steps // 10, int(60.0 / dt))
-        wall_start = time.monotonic()
-        msg = Odometry()
-        msg.header.frame_id, msg.child_frame_id = 'odom', 'base_footprint'
-        for step in range(steps + 1):
-            t = step * dt
-            stamp = rospy.Time.from_sec(base + t)
-            clock.publish(Clock(clock=stamp))
-            x, y, yaw, v, w = pose_at(t)
-            msg.header.stamp = stamp
-            msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
-            msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
-            msg.twist.twist.linear.x, msg.twist.twist.angular.z = v, w
-            odom.publish(msg)
-            if step == warmup or step == steps or (step > warmup and step % int(600 / dt) == 0):
-                for name, process in zip(names, nodes):
-                    if process.poll() is not None:
-                        raise SystemExit('soak: %s died (exit %s)' % (name, process.returncode))
-                    rss.setdefault(name, []).append((t, rss_kb(process.pid)))
-            ahead = wall_start + (step + 1) * dt / args.rtf - time.monotonic()
-            if ahead > 0:
-                time.sleep(ahead)
-        wall = time.monotonic() - wall_start
-        rospy.Publisher('/blind_navigation/vision_lost', Empty, queue_size=1, latch=True).publish(Empty())
-        for extra in range(int(5.0 / dt)):     # the clock keeps running for the final landmark
-            clock.publish(Clock(clock=rospy.Time.from_sec(base + args.duration + extra * dt)))
-            time.sleep(dt / args.rtf)
-        report = check(link, args, rss, names, wall)
-    finally:
-        for process in nodes + [roscore]:
-            if process.poll() is None:
-                os.killpg(process.pid, 2)
-                try:
-                    process.wait(20)
-                except subprocess.TimeoutExpired:
-                    os.killpg(process.pid, 9)
-    text, ok = report
+    windows = int(round(args.duration / args.window))
+    if windows < 2 * args.compare:
+        parser.error('--duration / --window must give at least 2 x --compare windows')
+    result = cost.run_once(os.path.abspath(args.run_dir), dict(cost.CONFIGS['default'][1], seed='0'),
+                           ['--warmup', str(args.warmup), '--windows', str(windows), '--window',
+                            str(args.window), '--until', 'recording_end'],
+                           timeout=args.warmup + windows * args.window + 600.0,
+                           drive_s=args.warmup + windows * args.window + 3.0)
+    if 'failed' in result:
+        print('soak: %s' % result['failed'], file=sys.stderr)
+        return 1
+    text, problems = report(result, args)
     print(text)
     if args.out:
         os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
         with open(args.out, 'w') as stream:
             stream.write(text + '\n')
-    return 0 if ok else 1
-
-
-def check(link, args, rss, names, wall):
-    """The report text and whether the recording and memory are fine."""
-    sys.path.insert(0, os.path.abspath(os.path.join(os.path.dirname(__file__), '..')))
-    from blind_navigation.core.store import load_landmarks
-    loaded = load_landmarks(link)
-    landmarks = loaded.landmarks
-    recorded = sum(lm.d for lm in landmarks)
-    duration = sum(lm.T for lm in landmarks)
-    straight = sum(1 for lm in landmarks if lm.T > 1.5)
-    curved = len(landmarks) - straight
-    problems = []
-    driven = SPEED * args.duration      # recording runs from the clock's start to vision loss
-    if abs(duration - args.duration) > 0.01 * args.duration:
-        problems.append('landmark periods sum to %.1f s, mission %.1f s' % (duration, args.duration))
-    if abs(recorded - driven) > 0.01 * driven:
-        problems.append('summed d %.2f m vs driven %.2f m' % (recorded, driven))
-    if any(abs(lm.v - SPEED) > 1e-3 for lm in landmarks[1:-1]):
-        problems.append('a landmark speed differs from the odometry')
-    lines = ['# Soak run (scripts/soak.py)', '',
-             'sim %.0f s at rtf %.0f (%.0f s wall), odometry 50 Hz: %d landmarks (%d straight, '
-             '%d curved), periods sum to %.1f s, %.1f KB, summed d %.2f m of %.2f m driven (%+.3f %%)'
-             % (args.duration, args.rtf, wall, len(landmarks), straight, curved, duration,
-                os.path.getsize(os.path.realpath(link)) / 1024.0, recorded, driven,
-                100.0 * (recorded / driven - 1.0)), '',
-             '| node | RSS start (after %.0f s sim), MB | RSS end, MB | growth, MB | samples (sim s: MB) |'
-             % rss[names[0]][0][0], '|---|---|---|---|---|']
-    for name in names:
-        samples = rss[name]
-        growth = (samples[-1][1] - samples[0][1]) / 1024.0
-        if growth > args.max_growth_mb:
-            problems.append('%s grew by %.1f MB' % (name, growth))
-        lines.append('| %s | %.1f | %.1f | %+.2f | %s |' % (
-            name, samples[0][1] / 1024.0, samples[-1][1] / 1024.0, growth,
-            ', '.join('%.0f: %.1f' % (t, kb / 1024.0) for t, kb in samples)))
-    lines += ['', 'result: ' + ('OK' if not problems else 'FAILED: ' + '; '.join(problems))]
-    return '\n'.join(lines), not problems
+    return 0 if not problems else 1
 
 
 if __name__ == '__main__':

@@ -5,10 +5,13 @@ Watches, through the debounced detectors of core/vision.py:
 
 - the camera: a stall (no message for ``image_timeout``) of its
   sensor_msgs/CameraInfo (``camera/rgb/camera_info``: published with every frame
-  by the TurtleBot's camera drivers and a few hundred bytes, so watching it
-  costs nothing), or, with ``detect_dark``, the images themselves
-  (``camera/rgb/image_rect_color``: stall and dark images; this pulls every
-  frame into Python);
+  by the TurtleBot's camera drivers and a few hundred bytes), read only until
+  visual odometry arrives: RTAB-Map publishes nothing without camera frames, so
+  from then on the visual-odometry stall detector sees a camera stall as soon
+  (``vo_timeout`` is ``image_timeout``) and reading camera_info would only cost
+  CPU (with ``detect_vo_stall`` false it is read all along); or, with
+  ``detect_dark``, the images themselves (``camera/rgb/image_rect_color``:
+  stall and dark images, all along; this pulls every frame into Python);
 - RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
   lost (RTAB-Map's null pose convention; dark or featureless images end up
   here too) and stalled;
@@ -16,7 +19,11 @@ Watches, through the debounced detectors of core/vision.py:
 
 It fires once, while the mission records, and publishes a latched
 std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
-(std_msgs/String). Once the mission left recording it stops watching.
+(std_msgs/String). Once the mission left recording it stops watching. The
+stall detectors are checked when one of them could fire next (the last
+message + timeout + debounce), not on a periodic timer: while the streams
+flow that is one check per ``image_timeout + debounce``, and a stall fires
+at its exact latency.
 Whether the loss ends the recording is the mission owner's decision
 (back_travel_client): a loss reported while idle changes nothing. A detector
 with nothing to watch says so once (no camera, no visual odometry after
@@ -26,8 +33,7 @@ Params (``layer.params``): ``detect_stall``, ``detect_dark``,
 ``detect_vo_lost``, ``detect_vo_stall``, ``detect_odom_info``,
 ``detect_manual`` (per-detector enables), ``image_timeout``, ``vo_timeout``,
 ``debounce`` (s), ``dark_threshold`` (mean intensity 0..255),
-``dark_frames`` (consecutive dark images), ``check_rate`` (Hz, stall checks),
-``no_input_warning`` (s).
+``dark_frames`` (consecutive dark images), ``no_input_warning`` (s).
 """
 import threading
 
@@ -43,6 +49,8 @@ from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
+#: s: the stall checks never come closer together than this (a stall about to fire)
+MIN_CHECK_WAIT = 0.01
 
 
 class VisionMonitor(object):
@@ -61,7 +69,6 @@ class VisionMonitor(object):
         'debounce': 0.5,
         'dark_threshold': 10.0,
         'dark_frames': 3,
-        'check_rate': 20.0,
         'no_input_warning': 5.0,
     }
 
@@ -76,21 +83,23 @@ class VisionMonitor(object):
         self.lock = threading.Lock()
         self.done = False
         self.warned = set()
-        self.started = None   # first timer tick: sim time may not have arrived yet here
+        self.started = None   # first stall check: sim time may not have arrived yet here
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.subscribers = [subscribe(names.VISION_LOST, Empty, self.on_vision_lost)]
+        self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
         if 'dark' in enabled:
             self.camera_topic = names.CAMERA
             self.subscribers.append(subscribe(names.CAMERA, Image, self.on_image, queue_size=1,
                                               buff_size=IMAGE_BUFFER))
         elif 'stall' in enabled:
             self.camera_topic = names.CAMERA_INFO
-            self.subscribers.append(subscribe(names.CAMERA_INFO, CameraInfo, self.on_camera_info,
-                                              queue_size=1))
+            self.camera_info_sub = subscribe(names.CAMERA_INFO, CameraInfo, self.on_camera_info,
+                                             queue_size=1)
         else:
             self.camera_topic = None
+        self.camera_info_until_vo = self.camera_info_sub is not None and 'vo_stall' in enabled
         self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
         if self.watching_vo:
             layer.visual_odometry.add_listener(self.on_vo, raw=True)
@@ -100,7 +109,7 @@ class VisionMonitor(object):
                                               queue_size=5))
         layer.mission.on_change(self.on_state)
         layer.diagnostics.add('vision monitor', self.status)
-        self.timer = rospy.Timer(rospy.Duration(1.0 / p.check_rate), self.on_timer)
+        threading.Thread(target=self.watch_stalls, name='vision_monitor_stalls', daemon=True).start()
         self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
 
     # --- inputs ---------------------------------------------------------------------------------
@@ -122,6 +131,24 @@ class VisionMonitor(object):
     def on_vo(self, wire):
         self.last_vo = rospy.get_time()
         self.feed(self.monitor.vo_odometry, wire_lost_reason(wire))
+        if self.camera_info_until_vo:
+            self.stop_camera_info()
+
+    def stop_camera_info(self):
+        """Visual odometry arrives, its stall detector armed: it covers a camera stall from
+        now on, camera_info is no longer read (module docstring)."""
+        with self.lock:
+            subscriber, self.camera_info_sub = self.camera_info_sub, None
+            self.camera_info_until_vo = False
+            if subscriber is None:
+                return
+            # the camera-stall detector is fed no more: it must not take the silence for a stall
+            self.monitor.enabled = self.monitor.enabled - {'stall'}
+            self.camera_topic = None
+        subscriber.unregister()
+        self.log.info('visual odometry arrives on %s: its stall detector watches for a camera '
+                      'stall from now on; %s no longer read', rospy.resolve_name(names.VO_ODOM),
+                      rospy.resolve_name(names.CAMERA_INFO))
 
     def on_odom_info(self, msg):
         msg_type = msg._connection_header.get('type', '')
@@ -150,19 +177,47 @@ class VisionMonitor(object):
             self.log.info('mission %s: no longer watching', new)
             self.stop_watching()
 
-    def on_timer(self, _event):
-        now = rospy.get_time()
-        self.started = now if self.started is None else self.started
-        waited = now - self.started
-        if waited >= self.params.no_input_warning:
-            if self.camera_topic and self.last_camera is None:
-                self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
-                               'not armed' % (rospy.resolve_name(self.camera_topic), waited))
-            if self.watching_vo and self.last_vo is None:
-                self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
-                               'detectors are not armed; detection falls back to the camera '
-                               'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
-        self.feed(self.monitor.check)
+    def watch_stalls(self):
+        """Check the stall detectors whenever one of them could fire next, and warn once
+        about a stream that never came; until the monitor stops watching."""
+        while not rospy.is_shutdown() and not self.done:
+            now = rospy.get_time()
+            if now > 0.0:                 # zero: sim time has not started
+                self.started = now if self.started is None else self.started
+                self.warn_missing_inputs(now - self.started)
+                self.feed(self.monitor.check)
+            try:
+                rospy.sleep(max(self.next_check(now) - now, MIN_CHECK_WAIT))
+            except rospy.ROSTimeMovedBackwardsException:
+                continue                  # a restarted sim clock: the detectors reset themselves
+            except rospy.ROSInterruptException:
+                return
+
+    def next_check(self, now):
+        """ROS time of the next stall check: the earliest moment an enabled stall detector
+        could fire (an unarmed one: if its first message came right now), or the
+        no-input warning."""
+        checks = []
+        for stall in (self.monitor.stall, self.monitor.vo_stall):
+            if stall.name in self.monitor.enabled:
+                checks.append((now if stall.last is None else stall.last)
+                              + stall.timeout + stall.debounce.hold)
+        if self.started is None:
+            checks.append(now)
+        elif now < self.started + self.params.no_input_warning:
+            checks.append(self.started + self.params.no_input_warning)
+        return min(checks) if checks else now + self.params.no_input_warning
+
+    def warn_missing_inputs(self, waited):
+        if waited < self.params.no_input_warning:
+            return
+        if self.camera_topic and self.last_camera is None:
+            self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
+                           'not armed' % (rospy.resolve_name(self.camera_topic), waited))
+        if self.watching_vo and self.last_vo is None:
+            self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
+                           'detectors are not armed; detection falls back to the camera '
+                           'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
 
     # --- output ---------------------------------------------------------------------------------
     def feed(self, method, *args):
@@ -186,8 +241,9 @@ class VisionMonitor(object):
         self.layer.diagnostics.now()
 
     def stop_watching(self):
-        self.timer.shutdown()
-        for subscriber in self.subscribers:
+        with self.lock:
+            camera_info, self.camera_info_sub = self.camera_info_sub, None
+        for subscriber in self.subscribers + ([camera_info] if camera_info else []):
             subscriber.unregister()
         if self.watching_vo:
             self.layer.visual_odometry.remove_listener(self.on_vo)
@@ -200,8 +256,11 @@ class VisionMonitor(object):
 
     def status(self, stat):
         now = rospy.get_time()
-        for what, last in (('camera', self.last_camera), ('visual odometry', self.last_vo)):
-            stat.add('%s age (s)' % what, '-' if last is None else '%.2f' % (now - last))
+        camera = '-' if self.last_camera is None else '%.2f' % (now - self.last_camera)
+        if self.camera_topic is None and self.last_vo is not None:
+            camera = 'not read (the visual-odometry stall detector covers it)'
+        stat.add('camera age (s)', camera)
+        stat.add('visual odometry age (s)', '-' if self.last_vo is None else '%.2f' % (now - self.last_vo))
         if self.done:
             stat.summary(diagnostics.OK, 'not watching (vision lost or the mission moved on)')
         elif self.warned & {'no_camera', 'no_vo'}:
