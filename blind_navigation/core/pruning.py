@@ -73,12 +73,13 @@ PRUNE_DEFAULTS = dict(DRIFT_DEFAULTS, **{
 
 
 class Cut(namedtuple('Cut', 'later earlier later_xy earlier_xy gap length duration sigma '
-                            'sigma_total drift')):
+                            'sigma_total drift started')):
     """A candidate loop: vertices ``later`` < ``earlier`` of the unpruned route
     (return order) and their (x, y); the odometry ``gap`` (m), the loop's
     ``length`` (m) and ``duration`` (s); the drift std of this loop alone
     (``sigma``, m) and with the cuts before it (``sigma_total``, m); the
-    accumulated core/loop_drift.Drift."""
+    accumulated core/loop_drift.Drift; when the loop ``started`` (s of recording
+    time: the robot left the earlier pass's vertex)."""
 
     __slots__ = ()
 
@@ -88,10 +89,10 @@ class Cut(namedtuple('Cut', 'later earlier later_xy earlier_xy gap length durati
         return self.length - self.gap
 
     def describe(self, params=None):
-        text = ('a %.2f m, %.0f s loop from (%.2f, %.2f) back to (%.2f, %.2f): gap %.3f m, drift std '
-                '%.3f m (%.3f m with the cuts before)' % (
-                    self.length, self.duration, self.later_xy[0], self.later_xy[1], self.earlier_xy[0],
-                    self.earlier_xy[1], self.gap, self.sigma, self.sigma_total))
+        text = ('a %.2f m, %.0f s loop (recorded from %.0f s) from (%.2f, %.2f) back to (%.2f, %.2f): '
+                'gap %.3f m, drift std %.3f m (%.3f m with the cuts before)' % (
+                    self.length, self.duration, self.started, self.later_xy[0], self.later_xy[1],
+                    self.earlier_xy[0], self.earlier_xy[1], self.gap, self.sigma, self.sigma_total))
         if params is None:
             return text
         return text + ': gap + %g x %.3f = %.3f m > prune_radius %.3f m' % (
@@ -143,7 +144,7 @@ def prune_route(route, landmarks, correction=None, params=None):
             loop = drift.loop(u, w)
             total = carried.plus(loop.drift)
             cut = Cut(u, w, (route.x[u], route.y[u]), (route.x[w], route.y[w]), loop.gap, loop.length,
-                      loop.duration, drift.sigma(loop.drift), drift.sigma(total), total)
+                      loop.duration, drift.sigma(loop.drift), drift.sigma(total), total, drift.leave[w][0])
             if cut.gap + sigmas * cut.sigma_total <= radius:
                 if accepted is None or w > accepted.earlier:
                     accepted = cut

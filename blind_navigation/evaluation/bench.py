@@ -2,7 +2,7 @@
 
     /usr/bin/python3 -m blind_navigation.evaluation.bench [--seeds 20] [--processes 2]
         [--real-like-paths 60] [--real-like-seed 1000] [--no-real-like-events]
-        [--no-ros] [--ros-seeds 2] [--rtf 4] [--out results]
+        [--loops-paths 40] [--loops-seed 2000] [--no-ros] [--ros-seeds 2] [--rtf 4] [--out results]
 
 Sections (docs/evaluation.md says what each number means):
 1. Tables III-VI re-measured on the plain-Python harness (paper profile, every
@@ -12,7 +12,9 @@ Sections (docs/evaluation.md says what each number means):
 4. TUM trajectories and the figures;
 5. real-like paths (evaluation/real_like.py): seeded random paths per category
    and replayed real trajectories, every mode, error against the physical floor;
-6. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
+6. loops (evaluation/loops.py): paths that come back to where they have been,
+   the closed-loop return pruned and unpruned: return length, time and error;
+7. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
    CPU/RSS of the layer vs rosbag record, detection and rotation latency.
 """
 import argparse
@@ -23,7 +25,7 @@ import time
 
 from ..core.back_travel import MODES
 from ..sim.mission import load_mission
-from . import paper, plots, real_like, tables
+from . import loops, paper, plots, real_like, tables
 from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
@@ -165,6 +167,21 @@ def real_like_section(args):
     return text, rows
 
 
+def loops_section(args):
+    """Loops (evaluation/loops.py): the table, the targets and the rows."""
+    started = time.time()
+    rows = loops.run(args.loops_paths, args.loops_seed, 1, args.processes,
+                     lambda done, total: log('loops %d/%d missions (%.0f s)' % (done, total, time.time() - started))
+                     if done % 20 == 0 or done == total else None)
+    write_csv(os.path.join(args.out, 'loops.csv'), rows)
+    text = ('%d seeded loop paths (seeds %d..%d, %s) and the real trajectories of config/paths (1 seed '
+            'each), paper noise profile, each returned unpruned and pruned.\n\n%s\n%s\n**Targets** (issue 15, '
+            'loop paths): %s\n' % (args.loops_paths, args.loops_seed, args.loops_seed + args.loops_paths - 1,
+                                   ', '.join(sorted(loops.LOOP_CATEGORIES)), loops.table(rows), loops.NOTE,
+                                   loops.verdict(rows)[0]))
+    return text, rows
+
+
 # --------------------------------------------------------------- ROS runs
 def ros_section(args, mc_rows):
     from .ros_runs import calibrate_ros, run_ros
@@ -295,6 +312,9 @@ def main(argv=None):
                         help='seeds per real trajectory in the real-like section')
     parser.add_argument('--no-real-like-events', action='store_true',
                         help='real-like section without closed_loop+events (the proposed motion-event samples)')
+    parser.add_argument('--loops-paths', type=int, default=40,
+                        help='loop paths of the loops section (spread over the categories; 0: skip)')
+    parser.add_argument('--loops-seed', type=int, default=2000, help='first seed of the loop paths')
     parser.add_argument('--no-ros', action='store_true', help='skip the ROS runs')
     parser.add_argument('--ros-seeds', type=int, default=2)
     parser.add_argument('--rtf', type=float, default=4.0, help='real-time factor of the agreement runs')
@@ -319,6 +339,9 @@ def main(argv=None):
     real_text = ''
     if args.real_like_paths > 0:
         real_text, _ = timed('real-like paths', real_like_section, args)
+    loops_text = ''
+    if args.loops_paths > 0:
+        loops_text, _ = timed('loops', loops_section, args)
     ros_text = ''
     if not args.no_ros:
         ros_text, _ = timed('ROS runs', ros_section, args, rows)
@@ -339,6 +362,9 @@ def main(argv=None):
     if real_text:
         sections.append(('real_like', 'Real-like paths: random paths per category and real trajectories, '
                          'error against the physical floor', real_text))
+    if loops_text:
+        sections.append(('loops', 'Loops: the return pruned and unpruned (return length, time and error)',
+                         loops_text))
     note = ('\nRecorded statistics (RLV, RAV, samples, memory) are those of the `time` runs, i.e. the '
             'paper\'s configuration (launch/paper.launch, classifier dead-band 0); `closed_loop` records '
             'with blind_navigation.launch\'s dead-band 0.01 rad (montecarlo.csv has every mode\'s).\n')
@@ -364,7 +390,8 @@ def main(argv=None):
             stream.write('## ROS runs\n\n' + ros_text)
         stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
                      'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
-                     'CSV: montecarlo.csv, reconstruction.csv, storage.csv, real_like.csv, ros_runs.csv.\n')
+                     'CSV: montecarlo.csv, reconstruction.csv, storage.csv, real_like.csv, loops.csv, '
+                     'ros_runs.csv.\n')
     print(open(os.path.join(args.out, 'report.md')).read())
     log('wrote %s/report.md in %.0f s' % (args.out, total))
 

@@ -93,10 +93,11 @@ def _ratio(error, floor):
     return error / floor if floor and math.isfinite(floor) and floor > 0 else float('nan')
 
 
-def run_jobs(jobs, processes=2, progress=None):
+def run_jobs(jobs, processes=2, progress=None, job=run_job):
+    """Rows of ``job`` (default :func:`run_job`) over ``jobs`` on ``processes`` processes."""
     rows = []
     pool = multiprocessing.Pool(processes) if processes > 1 else None
-    results = pool.imap_unordered(run_job, jobs) if pool else map(run_job, jobs)
+    results = pool.imap_unordered(job, jobs) if pool else map(job, jobs)
     try:
         for index, job_rows in enumerate(results):
             rows.extend(job_rows)

@@ -23,7 +23,10 @@ The return: loads the landmark file with core/store.load_landmarks (a bad file
 aborts with the file and entry named; nothing is driven), expresses the
 landmarks in the heading-corrected frame (with ``heading_correction``: the
 latched ``blind_navigation/heading_correction``, awaited at most
-``correction_timeout``; none: aborted, the frames would not agree), waits for
+``correction_timeout``; none: aborted, the frames would not agree), builds the
+route (core/route.build_route; with ``prune_loops``, pruned of loops and
+doubled-back stretches by core/pruning.prune_route with the heading
+correction's uncertainty, each cut and refused candidate logged), waits for
 the server (``server_timeout``), sets the route
 (``blind_navigation/set_return_route``), then sends the landmarks in reverse
 order, one goal at a time, the whole return within ``return_timeout_factor``
@@ -51,7 +54,9 @@ landmark beyond them is a bad file), ``resume_timeout`` (s, wall),
 from vision loss to the end of the pi turn: the standstill's timeout, core
 gyro_bias.standstill_timeout of the shared ``standstill_time``, plus
 ``rotation_margin``), ``turn_tolerance`` (rad a finished pi turn may differ
-from pi).
+from pi), ``prune_loops`` (set by the launch files; only the ``closed_loop``
+control drives the route: blind_navigation.launch sets it false for ``time``
+and ``distance``) and core/pruning.PRUNE_DEFAULTS.
 """
 import json
 import math
@@ -71,6 +76,7 @@ from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_time
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 from blind_navigation.core.plausibility import RouteBudget
+from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params, prune_route
 from blind_navigation.core.route import ROUTE_DEFAULTS, Route, build_route
 from blind_navigation.core.progress import (ABORT, IGNORE, PROGRESS_DEFAULTS, ProgressError,
                                             ReturnProgress, file_digest, progress_path,
@@ -92,7 +98,7 @@ class BackTravelClient(object):
     """Mission state machine and goal sender (module docstring)."""
 
     ROLE = 'back_travel_client'
-    DEFAULTS = dict(ROUTE_DEFAULTS, **{
+    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **{
         'landmark_file': '',
         'odom_timeout': 0.5,
         'server_timeout': 10.0,
@@ -111,6 +117,7 @@ class BackTravelClient(object):
         'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
         'rotation_margin': 60.0,
         'turn_tolerance': 0.3,
+        'prune_loops': REQUIRED,
     })
 
     def __init__(self, layer):
@@ -121,6 +128,9 @@ class BackTravelClient(object):
                      'path_spacing', 'correction_timeout', 'rotation_margin', 'turn_tolerance'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
+        if not isinstance(p.prune_loops, bool):
+            raise ValueError('~prune_loops must be true or false, got %r' % (p.prune_loops,))
+        prune_params(p)                  # a bad pruning param fails now, not at the return
         self.layer = layer
         self.odometry = layer.odometry
         self.landmark_file = landmark_file(p.landmark_file)
@@ -375,6 +385,8 @@ class BackTravelClient(object):
                     p.odom_timeout)
             try:
                 route = build_route(landmarks, anchor, p)
+                if p.prune_loops:
+                    route = self._pruned(route, landmarks)
             except ValueError as error:
                 return False, 'cannot build the return route: %s' % error
             self._save_progress(self.progress.start(digest, len(goals), time.time(),
@@ -416,6 +428,14 @@ class BackTravelClient(object):
             travelled, len(goals) - done,
             ' (resumed after %d)' % done if done else '',
             '; ' + self.warnings if self.warnings else '')
+
+    def _pruned(self, route, landmarks):
+        """``route`` without the loops the drift allows to cut (core/pruning.py), logged."""
+        correction = self.correction.correction if self.correction is not None else None
+        result = prune_route(route, landmarks, correction, self.params)
+        for line in result.describe():
+            self.log.info('%s', line)
+        return result.route
 
     def _goal_distance(self):
         """m driven by the current goal so far (its last feedback)."""

@@ -115,7 +115,7 @@ MissionResult = namedtuple('MissionResult', [
     'distance', 'samples', 'bytes', 'position_error', 'odom_error',
     'forward_path', 'return_path', 'duration', 'landmarks', 'heading_correction',
     'floor_error', 'dense_error', 'late', 'route_length', 'return_length', 'return_time',
-    'pruning'])
+    'pruning', 'forward_times'])
 MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (m, sum of d), '
                          'samples, bytes (landmark file), position_error (m, ground truth), '
                          'odom_error (m, as odometry sees it), true paths [(x, y)], duration (s), '
@@ -126,7 +126,7 @@ MissionResult.__doc__ = ('One simulated mission: status home|aborted, distance (
                          'closed_loop route driven, pruned or not; None otherwise), return_length (m, '
                          'the true path from the return\'s start) and return_time (s, from the return\'s '
                          'start to its last goal), pruning (core/pruning.PruneResult with prune_loops, '
-                         'else None).')
+                         'else None), forward_times (s: the sim time of each forward_path point).')
 
 
 class _Run(object):
@@ -138,6 +138,7 @@ class _Run(object):
         self.base = SimulatedKobuki(profile, seed=seed)
         self.dt = dt
         self.path = []
+        self.path_times = []          # sim time of each point of ``path``
         self.fit = GyroVisualFit() if correct_heading else None
         self.vision = DriftingOdometry(seed + 1, **VO_DRIFT_DEFAULTS)
         self.next_frame = 0.0
@@ -153,6 +154,7 @@ class _Run(object):
         pose = self.base.true_pose
         if not self.path or distance(self.path[-1][0], self.path[-1][1], pose.x, pose.y) > 0.005:
             self.path.append((pose.x, pose.y))
+            self.path_times.append(self.base.t)
         if self.fit is not None:
             self.fit.add_odometry(self.base.odom.stamp, self.base.odom.yaw)
             while self.next_frame <= self.base.t + 1e-9:   # as fake_vision clocks its frames
@@ -427,6 +429,7 @@ class _Recorded(object):
             self.size = os.path.getsize(store_path)
         self.odometry, run.odometry_log = run.odometry_log, None
         self.forward_path, run.path = run.path, [run.path[-1]] if run.path else []
+        self.forward_times, run.path_times = run.path_times, run.path_times[-1:]
         standstill = SimpleNamespace(**{name: settings[name] for name in STANDSTILL_DEFAULTS
                                         if name in settings})
         self.correction = run.lose_vision(standstill, settings['gyro_calibration'])
@@ -469,7 +472,7 @@ class _Recorded(object):
             self.loaded.landmarks, self.correction, floor_error, dense_error, late,
             follower.route.length if follower is not None else None,
             sum(distance(a[0], a[1], b[0], b[1]) for a, b in zip(driven, driven[1:])), return_time,
-            pruning)
+            pruning, self.forward_times)
 
 
 def run_mission(mission, profile='ideal', mode='closed_loop', seed=0, params=None,

@@ -104,7 +104,7 @@ class Node(object):
 
 
 #: What a back_travel_client started by a test needs (the launch files set it).
-CLIENT_PARAMS = {'heading_correction': 'false'}
+CLIENT_PARAMS = {'heading_correction': 'false', 'prune_loops': 'false'}
 #: What a back_travel_server started by a test needs (the launch files set it).
 SERVER_PARAMS = {'control': 'closed_loop'}
 

@@ -165,3 +165,18 @@ def test_log_findings_reads_the_abort_reason_and_overload(tmp_path):
                    '[ERROR] /back_travel_client: state returning -> aborted: goal 11/72 ended ABORTED: stale\n'
                    '[WARN] fake_kobuki: behind real time x 5.0\n')
     assert log_findings(str(log)) == ('goal 11/72 ended ABORTED: stale', 2, 'aborted')
+
+
+def test_loops_rows_pair_the_pruned_return_with_the_unpruned_one():
+    from blind_navigation.evaluation import loops
+    rows = loops.run_job(('dead_end', 'dead_end', 2, None))
+    unpruned, pruned = rows
+    assert (unpruned['mode'], pruned['mode']) == ('unpruned', 'pruned')
+    assert unpruned['length'] == pruned['length'] and unpruned['cuts'] == 0 < pruned['cuts']
+    assert pruned['length_ratio'] == pytest.approx(pruned['return_length'] / unpruned['return_length'])
+    assert pruned['length_ratio'] < 0.8 and unpruned['length_ratio'] == 1.0
+    assert len(pruned['true_gaps']) == pruned['cuts'] and pruned['true_gap_max'] < 0.3
+    text = loops.table(rows)
+    assert '| dead_end | 1 | 0 / 0 |' in text and '**all loop paths**' in text
+    verdict, met = loops.verdict(rows)
+    assert 'none aborted: met' in verdict and isinstance(met, bool)

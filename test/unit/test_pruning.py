@@ -208,3 +208,25 @@ def test_the_search_costs_the_same_per_vertex_on_a_four_times_longer_path():
         result = prune_route(route, landmarks, None, SimpleNamespace(wheel_error_per_m=1.0))
         return result.examined / float(route.vertices)
     assert examined(8) < 1.5 * examined(2)
+
+
+@pytest.mark.parametrize('profile', [FIGURE_EIGHT, DEAD_END], ids=['eight', 'dead end'])
+def test_a_return_resumed_at_any_goal_follows_the_same_pruned_route_home(profile):
+    _, end, route, result = pruned(profile)
+    kept = Route.from_lists(result.route.to_lists())      # as the progress file keeps it
+    inside = [i for i, section in enumerate(route.sections)
+              if any(c.later < section.end_vertex < c.earlier for c in result.cuts)]
+    for done in sorted({1, inside[0], inside[0] + 1, inside[-1] + 1, len(kept.sections) // 2}):
+        vertex = kept.sections[done - 1].end_vertex
+        robot = Unicycle(kept.x[vertex], kept.y[vertex],
+                         kept.direction(min(vertex, kept.vertices - 2)))
+        follower = RouteFollower(kept, SimpleNamespace(stop_lead=0.0))
+        follower.start(robot.odom, section=done)
+        for _ in range(100000):
+            command = follower.step(robot.odom)
+            if follower.done or follower.failed:
+                break
+            robot.move(command[0], command[1], 0.02)
+        assert follower.done, (done, follower.reason)
+        assert math.hypot(robot.x - kept.x[-1], robot.y - kept.y[-1]) < 0.02
+        assert follower.travelled <= kept.length - kept.s[vertex] + 0.05

@@ -1,0 +1,131 @@
+#!/usr/bin/env python3
+"""rostest: a mission whose path comes back to where it has been, on the fake
+TurtleBot with blind_navigation.launch as a user starts it (one process,
+prune_loops at its default): the return is pruned (issue 15).
+
+The layer records while the fake's scripted operator plays ``~mission`` (started
+by this node once the layer records); then vision is lost (published by this
+node). Asserted: the state walks idle -> recording -> rotating -> returning ->
+home; every landmark's goal succeeded (the protocol is one goal per landmark,
+pruned or not); the client logged its cuts; the latched return route
+(/blind_navigation/return_route) is the pruned one, shorter than
+``~max_return_share`` of the recorded path; the return the robot really drove
+(ground truth after the pi turn) is shorter than ``~max_return_share`` of the
+path it drove while recording; it ends within ``~max_error`` m of its start.
+"""
+import math
+import os
+import sys
+import threading
+import unittest
+
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalStatus
+from nav_msgs.msg import Odometry, Path
+from rosgraph_msgs.msg import Log
+from std_msgs.msg import String
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mission_tools import HOME_WALK, MissionRun  # noqa: E402
+from recording_tools import Collector  # noqa: E402
+
+from blind_navigation import names  # noqa: E402
+
+
+class PathByState(object):
+    """Ground-truth path length (m) driven in each mission state: the recording
+    (``recording``) and the return after the pi turn (``returning`` and after)."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self.state = None
+        self.length = {}
+        self._last = None
+        rospy.Subscriber(names.STATE, String, self._on_state, queue_size=10)
+        rospy.Subscriber('/ground_truth/odom', Odometry, self._on_truth, queue_size=200)
+
+    def _on_state(self, msg):
+        with self._lock:
+            self.state = msg.data
+
+    def _on_truth(self, msg):
+        p = msg.pose.pose.position
+        with self._lock:
+            if self._last is not None and self.state is not None:
+                step = math.hypot(p.x - self._last[0], p.y - self._last[1])
+                key = 'return' if self.state in ('returning', 'home', 'aborted') else self.state
+                self.length[key] = self.length.get(key, 0.0) + step
+            self._last = (p.x, p.y)
+
+    def of(self, key):
+        with self._lock:
+            return self.length.get(key, 0.0)
+
+
+def path_length(path):
+    points = [(p.pose.position.x, p.pose.position.y) for p in path.poses]
+    return sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(points, points[1:]))
+
+
+class LoopMissionTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mission = rospy.get_param('~mission')
+        cls.max_error = float(rospy.get_param('~max_error'))
+        cls.max_share = float(rospy.get_param('~max_return_share'))
+        cls.mission_run = MissionRun(float(rospy.get_param('~wall_timeout', 300.0)))
+        cls.paths = PathByState()
+        cls.route = Collector(names.RETURN_ROUTE, Path)
+        cls.log = Collector('/rosout', Log)
+        try:
+            cls.mission_run.wait_for_layer()
+            cls.mission_run.start_operator(cls.mission)
+            cls.mission_run.wait_for_operator(cls.mission)
+            cls.mission_run.trigger_by_publisher()
+            cls.mission_run.wait_until_final()
+            cls.error = cls.mission_run.error()
+            cls.loaded = cls.mission_run.recorded()
+        finally:
+            cls.mission_run.stop_operator()
+        cls.mission_run.wait(lambda: cls.route.snapshot(), 'no %s was published' % names.RETURN_ROUTE)
+        rospy.loginfo('LOOPS %s: state %s, forward %.2f m, return %.2f m, route %.2f m of %.2f m recorded, '
+                      'error %.3f m', cls.mission, cls.mission_run.state_names()[-1], cls.paths.of('recording'),
+                      cls.paths.of('return'), path_length(cls.route.snapshot()[-1]),
+                      cls.loaded.total_distance, cls.error)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.mission_run.remove_recording()
+
+    def test_state_walks_to_home(self):
+        self.assertEqual(self.mission_run.state_names(), HOME_WALK)
+
+    def test_every_landmark_is_still_a_goal_and_succeeded(self):
+        self.assertGreater(len(self.loaded.landmarks), 10)
+        self.assertEqual(self.mission_run.goal_outcomes(), [GoalStatus.SUCCEEDED] * len(self.loaded.landmarks))
+
+    def test_the_client_logged_its_cuts(self):
+        lines = [m.msg for m in self.log.snapshot() if 'back_travel_client: cut a ' in m.msg]
+        self.assertTrue(lines, 'the client logged no "cut a ..." line on /rosout')
+        self.assertIn('drift std', lines[0])
+
+    def test_the_published_route_is_the_pruned_one(self):
+        route = path_length(self.route.snapshot()[-1])
+        self.assertLess(route, self.max_share * self.loaded.total_distance,
+                        'return_route %.2f m of %.2f m recorded' % (route, self.loaded.total_distance))
+
+    def test_the_return_driven_is_shorter_than_the_share_of_the_forward_path(self):
+        forward, back = self.paths.of('recording'), self.paths.of('return')
+        self.assertGreater(forward, 0.9 * self.loaded.total_distance)
+        self.assertLess(back, self.max_share * forward,
+                        'returned %.2f m after %.2f m forward' % (back, forward))
+
+    def test_robot_ends_near_its_start(self):
+        self.assertLessEqual(self.error, self.max_error)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_mission_loops')
+    rostest.rosrun('blind_navigation', 'mission_loops', LoopMissionTest)
