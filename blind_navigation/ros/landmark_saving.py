@@ -93,6 +93,7 @@ class LandmarkSaving(object):
             'recorder': variant, 'odom_topic': rospy.resolve_name(names.ODOM),
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
         rospy.on_shutdown(self.writer.close)
+        self.finished = self.writer.finished   # a continued mission file may be finished already
         path = self.writer.path
         if self.writer.resumed is not None:
             self.log.warn('restarted within the mission: continuing %s after its %d landmarks%s',

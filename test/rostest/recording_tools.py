@@ -1,5 +1,5 @@
 """Helpers shared by the recording rostests (test_recording_*.py): graph waits,
-topic collectors, the yaml-cpp reader, SIGKILL of a node by name."""
+topic collectors, /diagnostics statuses, the yaml-cpp reader, SIGKILL of a node by name."""
 import os
 import signal
 import subprocess
@@ -11,6 +11,7 @@ import roslib.packages
 import rosnode
 import rospy
 import yaml
+from diagnostic_msgs.msg import DiagnosticArray
 
 import waiting
 
@@ -49,6 +50,27 @@ class Collector(object):
     def __len__(self):
         with self._lock:
             return len(self.items)
+
+
+class Diagnostics(object):
+    """The newest /diagnostics status of each name (``<node>: <role>: <check>``), thread-safe.
+    Unlike a log line, which is lost when the node logs it before this node's /rosout
+    subscription connected, a status is published again every second."""
+
+    def __init__(self):
+        self._lock, self._latest = threading.Lock(), {}
+        self.sub = rospy.Subscriber('/diagnostics', DiagnosticArray, self._on_msg, queue_size=50)
+
+    def _on_msg(self, msg):
+        with self._lock:
+            for status in msg.status:
+                self._latest[status.name] = status
+
+    def status(self, name):
+        """(summary message, {key: value}) of the newest status ``name``, or None."""
+        with self._lock:
+            status = self._latest.get(name)
+        return None if status is None else (status.message, {kv.key: kv.value for kv in status.values})
 
 
 def landmark_info(path):

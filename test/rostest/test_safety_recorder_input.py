@@ -25,6 +25,7 @@ from blind_navigation.msg import StorageUsage, PathSample
 from blind_navigation.srv import RecordLandmark
 
 from mission_owner import MissionOwner
+from recording_tools import Diagnostics
 from safety_rig import Collector, Node, SimClock
 from waiting import wait_for
 
@@ -74,6 +75,7 @@ class RecorderInputTest(unittest.TestCase):
         directory = rospy.get_param('~directory')
         link = os.path.join(directory, 'landmarks.yaml')
         rosout = Collector('/rosout', __import__('rosgraph_msgs.msg', fromlist=['Log']).Log)
+        diagnostics = Diagnostics()
         wait_for(lambda: os.path.islink(link), 'the saver created its mission file', 60.0)
         first_file = os.path.realpath(link)
         odometer = Odometer()
@@ -116,22 +118,26 @@ class RecorderInputTest(unittest.TestCase):
         digest = file_digest(first_file)
         saver2 = Node('landmark_saver.py', 'landmark_saver_restarted',
                       {'landmark_file': link, 'fsync': 'false'})
+        restarted = 'landmark_saver_restarted: landmark_saver: recording'
         try:
-            wait_for(lambda: any(m.name == '/landmark_saver_restarted' and 'continuing %s' % first_file
-                                 in m.msg for _, m in rosout.items),
-                     'the saver restarted within the mission continues its file', 60.0)
+            wait_for(lambda: diagnostics.status(restarted), 'diagnostics of the restarted saver', 60.0)
         finally:
             saver2.kill()
+        summary, values = diagnostics.status(restarted)
+        self.assertEqual(values['file'], first_file, 'the restarted saver did not continue its file')
+        self.assertEqual(summary, 'recording finished: %d landmarks' % len(loaded.landmarks))
         self.assertEqual(os.path.realpath(link), first_file, 'the restarted saver left the mission\'s file')
         self.assertEqual(file_digest(first_file), digest, 'the finished mission file changed')
         rospy.set_param('/blind_navigation/mission_id', 'next_' + rospy.get_param('/blind_navigation/mission_id'))
         saver3 = Node('landmark_saver.py', 'landmark_saver_next_mission',
                       {'landmark_file': link, 'fsync': 'false'})
         try:
-            wait_for(lambda: os.path.realpath(link) != first_file,
-                     'the saver of a new mission starts a new file', 60.0)
+            wait_for(lambda: diagnostics.status('landmark_saver_next_mission: landmark_saver: recording'),
+                     'diagnostics of the saver of a new mission', 60.0)
         finally:
             saver3.kill()
+        self.assertNotEqual(os.path.realpath(link), first_file, 'the saver of a new mission did not '
+                            'start a new file')
         self.assertEqual(file_digest(first_file), digest, 'the old mission file changed')
         self.assertEqual(sorted(os.listdir(directory)), sorted(
             ['landmarks.yaml', 'service', os.path.basename(first_file),

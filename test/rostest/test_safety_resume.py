@@ -17,9 +17,10 @@ import rospy
 import rostest
 
 from blind_navigation.core.progress import file_digest, load_progress, progress_path
-from blind_navigation.msg import BackTravelActionGoal
+from blind_navigation.msg import BackTravelActionGoal, MissionStatus
 
 from fake_base import FakeBase
+from recording_tools import Diagnostics
 from safety_rig import (CLIENT_PARAMS, SERVER_PARAMS, Collector, Layer, Node, SimClock,
                         distance_from_origin, path_length, straight_landmarks, write_mission)
 from waiting import wait_for
@@ -39,6 +40,8 @@ class ResumeTest(unittest.TestCase):
         cls.layer = Layer()
         cls.goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
         cls.mission = rospy.get_param('/blind_navigation/mission_id')
+        cls.diagnostics = Diagnostics()
+        cls.status = Collector('/blind_navigation/status', MissionStatus)
 
     def test_corrupt_progress_aborts_the_restarted_client(self):
         directory = rospy.get_param('~directory') + '_corrupt'
@@ -48,12 +51,16 @@ class ResumeTest(unittest.TestCase):
         with open(progress_file, 'w') as stream:
             stream.write('status: returning\ncompleted: [4\n')      # torn: not YAML
         layer, goals, commands = self.layer, len(self.goals), len(self.base.commands)
-        since, log_since = len(layer.states), len(layer.rosout)
+        since, status_since = len(layer.states), len(self.status)
         client_params = dict(CLIENT_PARAMS, landmark_file=link)
         client = Node('back_travel_client.py', 'back_travel_client', client_params)
         try:
             final = layer.wait_final(since, timeout=60.0)
-            reason = layer.abort_reason('/back_travel_client', log_since)
+            # the reason from the latched mission status: the client aborts as it starts,
+            # before this node's /rosout subscription may have connected to it
+            wait_for(lambda: self.status.snapshot(status_since), 'the client\'s mission status', 60.0)
+            reason = self.status.snapshot(status_since)[-1].reason
+            self.wait_until_up('aborted')
         finally:
             client.kill()
         self.assertEqual(layer.state_list(since), ['aborted'], 'not aborted at once: %s' % reason)
@@ -66,10 +73,17 @@ class ResumeTest(unittest.TestCase):
         client = Node('back_travel_client.py', 'back_travel_client', client_params)
         try:
             wait_for(lambda: layer.state_list(since), 'the next client publishes its state', 60.0)
+            self.wait_until_up('idle')
         finally:
             client.kill()
         self.assertEqual(layer.state_list(since)[0], 'idle', 'the settled abort is not clean')
         shutil.rmtree(directory, ignore_errors=True)
+
+    def wait_until_up(self, state):
+        """Until the client's diagnostics report ``state``: it is up (a SIGINT while rospy
+        still builds the node can deadlock its signal handler on rospy's own locks)."""
+        wait_for(lambda: (self.diagnostics.status('back_travel_client: mission') or ('',))[0]
+                 .startswith(state), 'the client\'s diagnostics report %s' % state, 60.0)
 
     def test_restart_mid_return_resumes_and_ends_home(self):
         directory = rospy.get_param('~directory')
@@ -102,8 +116,12 @@ class ResumeTest(unittest.TestCase):
                  Node('back_travel_server.py', 'back_travel_server', SERVER_PARAMS),
                  Node('back_travel_client.py', 'back_travel_client', client_params)]
         try:
-            wait_for(lambda: layer.logged('/landmark_saver', 'continuing %s' % recorded),
-                     'the restarted saver continues the mission\'s file %s' % recorded, 60.0)
+            saver = 'landmark_saver: landmark_saver: recording'
+            wait_for(lambda: self.diagnostics.status(saver), 'diagnostics of the restarted saver', 60.0)
+            self.assertEqual(self.diagnostics.status(saver)[1]['file'], recorded,
+                             'the restarted saver did not continue the mission\'s file')
+            self.assertEqual(self.diagnostics.status(saver)[0],
+                             'recording finished: %d landmarks' % COUNT)
             final = layer.wait_final(restart_states, timeout=120.0)
             states = layer.state_list(restart_states)
             self.assertEqual(final, 'home', layer.abort_reason('/back_travel_client'))
