@@ -30,10 +30,12 @@ gathered over the loop, with these parts (small-angle: a heading error
   cancel on a closed loop; slip that changes with speed, direction or floor
   does not).
 
-The parts are independent; their variances add. Bias and scale errors of
-several loops cut from one return add as vectors (the same ``b`` and ``s``),
-the others as variances (:meth:`Drift.plus`): a robot that skipped two loops
-carries both loops' drift.
+The parts are independent; their variances add. A robot that skipped several
+loops carries all their drift (:meth:`Drift.plus`): the bias and scale errors
+add as vectors (the same ``b`` and ``s``), the white noise's as variances
+(independent), the wheels' as standard deviations (the same robot on the same
+floor: as conservative over several loops as over one, so skipping three 9 m
+loops costs what skipping one 27 m loop does).
 
 Every loop costs O(1) after an O(n) pass over the route (prefix sums), so
 checking many candidate loops stays linear in their number.
@@ -74,7 +76,7 @@ def drift_param(params, name, defaults=DRIFT_DEFAULTS):
 class Drift(namedtuple('Drift', 'bias_x bias_y scale_x scale_y noise wheel')):
     """The drift of one loop (or of several, :meth:`plus`): the bias and scale
     sums (m s, m rad: vectors), the white-noise integral (m^2 s) and the wheel
-    variance (m^2)."""
+    error's standard deviation (m)."""
 
     __slots__ = ()
 
@@ -159,7 +161,7 @@ class LoopDrift(object):
         ux, uy = route.x[u] - self._origin[0], route.y[u] - self._origin[1]
         noise = max(0.0, c * (ux * ux + uy * uy) - 2.0 * (ux * dx + uy * dy) + f)
         length = route.s[w] - route.s[u]
-        drift = Drift(bias[0], bias[1], scale[0], scale[1], noise, (self.wheel_error * length) ** 2)
+        drift = Drift(bias[0], bias[1], scale[0], scale[1], noise, self.wheel_error * length)
         return LoopEstimate(length, self.arrive[u][0] - t_ref,
                             math.hypot(route.x[u] - route.x[w], route.y[u] - route.y[w]), drift)
 
@@ -167,7 +169,8 @@ class LoopDrift(object):
         """Standard deviation (m) of the true offset between the passes for ``drift``."""
         bias = self.bias_std * math.hypot(drift.bias_x, drift.bias_y)
         scale = self.scale_std * math.hypot(drift.scale_x, drift.scale_y)
-        return math.sqrt(bias * bias + scale * scale + self.noise_density ** 2 * drift.noise + drift.wheel)
+        return math.sqrt(bias * bias + scale * scale + self.noise_density ** 2 * drift.noise
+                         + drift.wheel * drift.wheel)
 
 
 def _std(correction, name, prior):

@@ -34,7 +34,8 @@ passes are truly apart by the gap plus the drift gathered over the loop
 (core/loop_drift.py: gyro bias and scale left after the heading correction and
 calibration, gyro white noise, wheel error per metre; a robot that already
 skipped loops carries their drift too, so each candidate is judged with the
-drift of every cut before it). A cut is made only when
+drift of every cut before it; a jump on from a junction just reached is one
+chord when that fits the rule). A cut is made only when
 ``gap + prune_sigmas x drift std <= prune_radius``: with ``prune_sigmas`` 2, at
 least 95 % sure the true passes are within the radius. Among a vertex's
 candidates the one furthest along (the most saved) is cut; candidates
@@ -72,16 +73,28 @@ PRUNE_DEFAULTS = dict(DRIFT_DEFAULTS, **{
 })
 
 
-class Cut(namedtuple('Cut', 'later earlier later_xy earlier_xy gap length duration sigma '
+class Cut(namedtuple('Cut', 'later earlier share later_xy earlier_xy gap length duration sigma '
                             'sigma_total drift started')):
-    """A candidate loop: vertices ``later`` < ``earlier`` of the unpruned route
-    (return order) and their (x, y); the odometry ``gap`` (m), the loop's
-    ``length`` (m) and ``duration`` (s); the drift std of this loop alone
-    (``sigma``, m) and with the cuts before it (``sigma_total``, m); the
-    accumulated core/loop_drift.Drift; when the loop ``started`` (s of recording
-    time: the robot left the earlier pass's vertex)."""
+    """A candidate loop: from vertex ``later`` of the unpruned route (return
+    order) back to the earlier pass at ``share`` of the segment from vertex
+    ``earlier`` to the next (0: the vertex itself), and their (x, y); the
+    odometry ``gap`` (m), the loop's ``length`` (m) and ``duration`` (s); the
+    drift std of this loop alone (``sigma``, m) and with the cuts before it
+    (``sigma_total``, m); the accumulated core/loop_drift.Drift; when the loop
+    ``started`` (s of recording time: the robot left the earlier pass). Length
+    aside, the loop is taken to the segment's far end (conservative)."""
 
     __slots__ = ()
+
+    @property
+    def landing(self):
+        """(vertex, share): where on the route the cut lands, comparable."""
+        return self.earlier, self.share
+
+    @property
+    def resume(self):
+        """The first vertex of the unpruned route the return drives after the cut."""
+        return self.earlier + 1 if self.share > 0 else self.earlier
 
     @property
     def saved(self):
@@ -133,32 +146,77 @@ def prune_route(route, landmarks, correction=None, params=None):
     ``params``: attributes of :data:`PRUNE_DEFAULTS` and core/route.ROUTE_DEFAULTS."""
     values = prune_params(params)
     drift = LoopDrift(route, landmarks, correction, params)
-    near, scanned = _neighbours(route, values['prune_radius'], values['prune_min_loop'])
-    radius, sigmas = values['prune_radius'], values['prune_sigmas']
+    radius, sigmas, min_loop = values['prune_radius'], values['prune_sigmas'], values['prune_min_loop']
+    near, scanned = _neighbours(route, radius, min_loop)
     cuts, refused = [], []
-    carried = NO_DRIFT
-    u, last = 0, route.vertices - 1
+
+    def candidate(u, landing, before):
+        index, share = landing
+        start = index + 1 if share > 0 else index       # the loop taken to the segment's far end
+        loop = drift.loop(u, start)
+        total = before.plus(loop.drift)
+        x, y = _point(route, index, share)
+        along = route.s[index] + share * (route.s[start] - route.s[index])
+        gap = math.hypot(x - route.x[u], y - route.y[u])
+        cut = Cut(u, index, share, (route.x[u], route.y[u]), (x, y), gap, along - route.s[u], loop.duration,
+                  drift.sigma(loop.drift), drift.sigma(total), total, drift.leave[start][0])
+        return cut, gap + sigmas * cut.sigma_total <= radius
+
+    u, last, carried = 0, route.vertices - 1, NO_DRIFT
     while u < last:
         accepted = rejected = None
-        for w in near(u):
-            loop = drift.loop(u, w)
-            total = carried.plus(loop.drift)
-            cut = Cut(u, w, (route.x[u], route.y[u]), (route.x[w], route.y[w]), loop.gap, loop.length,
-                      loop.duration, drift.sigma(loop.drift), drift.sigma(total), total, drift.leave[w][0])
-            if cut.gap + sigmas * cut.sigma_total <= radius:
-                if accepted is None or w > accepted.earlier:
+        for landing in _landings(route, u, near(u)):
+            cut, ok = candidate(u, landing, carried)
+            if cut.gap > radius or cut.length < min_loop:
+                continue
+            if ok:
+                if accepted is None or landing > accepted.landing:
                     accepted = cut
-            elif rejected is None or w > rejected.earlier:
+            elif rejected is None or landing > rejected.landing:
                 rejected = cut
-        if rejected is not None and (accepted is None or rejected.earlier > accepted.earlier):
+        if rejected is not None and (accepted is None or rejected.landing > accepted.landing):
             refused.append(rejected)
+        if accepted is not None and cuts and cuts[-1].resume == u:
+            # landed on a junction and jumping on at once: one chord for both, if it fits
+            merged, ok = candidate(cuts[-1].later, accepted.landing, cuts[-2].drift if len(cuts) > 1 else NO_DRIFT)
+            if ok:
+                cuts.pop()
+                accepted = merged
         if accepted is not None:
             cuts.append(accepted)
-            carried, u = accepted.drift, accepted.earlier
+            carried, u = accepted.drift, accepted.resume
         else:
             u += 1
     pruned = apply_cuts(route, cuts, params) if cuts else route
     return PruneResult(pruned, cuts, _one_per_loop(refused), values, scanned[0])
+
+
+def _point(route, index, share):
+    if share <= 0:
+        return route.x[index], route.y[index]
+    return (route.x[index] + share * (route.x[index + 1] - route.x[index]),
+            route.y[index] + share * (route.y[index + 1] - route.y[index]))
+
+
+def _landings(route, u, vertices):
+    """Where on the earlier passes near vertex ``u`` a cut can land: for each nearby
+    vertex, the point of each of its two segments nearest ``u``, as (vertex, share)."""
+    x, y, last = route.x[u], route.y[u], route.vertices - 1
+    seen = set()
+    for w in vertices:
+        for a in (w - 1, w):
+            if a <= u or a + 1 > last:
+                continue
+            dx, dy = route.x[a + 1] - route.x[a], route.y[a + 1] - route.y[a]
+            length_sq = dx * dx + dy * dy
+            share = ((x - route.x[a]) * dx + (y - route.y[a]) * dy) / length_sq if length_sq > 0 else 0.0
+            landing = (a + 1, 0.0) if share >= 1.0 else (a, max(0.0, share))
+            if landing not in seen:
+                seen.add(landing)
+                yield landing
+        if w == last and (w, 0.0) not in seen:
+            seen.add((w, 0.0))
+            yield (w, 0.0)
 
 
 def _neighbours(route, radius, min_loop):
@@ -199,40 +257,44 @@ def _one_per_loop(refused):
 
 def apply_cuts(route, cuts, params=None):
     """The :class:`~core.route.Route` without the loops of ``cuts`` (return order,
-    each starting at or after the previous one's ``earlier`` vertex; module
-    docstring: sections inside a cut end at its junction, which is a corner)."""
+    each starting at or after where the previous one resumes; module docstring:
+    sections inside a cut end at its junction, which is a corner; a cut landing
+    within a segment adds its landing point as a vertex)."""
     merge = drift_param(params, 'merge_distance', ROUTE_DEFAULTS)
     corner_angle = drift_param(params, 'corner_angle', ROUTE_DEFAULTS)
     slowest_v = drift_param(params, 'slowest_v', ROUTE_DEFAULTS)
-    keep, junctions, new_of = [], [], {}
+    keep, junctions, landed, new_of, inside = [], [], [], {}, {}
     start = 0
-    for cut in cuts:
-        if not start <= cut.later < cut.earlier < route.vertices:
-            raise ValueError('cut %d -> %d does not follow the previous one (at %d)'
-                             % (cut.later, cut.earlier, start))
-        if cut.gap < merge:         # the passes coincide: the earlier one's vertex is the junction
-            keep.extend(range(start, cut.later))
-            new_of[cut.later] = len(keep)
-            junctions.append((len(keep), cut))
+    for cut in cuts:        # keep: original vertex indices, or a cut (its landing point)
+        if not (start <= cut.later < cut.earlier < route.vertices and 0.0 <= cut.share < 1.0):
+            raise ValueError('cut %d -> %d (share %r) does not follow the previous one (at %d)'
+                             % (cut.later, cut.earlier, cut.share, start))
+        keep.extend(range(start, cut.later if cut.gap < merge else cut.later + 1))
+        if cut.share > 0:
+            keep.append(cut)
+        if cut.gap < merge:         # the passes coincide: the landing point is the junction
+            new_of[cut.later] = len(keep) - (1 if cut.share > 0 else 0)
+            junction = new_of[cut.later]
         else:
-            keep.extend(range(start, cut.later + 1))
-            junctions.append((len(keep) - 1, cut))
-        start = cut.earlier
+            junction = len(keep) - (2 if cut.share > 0 else 1)
+        junctions.append((junction, cut))
+        landed.append(junction + (0 if cut.gap < merge else 1))
+        for vertex in range(cut.later + 1, cut.resume if cut.share > 0 else cut.earlier):
+            inside[vertex] = junction
+        start = cut.resume
     keep.extend(range(start, route.vertices))
     for index, vertex in enumerate(keep):
-        new_of.setdefault(vertex, index)
-    xs, ys = [route.x[v] for v in keep], [route.y[v] for v in keep]
-    speeds = [route.speed[v] for v in keep]
-    corner = [route.corner[v] for v in keep]
-    for junction, _ in junctions:
+        if not isinstance(vertex, Cut):
+            new_of.setdefault(vertex, index)
+    xs = [v.earlier_xy[0] if isinstance(v, Cut) else route.x[v] for v in keep]
+    ys = [v.earlier_xy[1] if isinstance(v, Cut) else route.y[v] for v in keep]
+    speeds = [route.speed[v.earlier] + v.share * (route.speed[v.earlier + 1] - route.speed[v.earlier])
+              if isinstance(v, Cut) else route.speed[v] for v in keep]
+    corner = [False if isinstance(v, Cut) else route.corner[v] for v in keep]
+    for (junction, _), landing in zip(junctions, landed):
         corner[junction] = True
-        after = junction + 1
-        if after < len(keep) - 1 and not any(j == after for j, _ in junctions):
-            corner[after] = abs(corner_turn(xs, ys, after)) > corner_angle
-    inside = {}                     # an old vertex inside a cut -> the new junction vertex
-    for junction, cut in junctions:
-        for vertex in range(cut.later + 1, cut.earlier):
-            inside[vertex] = junction
+        if landing != junction and 0 < landing < len(keep) - 1 and landing not in [j for j, _ in junctions]:
+            corner[landing] = abs(corner_turn(xs, ys, landing)) > corner_angle
     sections, previous, pending = [], (0, 0.0), list(junctions)
     for section in route.sections:
         if section.end_vertex in inside:    # done on arrival at the junction

@@ -159,7 +159,7 @@ def table(rows):
     return markdown_table(['paths', 'runs', 'aborted (unpruned / pruned)', 'median home error m (unpruned / pruned)',
                            'p95 error m', 'median error change m (pruned - unpruned)', 'runs pruned worse',
                            'median return length pruned / unpruned', 'median return time pruned / unpruned',
-                           'largest |return length / route - 1| % (unpruned / pruned)',
+                           'largest deviation of the return length from the route % (unpruned / pruned)',
                            'median cuts', 'median refused',
                            'cuts: true junction gap median (max) m, over prune_radius'], lines)
 
