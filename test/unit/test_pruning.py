@@ -56,7 +56,7 @@ def drive_home(route, end):
 
 def on_route(route, x, y):
     """(distance along ``route``, distance from it) of the route point nearest (x, y)."""
-    best = (math.inf, 0.0)
+    best = (math.hypot(route.x[0] - x, route.y[0] - y), 0.0)
     for a in range(route.vertices - 1):
         dx, dy = route.x[a + 1] - route.x[a], route.y[a + 1] - route.y[a]
         length_sq = dx * dx + dy * dy
