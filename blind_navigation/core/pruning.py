@@ -17,9 +17,11 @@ Walking it from the anchor, at each vertex ``u`` the earlier passes within
 that are at least ``prune_min_loop`` further along the route are candidate
 junctions ``w``: the path between them (recorded from ``w`` to ``u``) is a loop,
 an out-and-back corridor, a dead end backed out of, or everything since the
-start when the path passes the start again. The return goes from ``u``
-straight to ``w``, the junction's chord, and on from there: it passes only
-through recorded points, and the chord joins two passes within the radius.
+start when the path passes the start again. The cut lands where the earlier
+pass comes nearest ``u`` (on one of the two segments at ``w``: a point of the
+recorded path, added as a vertex). The return goes from ``u`` straight there,
+the junction's chord, and on along the earlier pass: it passes only through
+points of the recorded path, and the chord joins two passes within the radius.
 
 **Why the radius.** ``prune_radius`` is half the Kobuki's 0.35 m footprint:
 while the robot's centre moves along a chord of at most that length between
@@ -36,8 +38,8 @@ calibration, gyro white noise, wheel error per metre; a robot that already
 skipped loops carries their drift too, so each candidate is judged with the
 drift of every cut before it; a jump on from a junction just reached is one
 chord when that fits the rule). A cut is made only when
-``gap + prune_sigmas x drift std <= prune_radius``: with ``prune_sigmas`` 2, at
-least 95 % sure the true passes are within the radius. Among a vertex's
+``gap + prune_sigmas x drift std <= prune_radius``: ``prune_sigmas`` standard
+deviations sure (the default: 95 %) that the true passes are within the radius. Among a vertex's
 candidates the one furthest along (the most saved) is cut; candidates
 refused are reported, one per candidate loop (the largest of a run of
 vertices).
@@ -50,9 +52,10 @@ chord), and the sections after it end where they did. So the client still
 sends every landmark as a goal, the progress counts stay right, and a resumed
 return follows the same (pruned) route from its progress file.
 
-Cost: O(n) to set up, then O(number of nearby vertices) per vertex walked:
-linear in the landmark count for paths that pass each place a bounded number
-of times. The follower's cost per control step does not change.
+Cost: O(n) to set up (grid, prefix sums), then per vertex walked the nearby
+vertices of nine cells (a bisection each) and O(1) per candidate: n log n at
+most in the landmark count for paths that pass each place a bounded number of
+times. The follower's cost per control step does not change.
 
 ``time`` and ``distance`` replay landmarks open loop and cannot prune: only
 ``closed_loop`` drives this route.
