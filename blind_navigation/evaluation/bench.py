@@ -2,7 +2,8 @@
 
     /usr/bin/python3 -m blind_navigation.evaluation.bench [--seeds 20] [--processes 2]
         [--real-like-paths 60] [--real-like-seed 1000] [--no-real-like-events]
-        [--loops-paths 40] [--loops-seed 2000] [--no-ros] [--ros-seeds 2] [--rtf 4] [--out results]
+        [--loops-paths 40] [--loops-seed 2000] [--no-ros] [--ros-seeds 2] [--rtf 4]
+        [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--out results]
 
 Sections (docs/evaluation.md says what each number means):
 1. Tables III-VI re-measured on the plain-Python harness (paper profile, every
@@ -15,7 +16,11 @@ Sections (docs/evaluation.md says what each number means):
 6. loops (evaluation/loops.py): paths that come back to where they have been,
    the closed-loop return pruned and unpruned: return length, time and error;
 7. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
-   CPU/RSS of the layer vs rosbag record, detection and rotation latency.
+   the landmark file vs the bag of the same run, detection and rotation latency;
+8. the layer's running cost in real time (evaluation/cost.py, launch/cost.launch):
+   CPU and peak RSS per process at rtf 1 beside ``rosbag record /odom``, the
+   default launch and the paper's layout, while recording and during the
+   return; detection latency of the default and the image-based detectors.
 """
 import argparse
 import os
@@ -25,7 +30,7 @@ import time
 
 from ..core.back_travel import MODES
 from ..sim.mission import load_mission
-from . import loops, paper, plots, real_like, tables
+from . import cost, loops, paper, plots, real_like, tables
 from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
@@ -39,6 +44,8 @@ TABLE6 = sorted(paper.TABLE6)
 ROS_AGREEMENT = [(m, mode) for m in ('table6_test1', 'table6_test3') for mode in ('time', 'closed_loop')]
 LATENCY_MISSION = 'table3_test5'
 DETECTORS = ('dark', 'stall', 'lost')
+COST_TITLE = ('The layer\'s running cost: real time, beside `rosbag record /odom` '
+              '(evaluation/cost.py, docs/cost.md)')
 
 
 def log(message):
@@ -213,8 +220,8 @@ def ros_section(args, mc_rows):
             '%s %s seed %s: %s' % (r['mission'], r['mode'], r['seed'], r['failed']) for r in failed) + '\n\n'
     text += '### ROS vs plain-Python harness (same missions, modes, seeds; paper profile)\n\n'
     text += agreement_table(ok, mc_rows)
-    text += '\n### The running layer\'s CPU and memory vs `rosbag record /odom` (one ROS run each, recording phase)\n\n'
-    text += cpu_table(ok)
+    text += '\n### On disk: the landmark file vs `rosbag record /odom` of the same run\n\n'
+    text += disk_table(ok)
     text += '\n### Latency (sim time, ROS runs on the fake TurtleBot)\n\n'
     text += latency_table(ok)
     return text, runs
@@ -249,41 +256,20 @@ def agreement_table(ros, mc_rows):
     return table
 
 
-RECORDING_NODES = ('sampling_publisher', 'landmark_saver')
-
-
-def cpu_table(ros):
-    with_bag = [r for r in ros if 'odom_bag' in r.get('nodes', {})]
-    if not with_bag:
-        return 'no run measured rosbag record\n'
-    names = [n for n in with_bag[0]['nodes']]
-    lines = []
-    for name in names:
-        cpu = [r['nodes'][name]['cpu_pct'] for r in with_bag if name in r['nodes']]
-        rss = [r['nodes'][name]['rss_peak_mb'] for r in with_bag if name in r['nodes']]
-        lines.append([name, med_range(cpu, 1), med_range(rss, 1)])
-
-    def ratio(nodes, key):
-        values = []
-        for r in with_bag:
-            bag = r['nodes']['odom_bag'][key]
-            values.append(sum(r['nodes'][n][key] for n in nodes if n in r['nodes']) / bag if bag else float('nan'))
-        return med_range(values, 2)
-    layer = [n for n in names if n != 'odom_bag']
-    lines.append(['**ratio recording nodes (%s) / rosbag record**' % ' + '.join(RECORDING_NODES),
-                  ratio(RECORDING_NODES, 'cpu_pct'), ratio(RECORDING_NODES, 'rss_peak_mb')])
-    lines.append(['**ratio all layer nodes / rosbag record**', ratio(layer, 'cpu_pct'), ratio(layer, 'rss_peak_mb')])
-    table = markdown_table(['process', 'CPU % of one core (wall), median [range]', 'peak RSS MB'], lines)
+def disk_table(ros):
+    """The landmark file against the bag of /odom recorded beside the layer (what the layer
+    costs to run is measured in real time by the cost section, evaluation/cost.py)."""
     disk = []
-    for r in with_bag:
+    for r in ros:
         if r.get('bag') and r.get('length'):
             disk.append([r['mission'], r['mode'], r['seed'], num(r['rtf'], 1), r['bytes'],
                          num(r['bytes'] / r['length'], 0), r['bag']['bytes'], r['bag']['messages'],
                          num(r['bag']['bytes'] / r['length'], 0), num(r['bag']['bytes'] / float(r['bytes']), 0)])
-    table += '\nOn disk, same runs (the bag spans launch to vision loss, the landmark file the layer\'s recording):\n\n'
-    table += markdown_table(['mission', 'mode', 'seed', 'rtf', 'landmark file B', 'B/m', 'bag B', 'bag messages',
-                             'bag B/m', 'bag / landmarks'], disk)
-    return table
+    if not disk:
+        return 'no run recorded a bag\n'
+    return ('The bag spans launch to vision loss, the landmark file the layer\'s recording:\n\n'
+            + markdown_table(['mission', 'mode', 'seed', 'rtf', 'landmark file B', 'B/m', 'bag B',
+                              'bag messages', 'bag B/m', 'bag / landmarks'], disk))
 
 
 def latency_table(ros):
@@ -319,6 +305,11 @@ def main(argv=None):
     parser.add_argument('--ros-seeds', type=int, default=2)
     parser.add_argument('--rtf', type=float, default=4.0, help='real-time factor of the agreement runs')
     parser.add_argument('--latency-rtf', type=float, default=2.0, help='real-time factor of the latency runs')
+    parser.add_argument('--no-cost', action='store_true', help='skip the real-time cost section')
+    parser.add_argument('--cost-reps', type=int, default=3,
+                        help='real-time cost runs of each configuration (evaluation/cost.py)')
+    parser.add_argument('--cost-latency-seeds', type=int, default=3,
+                        help='seeds of the real-time detection latency runs (0: none)')
     parser.add_argument('--out', default='results')
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
@@ -347,6 +338,14 @@ def main(argv=None):
         ros_text, _ = timed('ROS runs', ros_section, args, rows)
         with open(os.path.join(args.out, 'ros.md'), 'w') as stream:
             stream.write('## ROS runs\n\n' + ros_text)
+    cost_text = ''
+    if not args.no_cost:
+        cost_dir = os.path.join(args.out, 'cost')
+        os.makedirs(cost_dir, exist_ok=True)
+        cost_text, _ = timed('real-time cost', cost.section, cost_dir, tuple(cost.CONFIGS),
+                             args.cost_reps, 6, 10.0, args.cost_latency_seeds)
+        with open(os.path.join(args.out, 'cost.md'), 'w') as stream:
+            stream.write('## %s\n\n%s' % (COST_TITLE, cost_text))
     sections = [
         ('table_iii', 'Table III: straight lines (paper / ours)', tables.table3(_of(rows, 'table3'))),
         ('table_iv', 'Table IV: back travel on the straight lines, by forward velocity',
@@ -388,6 +387,8 @@ def main(argv=None):
             stream.write('## %s\n\n%s\n' % (title, text))
         if ros_text:
             stream.write('## ROS runs\n\n' + ros_text)
+        if cost_text:
+            stream.write('\n## %s\n\n%s' % (COST_TITLE, cost_text))
         stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
                      'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
                      'CSV: montecarlo.csv, reconstruction.csv, storage.csv, real_like.csv, loops.csv, '

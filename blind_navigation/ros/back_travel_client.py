@@ -335,12 +335,15 @@ class BackTravelClient(object):
     def run(self):
         """Drive returns when the state says so (blocks until shutdown)."""
         self.odometry.add_listener(self._on_odom)
-        while not rospy.is_shutdown():
-            if self._return.wait(0.2):
-                self._return.clear()
-                ok, reason = self.travel_back()
-                if not rospy.is_shutdown() and self.state == state.RETURNING:
-                    self.set_state(state.HOME if ok else state.ABORTED, reason)
+        rospy.on_shutdown(self._return.set)
+        while True:
+            self._return.wait()         # a return to drive, or shutdown
+            if rospy.is_shutdown():
+                return
+            self._return.clear()
+            ok, reason = self.travel_back()
+            if not rospy.is_shutdown() and self.state == state.RETURNING:
+                self.set_state(state.HOME if ok else state.ABORTED, reason)
 
     def travel_back(self):
         """Figure 6: load, reverse, send goal by goal (from the first landmark not

@@ -38,7 +38,12 @@ error and shutdown publish zero velocity.
 Params (``layer.params``): core/back_travel's BACK_TRAVEL_DEFAULTS (but
 ``straight_period``: from the shared ``straight_rate``), core/allowance's
 ALLOWANCE_DEFAULTS, ``control`` (set by the launch files), ``control_rate``,
-``feedback_rate`` (Hz), ``handover_timeout`` (s), ``route_max_offset`` (m).
+``feedback_rate`` (Hz), ``handover_timeout`` (s), ``route_max_offset`` (m),
+``status_frequency`` (Hz: the action server's periodic status, set as
+actionlib's ``~actionlib_status_frequency`` of the node; the status is latched
+and published at every goal transition anyway, the periodic one only repeats
+it: actionlib's 5 Hz cost 0.1 % of a core all through the recording,
+docs/cost.md).
 """
 import json
 import threading
@@ -71,14 +76,16 @@ class BackTravelServer(object):
     DEFAULTS = dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
                     **ALLOWANCE_DEFAULTS, control=REQUIRED,
                     straight_rate=SAMPLING_DEFAULTS['straight_rate'], control_rate=50.0,
-                    feedback_rate=5.0, handover_timeout=0.1, route_max_offset=0.5)
+                    feedback_rate=5.0, handover_timeout=0.1, route_max_offset=0.5,
+                    status_frequency=1.0)
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('straight_rate',))
         self.log = layer.logger(self.ROLE)
         if p.control not in MODES:
             raise ValueError('~control must be one of %s, got %r' % (', '.join(MODES), p.control))
-        for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset'):
+        for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset',
+                     'status_frequency'):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
         OdomGrace(p)                     # validates the odometry params now
@@ -104,7 +111,10 @@ class BackTravelServer(object):
         rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, self._on_set_route)
         self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction, self._on_goal,
                                              self._on_cancel, auto_start=False)
+        # actionlib reads it in start(), searching from the node's private namespace first
+        rospy.set_param('~actionlib_status_frequency', p.status_frequency)
         self.server.start()
+        rospy.on_shutdown(self._wake.set)
         threading.Thread(target=self._work, name='back_travel_goals', daemon=True).start()
         self.last_abort = ''
         layer.diagnostics.add('back travel', self._diagnose)
@@ -241,9 +251,10 @@ class BackTravelServer(object):
 
     # --- driving -----------------------------------------------------------------------------
     def _work(self):
-        while not rospy.is_shutdown():
-            if not self._wake.wait(0.2):
-                continue
+        while True:
+            self._wake.wait()           # a goal, or shutdown
+            if rospy.is_shutdown():
+                return
             self._wake.clear()
             with self._lock:
                 handle, self._pending = self._pending, None

@@ -23,10 +23,13 @@ then on: the pi turn and the return drive on it. Visual odometry is fed
 unchecked to raw listeners (a lost message is information there).
 """
 import bisect
+import itertools
 import threading
+import time
 from collections import deque
 
 import rospy
+from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
 from ..core.odometry_wire import odom_state, read_odometry
@@ -36,6 +39,12 @@ from .common import subscribe
 #: Messages the subscription queues while its thread is busy (1 s of 50 Hz odometry;
 #: each costs tens of microseconds, so a backlog is worked off at once).
 RECEIVE_QUEUE = 50
+
+
+def ros_time():
+    """rospy.get_time(), without building a rospy.Time under wall time: this runs for
+    every odometry message (evaluation/cost.py measures what each costs)."""
+    return time.time() if is_wallclock() else rospy.get_time()
 
 
 class OdometryFeed(object):
@@ -53,8 +62,9 @@ class OdometryFeed(object):
         self._subscriber = None
         self._states = deque()      # accepted OdomStates, oldest first
         self._received = None       # rospy time (s) the newest accepted state arrived
-        self._listeners = []        # f(state) for every accepted state
-        self._raw_listeners = []    # f(wire) for every message
+        self._listeners = ()        # f(state) for every accepted state
+        self._raw_listeners = ()    # f(wire) for every message
+        self._waiting = 0           # threads in wait_for_stamp
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
 
@@ -88,7 +98,10 @@ class OdometryFeed(object):
         """Call ``callback(state)`` for every accepted state, or with ``raw``
         ``callback(wire)`` (core/odometry_wire.WireOdometry) for every message."""
         with self._lock:
-            (self._raw_listeners if raw else self._listeners).append(callback)
+            if raw:
+                self._raw_listeners += (callback,)
+            else:
+                self._listeners += (callback,)
 
     def on_reanchor(self, callback):
         """Call ``callback(reason)`` when the gate re-anchored on a discontinuity."""
@@ -103,9 +116,8 @@ class OdometryFeed(object):
 
     def remove_listener(self, callback):
         with self._lock:
-            for listeners in (self._listeners, self._raw_listeners):
-                if callback in listeners:
-                    listeners.remove(callback)
+            self._listeners = _without(self._listeners, callback)
+            self._raw_listeners = _without(self._raw_listeners, callback)
 
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
@@ -114,7 +126,7 @@ class OdometryFeed(object):
         except ValueError as error:
             self._refuse('not a nav_msgs/Odometry: %s' % error)
             return
-        for listener in list(self._raw_listeners):
+        for listener in self._raw_listeners:     # a tuple: replaced, never changed, when edited
             listener(wire)
         if not self.checked:
             return
@@ -127,19 +139,21 @@ class OdometryFeed(object):
         if problem:
             self._refuse(problem)
             return
-        now = rospy.get_time()
+        now = ros_time()
         with self._lock:
-            if self._states and state.stamp < self._states[-1].stamp:
-                self._states.clear()                    # the clock went back (sim time reset)
-            self._states.append(state)
-            while state.stamp - self._states[0].stamp > self.history:
-                self._states.popleft()
+            states = self._states
+            if states and state.stamp < states[-1].stamp:
+                states.clear()                          # the clock went back (sim time reset)
+            states.append(state)
+            while state.stamp - states[0].stamp > self.history:
+                states.popleft()
             self._received = now
             self.frame_id = wire.frame_id or self.frame_id
             if self._corrector is not None:
                 self._corrector.update(state)
-            listeners = list(self._listeners)
-            self._lock.notify_all()
+            listeners = self._listeners
+            if self._waiting:
+                self._lock.notify_all()
         for listener in listeners:
             listener(state)
 
@@ -163,23 +177,37 @@ class OdometryFeed(object):
             index = bisect.bisect_right([s.stamp for s in self._states], stamp) - 1
             return self._states[max(index, 0)]
 
+    def states_after(self, stamp):
+        """The accepted raw states stamped after ``stamp`` (s), oldest first: those of the
+        last ``history`` s (a consumer that needs every state reads them in batches so,
+        instead of being called for each message)."""
+        with self._lock:
+            if not self._states or self._states[-1].stamp <= stamp:
+                return []
+            index = bisect.bisect_right([s.stamp for s in self._states], stamp)
+            return list(itertools.islice(self._states, index, None))
+
     def wait_for_stamp(self, stamp, timeout):
         """Wait at most ``timeout`` wall seconds until a state stamped at or after
         ``stamp`` was accepted; True if one was."""
         with self._lock:
-            return self._lock.wait_for(lambda: bool(self._states) and self._states[-1].stamp >= stamp,
-                                       timeout=timeout)
+            self._waiting += 1
+            try:
+                return self._lock.wait_for(lambda: bool(self._states) and self._states[-1].stamp >= stamp,
+                                           timeout=timeout)
+            finally:
+                self._waiting -= 1
 
     def age(self):
         """Seconds since the newest accepted state arrived, None before any."""
         with self._lock:
             received = self._received
-        return None if received is None else rospy.get_time() - received
+        return None if received is None else ros_time() - received
 
     def fresh(self, timeout):
         """The newest state (in the corrected frame once a correction is set) if it
         arrived within ``timeout`` s, stamped now; else None."""
-        now = rospy.get_time()
+        now = ros_time()
         with self._lock:
             if self._received is None or now - self._received > timeout:
                 return None
@@ -219,3 +247,11 @@ class OdometryFeed(object):
         """The corrected frame's state as plain data (core CorrectedOdometry.snapshot), or None."""
         with self._lock:
             return self._corrector.snapshot() if self._corrector is not None else None
+
+
+def _without(callbacks, callback):
+    """The tuple ``callbacks`` without the first occurrence of ``callback``."""
+    if callback not in callbacks:
+        return callbacks
+    index = callbacks.index(callback)
+    return callbacks[:index] + callbacks[index + 1:]

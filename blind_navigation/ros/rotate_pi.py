@@ -114,9 +114,11 @@ class RotatePi(object):
     # --- the turn --------------------------------------------------------------------------------
     def run(self):
         """Wait for the mission to rotate, turn, report (blocks until shutdown)."""
-        while not rospy.is_shutdown():
-            if not self._trigger.wait(0.2):
-                continue
+        rospy.on_shutdown(self._trigger.set)
+        while True:
+            self._trigger.wait()        # the mission rotates, or shutdown
+            if rospy.is_shutdown():
+                return
             self._trigger.clear()
             self.layer.odometry.acquire(self.ROLE)
             self.status = 'turning'

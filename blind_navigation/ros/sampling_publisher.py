@@ -19,6 +19,10 @@ cannot tell when within a period the robot reversed or turned in place. The
 periodic ticks keep their times but are published ``event_latency`` s late
 (stamped at their tick, with the yaw of the odometry there: the saver reads the
 odometry at a sample's stamp), so an event dated back before a tick comes first.
+The event sampler is fed every odometry state in order, in a batch before each
+sample is taken (the shared feed keeps the last seconds:
+OdometryFeed.states_after), not by a call for each 50 Hz message: a
+per-message listener cost a quarter of the recording's CPU (docs/cost.md).
 
 Recording starts with the first valid yaw, once the recorder (and rotate_pi,
 ``min_subscribers``) listen (launch this role last, section 3.4.2). It ends
@@ -84,6 +88,7 @@ class SamplingPublisher(object):
         self._lock = threading.Lock()
         self._pose2d_yaw = None
         self._last_tick = None      # rospy.Time of the last tick (or of the start)
+        self._events_fed = None     # stamp (s) of the last odometry state fed to the events
         self.stopped = False
         self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
         if p.yaw_source == 'pose2d':
@@ -139,8 +144,6 @@ class SamplingPublisher(object):
                     self._publish(FINAL, self._yaw(), elapsed)
                 self.log.info('%s: recording stopped (final partial cycle %.3f s)', reason, elapsed)
         if self.params.yaw_source == 'odom':
-            if self.events is not None:
-                self.layer.odometry.remove_listener(self._on_odometry)
             self.layer.odometry.release(self.ROLE)
 
     def _publish(self, command, yaw, period, stamp=None):
@@ -151,13 +154,20 @@ class SamplingPublisher(object):
         self.sample_pub.publish(msg)
         self._last_tick = msg.header.stamp
 
-    def _on_odometry(self, state):
-        with self._lock:
-            if not self.stopped:
-                self.events.odometry(state)
+    def _feed_events(self):
+        """Feed the event sampler the odometry states accepted since it was last fed,
+        in order (lock held)."""
+        odometry = self.layer.odometry
+        latest = odometry.latest()
+        if latest is not None and latest.stamp < self._events_fed:
+            self._events_fed = float('-inf')     # the clock went back: every state kept is new
+        for state in odometry.states_after(self._events_fed):
+            self.events.odometry(state)
+            self._events_fed = state.stamp
 
     def _publish_events(self, before):
         """Publish the motion-event samples stamped before ``before`` (s; lock held)."""
+        self._feed_events()
         for state, period in self.events.before(before, self.layer.odometry.state_at):
             self._publish(SAMPLE, state.yaw, period, rospy.Time.from_sec(state.stamp))
 
@@ -175,7 +185,8 @@ class SamplingPublisher(object):
                     self.schedule.update(yaw)
                     if self.events is not None:
                         self.events.start(self._last_tick.to_sec())
-                        self.layer.odometry.add_listener(self._on_odometry)
+                        # the events see the states accepted from now on, as a listener would
+                        self._events_fed = self.layer.odometry.latest().stamp
                     return True
             if not logged:
                 self.log.info('waiting for a valid yaw on %s and %d subscriber(s) of %s', self.source,

@@ -66,11 +66,14 @@ class Diagnostics(object):
             for status in msg.status:
                 self._latest[status.name] = status
 
-    def status(self, name):
-        """(summary message, {key: value}) of the newest status ``name``, or None."""
+    def status(self, name, key=None):
+        """(summary message, {key: value}) of the newest status ``name``, or None; with
+        ``key``, None until a status holds that value (diagnostic_updater first
+        publishes each status as 'Node starting up', without values)."""
         with self._lock:
             status = self._latest.get(name)
-        return None if status is None else (status.message, {kv.key: kv.value for kv in status.values})
+        values = {} if status is None else {kv.key: kv.value for kv in status.values}
+        return None if status is None or (key and key not in values) else (status.message, values)
 
 
 def landmark_info(path):

@@ -120,10 +120,11 @@ class RecorderInputTest(unittest.TestCase):
                       {'landmark_file': link, 'fsync': 'false'})
         restarted = 'landmark_saver_restarted: landmark_saver: recording'
         try:
-            wait_for(lambda: diagnostics.status(restarted), 'diagnostics of the restarted saver', 60.0)
+            wait_for(lambda: diagnostics.status(restarted, 'file'), 'diagnostics of the restarted saver',
+                     60.0)
         finally:
             saver2.kill()
-        summary, values = diagnostics.status(restarted)
+        summary, values = diagnostics.status(restarted, 'file')
         self.assertEqual(values['file'], first_file, 'the restarted saver did not continue its file')
         self.assertEqual(summary, 'recording finished: %d landmarks' % len(loaded.landmarks))
         self.assertEqual(os.path.realpath(link), first_file, 'the restarted saver left the mission\'s file')
@@ -132,8 +133,8 @@ class RecorderInputTest(unittest.TestCase):
         saver3 = Node('landmark_saver.py', 'landmark_saver_next_mission',
                       {'landmark_file': link, 'fsync': 'false'})
         try:
-            wait_for(lambda: diagnostics.status('landmark_saver_next_mission: landmark_saver: recording'),
-                     'diagnostics of the saver of a new mission', 60.0)
+            wait_for(lambda: diagnostics.status('landmark_saver_next_mission: landmark_saver: recording',
+                                                'file'), 'diagnostics of the saver of a new mission', 60.0)
         finally:
             saver3.kill()
         self.assertNotEqual(os.path.realpath(link), first_file, 'the saver of a new mission did not '

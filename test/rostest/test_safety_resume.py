@@ -117,11 +117,12 @@ class ResumeTest(unittest.TestCase):
                  Node('back_travel_client.py', 'back_travel_client', client_params)]
         try:
             saver = 'landmark_saver: landmark_saver: recording'
-            wait_for(lambda: self.diagnostics.status(saver), 'diagnostics of the restarted saver', 60.0)
-            self.assertEqual(self.diagnostics.status(saver)[1]['file'], recorded,
+            wait_for(lambda: self.diagnostics.status(saver, 'file'), 'diagnostics of the restarted saver',
+                     60.0)
+            summary, values = self.diagnostics.status(saver, 'file')
+            self.assertEqual(values['file'], recorded,
                              'the restarted saver did not continue the mission\'s file')
-            self.assertEqual(self.diagnostics.status(saver)[0],
-                             'recording finished: %d landmarks' % COUNT)
+            self.assertEqual(summary, 'recording finished: %d landmarks' % COUNT)
             final = layer.wait_final(restart_states, timeout=120.0)
             states = layer.state_list(restart_states)
             self.assertEqual(final, 'home', layer.abort_reason('/back_travel_client'))

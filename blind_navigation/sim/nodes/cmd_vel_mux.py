@@ -42,10 +42,14 @@ class CmdVelMuxNode(object):
                                   % self.mux.inputs[index].topic)
             return
         forward, newly_active = self.mux.offer(index, rospy.Time.now().to_sec())
-        if newly_active:
-            self.active.publish(String(newly_active))
-        if forward:
-            self.output.publish(msg)
+        try:
+            if newly_active:
+                self.active.publish(String(newly_active))
+            if forward:
+                self.output.publish(msg)
+        except rospy.ROSException:
+            if not rospy.is_shutdown():
+                raise       # at shutdown the outputs close first: a last command is dropped
 
     def on_check(self, _event):
         if self.mux.expire(rospy.Time.now().to_sec()) == IDLE:
