@@ -1,12 +1,12 @@
 """A scripted planar path for the recording tests: segments of constant (v, w),
-integrated exactly (unicycle model), so tests know the true pose at any time.
+integrated exactly (the simulated Kobuki's unicycle kinematics,
+sim/kobuki.arc_motion), so tests know the true pose at any time.
 
 Shared by test/unit/test_recorder.py and the recording rostests' odometry
 publisher (test/rostest/test_recording_scripted.py).
 """
-import math
-
 from blind_navigation.core.geometry import OdomState, wrap_angle
+from blind_navigation.sim.kobuki import arc_motion
 
 #: The paper's set velocities (section 5.1): LSV 0.086 m/s, ASV 0.097 rad/s.
 LSV = 0.086
@@ -26,18 +26,9 @@ class ScriptedPath(object):
         t = 0.0
         for duration, v, w in self.segments:
             self.starts.append((t, x, y, yaw))
-            x, y, yaw = self._advance(x, y, yaw, v, w, duration)
+            x, y, yaw = arc_motion(x, y, yaw, v, w, duration)
             t += duration
         self.duration = t
-
-    @staticmethod
-    def _advance(x, y, yaw, v, w, dt):
-        if abs(w) < 1e-12:
-            return x + v * dt * math.cos(yaw), y + v * dt * math.sin(yaw), yaw
-        radius = v / w
-        end = yaw + w * dt
-        return (x + radius * (math.sin(end) - math.sin(yaw)),
-                y - radius * (math.cos(end) - math.cos(yaw)), end)
 
     def segment_at(self, t):
         """Index of the segment in force at time ``t`` (the last one after the end)."""
@@ -54,7 +45,7 @@ class ScriptedPath(object):
         t0, x, y, yaw = self.starts[index]
         duration, v, w = self.segments[index]
         dt = min(t - t0, duration)
-        x, y, yaw = self._advance(x, y, yaw, v, w, dt)
+        x, y, yaw = arc_motion(x, y, yaw, v, w, dt)
         if t > self.duration:
             v = w = 0.0
         return OdomState(x, y, wrap_angle(yaw), v, w, t)

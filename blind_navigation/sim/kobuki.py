@@ -12,7 +12,8 @@ the same object. What it reproduces (numbers from the Kobuki and kobuki_node):
   larger at low speed, a share ``ripple_common`` of it common to both wheels) around it.
 * ground truth: wheels of unequal diameter (UMBmark's ``E_d``), a scale error of
   the mean diameter (``E_s``) and slip proportional to speed turn wheel rotation
-  into true motion.
+  into true motion, an exact arc over each physics step (with the ``ideal``
+  profile the base is an exact unicycle: commands act at once, no error).
 * sensors at 50 Hz: encoders quantized to 2578.33 ticks per revolution, a gyro
   with bias, scale error and white noise; odometry as kobuki_node computes it
   (encoder distance, gyro heading as ``use_imu_heading``, twist angular = gyro rate).
@@ -108,6 +109,18 @@ def make_profile(values, where='profile'):
     if abs(ratio - round(ratio)) > 1e-6:
         raise ValueError('%s: physics_dt %r must divide %.2f s' % (where, profile['physics_dt'], SENSOR_PERIOD))
     return profile
+
+
+def arc_motion(x, y, yaw, v, w, dt):
+    """(x, y, yaw) after ``dt`` s of constant (v, w) from (x, y, yaw), exactly: a
+    unicycle moves along the chord of its arc, ``2 sin(w dt / 2) / w`` times ``v``
+    long, in the direction of the arc's middle (yaw not wrapped). The body of
+    :class:`SimulatedKobuki` moves so between physics steps; paths planned as
+    pieces of constant (v, w) are integrated with it too."""
+    half = w * dt / 2.0
+    chord = v * dt * (math.sin(half) / half if abs(half) > 1e-6 else 1.0 - half * half / 6.0)
+    middle = yaw + half
+    return x + chord * math.cos(middle), y + chord * math.sin(middle), yaw + w * dt
 
 
 def clamp(value, limit):
@@ -207,6 +220,14 @@ class SimulatedKobuki(object):
         self._heading_offset = self.gyro_heading
         self.odom = self.odom._replace(x=0.0, y=0.0, yaw=0.0)
 
+    def place(self, pose):
+        """Put the robot down at ``pose`` (Pose2D, world), as a person carrying it
+        would: the wheels and the gyro do not count the move."""
+        self.true_pose = Pose2D(*pose)
+        self._cycle_start_yaw = self.true_pose.yaw
+        if self.arena is not None:
+            self.contacts = self.arena.contacts(self.true_pose)
+
     # ----------------------------------------------------------------- physics
     def step(self, dt):
         """Advance by ``dt`` s of sim time, a multiple of ``physics_dt``."""
@@ -268,8 +289,7 @@ class SimulatedKobuki(object):
         left, right = self._ground_speed(self._left), self._ground_speed(self._right)
         v, w = (left + right) / 2.0, (right - left) / WHEEL_SEPARATION
         x, y, yaw = self.true_pose
-        mid = yaw + w * h / 2.0
-        moved = Pose2D(x + v * h * math.cos(mid), y + v * h * math.sin(mid), yaw + w * h)
+        moved = Pose2D(*arc_motion(x, y, yaw, v, w, h))
         if self.fallen:
             moved = Pose2D(x, y, yaw)
         elif self.arena is not None:

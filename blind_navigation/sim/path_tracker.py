@@ -26,6 +26,7 @@ import math
 from ..core.geometry import wrap_angle
 from ..core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W
 from .command_series import CommandSeries
+from .kobuki import arc_motion
 
 #: Tracking gains (see module docstring).
 TRACKER_GAINS = {'k_x': 1.0, 'k_y': 10.0, 'k_yaw': 2.0}
@@ -60,7 +61,7 @@ class PathTracker(object):
         for v, w, duration in self.mission.segments:
             self._starts.append((x, y, yaw))
             self._times.append(elapsed)
-            x, y, yaw = _advance(x, y, yaw, v, w, duration)
+            x, y, yaw = arc_motion(x, y, yaw, v, w, duration)
             elapsed += duration
         self._end = (x, y, yaw)
         self._pose = pose
@@ -74,7 +75,7 @@ class PathTracker(object):
         """(x, y, yaw, v, w) of the plan at time ``t``."""
         index = max(0, bisect.bisect_right(self._times, t) - 1)
         v, w, duration = self.mission.segments[index]
-        x, y, yaw = _advance(*self._starts[index], v, w, min(duration, t - self._times[index]))
+        x, y, yaw = arc_motion(*self._starts[index], v, w, min(duration, t - self._times[index]))
         return x, y, yaw, v, w
 
     def command(self, t):
@@ -91,12 +92,3 @@ class PathTracker(object):
         v = v_ref * math.cos(e_yaw) + g['k_x'] * e_x
         w = w_ref + v_ref * g['k_y'] * e_y + g['k_yaw'] * math.sin(e_yaw)
         return (max(-KOBUKI_MAX_V, min(KOBUKI_MAX_V, v)), max(-KOBUKI_MAX_W, min(KOBUKI_MAX_W, w)))
-
-
-def _advance(x, y, yaw, v, w, duration):
-    """The pose after ``duration`` s of (v, w) from (x, y, yaw), exactly (a unicycle)."""
-    if abs(w) < 1e-12:
-        return x + v * duration * math.cos(yaw), y + v * duration * math.sin(yaw), yaw
-    end = yaw + w * duration
-    radius = v / w
-    return x + radius * (math.sin(end) - math.sin(yaw)), y - radius * (math.cos(end) - math.cos(yaw)), end

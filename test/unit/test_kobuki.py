@@ -5,8 +5,8 @@ import pytest
 
 from blind_navigation.sim.arena import Arena
 from blind_navigation.core.geometry import Pose2D
-from blind_navigation.sim.kobuki import (CMD_TIMEOUT, MAX_V, SimulatedKobuki, load_profile,
-                                          make_profile)
+from blind_navigation.sim.kobuki import (CMD_TIMEOUT, MAX_V, SimulatedKobuki, arc_motion,
+                                          load_profile, make_profile)
 
 
 def drive(base, v, w, seconds, rate=10.0):
@@ -34,6 +34,29 @@ def test_ideal_arc_ends_where_geometry_says():
     assert base.true_pose.y == pytest.approx(radius, rel=0.01)
     assert base.true_pose.yaw == pytest.approx(math.pi / 2.0, rel=0.01)
     assert base.odom.yaw == pytest.approx(math.pi / 2.0, rel=0.01)
+
+
+def test_ideal_base_is_an_exact_unicycle():
+    # an arc of about a quarter circle ends exactly where the closed form says (the
+    # midpoint rule this replaced missed it by ~3e-7 m), a near-straight one too
+    base = SimulatedKobuki(load_profile('ideal'), start=Pose2D(1.0, -2.0, 0.3))
+    v, w, seconds = 0.1, 0.5, 3.14
+    drive(base, v, w, seconds, rate=50.0)
+    radius, end = v / w, 0.3 + w * seconds
+    assert base.true_pose.x == pytest.approx(1.0 + radius * (math.sin(end) - math.sin(0.3)), abs=1e-9)
+    assert base.true_pose.y == pytest.approx(-2.0 - radius * (math.cos(end) - math.cos(0.3)), abs=1e-9)
+    assert base.true_pose.yaw == pytest.approx(end, abs=1e-9)
+    assert arc_motion(0.0, 0.0, 0.0, 0.2, 1e-9, 3.0) == pytest.approx((0.6, 9e-10, 3e-9), abs=1e-15)
+
+
+def test_a_placed_base_moves_on_from_where_it_was_put_and_its_sensors_do_not_count_the_carry():
+    base = SimulatedKobuki(load_profile('ideal'))
+    base.place(Pose2D(2.0, 1.0, math.pi / 2.0))
+    drive(base, 0.2, 0.0, 1.0)
+    assert base.true_pose.x == pytest.approx(2.0, abs=1e-9)
+    assert base.true_pose.y == pytest.approx(1.0 + 0.2 * 1.0, abs=1e-9)
+    assert base.odom.yaw == pytest.approx(0.0, abs=1e-9)      # the gyro did not see the carry
+    assert base.odom.x == pytest.approx(0.2, abs=1e-3)
 
 
 def test_same_seed_same_trajectory_other_seed_other_trajectory():

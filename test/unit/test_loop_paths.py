@@ -10,7 +10,8 @@ import math
 import pytest
 
 from blind_navigation.sim.harness import run_modes
-from blind_navigation.sim.path_tracker import TrackedSeries, _advance
+from blind_navigation.sim.kobuki import arc_motion
+from blind_navigation.sim.path_tracker import TrackedSeries
 from blind_navigation.sim.random_paths import LOOP_CATEGORIES, random_mission
 
 SETTINGS = {'heading_correction': False, 'floor': False, 'event_sampling': True}
@@ -23,7 +24,7 @@ def plan_points(mission, step=0.05):
     for v, w, duration in mission.segments:
         pieces = max(1, int(abs(v) * duration / step))
         for _ in range(pieces):
-            x, y, yaw = _advance(x, y, yaw, v, w, duration / pieces)
+            x, y, yaw = arc_motion(x, y, yaw, v, w, duration / pieces)
             s += abs(v) * duration / pieces
             points.append((s, x, y))
     return points

@@ -1,35 +1,43 @@
-"""Test helper: an exact unicycle (commands take effect at once, no noise) to
-record paths with the real recorder and drive the back-travel controllers."""
+"""Test helper: the simulated Kobuki (blind_navigation/sim/kobuki.py) with the
+``ideal`` profile, an exact unicycle (commands take effect at once, no noise),
+to record paths with the real recorder and drive the back-travel controllers;
+and paths planned as pieces of constant (v, w), integrated with the same
+kinematics (sim/kobuki.arc_motion)."""
+import bisect
 import math
 
-from blind_navigation.core.geometry import OdomState, wrap_angle
+from blind_navigation.core.geometry import OdomState, Pose2D, wrap_angle
 from blind_navigation.core.recorder import PathRecorder, record_path
 from blind_navigation.core.segment import SamplingSchedule
+from blind_navigation.sim.kobuki import CMD_TIMEOUT, SimulatedKobuki, arc_motion, load_profile
 
 DT = 0.02
+IDEAL = load_profile('ideal')
 
 
 class Unicycle(object):
-    """Planar pose integrated exactly over piecewise-constant (v, w)."""
+    """A SimulatedKobuki with the ideal profile started at (x, y, yaw), read as an
+    ideal odometry would report it: ``x``, ``y``, ``yaw`` (wrapped), ``v``, ``w``
+    (its true pose and twist), ``t`` (s) and ``odom`` (OdomState)."""
 
     def __init__(self, x=0.0, y=0.0, yaw=0.0):
-        self.x, self.y, self.yaw = x, y, yaw
-        self.v = self.w = 0.0
-        self.t = 0.0
+        self.base = SimulatedKobuki(IDEAL, start=Pose2D(x, y, yaw))
 
     def move(self, v, w, dt):
-        if abs(w) < 1e-12:
-            self.x += v * dt * math.cos(self.yaw)
-            self.y += v * dt * math.sin(self.yaw)
-        else:
-            radius = v / w
-            new_yaw = self.yaw + w * dt
-            self.x += radius * (math.sin(new_yaw) - math.sin(self.yaw))
-            self.y -= radius * (math.cos(new_yaw) - math.cos(self.yaw))
-            self.yaw = new_yaw
-        self.yaw = wrap_angle(self.yaw)
-        self.v, self.w = v, w
-        self.t += dt
+        """Command (v, w) (m/s, rad/s; clamped to the Kobuki's limits) and let ``dt``
+        s pass (a multiple of the profile's physics step, at most the Kobuki's
+        command timeout: a controller's cycle)."""
+        if dt > CMD_TIMEOUT:
+            raise ValueError('Unicycle.move: dt %r s is beyond the Kobuki\'s command timeout' % dt)
+        self.base.command(v, w)
+        self.base.step(dt)
+
+    x = property(lambda self: self.base.true_pose.x)
+    y = property(lambda self: self.base.true_pose.y)
+    yaw = property(lambda self: wrap_angle(self.base.true_pose.yaw))
+    v = property(lambda self: self.base.true_twist[0])
+    w = property(lambda self: self.base.true_twist[1])
+    t = property(lambda self: self.base.t)
 
     @property
     def odom(self):
@@ -37,23 +45,23 @@ class Unicycle(object):
 
 
 def drive(profile):
-    """Positions over time for ``profile`` = [(v, w, seconds), ...]; returns
-    (odom_at(t), duration) for :func:`record_path`."""
-    duration = sum(seconds for _, _, seconds in profile)
+    """The planned path of ``profile`` = [(v, w, seconds), ...] from the origin,
+    exact; returns (odom_at(t), duration) for :func:`record_path`. At a piece's
+    end, (v, w) is that piece's (the velocity the period ending there had)."""
+    ends, starts, pose, elapsed = [], [], (0.0, 0.0, 0.0), 0.0
+    for v, w, seconds in profile:
+        starts.append((elapsed, pose))
+        x, y, yaw = arc_motion(pose[0], pose[1], pose[2], v, w, seconds)
+        pose, elapsed = (x, y, wrap_angle(yaw)), elapsed + seconds
+        ends.append(elapsed + 1e-12)
+    duration = elapsed
 
     def odom_at(t):
-        robot = Unicycle()
-        left = t
-        for v, w, seconds in profile:
-            span = min(seconds, left)
-            if span > 0:
-                robot.move(v, w, span)
-            robot.v, robot.w = v, w
-            left -= span
-            if left <= 1e-12:
-                break
-        robot.t = t
-        return robot.odom
+        index = min(bisect.bisect_left(ends, t), len(profile) - 1)
+        v, w, seconds = profile[index]
+        start, (x, y, yaw) = starts[index]
+        x, y, yaw = arc_motion(x, y, yaw, v, w, max(0.0, min(seconds, t - start)))
+        return OdomState(x, y, wrap_angle(yaw), v, w, t)
     return odom_at, duration
 
 
