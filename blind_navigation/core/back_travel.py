@@ -68,8 +68,8 @@ BACK_TRAVEL_DEFAULTS = {
     'straight_period': 2.0,   # s; a landmark with T >= this is a straight segment
     'max_v': 0.5,             # m/s, hard clamp on |v|
     'max_w': 1.0,             # rad/s, hard clamp on |w|
-    'timeout_factor': 3.0,    # allowance = factor * expected duration + margin
-    'timeout_margin': 2.0,    # s
+    'timeout_factor': 3.0,    # a goal's allowance = factor * expected duration + timeout_margin
+    'timeout_margin': 2.0,    # s added to a goal's allowance
     'lookahead': 0.1,         # m, shortest pure-pursuit lookahead (closed_loop)
     'min_v': 0.03,            # m/s, slowest speed of distance goals, and of closed-loop sections recorded faster
     'creep_v': 0.02,          # m/s; a stretch recorded slower is driven at this (closed_loop; slower,
@@ -79,7 +79,7 @@ BACK_TRAVEL_DEFAULTS = {
     'lookahead_time': 0.5,    # s; the lookahead grows to this x the speed (closed_loop)
     'brake_decel': 0.5,       # m/s^2; slowing down towards a corner and the end (closed_loop)
     'stopped_v': 0.01,        # m/s; below this (and stopped_w) the robot counts as stopped
-    'stopped_w': 0.05,        # rad/s
+    'stopped_w': 0.05,        # rad/s; below this (and stopped_v) the robot counts as stopped
     'stop_timeout': 2.0,      # s; the longest wait for the robot to stop at a corner
     'align_tolerance': 0.1,   # rad; a smaller heading error at a corner is left to the pursuit
     'aim_distance': 0.1,      # m; a turn in place faces the route point this far ahead

@@ -43,7 +43,8 @@ CORRECTION_DEFAULTS = {
     'max_bias': 0.01,            # rad/s, a larger bias estimate is rejected (Kobuki gyro: ~6e-4)
     'max_scale': 0.05,           # a larger |scale error| estimate is rejected
     'significance': math.sqrt(2.0),  # a term is used only if |estimate| > this many standard errors
-    'scale_significance': 3.0,   # the same for the calibrated scale (core/gyro_calibration.py)
+    'scale_significance': 3.0,   # the calibrated scale is used only if beyond this many standard
+                                 # errors (core/gyro_calibration.py)
 }
 
 

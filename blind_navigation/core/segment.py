@@ -43,9 +43,9 @@ WINDOW = 4
 #: ``straight_rate`` too: a landmark sampled at its period is a straight segment):
 #: straight_rate and curved_rate (Hz), deadband (rad per yaw difference).
 SAMPLING_DEFAULTS = {
-    'straight_rate': 1.0 / PAPER_STRAIGHT_PERIOD,
-    'curved_rate': 1.0 / PAPER_CURVED_PERIOD,
-    'deadband': DEFAULT_DEADBAND,
+    'straight_rate': 1.0 / PAPER_STRAIGHT_PERIOD,  # Hz, the sampling rate on straight segments
+    'curved_rate': 1.0 / PAPER_CURVED_PERIOD,      # Hz, the sampling rate on curved segments
+    'deadband': DEFAULT_DEADBAND,                  # rad; a yaw difference this small has no sign
 }
 
 

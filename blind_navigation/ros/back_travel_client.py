@@ -72,6 +72,7 @@ from std_msgs.msg import Bool, Empty, String
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.geometry import distance, quaternion_from_yaw, wrap_angle
+from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
@@ -99,25 +100,26 @@ class BackTravelClient(object):
 
     ROLE = 'back_travel_client'
     DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **{
-        'landmark_file': '',
-        'odom_timeout': 0.5,
-        'server_timeout': 10.0,
-        'goal_timeout_factor': 5.0,
-        'goal_timeout_margin': 10.0,
-        'return_timeout_factor': 3.0,
-        'return_timeout_margin': 30.0,
+        'landmark_file': '',            # the recorder's symlink (empty: under $ROS_HOME); only read
+        'odom_timeout': 0.5,            # s; older odometry counts as missing
+        'server_timeout': 10.0,         # s to wait for the back-travel server
+        'goal_timeout_factor': 5.0,     # a goal's result is awaited factor x its expected time ...
+        'goal_timeout_margin': 10.0,    # ... + margin, s (a backstop: the server's limits are tighter)
+        'return_timeout_factor': ALLOWANCE_DEFAULTS['return_timeout_factor'],
+        'return_timeout_margin': ALLOWANCE_DEFAULTS['return_timeout_margin'],
         'slowest_v': SAFETY_DEFAULTS['slowest_v'],
-        'max_v': KOBUKI_MAX_V,
-        'max_w': KOBUKI_MAX_W,
+        'max_v': KOBUKI_MAX_V,          # m/s; a landmark faster than this is a bad file
+        'max_w': KOBUKI_MAX_W,          # rad/s; a landmark turning faster is a bad file
         'resume_timeout': PROGRESS_DEFAULTS['resume_timeout'],
         'resume_max_offset': PROGRESS_DEFAULTS['resume_max_offset'],
-        'path_spacing': 0.02,
-        'heading_correction': REQUIRED,
-        'correction_timeout': 5.0,
+        'path_spacing': 0.02,           # m between the poses of return_path
+        'heading_correction': REQUIRED,  # true: the landmarks in the heading-corrected frame
+        'correction_timeout': 5.0,      # s the return waits for the heading correction (none: aborted)
         'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
-        'rotation_margin': 60.0,
-        'turn_tolerance': 0.3,
-        'prune_loops': REQUIRED,
+        'rotation_margin': 60.0,        # s added to the standstill's timeout: the rotation_timeout,
+                                        # from vision loss to the end of the pi turn
+        'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
+        'prune_loops': REQUIRED,        # true: cut loops from the route (core/pruning; closed_loop)
     })
 
     def __init__(self, layer):

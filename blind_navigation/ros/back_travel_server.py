@@ -74,10 +74,15 @@ class BackTravelServer(object):
 
     ROLE = mission_state.BACK_TRAVEL_ROLE
     DEFAULTS = dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
-                    **ALLOWANCE_DEFAULTS, control=REQUIRED,
-                    straight_rate=SAMPLING_DEFAULTS['straight_rate'], control_rate=50.0,
-                    feedback_rate=5.0, handover_timeout=0.1, route_max_offset=0.5,
-                    status_frequency=1.0)
+                    **ALLOWANCE_DEFAULTS,
+                    control=REQUIRED,           # time, distance or closed_loop (core/goal.py)
+                    straight_rate=SAMPLING_DEFAULTS['straight_rate'],  # Hz; a landmark with T >=
+                                                # 1 / straight_rate is a straight segment
+                    control_rate=50.0,          # Hz of the control loop
+                    feedback_rate=5.0,          # Hz of the action's feedback
+                    handover_timeout=0.1,       # s after a success without a next goal: zero velocity
+                    route_max_offset=0.5,       # m from where the route continues: a route is refused
+                    status_frequency=1.0)       # Hz of the action server's periodic status
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('straight_rate',))

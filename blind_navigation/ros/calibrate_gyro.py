@@ -47,7 +47,10 @@ class CalibrateGyro(object):
 
     ROLE = mission_state.CALIBRATION_ROLE
     DEFAULTS = dict(SPIN_DEFAULTS, **GYRO_FIT_DEFAULTS, max_scale=CORRECTION_DEFAULTS['max_scale'],
-                    calibration_file='', control_rate=50.0, odom_timeout=0.4, start_timeout=30.0)
+                    calibration_file='',    # the calibration YAML written (empty: under $ROS_HOME)
+                    control_rate=50.0,      # Hz of the spin's control loop
+                    odom_timeout=0.4,       # s; older odometry fails the calibration
+                    start_timeout=30.0)     # s (wall) to wait for odometry and visual odometry
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS)

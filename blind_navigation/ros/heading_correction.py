@@ -69,7 +69,10 @@ class HeadingCorrectionRole(object):
 
     ROLE = 'heading_correction'
     DEFAULTS = dict(GYRO_FIT_DEFAULTS, **CORRECTION_DEFAULTS, **STANDSTILL_DEFAULTS,
-                    gyro_calibration_file='', standstill_timeout=None, vo_timeout=10.0)
+                    gyro_calibration_file='',   # calibrate_gyro.launch's YAML (empty: under $ROS_HOME)
+                    standstill_timeout=None,    # s after vision loss the standstill ends at the latest
+                                                # (unset: core/gyro_bias.standstill_timeout)
+                    vo_timeout=10.0)            # s without visual odometry before it warns
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS)

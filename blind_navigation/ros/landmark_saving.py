@@ -68,10 +68,10 @@ class LandmarkSaving(object):
     """Latest odometry -> landmark -> mission file, storage and recorded path."""
 
     DEFAULTS = {
-        'landmark_file': '',
-        'fsync': True,
-        'odom_timeout': 1.0,
-        'odom_wait': 0.2,
+        'landmark_file': '',    # the symlink to the mission's file (empty: under $ROS_HOME)
+        'fsync': True,          # fsync every landmark (false: flush only)
+        'odom_timeout': 1.0,    # s (sim); a sample with older odometry is saved with a warning
+        'odom_wait': 0.2,       # s (wall) a sample waits for odometry covering its stamp
     }
 
     def __init__(self, layer, role, variant):

@@ -19,7 +19,9 @@ class RecordClient(object):
     """Forwards every PathSample to the record_landmark service."""
 
     ROLE = 'record_client'
-    DEFAULTS = {'wait_log_period': 5.0}
+    DEFAULTS = {
+        'wait_log_period': 5.0,     # s between "still waiting for the server" messages
+    }
 
     def __init__(self, layer):
         self.params = layer.params(self.ROLE, self.DEFAULTS)

@@ -53,11 +53,15 @@ class RotatePi(object):
     """Turns by ``angle`` when vision is lost (module docstring)."""
 
     ROLE = mission_state.ROTATION_ROLE
-    DEFAULTS = dict(ROTATION_DEFAULTS, control_rate=50.0,
-                    odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],
-                    odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],
-                    recording_end_timeout=1.0, wait_for_heading_correction=REQUIRED,
-                    standstill_time=STANDSTILL_DEFAULTS['standstill_time'], correction_margin=25.0)
+    DEFAULTS = dict(ROTATION_DEFAULTS,
+                    control_rate=50.0,          # Hz of the turn's control loop
+                    odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],  # s; older odometry: hold (zero)
+                    odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],  # s a hold may last before the turn fails
+                    recording_end_timeout=1.0,  # s (sim) the turn waits for the recorder's final sample
+                    wait_for_heading_correction=REQUIRED,  # true: turn once the heading correction is in
+                    standstill_time=STANDSTILL_DEFAULTS['standstill_time'],
+                    correction_margin=25.0)     # s added to the standstill's timeout: the longest
+                                                # wait for the heading correction
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))

@@ -66,8 +66,10 @@ class SamplingPublisher(object):
     """Two-rate sampling publisher (module docstring)."""
 
     ROLE = 'sampling_publisher'
-    DEFAULTS = dict(SAMPLING_DEFAULTS, **EVENT_DEFAULTS, yaw_source='odom', min_subscribers=1,
-                    event_sampling=REQUIRED)
+    DEFAULTS = dict(SAMPLING_DEFAULTS, **EVENT_DEFAULTS,
+                    yaw_source='odom',        # odom, or pose2d (geometry_msgs/Pose2D, as the paper)
+                    min_subscribers=1,        # recording starts once this many nodes take the samples
+                    event_sampling=REQUIRED)  # true: a sample at each motion event too
 
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.DEFAULTS)

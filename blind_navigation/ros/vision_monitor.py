@@ -58,18 +58,18 @@ class VisionMonitor(object):
 
     ROLE = 'vision_monitor'
     DEFAULTS = {
-        'detect_stall': True,
-        'detect_dark': False,
-        'detect_vo_lost': True,
-        'detect_vo_stall': True,
-        'detect_odom_info': True,
-        'detect_manual': True,
-        'image_timeout': 1.0,
-        'vo_timeout': 1.0,
-        'debounce': 0.5,
-        'dark_threshold': 10.0,
-        'dark_frames': 3,
-        'no_input_warning': 5.0,
+        'detect_stall': True,        # detect a camera stall (camera_info, or images with detect_dark)
+        'detect_dark': False,        # detect dark images (reads every frame)
+        'detect_vo_lost': True,      # detect visual odometry lost (RTAB-Map's null pose)
+        'detect_vo_stall': True,     # detect a visual-odometry stall
+        'detect_odom_info': True,    # detect RTAB-Map's odom_info lost flag
+        'detect_manual': True,       # take a vision_lost published by another node (the paper's way)
+        'image_timeout': 1.0,        # s without a camera message: a stall
+        'vo_timeout': 1.0,           # s without visual odometry: a stall
+        'debounce': 0.5,             # s a detector's condition must hold before it fires
+        'dark_threshold': 10.0,      # mean intensity (0..255) below which an image is dark
+        'dark_frames': 3,            # consecutive dark images before it counts
+        'no_input_warning': 5.0,     # s with no camera or visual odometry before it warns
     }
 
     def __init__(self, layer):
