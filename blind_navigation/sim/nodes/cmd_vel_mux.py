@@ -3,7 +3,7 @@
 
 Subscribes ``~input/<topic>`` for each input (default: safety_controller,
 teleop, switch, navi with TurtleBot's priorities and timeouts), forwards the
-winner (core/mux.py rules) to ``~output`` and announces the holder's name, or
+winner (sim/mux.py rules) to ``~output`` and announces the holder's name, or
 ``idle``, on the latched ``~active``. The base's own 0.6 s command timeout
 stops the robot when the holder goes quiet, as on a real TurtleBot.
 """
@@ -48,7 +48,7 @@ class CmdVelMuxNode(object):
             if forward:
                 self.output.publish(msg)
         except rospy.ROSException:
-            if not rospy.is_shutdown():
+            if not rospy.core.is_shutdown_requested():   # topics close in a pre-shutdown hook
                 raise       # at shutdown the outputs close first: a last command is dropped
 
     def on_check(self, _event):

@@ -4,7 +4,7 @@
 Publishes ``camera/rgb/image_rect_color`` (small rgb8 images of a panorama that
 turns with the robot's true heading; ``width`` x ``height``, 640 x 480 for a
 Kinect-sized stream), with each frame its ``camera/rgb/camera_info``, and ``rtabmap/odom`` (true pose from
-``ground_truth/odom`` plus core/visual_odometry drift, TF ``vo_odom`` ->
+``ground_truth/odom`` plus sim/visual_odometry drift, TF ``vo_odom`` ->
 ``vo_base_footprint``) at ``rate`` Hz of sim time (clocked by the true pose stamps). Vision fails at
 ``vision_fail_at`` (sim s) or on ``fake_turtlebot/set_vision`` (SetBool, false =
 fail now, true = restore), in one of three modes:
@@ -41,7 +41,7 @@ PANORAMA_COLUMNS = 720
 class FakeVision(object):
     """Params (DEFAULTS): ``rate`` Hz; ``width``, ``height`` image size; ``seed``; ``vision_fail_at``
     sim s ('' = never); ``vision_failure`` mode; ``scale_error_std``, ``yaw_drift_per_metre``,
-    ``yaw_drift_per_radian`` (core/visual_odometry); ``odom_frame``, ``base_frame``,
+    ``yaw_drift_per_radian`` (sim/visual_odometry); ``odom_frame``, ``base_frame``,
     ``camera_frame``; ``publish_tf``.
     """
     DEFAULTS = dict(VO_DRIFT_DEFAULTS, rate=VO_RATE, width=80, height=60, seed=0,
@@ -85,7 +85,7 @@ class FakeVision(object):
             try:
                 self.on_frame(rospy.Time.from_sec(self.next_frame))
             except rospy.ROSException:
-                if not rospy.is_shutdown():
+                if not rospy.core.is_shutdown_requested():   # topics close in a pre-shutdown hook
                     raise
                 return      # at shutdown the camera topics close before the base stops
             self.next_frame += self.period
