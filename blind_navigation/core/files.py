@@ -14,6 +14,8 @@
 - :func:`read_regular_file`: read a file that must be a regular file (a
   directory, FIFO or device is refused by name instead of hanging or failing
   obscurely), optionally without following a symlink, up to a size bound.
+- :class:`FileContentError`: what was read cannot be used; the base of the
+  landmark file's and the progress file's errors.
 """
 import errno
 import os
@@ -45,6 +47,18 @@ class StorageError(OSError):
 
     def __str__(self):
         return self.message
+
+
+class FileContentError(Exception):
+    """A file whose content cannot be used: ``str()`` names the file, the ``part``
+    (an entry, a field; may be None) and the ``reason``."""
+
+    def __init__(self, path, part, reason):
+        self.path = path
+        self.part = part
+        self.reason = reason
+        where = '%s: %s' % (path, part) if part else str(path)
+        super(FileContentError, self).__init__('%s: %s' % (where, reason))
 
 
 class NotRegularFileError(OSError):

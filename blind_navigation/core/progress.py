@@ -36,7 +36,7 @@ from collections import namedtuple
 import yaml
 
 from . import mission_state as state
-from .files import NotRegularFileError, read_regular_file, write_atomically
+from .files import FileContentError, NotRegularFileError, read_regular_file, write_atomically
 from .plausibility import Limits
 from .store import LandmarkFileError, load_landmarks
 
@@ -66,15 +66,12 @@ ResumeDecision.__doc__ = ('What a restarted layer does: ``action`` (RESUME, IGNO
 _HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
 
 
-class ProgressError(Exception):
+class ProgressError(FileContentError):
     """A progress file or record that cannot be trusted; names the file and field."""
 
     def __init__(self, path, field, reason):
-        self.path = path
+        super(ProgressError, self).__init__(path, field, reason)
         self.field = field
-        self.reason = reason
-        where = '%s: %s' % (path, field) if field else str(path)
-        super(ProgressError, self).__init__('%s: %s' % (where, reason))
 
 
 def _is_number(value):

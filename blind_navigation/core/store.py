@@ -44,8 +44,8 @@ from collections import namedtuple
 
 import yaml
 
-from .files import (NotRegularFileError, StorageError, describe_mode, fsync_directory,
-                    read_regular_file, replace_with_symlink, write_all)
+from .files import (FileContentError, NotRegularFileError, StorageError, describe_mode,
+                    fsync_directory, read_regular_file, replace_with_symlink, write_all)
 from .landmark import FIELDS, Limits, landmark_from_values
 
 LABEL_PREFIX = 'landmark_'
@@ -63,15 +63,12 @@ RESTART_GAP = ('the recorder restarted mid-mission: this landmark measures d fro
                'was at the restart, not from the previous landmark')
 
 
-class LandmarkFileError(Exception):
+class LandmarkFileError(FileContentError):
     """A landmark file that cannot be used; the message names the file and entry."""
 
     def __init__(self, path, reason, entry=None):
-        self.path = path
+        super(LandmarkFileError, self).__init__(path, entry, reason)
         self.entry = entry
-        self.reason = reason
-        where = '%s: %s' % (path, entry) if entry else str(path)
-        super(LandmarkFileError, self).__init__('%s: %s' % (where, reason))
 
 
 def label_for(index):

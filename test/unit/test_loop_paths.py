@@ -14,6 +14,8 @@ from blind_navigation.sim.kobuki import arc_motion
 from blind_navigation.sim.path_tracker import TrackedSeries
 from blind_navigation.sim.random_paths import LOOP_CATEGORIES, random_mission
 
+from test_paths import seeded_within_category
+
 SETTINGS = {'heading_correction': False, 'floor': False, 'event_sampling': True}
 
 
@@ -42,15 +44,9 @@ def closest_return(points, later_than=2.0):
 
 @pytest.mark.parametrize('category', sorted(LOOP_CATEGORIES))
 def test_loop_paths_are_seeded_within_their_lengths_and_come_back(category):
-    a, b = random_mission(category, 7), random_mission(category, 7)
-    assert a.segments == b.segments and isinstance(a, TrackedSeries)
-    assert random_mission(category, 8).segments != a.segments
-    (low, high), _ = LOOP_CATEGORIES[category]
-    for seed in range(4):
-        mission = random_mission(category, seed)
-        assert low <= mission.nominal_length() <= high * 1.3
-        assert all(abs(v) <= 0.7 + 1e-9 and abs(w) <= math.pi + 1e-9 for v, w, _ in mission.segments)
-        assert all(abs(d / 0.1 - round(d / 0.1)) < 1e-6 for _, _, d in mission.segments)
+    missions = seeded_within_category(LOOP_CATEGORIES, category, 4)
+    for seed, mission in enumerate(missions):
+        assert isinstance(mission, TrackedSeries)
         assert closest_return(plan_points(mission)) < 0.03, (category, seed)
 
 

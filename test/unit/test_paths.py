@@ -25,17 +25,25 @@ def test_command_series_looks_commands_up_by_time():
         CommandSeries([(0.1, 0.0, 0.0)])
 
 
-@pytest.mark.parametrize('category', sorted(CATEGORIES))
-def test_random_paths_are_seeded_and_within_their_category(category):
+def seeded_within_category(categories, category, seeds):
+    """The missions of ``category`` (in ``categories``) of seeds 0 .. seeds - 1, checked:
+    the same seed gives the same path and another seed another, each within the
+    category's length and the Kobuki's limits, in pieces of whole tenths of a second."""
     a, b = random_mission(category, 7), random_mission(category, 7)
     assert a.segments == b.segments
     assert random_mission(category, 8).segments != a.segments
-    (low, high), _ = CATEGORIES[category]
-    for seed in range(5):
-        mission = random_mission(category, seed)
+    (low, high), _ = categories[category]
+    missions = [random_mission(category, seed) for seed in range(seeds)]
+    for mission in missions:
         assert low <= mission.nominal_length() <= high * 1.3
         assert all(abs(v) <= 0.7 + 1e-9 and abs(w) <= math.pi + 1e-9 for v, w, _ in mission.segments)
         assert all(abs(d / 0.1 - round(d / 0.1)) < 1e-6 for _, _, d in mission.segments)
+    return missions
+
+
+@pytest.mark.parametrize('category', sorted(CATEGORIES))
+def test_random_paths_are_seeded_and_within_their_category(category):
+    seeded_within_category(CATEGORIES, category, 5)
 
 
 def _moving(mission):

@@ -10,12 +10,11 @@ from types import SimpleNamespace
 
 import pytest
 
-from blind_navigation.core.back_travel import RouteFollower
 from blind_navigation.core.loop_drift import LoopDrift
 from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params, prune_route
 from blind_navigation.core.route import Route, build_route
 
-from unicycle import Unicycle, record
+from unicycle import follow_route, record
 
 V = 0.2
 
@@ -42,14 +41,7 @@ def pruned(profile, params=None):
 
 
 def drive_home(route, end):
-    robot = Unicycle(end.x, end.y, end.yaw + math.pi)
-    follower = RouteFollower(route, SimpleNamespace(stop_lead=0.0))   # this unicycle stops at once
-    follower.start(robot.odom)
-    for _ in range(100000):
-        command = follower.step(robot.odom)
-        if follower.done or follower.failed:
-            break
-        robot.move(command[0], command[1], 0.02)
+    robot, follower = follow_route(route, (end.x, end.y, end.yaw + math.pi))
     assert follower.done, follower.reason
     return robot, follower
 
@@ -230,15 +222,8 @@ def test_a_return_resumed_at_any_goal_follows_the_same_pruned_route_home(profile
               if any(c.later < section.end_vertex < c.earlier for c in result.cuts)]
     for done in sorted({1, inside[0], inside[0] + 1, inside[-1] + 1, len(kept.sections) // 2}):
         vertex = kept.sections[done - 1].end_vertex
-        robot = Unicycle(kept.x[vertex], kept.y[vertex],
-                         kept.direction(min(vertex, kept.vertices - 2)))
-        follower = RouteFollower(kept, SimpleNamespace(stop_lead=0.0))
-        follower.start(robot.odom, section=done)
-        for _ in range(100000):
-            command = follower.step(robot.odom)
-            if follower.done or follower.failed:
-                break
-            robot.move(command[0], command[1], 0.02)
+        start = (kept.x[vertex], kept.y[vertex], kept.direction(min(vertex, kept.vertices - 2)))
+        robot, follower = follow_route(kept, start, section=done)
         assert follower.done, (done, follower.reason)
         assert math.hypot(robot.x - kept.x[-1], robot.y - kept.y[-1]) < 0.02
         assert follower.travelled <= kept.length - kept.s[vertex] + 0.05

@@ -11,14 +11,13 @@ from types import SimpleNamespace
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from blind_navigation.core.back_travel import RouteFollower
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_route
 from blind_navigation.core.route import Route, build_route
 
 from test_pruning import on_route
 from test_route_properties import ANCHOR, LANDMARK
-from unicycle import Unicycle, record
+from unicycle import follow_route, record
 
 CUT_ANYWHERE = SimpleNamespace(wheel_error_per_m=0.0, gyro_noise_density=0.0, uncorrected_bias_std=0.0,
                                uncorrected_scale_std=0.0, prune_radius=0.3, prune_min_loop=0.3)
@@ -82,14 +81,7 @@ def test_no_pruned_route_makes_the_follower_abort(profile, yaw):
     landmarks, end = record(profile, events=True)
     anchor = (end.x, end.y)
     route = prune_route(build_route(landmarks, anchor), landmarks, None, CUT_ANYWHERE).route
-    follower = RouteFollower(route, SimpleNamespace(stop_lead=0.0))
-    robot, dt = Unicycle(anchor[0], anchor[1], yaw), 0.05
-    follower.start(robot.odom)
-    for _ in range(40000):
-        v, w = follower.step(robot.odom)
-        if follower.done or follower.failed:
-            break
-        robot.move(v, w, dt)
+    robot, follower = follow_route(route, (anchor[0], anchor[1], yaw), dt=0.05, limit=40000)
     assert follower.done and not follower.failed, follower.reason
     assert all(follower.section_finished(i) for i in range(len(landmarks)))
     assert distance(robot.x, robot.y, route.x[-1], route.y[-1]) < 0.05

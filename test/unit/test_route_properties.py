@@ -5,17 +5,15 @@ route is built, stays where the recorded motion could have taken the robot,
 survives its plain form, and a follower on an exact unicycle drives it home
 without aborting."""
 import math
-from types import SimpleNamespace
 
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from blind_navigation.core.back_travel import RouteFollower
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Landmark
 from blind_navigation.core.route import IN_PLACE_JITTER, ROUTE_DEFAULTS, SHAPE_TRUST, Route, build_route
 
-from unicycle import Unicycle
+from unicycle import follow_route
 
 
 def _speed(limit):
@@ -65,14 +63,7 @@ def test_any_landmarks_give_a_sane_route_within_the_recorded_reach(landmarks, an
 @given(st.lists(LANDMARK, min_size=1, max_size=8), ANCHOR, st.floats(-math.pi, math.pi))
 def test_no_landmark_makes_the_follower_abort(landmarks, anchor, yaw):
     route = build_route(landmarks, anchor)
-    follower = RouteFollower(route, SimpleNamespace(stop_lead=0.0))
-    robot, dt = Unicycle(anchor[0], anchor[1], yaw), 0.05
-    follower.start(robot.odom)
-    for _ in range(20000):
-        v, w = follower.step(robot.odom)
-        if follower.done or follower.failed:
-            break
-        robot.move(v, w, dt)
+    robot, follower = follow_route(route, (anchor[0], anchor[1], yaw), dt=0.05, limit=20000)
     assert follower.done and not follower.failed, follower.reason
     assert all(follower.section_finished(i) for i in range(len(landmarks)))
     assert distance(robot.x, robot.y, route.x[-1], route.y[-1]) < 0.05

@@ -5,7 +5,9 @@ and paths planned as pieces of constant (v, w), integrated with the same
 kinematics (sim/kobuki.arc_motion)."""
 import bisect
 import math
+from types import SimpleNamespace
 
+from blind_navigation.core.back_travel import RouteFollower
 from blind_navigation.core.geometry import OdomState, Pose2D, wrap_angle
 from blind_navigation.core.recorder import PathRecorder, record_path
 from blind_navigation.core.segment import SamplingSchedule
@@ -110,6 +112,22 @@ def _record_with_events(profile, odom_at, duration, straight_period, curved_peri
         odom = odom_at(duration)
         landmarks.append(recorder.take(odom, odom.yaw, duration - last))
     return landmarks
+
+
+def follow_route(route, start, dt=DT, limit=100000, section=0):
+    """A core/back_travel.RouteFollower (``stop_lead`` 0: this unicycle stops at once)
+    driving ``route`` from goal ``section`` on a Unicycle put at ``start`` (x, y, yaw),
+    stepped every ``dt`` s until done or failed, at most ``limit`` steps.
+    Returns (robot, follower)."""
+    robot = Unicycle(*start)
+    follower = RouteFollower(route, SimpleNamespace(stop_lead=0.0))
+    follower.start(robot.odom, section=section)
+    for _ in range(limit):
+        v, w = follower.step(robot.odom)
+        if follower.done or follower.failed:
+            break
+        robot.move(v, w, dt)
+    return robot, follower
 
 
 def run_controllers(robot, controllers, dt=DT, limit=10000):
