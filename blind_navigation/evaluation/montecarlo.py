@@ -21,8 +21,8 @@ from .forward import harness_settings
 
 #: Modes launched in the paper's configuration (launch/paper.launch: the paper's
 #: classifier rule without a dead-band, no heading correction); the others run
-#: blind_navigation.launch's (config/recording.yaml, dead-band 0.01 rad, heading
-#: correction with a gyro calibration).
+#: blind_navigation.launch's dead-band and heading correction (with a gyro
+#: calibration); the harness's defaults otherwise (no motion events, no pruning).
 PAPER_CONFIGURATION_MODES = ('time', 'distance')
 #: The gyro calibration used with seed s is made on seed s + this: another
 #: power-up (gyro bias) and another visual-odometry drift of the same robot.
@@ -141,21 +141,20 @@ def jobs_for(missions, seeds, profile='paper', modes=MODES, keep_paths_seed=0):
     return [(m, profile, s, tuple(modes), s == keep_paths_seed) for m in missions for s in seeds]
 
 
-def run_jobs(jobs, processes=2, progress=None):
-    """Run ``jobs`` (see :func:`jobs_for`) on ``processes`` processes; list of rows."""
+def run_jobs(jobs, processes=2, progress=None, job=None):
+    """Rows of ``job`` (default :func:`run_job`) over ``jobs`` on ``processes`` processes,
+    in the jobs' order; ``progress(done, total)`` after each job."""
+    job = job or run_job
     rows = []
-    if processes <= 1:
-        results = map(run_job, jobs)
-    else:
-        pool = multiprocessing.Pool(processes)
-        results = pool.imap(run_job, jobs)
+    pool = multiprocessing.Pool(processes) if processes > 1 else None
+    results = pool.imap(job, jobs) if pool else map(job, jobs)
     try:
         for index, job_rows in enumerate(results):
             rows.extend(job_rows)
             if progress:
                 progress(index + 1, len(jobs))
     finally:
-        if processes > 1:
+        if pool:
             pool.close()
             pool.join()
     return rows
