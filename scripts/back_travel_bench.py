@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Back-travel benchmark (plain Python, core/simulation.py): final position error
+"""Back-travel benchmark (plain Python, sim/harness.py): final position error
 of each control mode on the paper's Table VI missions, over seeds.
 
     /usr/bin/python3 scripts/back_travel_bench.py [--seeds 10] [--profiles ideal paper]

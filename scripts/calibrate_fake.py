@@ -2,8 +2,8 @@
 """Re-run the paper's experiments (Tables III, IV, V, VI) on the simulated Kobuki, paper's way.
 
 Each run is the whole mission through the plain-Python harness
-(core/simulation.py): a person drives the mission file with the keyboard
-teleop (core/operator.py) while the layer records at the paper's rates with the
+(sim/harness.py): a person drives the mission file with the keyboard
+teleop (sim/operator.py) while the layer records at the paper's rates with the
 paper's literal classifier (dead-band 0, as launch/paper.launch), then vision
 is lost, the robot turns by pi and comes back with the paper's sampled-time
 control (``time``). The recorded landmarks give the Table III/V/VI columns

@@ -19,7 +19,7 @@ of its final run on the new side): at a reversal, where ``v`` crossed zero.
 The robot's first setting off is an event too, so the start heading, which the
 landmark file does not otherwise hold, is recorded. A landmark taken at each
 event, from the odometry at the event's stamp (as the landmark saver reads
-odometry at a tick's stamp: core/recorder.OdometryHistory), with ``T`` = the
+the odometry at a tick's stamp), with ``T`` = the
 time since the previous landmark (as for the final partial period), keeps the
 file format unchanged. The periodic ticks keep their times but are taken
 ``event_latency`` s late (from the odometry at their stamp), so an event dated

@@ -1,3 +1,3 @@
 """Evaluation (`make bench`): the paper's tables re-measured on the fake TurtleBot,
 control modes compared, storage, latency, reconstruction; plain Python over the
-core harness (core/simulation.py) plus a few ROS runs (launch/bench.launch)."""
+core harness (sim/harness.py) plus a few ROS runs (launch/bench.launch)."""

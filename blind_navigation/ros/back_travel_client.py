@@ -33,7 +33,7 @@ order, one goal at a time, the whole return within ``return_timeout_factor``
 x the expected time + ``return_timeout_margin``. It publishes the odometry
 poses of the return on ``blind_navigation/return_path``.
 
-Progress (core/safety.ReturnProgress: real path and sha256 of the landmark
+Progress (core/progress.ReturnProgress: real path and sha256 of the landmark
 file, anchor, landmarks completed, position) is written atomically next to
 ``landmark_file`` at vision loss and after each goal. A client restarted while
 a return was under way resumes with the next landmark (progress

@@ -34,7 +34,7 @@ CliffEvent = _CLASSES['CliffEvent']
 WheelDropEvent = _CLASSES['WheelDropEvent']
 MotorPower = _CLASSES['MotorPower']
 
-#: Kobuki sensor names (core/arena.py) -> message index constants.
+#: Kobuki sensor names (sim/arena.py) -> message index constants.
 BUMPER_INDEX = {'left': 0, 'center': 1, 'right': 2}
 CLIFF_INDEX = {'left': 0, 'center': 1, 'right': 2}
 WHEEL_INDEX = {'left': 0, 'right': 1}

@@ -2,7 +2,7 @@
 
 A mission file (YAML, ``config/missions/<name>.yaml``) holds either a velocity
 profile or waypoints, plus optional metadata and a world (``arena``,
-``obstacles``: see core/arena.py)::
+``obstacles``: see sim/arena.py)::
 
     description: Table III test 1, straight line at 0.05 m/s
     rate: 10                       # Hz, how often the operator's teleop publishes
@@ -12,13 +12,13 @@ profile or waypoints, plus optional metadata and a world (``arena``,
       - {v: 0.0, duration: 2.0}    #   or duration (s)
     # or: waypoints: {v: 0.086, w: 0.097, points: [[1, 0], [1, 1]]}
     #     from (0, 0, yaw 0): turn on the spot toward each point, then drive to it.
-    operator: {max_w: 0.097}        # optional: a person drives it (core/operator.py
+    operator: {max_w: 0.097}        # optional: a person drives it (sim/operator.py
                                     # parameters, or true for the defaults); absent or
                                     # false = the open-loop script
 
 ``command_at(t)`` is the open-loop script (the keys as planned). A person
 driving it watches the robot and corrects its heading: ``make_operator()``
-gives that person (core/operator.Operator, on ground truth), which the mission
+gives that person (sim/operator.Operator, on ground truth), which the mission
 driver node and the plain-Python harness both use.
 """
 import math
@@ -49,11 +49,11 @@ class Mission(object):
         self.name = name
         self.description = description
         self.duration = sum(s[2] for s in self.segments)
-        #: operator parameters (core/operator.py) or None for the open-loop script
+        #: operator parameters (sim/operator.py) or None for the open-loop script
         self.operator = None if operator is None else operator_params(operator, name)
 
     def make_operator(self):
-        """A fresh core/operator.Operator for this mission, or None (open-loop script)."""
+        """A fresh sim/operator.Operator for this mission, or None (open-loop script)."""
         return None if self.operator is None else Operator(self, self.operator)
 
     def command_at(self, t):

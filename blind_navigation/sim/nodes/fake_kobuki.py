@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fake Kobuki base node: runs core/kobuki.SimulatedKobuki and owns the sim clock.
+"""Fake Kobuki base node: runs sim/kobuki.SimulatedKobuki and owns the sim clock.
 
 Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
 (Twist), ``commands/motor_power``, ``commands/reset_odometry``; publishes at

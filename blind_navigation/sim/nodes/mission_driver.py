@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Scripted operator: plays a mission (core/mission.py) as teleop commands.
+"""Scripted operator: plays a mission (sim/mission.py) as teleop commands.
 
 Publishes the mission's (v, w) on ``cmd_vel`` (remap to
 ``/cmd_vel_mux/input/teleop``) at the mission's rate, starting ``start_delay``
@@ -7,10 +7,10 @@ s of sim time after the clock starts (with ``wait_for_go``: once a message came
 on ``mission_driver/go`` as well, e.g. from the demo's observer once the layer
 records); then sends
 zero velocity and latches ``~done`` true. Zero velocity also on shutdown. A mission with an ``operator``
-(core/operator.py: a person watching the robot and tapping the turn keys)
+(sim/operator.py: a person watching the robot and tapping the turn keys)
 watches the true pose on ``ground_truth`` (nav_msgs/Odometry, remap to
 ``/ground_truth/odom``) and ends when the person sees the robot at the end of
-the route; the same core runs in the plain-Python harness (core/simulation.py).
+the route; the same core runs in the plain-Python harness (sim/harness.py).
 """
 import threading
 
