@@ -322,6 +322,15 @@ class LoadedPath(object):
         """Landmarks lost to write failures (holes in the label numbering)."""
         return self.last_index - len(self.landmarks) if self.landmarks else 0
 
+    def lost_after_end(self, reported_lost):
+        """Of the ``reported_lost`` landmarks the recorder could not write (its count,
+        blind_navigation/StorageUsage.lost), those after this file's last landmark: not
+        holes in the numbering, which a return bridges, but the end of the recorded
+        path, where the way back starts (e.g. the disk filled up and stayed full)."""
+        if isinstance(reported_lost, bool) or not isinstance(reported_lost, int) or reported_lost < 0:
+            raise ValueError('reported_lost must be a count >= 0, got %r' % (reported_lost,))
+        return max(0, reported_lost - self.missing)
+
 
 class _UniqueKeyLoader(yaml.SafeLoader):
     """SafeLoader that refuses duplicate keys instead of keeping the last one."""

@@ -30,6 +30,7 @@ import rospy
 from .. import names
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
+from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from .common import load_params, subscribe
 from .diagnostics import Diagnostics
@@ -118,14 +119,15 @@ def correction_from_message(msg):
 
 def start_roles(role_classes, compact=False):
     """Build the roles (classes taking the Layer) of this process, in order, after
-    ``rospy.init_node``; a ValueError (a bad param) is logged as fatal and exits with
-    status 1. Returns the roles; :func:`run_roles` runs them."""
+    ``rospy.init_node``; a bad param (ValueError) or a file a role cannot use (e.g. a
+    ``landmark_file`` that is a directory: core/files.FileContentError, OSError) is logged
+    as fatal, naming it, and exits with status 1. Returns the roles; :func:`run_roles` runs them."""
     layer = Layer(compact)
     roles = []
     for role_class in role_classes:
         try:
             roles.append(role_class(layer))
-        except ValueError as error:
+        except (ValueError, FileContentError, OSError) as error:
             rospy.logfatal('%s: %s: %s', rospy.get_name(), role_class.ROLE, error)
             raise SystemExit(1)
     return roles

@@ -26,12 +26,21 @@ class MissionStateView(object):
         self.owner = rospy.resolve_name(owner)
         self.state = None
         self._lock = threading.Lock()
+        self._delivery = threading.RLock()      # one change delivered at a time, in order
         self._callbacks = []
         self._subscriber = subscribe(names.STATE, String, self._on_state, queue_size=10)
 
     def on_change(self, callback):
-        """Call ``callback(old, new)`` on every change of state, from the thread that saw it."""
-        self._callbacks.append(callback)
+        """Call ``callback(old, new)`` on every change of state, from the thread that saw it,
+        and at once with ``(None, state)`` if the state is known already: a role learns the
+        state it starts in however its construction and the (latched) state message raced
+        (a node restarted mid-mission, e.g. rotate_pi while ``rotating``, must know it)."""
+        with self._delivery:
+            with self._lock:
+                self._callbacks.append(callback)
+                current = self.state
+            if current is not None:
+                callback(None, current)
 
     def set_local(self, new):
         """The owner, hosted in this process, moved the mission to ``new``."""
@@ -50,8 +59,10 @@ class MissionStateView(object):
         self._change(msg.data)
 
     def _change(self, new):
-        with self._lock:
-            old, self.state = self.state, new
-        if old != new:
-            for callback in list(self._callbacks):
-                callback(old, new)
+        with self._delivery:
+            with self._lock:
+                old, self.state = self.state, new
+                callbacks = list(self._callbacks)
+            if old != new:
+                for callback in callbacks:
+                    callback(old, new)

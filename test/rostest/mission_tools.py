@@ -223,6 +223,15 @@ class MissionRun(object):
             if directory.endswith('-mission-test'):
                 shutil.rmtree(directory, ignore_errors=True)
 
+    def close(self):
+        """Unsubscribe every topic this run watches (a test that runs several missions
+        in one node: a stale subscription to the samples would count as a listener of
+        the next layer's sampling publisher and start its recording early)."""
+        for watched in (self.states, self.truth, self.goals, self.results, self.storage_msgs,
+                        self.mission_done, self.corrections, self.samples):
+            if watched is not None:
+                watched.sub.unregister()
+
     def stop_operator(self):
         if self.operator and self.operator.poll() is None:
             self.operator.terminate()

@@ -75,6 +75,12 @@ class Diagnostics(object):
         values = {} if status is None else {kv.key: kv.value for kv in status.values}
         return None if status is None or (key and key not in values) else (status.message, values)
 
+    def level(self, name):
+        """The level (DiagnosticStatus.OK, WARN, ERROR, ...) of the newest status ``name``, or None."""
+        with self._lock:
+            status = self._latest.get(name)
+        return None if status is None else status.level
+
 
 def landmark_info(path):
     """Run the yaml-cpp reader; its YAML output as a dict."""
@@ -90,11 +96,20 @@ def landmark_info(path):
     return yaml.safe_load(output.stdout)
 
 
-def kill_node(name):
-    """SIGKILL the process of ROS node ``name`` (its pid from its own XML-RPC API)."""
-    uri = rosnode.get_api_uri(rosgraph.Master(CALLER), name)
+def node_pid(name):
+    """The process id of ROS node ``name`` (from its own XML-RPC API; the master is asked
+    each time: rosnode's cache would give a node killed earlier under the same name)."""
+    uri = rosnode.get_api_uri(rosgraph.Master(CALLER), name, skip_cache=True)
+    if not uri:
+        raise AssertionError('node %s is not registered with the master' % name)
     code, message, pid = xmlrpc.client.ServerProxy(uri).getPid(CALLER)
     if code != 1:
         raise AssertionError('getPid of %s failed: %s' % (name, message))
+    return pid
+
+
+def kill_node(name):
+    """SIGKILL the process of ROS node ``name``; returns its pid."""
+    pid = node_pid(name)
     os.kill(pid, signal.SIGKILL)
     return pid

@@ -249,6 +249,32 @@ def test_enospc_is_one_clear_error_and_leaves_whole_lines(tmp_path, monkeypatch)
                                                   '(not written)')]
 
 
+def test_lost_after_end_tells_a_lost_tail_from_holes(tmp_path, monkeypatch):
+    # finding 6 (a full disk that stays full): the landmarks lost after the file's last one
+    # are the end of the path, where the way back starts; holes are bridged by the return
+    path = str(tmp_path / 'lm.yaml')
+    writer = LandmarkWriter(path)
+    writer.append(PATH[0])
+    disk = FailingDisk(monkeypatch, writer._fd)
+    disk.write_error = errno.ENOSPC
+    for landmark in PATH[1:3]:
+        with pytest.raises(StorageError):
+            writer.append(landmark)
+    disk.write_error = None
+    writer.append(PATH[3])                                     # a hole of 2, then written again
+    disk.write_error = errno.ENOSPC
+    with pytest.raises(StorageError):
+        writer.append(PATH[0])                                 # and the end lost
+    writer.close()
+    loaded = load_landmarks(path)
+    assert (loaded.missing, writer.lost) == (2, 3)
+    assert loaded.lost_after_end(writer.lost) == 1
+    assert loaded.lost_after_end(2) == 0 and loaded.lost_after_end(0) == 0
+    for bad in (-1, 1.5, True, None):
+        with pytest.raises(ValueError, match='reported_lost must be a count'):
+            loaded.lost_after_end(bad)
+
+
 def test_a_failed_fsync_removes_the_line(tmp_path, monkeypatch):
     path = str(tmp_path / 'lm.yaml')
     writer = LandmarkWriter(path)

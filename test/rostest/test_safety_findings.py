@@ -1,0 +1,816 @@
+#!/usr/bin/env python3
+"""rostest: issue 16's findings 1-7, each bullet reproduced on the fake TurtleBot
+(ideal profile, rtf 4, closed_loop, blind_navigation.launch as a user starts it,
+the 2.3 m mission config/missions/test_safety.yaml) and checked to end with the
+robot still or ``home`` within the normal accuracy, no motion commanded after a
+terminal state, and the record intact or its loss reported.
+
+One TestCase per mission (findings_rig.FindingMission: a fresh layer, mission id and
+directory); its setUpClass plays the mission with the faults of its findings, each
+at its own phase, and each test method checks one bullet and prints one
+``FINDING`` line with what happened. The param ``~only`` (comma-separated class
+names) runs a subset.
+
+Faults, as the issue tried them: bad odometry published on /odom beside the base's
+(a burst of x = 1e6, impossible twists), stray triggers (`rostopic pub -1`, a flood),
+hand-overs out of order, a second action client, spoofed set_return_route calls
+(also with the owner's callerid forged: ROS 1 has no authentication), node kills
+(SIGKILL) and restarts, a write failure of the landmark file (RLIMIT_FSIZE set on the
+running layer: EFBIG, which takes the path of ENOSPC, core/files.StorageError), a
+landmark_file that is a directory, a symlink planted at the progress file's old
+temporary name, a corrupt or doctored progress file on a client restart.
+"""
+import json
+import math
+import os
+import re
+import resource
+import sys
+import threading
+import time
+import unittest
+
+import actionlib
+import rospy
+import rostest
+from actionlib_msgs.msg import GoalStatus
+from diagnostic_msgs.msg import DiagnosticStatus
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Bool, Empty, Header
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from findings_rig import MISSION, NORMAL_ACCURACY, WALL_TIMEOUT, FindingMission  # noqa: E402
+from mission_tools import HOME_WALK  # noqa: E402
+from recording_tools import kill_node, node_pid, subscribers_of  # noqa: E402
+from waiting import wait_for  # noqa: E402
+
+from blind_navigation import names  # noqa: E402
+from blind_navigation.core.landmark import Limits  # noqa: E402
+from blind_navigation.core.plausibility import RouteBudget  # noqa: E402
+from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
+from blind_navigation.core.route import build_route  # noqa: E402
+from blind_navigation.core.store import load_landmarks  # noqa: E402
+from blind_navigation.msg import BackTravelAction, BackTravelGoal  # noqa: E402
+from blind_navigation.srv import SetReturnRoute  # noqa: E402
+
+#: Finding 1: a 3 s burst of /odom at x = 1e6, 100 Hz.
+BURST_X, BURST_RATE, BURST_TIME = 1e6, 100.0, 3.0
+#: Finding 2: a twist no Kobuki makes, m/s.
+BURST_TWIST = 1e6
+#: Finding 4: the vision_lost flood, Hz (wall).
+FLOOD_RATE = 1000.0
+#: Finding 5a: the issue's goal while idle: d = 1000 m (T so long that d fits the limits).
+IDLE_GOAL = BackTravelGoal(v=0.5, w=0.0, d=1000.0, T=2000.0, psi=0.0)
+#: Finding 5b: what a second client sends during the return (a plausible landmark).
+STRANGER_GOAL = BackTravelGoal(v=0.15, w=0.0, d=0.6, T=4.0, psi=0.0)
+#: s of sim time watched after a terminal state (longer than a standstill + pi turn
+#: where a turn could follow, finding 4a).
+WATCH = 4.0
+#: s of sim time a restarted node has to end the mission it cannot continue (finding 7).
+RESTART_REACTION = 10.0
+
+
+def report(finding, text, *args):
+    print('FINDING %s: %s' % (finding, text % args if args else text), flush=True)
+
+
+def wait_connected(publisher, node, what):
+    """Until ``publisher`` is connected to ``node`` (which subscribes its topic)."""
+    wait_for(lambda: node in subscribers_of(publisher.resolved_name), '%s subscribes %s'
+             % (node, publisher.resolved_name), WALL_TIMEOUT)
+    wait_for(lambda: publisher.get_num_connections() >= 1, '%s: connected' % what, WALL_TIMEOUT)
+
+
+def odometry_burst(make, rate=BURST_RATE, duration=BURST_TIME):
+    """Publish ``make()`` (a nav_msgs/Odometry) on /odom beside the base's, ``rate`` Hz of
+    sim time for ``duration`` s of sim time, as `rostopic pub -r` does; returns the count."""
+    publisher = rospy.Publisher('/odom', Odometry, queue_size=200)
+    try:
+        wait_for(lambda: publisher.get_num_connections() >= 1, 'the layer subscribes /odom', WALL_TIMEOUT)
+        pace, start, count = rospy.Rate(rate), rospy.get_time(), 0
+        while rospy.get_time() - start < duration:
+            publisher.publish(make())
+            count += 1
+            pace.sleep()
+        return count
+    finally:
+        publisher.unregister()
+
+
+class BaseOdometry(object):
+    """The latest /odom message of the fake base (not of a burst)."""
+
+    def __init__(self):
+        self.latest = None
+        self.sub = rospy.Subscriber('/odom', Odometry, self._on_msg, queue_size=5)
+
+    def _on_msg(self, msg):
+        if msg._connection_header.get('callerid') == '/mobile_base':
+            self.latest = msg
+
+
+class Flood(object):
+    """Publishes std_msgs/Empty on vision_lost at FLOOD_RATE Hz (wall) in a thread until :meth:`stop`."""
+
+    def __init__(self, owner):
+        self.publisher = rospy.Publisher(names.VISION_LOST, Empty, queue_size=100)
+        wait_connected(self.publisher, owner, 'the vision_lost flood')
+        self.count = 0
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        next_time = time.monotonic()
+        while not self._stop.is_set() and not rospy.is_shutdown():
+            self.publisher.publish(Empty())
+            self.count += 1
+            next_time += 1.0 / FLOOD_RATE
+            time.sleep(max(0.0, next_time - time.monotonic()))
+
+    def stop(self):
+        self._stop.set()
+        self._thread.join(10.0)
+        self.publisher.unregister()
+
+
+class Stranger(object):
+    """A second client of the layer's action: its goals as another node."""
+
+    def __init__(self):
+        self.client = actionlib.SimpleActionClient(names.BACK_TRAVEL, BackTravelAction)
+        assert self.client.wait_for_server(rospy.Duration(WALL_TIMEOUT)), 'no back_travel server'
+
+    def send(self, goal):
+        """(GoalStatus, its text) of ``goal``."""
+        self.client.send_goal(goal)
+        assert self.client.wait_for_result(rospy.Duration(WALL_TIMEOUT)), 'no result for a stranger\'s goal'
+        return self.client.get_state(), self.client.get_goal_status_text()
+
+
+def set_route(route_json, landmarks, completed, callerid=None):
+    """Call set_return_route as this node, or with ``callerid`` forged in the connection
+    header (rospy lets a client's headers override it); returns (ok, message)."""
+    rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
+    proxy = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute,
+                               headers={'callerid': callerid} if callerid else None)
+    response = proxy(header=Header(stamp=rospy.Time.now(), frame_id='odom'), route=route_json,
+                     landmarks=[value for landmark in landmarks for value in landmark],
+                     completed=completed)
+    return response.ok, response.message
+
+
+def turn_lines(mission):
+    """rotate_pi's 'turning by' log lines of this mission."""
+    return mission.logged('turning by')
+
+
+def landmarks_beyond_limits(loaded):
+    """Labels of the landmarks whose d no Kobuki covers in their T."""
+    limits = Limits()
+    return [label for label, landmark in zip(loaded.labels, loaded.landmarks)
+            if limits.distance_problem(landmark.d, landmark.T)]
+
+
+class MissionCase(unittest.TestCase):
+    """A TestCase whose setUpClass plays one mission (``play``) and closes it after."""
+
+    mission = None
+
+    @classmethod
+    def setUpClass(cls):
+        try:
+            cls.play()
+        except BaseException:
+            if cls.mission is not None:
+                cls.mission.close()
+                cls.mission = None
+            raise
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.mission is not None:
+            cls.mission.close()
+            cls.mission = None
+
+    @classmethod
+    def drive_and_lose_vision(cls):
+        """Record the whole mission, then the operator's `rostopic pub -1` vision_lost."""
+        run = cls.mission.run
+        run.wait_for_layer()
+        run.play_mission(MISSION)
+        run.trigger_by_rostopic()
+
+    def assert_home(self, what):
+        m = self.mission
+        self.assertEqual(m.run.state_names(), HOME_WALK, '%s: %s' % (what, m.final_reason()))
+        self.assertLessEqual(self.error, NORMAL_ACCURACY, '%s: home %.3f m from the start (normal '
+                             'accuracy %.3f m)' % (what, self.error, NORMAL_ACCURACY))
+
+
+# --- findings 1, 3, 4c, 4d, 5a, 6d: one mission, each fault at its own phase ------------------
+
+class TestA_RecordingAndTriggers(MissionCase):
+    """While idle: a stray vision_lost (3) and a goal with d = 1000 (5a); while recording: a
+    3 s burst of /odom at x = 1e6 at 100 Hz (1); while rotating, before the turn:
+    rotation_done true (4d); after home: vision_lost and a goal again (4c); all along: a
+    symlink planted at landmarks.progress.yaml.tmp (6d)."""
+
+    @classmethod
+    def play(cls):
+        cls.victim = None
+
+        def plant(directory):
+            cls.victim = directory.rstrip('/') + '-victim.txt'
+            with open(cls.victim, 'w') as stream:
+                stream.write('not the progress\n')
+            cls.planted = os.path.join(directory, 'landmarks.progress.yaml.tmp')
+            os.symlink(cls.victim, cls.planted)
+
+        m = cls.mission = FindingMission('recording_faults', prepare=plant)
+        run = m.run
+        m.wait_idle()
+        # finding 3: vision_lost while idle, as typed in a shell
+        run.trigger_by_rostopic()
+        cls.idle_trigger = m.wait_logged('ignored in state idle')
+        # finding 5a: another node's goal while idle
+        stranger = Stranger()
+        cls.idle_goal_time = rospy.get_time()
+        cls.idle_goal = stranger.send(IDLE_GOAL)
+        m.wait_sim(2.0)
+        cls.idle_goal_motion = m.track.motion(cls.idle_goal_time, rospy.get_time())
+        cls.idle_goal_commands = m.layer_commands()
+        # finding 1: the burst while recording
+        run.wait_for_layer()
+        cls.states_before_mission = run.state_names()
+        run.start_operator(MISSION)
+        m.wait_sim(5.0)
+        before = m.refused_odometry()
+        cls.burst_count = odometry_burst(cls.absurd_odometry)
+        m.wait_sim(1.5)         # a diagnostics period
+        cls.burst_refused = m.refused_odometry() - before
+        cls.burst_warning = (m.logged('odometry on /odom not used') or [''])[-1]
+        run.wait_for_operator(MISSION)
+        # finding 4d: rotation_done true before rotate_pi turned (the trigger from this
+        # node: `rostopic pub -1` blocks for 3 s, the turn would be over)
+        done = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
+        wait_connected(done, m.owner, 'rotation_done')
+        run.trigger_by_publisher()
+        cls.rotating_at = m.wait_state('rotating')
+        done.publish(Bool(data=True))
+        cls.handover_refused = m.wait_logged('rotation_done true refused')
+        cls.refused_at = rospy.get_time()
+        done.unregister()
+        cls.final, cls.final_at = m.wait_final()
+        cls.returning_at = m.state_time('returning')
+        m.wait_sim(1.0)
+        cls.error = run.error()
+        # finding 4c: vision_lost after home, and a goal
+        run.trigger_by_rostopic()
+        cls.home_trigger = m.wait_logged('ignored in state home')
+        cls.home_goal = stranger.send(IDLE_GOAL)
+        cls.still = m.still_after(cls.final_at, WATCH)
+        cls.loaded = run.recorded()
+        with open(cls.victim) as stream:
+            cls.victim_text = stream.read()
+        cls.planted_target = os.readlink(cls.planted) if os.path.islink(cls.planted) else None
+        cls.progress = load_progress(progress_path(m.landmark_file))
+        cls.leftovers = [name for name in os.listdir(m.directory) if name.endswith('.tmp')
+                         and name != os.path.basename(cls.planted)]
+        cls.travelled = float((re.findall(r'travelled ([0-9.]+) m', m.final_reason()) or ['nan'])[0])
+
+    @staticmethod
+    def absurd_odometry():
+        msg = Odometry()
+        msg.header.stamp = rospy.Time.now()
+        msg.header.frame_id = 'odom'
+        msg.pose.pose.position.x = BURST_X
+        msg.pose.pose.orientation.w = 1.0
+        return msg
+
+    def test_finding1_odometry_burst_while_recording(self):
+        loaded = self.loaded
+        budget = RouteBudget(loaded.landmarks)
+        report(1, '%d /odom messages at x = 1e6 (100 Hz, 3 s) while recording: %d refused (%s); '
+               '%d landmarks, %.2f m recorded, largest d %.3f m, %d beyond the limits; return '
+               'travelled %.2f m (budget %.2f m); %s %.3f m from the start',
+               self.burst_count, self.burst_refused, self.burst_warning.split('not used: ', 1)[-1][:100],
+               len(loaded.landmarks), loaded.total_distance,
+               max(lm.d for lm in loaded.landmarks), len(landmarks_beyond_limits(loaded)),
+               self.travelled, budget.limit, self.final, self.error)
+        self.assertGreaterEqual(self.burst_refused, self.burst_count, 'a burst message was used')
+        self.assertEqual(landmarks_beyond_limits(loaded), [])
+        self.assertEqual(loaded.gaps, [], 'the burst broke the recording')
+        self.assertAlmostEqual(loaded.total_distance, 2.3, delta=0.23, msg='recorded length')
+        self.assertLessEqual(self.travelled, budget.limit)
+        self.assert_home('finding 1')
+
+    def test_finding3_stray_vision_lost_while_idle(self):
+        report(3, 'vision_lost while idle: %r; states then %s; %d landmarks, %.2f m recorded '
+               '(the whole 2.3 m); %s %.3f m from the start: %s', self.idle_trigger.split(': ', 1)[-1],
+               self.states_before_mission, len(self.loaded.landmarks), self.loaded.total_distance,
+               self.final, self.error, self.mission.final_reason())
+        self.assertEqual(self.states_before_mission, ['idle', 'recording'])
+        self.assertGreater(self.loaded.total_distance, 0.9 * 2.3, 'the recording stopped early')
+        self.assert_home('finding 3')
+
+    def test_finding4c_vision_lost_after_home(self):
+        late, moved, turned = self.still
+        report('4c', 'vision_lost after home: %r; a goal after home: %s (%s); %d motion commands '
+               'after home; moved %.4f m, turned %.4f rad in %.0f s; rotate_pi turned %d time(s)',
+               self.home_trigger.split(': ', 1)[-1], GoalStatus.to_string(self.home_goal[0]),
+               self.home_goal[1], len(late), moved, turned, 4.0, len(turn_lines(self.mission)))
+        self.assertEqual(self.final, 'home')
+        self.assertEqual(self.home_goal[0], GoalStatus.REJECTED)
+        self.assertIn('the mission is home', self.home_goal[1])
+        self.assertEqual(late, [], 'motion commanded after home')
+        self.assertLess(moved, 0.005)
+        self.assertLess(turned, 0.01)
+        self.assertEqual(len(turn_lines(self.mission)), 1)
+
+    def test_finding4d_rotation_done_true_before_the_turn(self):
+        track = self.mission.track
+        before = abs(track.turned(self.rotating_at, self.refused_at))
+        at_return = abs(track.turned(self.rotating_at, self.returning_at))
+        report('4d', 'rotation_done true %.2f s after rotating, the robot turned %.3f rad: %r; '
+               'returning only after the turn (%.3f rad); %d turn(s); %s %.3f m from the start',
+               self.refused_at - self.rotating_at, before, self.handover_refused.split(': ', 1)[-1],
+               at_return, len(turn_lines(self.mission)), self.final, self.error)
+        self.assertLess(before, 0.1, 'the hand-over was not before the turn')
+        self.assertAlmostEqual(at_return, math.pi, delta=0.3, msg='returning before the turn ended')
+        self.assertEqual(len(turn_lines(self.mission)), 1)
+        self.assert_home('finding 4d')
+
+    def test_finding5a_goal_while_idle(self):
+        moved, turned = self.idle_goal_motion
+        report('5a', 'goal d = 1000 m while idle: %s (%s); moved %.4f m, %d layer commands',
+               GoalStatus.to_string(self.idle_goal[0]), self.idle_goal[1], moved,
+               len(self.idle_goal_commands))
+        self.assertEqual(self.idle_goal[0], GoalStatus.REJECTED)
+        self.assertIn('the mission is idle, not returning', self.idle_goal[1])
+        self.assertEqual([c for c in self.idle_goal_commands if c[1] or c[2]], [])
+        self.assertLess(moved, 0.005)
+
+    def test_finding6d_planted_symlink_at_the_progress_tmp(self):
+        report('6d', 'symlink %s -> %s planted: victim %r after the mission, the link %s; progress '
+               'file %s; other temporary files left: %s', os.path.basename(self.planted),
+               os.path.basename(self.victim), self.victim_text,
+               'untouched' if self.planted_target == self.victim else 'CHANGED',
+               'status %s' % self.progress.status if self.progress else 'missing', self.leftovers)
+        self.assertEqual(self.victim_text, 'not the progress\n', 'the planted symlink was followed')
+        self.assertEqual(self.planted_target, self.victim)
+        self.assertIsNotNone(self.progress)
+        self.assertEqual(self.progress.status, 'home')
+        self.assertEqual(self.leftovers, [])
+
+    @classmethod
+    def tearDownClass(cls):
+        if cls.victim and os.path.exists(cls.victim):
+            os.remove(cls.victim)
+        super(TestA_RecordingAndTriggers, cls).tearDownClass()
+
+
+# --- findings 2, 4b, 5b, 5c: faults during the return --------------------------------------
+
+class TestB_ReturnFaults(MissionCase):
+    """The trigger is a vision_lost flood at 1000 Hz (4b) that goes on until the return has
+    begun; during the return: 3 s of /odom with twist 1e6 at 100 Hz (2), a second client's
+    goal (5b), set_return_route with a NaN and a 1e6 anchor and completed 99, as a stranger
+    and with the owner's callerid forged (5c)."""
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('return_faults')
+        run = m.run
+        odometry = BaseOdometry()
+        try:
+            run.wait_for_layer()
+            stranger = Stranger()
+            rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
+            run.play_mission(MISSION)
+            # the spoofed routes (built on the recording so far: one section per landmark sent)
+            recorded = list(reversed(run.recorded().landmarks))
+            far = build_route(list(reversed(recorded)), (1e6, 1e6)).to_lists()
+            nan = json.loads(json.dumps(far))
+            nan['x'][0] = float('nan')
+            flood = Flood(m.owner)
+            try:
+                returning = m.wait_state('returning')
+                m.wait(lambda: run.truth.speed() > 0.02, 'the robot moves on the return')
+                m.wait_sim(1.0)
+            finally:
+                flood.stop()
+            cls.flood_count, cls.flood_until = flood.count, rospy.get_time() - returning
+            # finding 2: impossible twists during the return
+            before = m.refused_odometry()
+            cls.twist_count = odometry_burst(lambda: cls.fast_copy(odometry.latest))
+            cls.twist_during_return = m.state_time('home') is None
+            # finding 5b: a second client during the return
+            cls.stranger_goal = stranger.send(STRANGER_GOAL)
+            # finding 5c: spoofed routes
+            cls.route_answers = [
+                ('stranger, NaN anchor', set_route(json.dumps(nan), recorded, 0)),
+                ('owner forged, NaN anchor', set_route(json.dumps(nan), recorded, 0, m.owner)),
+                ('owner forged, anchor at 1e6', set_route(json.dumps(far), recorded, 0, m.owner)),
+                ('owner forged, completed 99', set_route(json.dumps(far), recorded, 99, m.owner))]
+            cls.spoofs_during_return = m.state_time('home') is None
+            cls.final, cls.final_at = m.wait_final()
+            m.wait_sim(1.5)     # a diagnostics period after the burst
+            cls.twist_refused = m.refused_odometry() - before
+            cls.error = run.error()
+            cls.still = m.still_after(cls.final_at, WATCH)
+        finally:
+            odometry.sub.unregister()
+
+    @staticmethod
+    def fast_copy(msg):
+        copy = Odometry()
+        copy.header.stamp, copy.header.frame_id = rospy.Time.now(), msg.header.frame_id
+        copy.child_frame_id, copy.pose = msg.child_frame_id, msg.pose
+        copy.twist.twist.linear.x = BURST_TWIST
+        return copy
+
+    def test_finding2_impossible_twist_during_the_return(self):
+        report(2, '%d /odom messages with twist 1e6 m/s (100 Hz, 3 s) during the return: %d '
+               'refused; %s %.3f m from the start', self.twist_count, self.twist_refused,
+               self.final, self.error)
+        self.assertTrue(self.twist_during_return, 'the return ended before the twist burst')
+        self.assertGreaterEqual(self.twist_refused, self.twist_count)
+        self.assert_home('finding 2')
+
+    def test_finding4b_vision_lost_flood(self):
+        m = self.mission
+        report('4b', '%d vision_lost at %.0f Hz from vision loss until %.1f s into the return: '
+               'states %s, %d turn(s); %s %.3f m from the start', self.flood_count, FLOOD_RATE,
+               self.flood_until, m.run.state_names(), len(turn_lines(m)), self.final, self.error)
+        self.assertGreater(self.flood_until, 0.0, 'the flood did not last into the return')
+        self.assertEqual(len(turn_lines(m)), 1, 'a second pi turn')
+        self.assert_home('finding 4b')
+
+    def test_finding5b_second_client_during_the_return(self):
+        outcomes = self.mission.run.goal_outcomes()
+        report('5b', "a second client's goal during the return: %s (%s); the layer's goals %s; "
+               '%s %.3f m from the start', GoalStatus.to_string(self.stranger_goal[0]),
+               self.stranger_goal[1], sorted(set(GoalStatus.to_string(s) for s in outcomes)),
+               self.final, self.error)
+        self.assertEqual(self.stranger_goal[0], GoalStatus.REJECTED)
+        self.assertIn('only %s sends back-travel goals' % self.mission.owner, self.stranger_goal[1])
+        self.assertEqual(set(outcomes) - {GoalStatus.REJECTED}, {GoalStatus.SUCCEEDED},
+                         "a goal of the layer's return did not succeed")
+        self.assert_home('finding 5b')
+
+    def test_finding5c_spoofed_return_routes(self):
+        for what, (ok, message) in self.route_answers:
+            report('5c', 'set_return_route (%s): ok=%s, %r', what, ok, message)
+        report('5c', '%s %.3f m from the start', self.final, self.error)
+        self.assertTrue(self.spoofs_during_return, 'the return ended before the spoofed routes')
+        expected = ['only %s sets the return route' % self.mission.owner, 'finite numbers',
+                    'from where the route continues', 'completed 99 of only']
+        for (what, (ok, message)), text in zip(self.route_answers, expected):
+            self.assertFalse(ok, what)
+            self.assertIn(text, message, what)
+        self.assert_home('finding 5c')
+
+
+# --- finding 4a: rotation_done false during the standstill -----------------------------------
+
+class TestC_RotationDoneFalse(MissionCase):
+    """rotation_done false while the robot stands still for the heading correction:
+    aborted, and no pi turn after it."""
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('rotation_false')
+        run = m.run
+        run.wait_for_layer()
+        m.wait_sim(2.0)
+        done = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
+        wait_connected(done, m.owner, 'rotation_done')
+        run.trigger_by_publisher()
+        cls.rotating_at = m.wait_state('rotating')
+        done.publish(Bool(data=False))
+        cls.final, cls.final_at = m.wait_final()
+        done.unregister()
+        cls.reason = m.final_reason()
+        cls.still = m.still_after(cls.final_at, 3 * WATCH)
+
+    def test_finding4a_rotation_done_false_during_the_standstill(self):
+        late, moved, turned = self.still
+        report('4a', 'rotation_done false %.2f s after rotating: %s (%s); in the %.0f s after: %d '
+               'motion commands, moved %.4f m, turned %.4f rad, %d turn(s)', self.final_at - self.rotating_at,
+               self.final, self.reason, 3 * WATCH, len(late), moved, turned,
+               len(turn_lines(self.mission)))
+        self.assertEqual(self.final, 'aborted')
+        self.assertIn('pi rotation failed', self.reason)
+        self.assertEqual(late, [])
+        self.assertLess(turned, 0.01)
+        self.assertEqual(turn_lines(self.mission), [])
+
+
+def saved(mission):
+    """Landmarks the recorder reported saved so far (its last storage message)."""
+    messages = mission.run.storage_msgs.snapshot()
+    return messages[-1].landmarks if messages else 0
+
+
+def unrecorded(mission, loaded):
+    """m of the recording the file does not hold: the ground-truth path length from
+    ``recording`` to ``rotating`` less the recorded sum of d (chords: within millimetres
+    of the arcs on this mission)."""
+    driven = mission.track.length(mission.state_time('recording'), mission.state_time('rotating'))
+    return max(0.0, driven - loaded.total_distance)
+
+
+# --- finding 6a: landmark_saver restarted mid-mission (the paper's node layout) ----------------
+
+class TestD_SaverRestart(MissionCase):
+    """landmark_saver killed (SIGKILL) mid-recording and started again: it continues the
+    mission's file after a gap entry; the return drives every landmark and says so."""
+
+    SAVER = 'landmark_saver'
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('saver_restart', one_process=False)
+        run = m.run
+        run.wait_for_layer()
+        cls.file_before = os.path.realpath(m.landmark_file)
+        run.start_operator(MISSION)
+        m.wait(lambda: saved(m) >= 4, 'the saver saved 4 landmarks')
+        kill_node('/' + cls.SAVER)
+        cls.saved_before = saved(m)
+        cls.killed_at = rospy.get_time()
+        m.start_node('landmark_saver.py', cls.SAVER)
+        m.wait(lambda: [t for t, msg in list(run.storage_msgs.items)
+                        if t > cls.killed_at and msg.landmarks > cls.saved_before],
+               'the restarted saver saves')
+        cls.restarted_at = [t for t, msg in list(run.storage_msgs.items) if t > cls.killed_at][0]
+        run.wait_for_operator(MISSION)
+        run.trigger_by_rostopic()
+        cls.final, cls.final_at = m.wait_final()
+        m.wait_sim(1.0)
+        cls.error = run.error()
+        cls.still = m.still_after(cls.final_at, WATCH)
+        cls.loaded = run.recorded()
+        cls.file_after = os.path.realpath(m.landmark_file)
+        cls.files = sorted(name for name in os.listdir(m.directory) if name.startswith('landmarks-'))
+        cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
+        cls.missing = unrecorded(m, cls.loaded)
+
+    def test_finding6a_restarted_saver_continues_the_mission_file(self):
+        m, loaded = self.mission, self.loaded
+        succeeded = m.run.goal_outcomes().count(GoalStatus.SUCCEEDED)
+        late, moved, turned = self.still
+        report('6a', 'landmark_saver killed after %d landmarks, saving again %.1f s (sim) later: '
+               'mission files %s, %d landmarks (%d before the kill), gaps %s; %d goals driven; '
+               'warning %r; %s %.3f m from the start (%.3f m of the path went unrecorded while '
+               'the saver was down); after it %d motion commands, moved %.4f m',
+               self.saved_before, self.restarted_at - self.killed_at, self.files, len(loaded.landmarks),
+               self.saved_before, [gap.before for gap in loaded.gaps], succeeded,
+               (self.warnings or [''])[-1], self.final, self.error, self.missing, len(late), moved)
+        self.assertEqual(self.file_after, self.file_before, 'the restarted saver started a new file')
+        self.assertEqual(len(self.files), 1)
+        self.assertGreater(len(loaded.landmarks), self.saved_before)
+        self.assertTrue(loaded.gaps, 'no gap entry where the saver restarted')
+        self.assertEqual(succeeded, len(loaded.landmarks), 'not every landmark was driven back')
+        self.assertTrue(self.warnings and 'gap' in self.warnings[-1], 'the gap was not reported')
+        self.assertIn('gap', m.final_reason(), 'home without saying the recording has a gap')
+        self.assertEqual(m.run.state_names(), HOME_WALK, m.final_reason())
+        self.assertLessEqual(self.error, NORMAL_ACCURACY + self.missing)
+        self.assertEqual(late, [])
+        self.assertLess(moved, 0.005)
+
+
+# --- finding 6b: the landmark file cannot be written any more (a full disk) ------------------
+
+class TestE_WriteFailure(MissionCase):
+    """Mid-recording, the layer process may not grow a file beyond the landmark file's size
+    (RLIMIT_FSIZE set on the running process: every later append fails with EFBIG, the
+    path of ENOSPC). The layer logs to /rosout and its stream only (no log file, which the
+    limit would hit first)."""
+
+    @classmethod
+    def play(cls):
+        config = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'stream_logging.conf')
+        m = cls.mission = FindingMission('write_failure', env={'ROS_PYTHON_LOG_CONFIG_FILE': config})
+        run = m.run
+        run.wait_for_layer()
+        run.start_operator(MISSION)
+        m.wait(lambda: saved(m) >= 6, 'the saver saved 6 landmarks')
+        cls.file = os.path.realpath(m.landmark_file)
+        size = os.path.getsize(cls.file)
+        resource.prlimit(node_pid(m.owner), resource.RLIMIT_FSIZE, (size, size))
+        cls.limited_at, cls.saved_before = rospy.get_time(), saved(m)
+        run.wait_for_operator(MISSION)
+        run.trigger_by_rostopic()
+        cls.final, cls.final_at = m.wait_final()
+        m.wait_sim(1.5)     # a diagnostics period
+        cls.error = run.error()
+        cls.still = m.still_after(cls.final_at, WATCH)
+        cls.storage = run.storage_msgs.snapshot()[-1]
+        cls.loaded = load_landmarks(cls.file)
+        cls.lost_lines = m.logged('LANDMARK LOST')
+        cls.saver_status = m.diagnostics.status('%s: landmark_saver: recording' % m.owner.lstrip('/'))
+        cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
+        cls.level = (m.diagnostics.level('%s: landmark_saver: recording' % m.owner.lstrip('/')),
+                     m.diagnostics.level('%s: mission' % m.owner.lstrip('/')))
+        cls.displaced = m.track.motion(m.state_time('rotating'), cls.final_at + WATCH)[0]
+
+    def test_finding6b_write_failure_is_reported_and_nothing_drives_on_a_lost_end(self):
+        m, loaded = self.mission, self.loaded
+        late, moved, turned = self.still
+        report('6b', 'writes refused after %d landmarks: storage lost=%d error %r; %d ERROR log '
+               'line(s) %r; diagnostics levels (saver, mission) %s, saver %r; mission warnings %r; '
+               'the file holds %d whole landmarks (torn: %s); %s: %r; moved %.3f m since vision loss; '
+               'after it %d motion commands, moved %.4f m', self.saved_before, self.storage.lost,
+               self.storage.error, len(self.lost_lines), (self.lost_lines or [''])[0].split(': ', 1)[-1],
+               self.level, self.saver_status and self.saver_status[0], (self.warnings or [''])[-1],
+               len(loaded.landmarks), [w for w in loaded.warnings if 'torn' in w], self.final,
+               m.final_reason(), self.displaced, len(late), moved)
+        self.assertGreater(self.storage.lost, 0, 'no landmark was lost: the limit did not bite')
+        self.assertIn(self.file, self.storage.error)
+        self.assertTrue(self.lost_lines, 'no ERROR in the log')
+        self.assertIn('lost', self.saver_status[0])
+        self.assertEqual(self.level[0], DiagnosticStatus.ERROR)
+        self.assertTrue(self.warnings and 'RECORDING DAMAGED' in self.warnings[-1])
+        self.assertEqual(len(loaded.landmarks), self.storage.landmarks, 'the file lost whole landmarks')
+        self.assertEqual([w for w in loaded.warnings if 'torn' in w], [])
+        # the end of the path is lost: the way back from where the robot is is unknown
+        self.assertEqual(self.final, 'aborted', 'it drove on what is left of the record')
+        for text in ('could not be written', 'not travelling back', self.file):
+            self.assertIn(text, m.final_reason())
+        self.assertLess(self.displaced, 0.05, 'the robot drove after vision loss')
+        self.assertEqual(late, [])
+        self.assertLess(moved, 0.005)
+
+
+# --- finding 6c: a landmark_file that is a directory -------------------------------------------
+
+class TestF_LandmarkFileDirectory(MissionCase):
+    """landmark_file names a directory (with a file in it): the layer refuses it by name and
+    leaves it as it was; nothing is recorded or driven."""
+
+    @classmethod
+    def play(cls):
+        def plant(directory):
+            os.makedirs(os.path.join(directory, 'landmarks.yaml'))
+            with open(os.path.join(directory, 'landmarks.yaml', 'keep.txt'), 'w') as stream:
+                stream.write('keep\n')
+
+        m = cls.mission = FindingMission('directory', prepare=plant)
+        m.wait(lambda: m.layer.process.poll() is not None or 'is a directory' in m.layer.output(),
+               'the layer refuses the directory')
+        m.wait_sim(3.0)
+        cls.output = m.layer.output()
+        cls.refusal = [line for line in cls.output.splitlines() if 'is a directory' in line]
+        cls.entries = sorted(os.listdir(m.directory))
+        cls.inside = sorted(os.listdir(m.landmark_file)) if os.path.isdir(m.landmark_file) else None
+        cls.states = m.run.state_names()
+        cls.commands = [c for c in m.layer_commands() if c[1] or c[2]]
+
+    def test_finding6c_a_directory_landmark_file_is_refused_by_name(self):
+        report('6c', 'landmark_file is a directory: %r; directory now %s holding %s; states %s; '
+               '%d motion commands; traceback: %s', (self.refusal or [''])[0], self.entries,
+               self.inside, self.states, len(self.commands), 'Traceback' in self.output)
+        self.assertTrue(self.refusal, 'the refusal does not name the directory')
+        self.assertIn(self.mission.landmark_file, self.refusal[0])
+        self.assertEqual(self.entries, ['landmarks.yaml'], 'the directory was renamed or a file made')
+        self.assertEqual(self.inside, ['keep.txt'])
+        self.assertNotIn('recording', self.states)
+        self.assertEqual(self.commands, [])
+        self.assertFalse('Traceback' in self.output, 'a traceback instead of a refusal')
+
+
+# --- finding 7a: rotate_pi killed mid-turn and restarted (the paper's node layout) ------------
+
+class TestG_RotatePiRestart(MissionCase):
+    """rotate_pi killed (SIGKILL) mid-turn and started again: it cannot know how far the robot
+    turned, so the mission ends aborted at once, and nothing moves after."""
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('rotate_pi_restart', one_process=False)
+        run = m.run
+        run.wait_for_layer()
+        m.wait_sim(2.0)
+        run.trigger_by_publisher()
+        cls.rotating_at = m.wait_state('rotating')
+        m.wait(lambda: [c for c in m.layer_commands() if c[3] == '/rotate_pi' and c[2] != 0.0],
+               'rotate_pi turns')
+        m.wait_sim(1.0)
+        kill_node('/rotate_pi')
+        cls.killed_at, cls.killed_wall = rospy.get_time(), time.monotonic()
+        cls.turned_at_kill = m.track.turned(cls.rotating_at, cls.killed_at)
+        m.start_node('rotate_pi.py', 'rotate_pi')
+        cls.final, cls.final_at = m.wait_final()
+        cls.reaction_wall = time.monotonic() - cls.killed_wall
+        cls.reason = m.final_reason()
+        cls.still = m.still_after(cls.final_at, WATCH)
+
+    def test_finding7a_rotate_pi_restarted_mid_turn_ends_the_mission(self):
+        late, moved, turned = self.still
+        report('7a', 'rotate_pi killed %.2f rad into the turn, restarted: %s %.1f s (sim; %.1f s '
+               'wall) after the kill: %r; after it %d motion commands, moved %.4f m, turned %.4f rad',
+               self.turned_at_kill, self.final, self.final_at - self.killed_at, self.reaction_wall,
+               self.reason, len(late), moved, turned)
+        self.assertGreater(abs(self.turned_at_kill), 0.2, 'not killed mid-turn')
+        self.assertEqual(self.final, 'aborted')
+        self.assertIn('pi rotation failed', self.reason)
+        self.assertLess(self.reaction_wall, WALL_TIMEOUT / 3, 'the mission hung in rotating')
+        self.assertEqual(late, [])
+        self.assertLess(moved, 0.005)
+        self.assertLess(turned, 0.01)
+
+
+# --- findings 7b, 7c: back_travel_client restarted mid-return with a bad progress file -------
+
+class ClientRestart(MissionCase):
+    """back_travel_client killed (SIGKILL) mid-return, its progress file tampered with
+    (:meth:`tamper`), the client started again: the return cannot trust its progress, so
+    the mission ends aborted naming the file, and nothing moves after."""
+
+    LABEL = None
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission(cls.LABEL, one_process=False)
+        cls.drive_and_lose_vision()
+        m.wait_state('returning')
+        cls.progress_file = progress_path(m.landmark_file)
+
+        def completed():
+            try:
+                progress = load_progress(cls.progress_file)
+            except Exception:           # being replaced: read it again
+                return 0
+            return progress.completed if progress else 0
+
+        m.wait(lambda: completed() >= 2, '2 landmarks driven back')
+        kill_node('/back_travel_client')
+        cls.killed_at = rospy.get_time()
+        cls.tamper(cls.progress_file)
+        states_before, statuses_before = len(m.run.states), len(m.status)
+        m.start_node('back_travel_client.py', 'back_travel_client')
+        m.wait(lambda: m.run.state_names()[states_before:], 'the restarted client publishes its state')
+        m.wait(lambda: m.status.snapshot()[statuses_before:], 'the restarted client publishes its status')
+        cls.states_after = m.run.state_names()[states_before:]
+        cls.final_at = [t for t, msg in list(m.run.states.items)[states_before:]][0]
+        cls.reason = m.status.snapshot()[statuses_before:][-1].reason
+        cls.orphan = m.track.length(cls.killed_at, cls.final_at)
+        cls.still = m.still_after(cls.final_at, WATCH)
+
+    def check(self, finding, what, *texts):
+        late, moved, turned = self.still
+        report(finding, '%s in the progress file, client restarted mid-return: states %s: %r; the '
+               'goal in flight drove %.3f m meanwhile; after it %d motion commands, moved %.4f m',
+               what, self.states_after, self.reason, self.orphan, len(late), moved)
+        self.assertEqual(self.states_after, ['aborted'])
+        for text in (self.progress_file,) + texts:
+            self.assertIn(text, self.reason)
+        self.assertEqual(late, [])
+        self.assertLess(moved, 0.005)
+
+
+class TestH_CorruptProgress(ClientRestart):
+    LABEL = 'corrupt_progress'
+
+    @staticmethod
+    def tamper(path):
+        with open(path, 'w') as stream:
+            stream.write('status: returning\ncompleted: [4\n')      # torn: not YAML
+
+    def test_finding7b_corrupt_progress_on_a_client_restart(self):
+        self.check('7b', 'torn YAML', 'not a YAML text')
+
+
+class TestI_Completed99(ClientRestart):
+    LABEL = 'completed_99'
+
+    @staticmethod
+    def tamper(path):
+        with open(path) as stream:
+            text = stream.read()
+        doctored, count = re.subn(r'^completed: \d+$', 'completed: 99', text, flags=re.M)
+        assert count == 1, 'no completed field in %s' % path
+        with open(path, 'w') as stream:
+            stream.write(doctored)
+
+    def test_finding7c_completed_99_on_a_client_restart(self):
+        self.check('7c', 'completed: 99', 'completed')
+
+
+def selected():
+    """The test cases of this module, in name order; only those ``~only`` names, if set."""
+    only = [name for name in rospy.get_param('~only', '').split(',') if name]
+    module = sys.modules[__name__]
+    cases = sorted(name for name in dir(module) if name.startswith('Test'))
+    unknown = sorted(set(only) - set(cases))
+    if unknown:
+        raise ValueError('~only names unknown test cases %s (known: %s)' % (unknown, cases))
+    return unittest.TestSuite(unittest.TestLoader().loadTestsFromTestCase(getattr(module, name))
+                              for name in cases if not only or name in only)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_safety_findings')
+    rostest.rosrun('blind_navigation', 'safety_findings', __name__ + '.selected')
