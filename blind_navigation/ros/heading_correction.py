@@ -75,7 +75,7 @@ class HeadingCorrectionRole(object):
                     vo_timeout=10.0)            # s without visual odometry before it warns
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS)
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
         self.log = layer.logger(self.ROLE)
         self.fit = GyroVisualFit(p)   # validates the params
         self.standstill_time = float(p.standstill_time)

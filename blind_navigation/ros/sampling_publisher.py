@@ -72,7 +72,7 @@ class SamplingPublisher(object):
                     event_sampling=REQUIRED)  # true: a sample at each motion event too
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS)
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('straight_rate',))
         self.log = layer.logger(self.ROLE)
         if p.yaw_source not in YAW_SOURCES:
             raise ValueError('~yaw_source must be one of %s, got %r' % (', '.join(YAW_SOURCES),
