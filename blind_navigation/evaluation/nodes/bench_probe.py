@@ -6,7 +6,8 @@ wait for home/aborted, row + plot) and also measures:
 
 * latency: sim time from the failure (just before the set_vision call) to
   /blind_navigation/vision_lost (the trigger), and from the trigger to the first
-  non-zero rotation command of rotate_pi on the teleop topic; the detector that
+  non-zero rotation command of the layer (``rotation_node``: the pi turn comes
+  before any return command) on the teleop topic; the detector that
   fired (vision_monitor's latched ~loss);
 * storage: CPU time and peak RSS (psutil; PIDs asked from each node's
   XML-RPC getPid) of the layer's nodes and of ``rosbag record`` over the
@@ -41,15 +42,18 @@ from blind_navigation.core.geometry import distance
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.evaluation.observer import DemoObserver, main as observe
 
-LAYER_NODES = ['sampling_publisher', 'landmark_saver', 'back_travel_client', 'back_travel_server',
-               'rotate_pi', 'vision_monitor']
+#: The layer as blind_navigation.launch starts it by default: every role in one node, so the
+#: pi turn's commands and the vision monitor's ~loss come from that node (with
+#: one_process:=false set layer_nodes, rotation_node '/rotate_pi', monitor_node '/vision_monitor').
+LAYER_NODE = '/blind_navigation'
+LAYER_NODES = [LAYER_NODE.lstrip('/')]
 
 
 class BenchProbe(DemoObserver):
     __doc__ = __doc__
     DEFAULTS = dict(DemoObserver.DEFAULTS, out='', layer_nodes=LAYER_NODES, bag_node='odom_bag',
-                    cmd_vel_topic='/cmd_vel_mux/input/teleop', rotation_node='/rotate_pi',
-                    monitor_node='/vision_monitor', mission_node='/mission_driver',
+                    cmd_vel_topic='/cmd_vel_mux/input/teleop', rotation_node=LAYER_NODE,
+                    monitor_node=LAYER_NODE, mission_node='/mission_driver',
                     landmark_file='', seed=0)
 
     def __init__(self):
