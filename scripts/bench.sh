@@ -1,7 +1,7 @@
 #!/bin/bash
 # make bench: the evaluation (docs/evaluation.md). Runs after `make build` (the
 # Makefile's bench target): the Monte-Carlo reproduction of the paper's Tables
-# III-VI on the plain-Python harness, reconstruction, footprint, TUM files and
+# III-VI on the plain-Python harness, reconstruction, storage, TUM files and
 # figures, then the ROS runs (launch/bench.launch); writes results/.
 # Options via BENCH_ARGS, e.g. BENCH_ARGS="--seeds 20 --no-ros" make bench.
 set -euo pipefail
