@@ -26,7 +26,9 @@ ALLOWANCE_DEFAULTS = {
     'return_timeout_margin': 30.0,  # ... + margin, s
     'max_step_gap': 0.5,            # s; a longer gap between control steps is held time
     'odom_timeout': 0.4,            # s; older odometry is stale: hold (zero velocity)
-    'odom_grace': 3.0,              # s a hold may last before the return aborts
+    'odom_grace': 5.0,              # s a hold may last before the return aborts; a hold starts
+                                    # odom_timeout after the last odometry, so an odometry gap of
+                                    # 3 s holds 3 s - odom_timeout, with room for a CPU stall on top
 }
 
 

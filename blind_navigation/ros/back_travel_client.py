@@ -86,7 +86,7 @@ from blind_navigation.core.safety import SAFETY_DEFAULTS, expected_duration, ret
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal, MissionStatus, StorageUsage
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import REQUIRED, subscribe
+from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
 from blind_navigation.ros.goal_runner import GoalRunner
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.srv import SetReturnRoute
@@ -343,7 +343,7 @@ class BackTravelClient(object):
         rospy.on_shutdown(self._return.set)
         while True:
             self._return.wait()         # a return to drive, or shutdown
-            if rospy.is_shutdown():
+            if shutting_down():
                 return
             self._return.clear()
             ok, reason = self.travel_back()

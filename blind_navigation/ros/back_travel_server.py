@@ -64,7 +64,7 @@ from blind_navigation.core.safety import goal_limits, landmarks_from_flat
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import REQUIRED
+from blind_navigation.ros.common import REQUIRED, shutting_down
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
 
@@ -258,7 +258,7 @@ class BackTravelServer(object):
     def _work(self):
         while True:
             self._wake.wait()           # a goal, or shutdown
-            if rospy.is_shutdown():
+            if shutting_down():
                 return
             self._wake.clear()
             with self._lock:

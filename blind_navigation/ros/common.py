@@ -18,6 +18,13 @@ COVARIANCE_DIAGONAL = (0, 7, 14, 21, 28, 35)
 REQUIRED = object()
 
 
+def shutting_down():
+    """True from the moment the node's shutdown is requested. rospy runs the
+    ``rospy.on_shutdown`` hooks before ``rospy.is_shutdown()`` turns true, so a
+    thread woken by such a hook must ask this, or it takes the wake-up for work."""
+    return rospy.core.is_shutdown_requested()
+
+
 def load_params(defaults, namespace='~'):
     """Read each param ``namespace + name`` (private ``~name`` by default, ``~role/name``
     for a role hosted with others in one process), falling back to ``defaults[name]``;

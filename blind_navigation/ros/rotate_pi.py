@@ -44,7 +44,7 @@ from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_time
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import REQUIRED, subscribe
+from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.sampling_publisher import FINAL
 
@@ -121,9 +121,11 @@ class RotatePi(object):
         rospy.on_shutdown(self._trigger.set)
         while True:
             self._trigger.wait()        # the mission rotates, or shutdown
-            if rospy.is_shutdown():
+            if shutting_down():
                 return
             self._trigger.clear()
+            if not self.rotating:       # it left rotating before this thread woke
+                continue
             self.layer.odometry.acquire(self.ROLE)
             self.status = 'turning'
             try:

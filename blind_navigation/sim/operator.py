@@ -30,7 +30,9 @@ driver and the plain-Python harness):
   Table VI reports (RAV down to -0.04..-0.07 rad/s with no turn above ASV).
 - **speed**: the segment's linear velocity (the forward key) until the robot is
   seen at the end of the route; stops (``v = 0`` segments: pauses, turns on the
-  spot) are played by the clock as in :meth:`Mission.command_at`.
+  spot) are played by the clock as in :meth:`Mission.command_at`. The person
+  steers forward only: a mission that reverses (``v < 0``) is refused with an
+  error; play it as the open-loop script.
 
 Every parameter is in :data:`OPERATOR_DEFAULTS`; a mission file overrides them
 under ``operator:`` (``operator: false`` = the plain open-loop script).
@@ -127,6 +129,11 @@ class Operator(object):
     def __init__(self, mission, params=None):
         self.mission = mission
         self.params = p = operator_params(params or {}, mission.name)
+        reversing = [i for i, segment in enumerate(mission.segments) if segment[0] < 0]
+        if reversing:
+            raise ValueError('%s: segments %s reverse (v < 0): the operator steers forward only; '
+                             'play a reversing mission as the open-loop script (no operator:)'
+                             % (mission.name, reversing))
         self.max_w = p['max_w'] if p['max_w'] is not None else max(abs(s[1]) for s in mission.segments)
         if not self.max_w > 0:
             raise ValueError('%s: the operator needs a turn rate (max_w or a segment with w)' % mission.name)

@@ -73,6 +73,36 @@ class GroundTruth(object):
         return self.latest()[2]
 
 
+class PathByState(object):
+    """Ground-truth path length (m) driven in each mission state: the recording
+    (``recording``) and the return after the pi turn (``returning`` and after)."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self.state = None
+        self.length = {}
+        self._last = None
+        rospy.Subscriber(names.STATE, String, self._on_state, queue_size=10)
+        rospy.Subscriber('/ground_truth/odom', Odometry, self._on_truth, queue_size=200)
+
+    def _on_state(self, msg):
+        with self._lock:
+            self.state = msg.data
+
+    def _on_truth(self, msg):
+        p = msg.pose.pose.position
+        with self._lock:
+            if self._last is not None and self.state is not None:
+                step = math.hypot(p.x - self._last[0], p.y - self._last[1])
+                key = 'return' if self.state in ('returning', 'home', 'aborted') else self.state
+                self.length[key] = self.length.get(key, 0.0) + step
+            self._last = (p.x, p.y)
+
+    def of(self, key):
+        with self._lock:
+            return self.length.get(key, 0.0)
+
+
 class MissionRun(object):
     """One mission on the fake TurtleBot, watched from the test node.
 

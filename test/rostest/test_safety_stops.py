@@ -19,6 +19,7 @@ import rospy
 import rostest
 from actionlib_msgs.msg import GoalID
 
+from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
 from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.core.safety import recorded_speed
 from blind_navigation.msg import BackTravelAction, BackTravelActionGoal
@@ -31,7 +32,7 @@ from waiting import wait_for
 CONTROL_PERIOD = 0.02   # s, the server's control_rate 50 Hz
 MAX_V = 0.15            # the server's ~max_v in safety_stops.test
 ODOM_TIMEOUT = 0.5      # the bound: older odometry -> zero velocity
-ODOM_GRACE = 3.0        # s the server holds without odometry before it aborts (its default)
+ODOM_GRACE = ALLOWANCE_DEFAULTS['odom_grace']   # s the server holds without odometry before it aborts
 #: The client's node name: the mission owner the server takes goals from (its default).
 CLIENT = '/back_travel_client'
 

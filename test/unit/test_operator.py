@@ -95,6 +95,9 @@ def test_bad_operator_parameters_are_named():
         operator_params({'preview': -1})
     with pytest.raises(ValueError, match='turn rate'):
         mission_from_dict({'segments': [{'v': 0.1, 'distance': 1.0}], 'operator': True}).make_operator()
+    with pytest.raises(ValueError, match=r'segments \[1\] reverse'):
+        mission_from_dict({'segments': [{'v': 0.1, 'distance': 1.0}, {'v': -0.1, 'distance': 0.5}],
+                           'operator': {'max_w': 0.1}}).make_operator()
 
 
 def test_operator_is_opt_in_per_mission_file():

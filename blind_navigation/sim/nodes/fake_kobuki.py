@@ -13,10 +13,20 @@ the wall time its period was due (launch with use_sim_time false), so what a
 node costs is measured without the /clock every node under sim time receives
 (evaluation/cost.py).
 
+Test rig (no kobuki_node counterpart): a std_msgs/Float64 on ``~odometry_gap``
+(``mobile_base/odometry_gap``) starts an odometry gap of that many seconds of
+sim time: no ``odom`` and no ``odom`` TF until it has passed, as when a loaded
+computer or the base driver stalls; the base keeps moving and every other
+stream (IMU, joint states, ground truth, /clock) goes on. Odometry comes back
+with the pose the base reached meanwhile. 0 ends a running gap; a negative or
+non-finite length is refused with an error. Each gap is logged where it starts
+and ends.
+
 ``/clock`` is global, so on a master shared by several fakes (two robots in two
 namespaces) only one publishes it; the others run with ``~clock`` false and step
 their base with that clock, stamping from the time they joined it.
 """
+import math
 import sys
 import threading
 import time
@@ -29,7 +39,7 @@ from geometry_msgs.msg import TransformStamped, Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
-from std_msgs.msg import Empty
+from std_msgs.msg import Empty, Float64
 
 from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
@@ -78,6 +88,7 @@ class FakeKobuki(object):
         self.base = SimulatedKobuki(load_profile(p.noise), seed=int(p.seed), arena=arena)
         self.lock = threading.Lock()
         self.ticks = 0
+        self.odometry_gap_until = None   # base time (s) a running odometry gap ends, or None
         publishes_clock = p.clock and not p.wall_time
         self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS) if publishes_clock else None
         self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=SYNCHRONOUS)
@@ -95,6 +106,7 @@ class FakeKobuki(object):
         subscribe('mobile_base/commands/velocity', Twist, self.on_velocity, queue_size=10)
         subscribe('mobile_base/commands/motor_power', kobuki_msgs.MotorPower, self.on_motor_power)
         subscribe('mobile_base/commands/reset_odometry', Empty, self.on_reset_odometry)
+        subscribe('~odometry_gap', Float64, self.on_odometry_gap)
 
     def _messages(self):
         """Build the periodic messages once; the loop only updates their fields."""
@@ -132,6 +144,29 @@ class FakeKobuki(object):
             self.base.reset_odometry()
         rospy.loginfo('fake_kobuki: odometry reset')
 
+    def on_odometry_gap(self, msg):
+        length = msg.data
+        if not (math.isfinite(length) and length >= 0.0):
+            rospy.logerr('fake_kobuki: ignored %s: a gap of %r s (give seconds of sim time >= 0)',
+                         rospy.resolve_name('~odometry_gap'), length)
+            return
+        with self.lock:
+            self.odometry_gap_until = self.base.t + length
+        rospy.logwarn('fake_kobuki: odometry gap: no odom and no odom TF for %.2f s from t %.2f s',
+                      length, rospy.get_time())
+
+    def _odometry_paused(self):
+        """True while an odometry gap runs (called with the lock held); logs its end."""
+        until = self.odometry_gap_until
+        if until is None:
+            return False
+        if self.base.t < until - 1e-9:
+            return True
+        self.odometry_gap_until = None
+        rospy.logwarn('fake_kobuki: odometry gap over: odom and odom TF again from t %.2f s',
+                      rospy.get_time())
+        return False
+
     # ---------------------------------------------------------------- output
     def publish_sensors(self, stamp):
         base = self.base
@@ -140,8 +175,10 @@ class FakeKobuki(object):
         msg.header.stamp = stamp
         set_pose(msg.pose.pose, odom.x, odom.y, odom.yaw)
         msg.twist.twist.linear.x, msg.twist.twist.angular.z = odom.v, odom.w
-        self.odom_pub.publish(msg)
-        if self.tf is not None:
+        paused = self._odometry_paused()
+        if not paused:
+            self.odom_pub.publish(msg)
+        if self.tf is not None and not paused:
             t = self.transform
             t.header.stamp = stamp
             t.transform.translation.x, t.transform.translation.y = odom.x, odom.y
