@@ -82,7 +82,9 @@ def lap_mission(duration, v=LAP_V, w=LAP_W, straight=LAP_STRAIGHT):
 # --------------------------------------------------------------- one run
 def run_once(run_dir, launch_args, probe_args, timeout, drive_s):
     """One cost.launch run with the probe; the probe's result dict (+ 'run_dir', 'wall_s')
-    or {'failed': why, 'run_dir': ...}."""
+    or {'failed': why, 'run_dir': ...}. ``run_dir`` may be relative: the launch's nodes, which
+    start elsewhere, are given its absolute path."""
+    run_dir = os.path.abspath(run_dir)
     os.makedirs(run_dir, exist_ok=True)
     mission = os.path.join(run_dir, 'drive.yaml')
     with open(mission, 'w') as stream:

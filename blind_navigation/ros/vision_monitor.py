@@ -43,7 +43,7 @@ from std_msgs.msg import Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
-from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensity,
+from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensity, numpy_module,
                                           odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
@@ -90,6 +90,7 @@ class VisionMonitor(object):
         self.subscribers = [subscribe(names.VISION_LOST, Empty, self.on_vision_lost)]
         self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
         if 'dark' in enabled:
+            numpy_module()      # loaded now, not with the first frame (lifts the one-process block)
             self.camera_topic = names.CAMERA
             self.subscribers.append(subscribe(names.CAMERA, Image, self.on_image, queue_size=1,
                                               buff_size=IMAGE_BUFFER))
