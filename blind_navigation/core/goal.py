@@ -12,7 +12,8 @@ both the same interface::
     v, w = goal.step(odom_state)     # until goal.done or goal.failed (goal.reason says why)
     goal.travelled                   # m of odometry driven during this goal
 
-The back_travel server and the simulation harness both drive goals through it.
+The back_travel server and the simulation harness both drive goals through it,
+and both hold the output between two goals with :class:`CommandHold`.
 """
 from .back_travel import make_controller
 
@@ -67,6 +68,39 @@ class ControllerGoal(object):
 
     def step(self, odom_state):
         return self.controller.step(odom_state)
+
+
+class CommandHold(object):
+    """The output between two goals: the last command a goal published holds (the
+    next goal follows at once: no stop-and-go between landmarks), but only for
+    ``handover_timeout`` s after it was published; then zero.
+
+    Only a goal that publishes renews the hold (:meth:`published`). A goal that
+    ends as it starts (its section already done: the landmarks of a loop the
+    route cut, a run of stationary ones) publishes nothing, so a run of them
+    cannot keep the robot driving on the command of a goal that has ended: on
+    ROS each goal costs an action round trip, and at a corner that command was
+    the approach speed the follower had just stopped commanding."""
+
+    def __init__(self, handover_timeout):
+        if not handover_timeout > 0:
+            raise ValueError('handover_timeout must be > 0 s, got %r' % (handover_timeout,))
+        self.handover_timeout = float(handover_timeout)
+        self.last = None            # when a goal last published a command (s), None: never
+
+    def published(self, now):
+        """A goal published a command at ``now`` (s)."""
+        self.last = now
+
+    def remaining(self, now):
+        """s the last command still holds at ``now`` (0: zero velocity is due)."""
+        if self.last is None:
+            return 0.0
+        return max(0.0, self.last + self.handover_timeout - now)
+
+    def expired(self, now):
+        """True once the last command no longer holds at ``now``."""
+        return self.remaining(now) <= 0.0
 
 
 def make_goal(mode, landmark, params=None, follower=None, index=None):

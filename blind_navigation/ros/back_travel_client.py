@@ -45,8 +45,10 @@ landmark file is only read.
 Params (``layer.params``): ``landmark_file`` (empty:
 $ROS_HOME/blind_navigation/landmarks.yaml), ``odom_timeout`` (s),
 ``server_timeout`` (s), ``goal_timeout_factor`` and ``goal_timeout_margin``
-(a goal's result is awaited at most factor * its expected duration + margin: a
-backstop, the server's own limits are tighter), ``return_timeout_factor``,
+(a goal is cancelled when the server has said nothing of it, neither a result
+nor feedback, for factor * its expected duration + margin: a backstop for a
+silent server; how long a goal the server drives may take is the server's
+call: its progress watch, its time allowance), ``return_timeout_factor``,
 ``return_timeout_margin`` (s), ``slowest_v`` (m/s), ``max_v``/``max_w`` (a
 landmark beyond them is a bad file), ``resume_timeout`` (s, wall),
 ``resume_max_offset`` (m), ``path_spacing`` (m between return_path poses),
@@ -103,8 +105,9 @@ class BackTravelClient(object):
         'landmark_file': '',            # the recorder's symlink (empty: under $ROS_HOME); only read
         'odom_timeout': 0.5,            # s; older odometry counts as missing
         'server_timeout': 10.0,         # s to wait for the back-travel server
-        'goal_timeout_factor': 5.0,     # a goal's result is awaited factor x its expected time ...
-        'goal_timeout_margin': 10.0,    # ... + margin, s (a backstop: the server's limits are tighter)
+        'goal_timeout_factor': 5.0,     # a goal may go factor x its expected time ...
+        'goal_timeout_margin': 10.0,    # ... + margin, s without a result or feedback (a backstop
+                                        # for a silent server; a driving one reports feedback)
         'return_timeout_factor': ALLOWANCE_DEFAULTS['return_timeout_factor'],
         'return_timeout_margin': ALLOWANCE_DEFAULTS['return_timeout_margin'],
         'slowest_v': SAFETY_DEFAULTS['slowest_v'],
@@ -524,13 +527,12 @@ class BackTravelClient(object):
         p = self.params
         goal_allowance = (p.goal_timeout_factor * expected_duration(landmark, p.slowest_v)
                           + p.goal_timeout_margin)
-        goal_deadline = rospy.get_time() + goal_allowance
         while not self.client.wait(WAIT_SLICE):
             now = rospy.get_time()
             if self._trip:
                 problem = '%s: safety stop: %s' % (where, self._trip)
-            elif now > goal_deadline:
-                problem = '%s: no result within %.0f s' % (where, goal_allowance)
+            elif now > self.client.heard + goal_allowance:
+                problem = '%s: no result and no feedback for %.0f s' % (where, goal_allowance)
             elif now > deadline:
                 problem = '%s: the return exceeded its time allowance of %.0f s' % (where, allowance)
             elif rospy.is_shutdown():

@@ -21,8 +21,10 @@ mission leaves ``returning`` the active goal is aborted and the output halted
 at once (ros/motion.MotionOutput moves only in ``returning``).
 
 Between goals the last command holds (the next goal follows within
-milliseconds); if no new goal starts within ``handover_timeout`` of a success,
-zero velocity is published, so the robot stops after the last landmark.
+milliseconds), for at most ``handover_timeout`` after a goal last published one
+(core/goal.CommandHold); then zero velocity is published, so the robot stops
+after the last landmark, and a run of goals that end as they start (publishing
+nothing: the landmarks of a loop the route cut) cannot keep it driving on.
 
 Safety (core/safety.py, docs/safety.md): each goal is clamped to ``max_v`` /
 ``max_w`` and to what was recorded; odometry older than ``odom_timeout``
@@ -57,7 +59,7 @@ from blind_navigation.core import mission_state
 from blind_navigation.core.allowance import ABORT, ALLOWANCE_DEFAULTS, HOLD, OdomGrace
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES, RouteFollower
 from blind_navigation.core.geometry import distance
-from blind_navigation.core.goal import make_goal
+from blind_navigation.core.goal import CommandHold, make_goal
 from blind_navigation.core.landmark import landmark_from_values
 from blind_navigation.core.route import Route
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
@@ -80,7 +82,8 @@ class BackTravelServer(object):
                                                 # 1 / straight_rate is a straight segment
                     control_rate=50.0,          # Hz of the control loop
                     feedback_rate=5.0,          # Hz of the action's feedback
-                    handover_timeout=0.1,       # s after a success without a next goal: zero velocity
+                    handover_timeout=0.1,       # s the last command holds after a goal published
+                                                # it, between goals; then zero velocity
                     route_max_offset=0.5,       # m from where the route continues: a route is refused
                     status_frequency=1.0)       # Hz of the action server's periodic status
 
@@ -105,7 +108,7 @@ class BackTravelServer(object):
         self._active = None              # the goal handle being driven
         self._pending = None             # the accepted goal handle waiting for the worker
         self._wake = threading.Event()
-        self._handover = None
+        self.hold = CommandHold(p.handover_timeout)   # the output between goals
         self._tripped = None             # safety reason that stopped the current goal
         self.route = None                # core Route of the return
         self.landmarks = []              # its goals' landmarks, return order
@@ -249,9 +252,17 @@ class BackTravelServer(object):
         else:
             stat.summary(diagnostics.OK, 'ready' if self.route is None else 'route set')
 
+    def _schedule_handover(self):
+        """Zero velocity once the last command no longer holds (core/goal.CommandHold)."""
+        remaining = self.hold.remaining(rospy.get_time())
+        if remaining > 0:
+            rospy.Timer(rospy.Duration(remaining), self._on_handover_timeout, oneshot=True)
+        else:
+            self._on_handover_timeout(None)
+
     def _on_handover_timeout(self, _event):
         with self._lock:
-            if self._active is None:
+            if self.hold.expired(rospy.get_time()):
                 self.output.stop()
 
     # --- driving -----------------------------------------------------------------------------
@@ -267,9 +278,6 @@ class BackTravelServer(object):
                     continue
                 self._active = handle
                 self._tripped = None
-                if self._handover is not None:
-                    self._handover.shutdown()
-                    self._handover = None
             self.execute(handle)
 
     def execute(self, handle):
@@ -286,8 +294,8 @@ class BackTravelServer(object):
             self._active = None
             if kind == 'succeeded':
                 self.next_goal += 1
-                self._handover = rospy.Timer(rospy.Duration(self.params.handover_timeout),
-                                             self._on_handover_timeout, oneshot=True)
+        if kind == 'succeeded':
+            self._schedule_handover()
         getattr(handle, {'succeeded': 'set_succeeded', 'aborted': 'set_aborted',
                          'canceled': 'set_canceled'}[kind])(result, text)
 
@@ -350,6 +358,7 @@ class BackTravelServer(object):
             if goal.done:
                 break
             self.output.publish(v, w)
+            self.hold.published(now)
             if odom.stamp >= next_feedback:
                 handle.publish_feedback(BackTravelFeedback(distance=goal.travelled))
                 next_feedback = odom.stamp + 1.0 / p.feedback_rate

@@ -8,11 +8,14 @@ default, one process) answers within microseconds. SimpleActionClient then
 drops the transition as "a goal handle that we're not tracking" (an ERROR in
 the log) and may miss the goal's start. Here every goal gets its own
 callbacks, bound to that goal, so no transition is ever attributed to the
-wrong goal or lost.
+wrong goal or lost. :attr:`GoalRunner.heard` is when the server last spoke of
+the current goal (a transition or feedback): a server that drives a goal
+reports feedback all along, however long the goal takes.
 """
 import threading
 
 import actionlib
+import rospy
 from actionlib.action_client import CommState, get_name_of_constant
 from actionlib_msgs.msg import GoalStatus
 
@@ -28,6 +31,7 @@ class GoalRunner(object):
         self.text = ''
         self.result = None
         self.feedback = None
+        self.heard = None           # rospy time the server last spoke of the current goal
 
     def wait_for_server(self, timeout):
         """True once the action server is up (``timeout``: a rospy.Duration)."""
@@ -37,9 +41,12 @@ class GoalRunner(object):
         """Send ``goal``; the previous one must have ended."""
         self._done.clear()
         self.status, self.text, self.result, self.feedback = None, '', None, None
+        self.heard = rospy.get_time()
         done, state = self._done, {}
 
         def on_transition(handle):
+            if not done.is_set():
+                self.heard = rospy.get_time()
             if handle.get_comm_state() == CommState.DONE and not done.is_set():
                 state.update(status=handle.get_goal_status(), text=handle.get_goal_status_text(),
                              result=handle.get_result())
@@ -49,6 +56,7 @@ class GoalRunner(object):
         def on_feedback(_handle, feedback):
             if not done.is_set():
                 self.feedback = feedback
+                self.heard = rospy.get_time()
 
         self._handle = self.client.send_goal(goal, on_transition, on_feedback)
 

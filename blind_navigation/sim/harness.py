@@ -7,8 +7,11 @@ landmarks from its odometry; the mission ends, the robot is left to stop,
 vision is lost (a final landmark covers the partial cycle, the return route is
 anchored at the odometry position), core/rotation.py turns by pi, and the
 landmarks are driven back in reverse order.
-Between goals the last command holds; after the last goal it is dropped after
-``handover_timeout`` (as back_travel_server does). The landmark store is
+Between goals the last command holds (core/goal.CommandHold, as
+back_travel_server holds it: at most ``handover_timeout`` after a goal last
+published; ``handover_latency`` is the time a hand-over takes, 0 by default, an
+action round trip on ROS); after the last goal it is dropped after
+``handover_timeout``. The landmark store is
 written for real (core/store.LandmarkWriter) to measure its size, and landmarks
 are read back from it, so the return uses the stored (rounded) numbers.
 
@@ -62,7 +65,7 @@ from types import SimpleNamespace
 
 from ..core.allowance import ABORT, DRIVE, HOLD, OdomGrace
 from ..core.back_travel import RouteFollower
-from ..core.goal import make_goal
+from ..core.goal import CommandHold, make_goal
 from ..core.geometry import distance, wrap_angle
 from ..core.landmark import Landmark
 from ..core.motion_events import EventSampler
@@ -89,7 +92,10 @@ SIMULATION_DEFAULTS = {
     'curved_period': 1.0,      # s, on curves (paper: 1 Hz)
     'deadband': 0.01,          # rad, classifier dead-band (core/segment.py)
     'settle_time': 2.0,        # s between the mission's end and the vision loss
-    'handover_timeout': 0.1,   # s the last command holds after the last goal
+    'handover_timeout': 0.1,   # s the last command holds after the last goal (and at most
+                               # this long after a goal last published, between goals)
+    'handover_latency': 0.0,   # s from one goal's end to the next goal's start (ROS: the
+                               # action's round trip, tens of ms of wall time x the rtf)
     'stop_time': 2.0,          # s left for the robot to stop at the end
     'heading_correction': True,  # blind_navigation.launch's heading_correction (default on)
     'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s, longest standstill after
@@ -307,7 +313,10 @@ def _return(run, landmarks, anchor, mode, params, settings, correction=None, pru
             route = pruning.route
         follower = RouteFollower(route, params)
     command, feed = (0.0, 0.0), _OdometryFeed(run, settings['odometry_gaps'], params)
+    hold = CommandHold(settings['handover_timeout'])
     for index, landmark in enumerate(reversed(landmarks)):
+        if index:
+            command = _hand_over_between(run, command, hold, settings['handover_latency'])
         goal = make_goal(mode, landmark, params, follower, index)
         goal.start(run.odom())
         while not goal.done:
@@ -326,9 +335,21 @@ def _return(run, landmarks, anchor, mode, params, settings, correction=None, pru
             if goal.done:
                 break
             command = (v, w)
+            hold.published(run.base.t)
             run.advance(command)
     _hand_over(run, command, settings)
     return '', follower, pruning
+
+
+def _hand_over_between(run, command, hold, latency):
+    """``latency`` s from one goal's end to the next one's start: the last ``command``
+    holds while ``hold`` (core/goal.CommandHold) lets it, then zero. Returns the
+    command in force at the next goal's start."""
+    for _ in range(int(round(latency / run.dt))):
+        if hold.expired(run.base.t):
+            command = (0.0, 0.0)
+        run.advance(command)
+    return command
 
 
 def _hand_over(run, command, settings):
