@@ -146,7 +146,7 @@ class BackTravelClient(object):
         self.state = None
         self.reason = ''
         self.warnings = ''
-        self._lost_reported = {}         # real path of a landmark file -> landmarks its recorder lost
+        self._losses = {}                # real path of a landmark file -> its last storage with a loss
         self._lock = threading.Lock()
         self._return = threading.Event()
         self._trip = None
@@ -252,7 +252,7 @@ class BackTravelClient(object):
     # --- events --------------------------------------------------------------------------------
     def _on_storage(self, msg):
         if msg.lost:
-            self._lost_reported[os.path.realpath(msg.file)] = msg.lost
+            self._losses[os.path.realpath(msg.file)] = msg
         if msg.lost or msg.error:
             warning = 'RECORDING DAMAGED: %d landmark(s) could not be written to %s: %s' % (
                 msg.lost, msg.file, msg.error)
@@ -368,11 +368,12 @@ class BackTravelClient(object):
             return False, 'landmark file unusable: %s' % error
         for warning in loaded.warnings:
             self.log.warn('%s', warning)
-        lost_tail = 0 if resuming else loaded.lost_after_end(self._lost_reported.get(path, 0))
+        loss = self._losses.get(path)
+        lost_tail = loaded.lost_after_end(loss.lost) if loss is not None and not resuming else 0
         if lost_tail:
             return False, ('the last %d landmark(s) of the recording could not be written (%s): '
                            'the way back from here is unknown; not travelling back'
-                           % (lost_tail, self.warnings))
+                           % (lost_tail, loss.error))
         kept = (self.progress.route or {}).get('heading') if resuming else None
         if kept and self.correction is not None and not self.correction.received:
             try:

@@ -45,6 +45,8 @@ WALL_TIMEOUT = 90.0
 #: s of sim time the base needs to stop after the last command (the paper profile's motor
 #: time constant 0.25 s, as mission_tools.SETTLE; the ideal base stops at once).
 SETTLE = 1.0
+#: Where each mission's landmark directory is made (as mission_rig.launch's default).
+TEST_ROOT = os.path.join(os.environ.get('ROS_HOME', os.path.expanduser('~/.ros')), 'blind_navigation_test')
 #: Ground-truth motion that still counts as standing still over a watch window: m, rad.
 STILL_DISTANCE = 0.005
 STILL_TURN = 0.01
@@ -100,14 +102,46 @@ class Track(object):
         return sum(wrap_angle(b - a) for a, b in zip(yaws, yaws[1:]))
 
 
+def mission_directory(label):
+    """The landmark directory of this test's mission ``label`` (MissionRun.remove_recording
+    removes it too: it ends in -mission-test)."""
+    return os.path.join(TEST_ROOT, 'safety_findings_%s_%d-mission-test' % (label, os.getpid()))
+
+
+def layer_commands(commands):
+    """(sim receive time, v, w, sender) of every Twist a Collector of the mux input
+    (``commands``) holds that is not from the operator."""
+    return [(stamp, msg.linear.x, msg.angular.z, msg._connection_header.get('callerid', '?'))
+            for stamp, msg in list(commands.items)
+            if msg._connection_header.get('callerid') != OPERATOR]
+
+
+def moving_commands_after(commands, since):
+    """Of ``commands`` (:func:`layer_commands`), the non-zero ones of each layer node that
+    follow its first zero command received at or after ``since``, or all its non-zero ones
+    after ``since`` when no zero came: motion commanded after the layer knew the state of
+    ``since``. (A command the node sent before it halted may arrive after the test saw the
+    state: each node's commands arrive in order, so only those after its halting zero count.)"""
+    late, by_sender = [], {}
+    for command in commands:
+        if command[0] >= since:
+            by_sender.setdefault(command[3], []).append(command)
+    for sent in by_sender.values():
+        zeros = [i for i, (_, v, w, _) in enumerate(sent) if v == 0.0 and w == 0.0]
+        late += [c for c in (sent[zeros[0]:] if zeros else sent) if c[1] != 0.0 or c[2] != 0.0]
+    return late
+
+
 class LayerLaunch(object):
     """The layer as a user starts it: ``roslaunch blind_navigation mission_rig.launch
     fake:=false`` (blind_navigation.launch plus the rig's rtf-scaled timeouts) in a
-    process of its own, recording into ``directory``; its output is kept (``lines``) and
-    copied to ``<ROS_LOG_DIR>/<label>.launch.log``. :meth:`stop` ends it as Ctrl-C would
-    and deletes the params it set, so the next mission's layer starts clean."""
+    process of its own, recording into ``directory`` (with ``fake``: the fake TurtleBot
+    too, e.g. on a master of its own: ``env`` holds its ROS_MASTER_URI); its output is
+    kept (``lines``) and copied to ``<ROS_LOG_DIR>/<label>.launch.log``. :meth:`stop` ends
+    it as Ctrl-C would and deletes the params it set on this node's master, so the next
+    mission's layer starts clean."""
 
-    def __init__(self, label, directory, rtf, one_process=True, env=None):
+    def __init__(self, label, directory, rtf, one_process=True, env=None, fake=False):
         roslaunch = shutil.which('roslaunch')
         if not roslaunch:
             raise AssertionError('roslaunch is not on PATH')
@@ -116,7 +150,7 @@ class LayerLaunch(object):
         log_dir = os.environ.get('ROS_LOG_DIR') or directory
         os.makedirs(log_dir, exist_ok=True)
         self.log_path = os.path.join(log_dir, 'safety_findings_%s.launch.log' % label)
-        command = [roslaunch, 'blind_navigation', 'mission_rig.launch', 'fake:=false',
+        command = [roslaunch, 'blind_navigation', 'mission_rig.launch', 'fake:=%s' % str(fake).lower(),
                    'control:=closed_loop', 'rtf:=%g' % rtf, 'dir:=%s' % directory,
                    'one_process:=%s' % ('true' if one_process else 'false')]
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
@@ -159,9 +193,7 @@ class FindingMission(object):
 
     def __init__(self, label, one_process=True, prepare=None, env=None):
         self.label = label
-        self.directory = os.path.join(os.environ.get('ROS_HOME', os.path.expanduser('~/.ros')),
-                                      'blind_navigation_test',
-                                      'safety_findings_%s_%d-mission-test' % (label, os.getpid()))
+        self.directory = mission_directory(label)
         shutil.rmtree(self.directory, ignore_errors=True)
         os.makedirs(self.directory)
         self.landmark_file = os.path.join(self.directory, 'landmarks.yaml')
@@ -175,12 +207,18 @@ class FindingMission(object):
         self.track = Track()
         self.run = None
         self.nodes = []
+        self.kept = []
         self.layer = LayerLaunch(label, self.directory, self.rtf, one_process, env)
         layout_param = '/blind_navigation/recorder' if one_process else '/back_travel_client/landmark_file'
         wait_for(lambda: rospy.has_param(layout_param) or self.layer.process.poll() is not None,
                  'the layer launch set its params', WALL_TIMEOUT)
         self.run = MissionRun(WALL_TIMEOUT)
         self.owner = self.run.owner
+
+    def keep(self, publisher):
+        """``publisher``, unregistered when the mission closes."""
+        self.kept.append(publisher)
+        return publisher
 
     def start_node(self, node_type, name):
         """(Re)start a layer node of the paper's layout by hand (its params are still on the
@@ -237,33 +275,17 @@ class FindingMission(object):
 
     # --- verdicts --------------------------------------------------------------------------
     def layer_commands(self):
-        """(sim receive time, v, w, sender) of every Twist on the mux input not from the operator."""
-        return [(stamp, msg.linear.x, msg.angular.z, msg._connection_header.get('callerid', '?'))
-                for stamp, msg in list(self.commands.items)
-                if msg._connection_header.get('callerid') != OPERATOR]
+        return layer_commands(self.commands)
 
     def moving_commands_after(self, since):
-        """Non-zero commands of each layer node that follow its first zero command received at
-        or after ``since``, or any of its non-zero commands after ``since`` when no zero
-        came: motion commanded after the layer knew the state of ``since``. (A command the
-        node sent before it halted may arrive after the test saw the state: each node's
-        commands arrive in order, so only those after its halting zero count.)"""
-        late = []
-        by_sender = {}
-        for stamp, v, w, sender in self.layer_commands():
-            if stamp >= since:
-                by_sender.setdefault(sender, []).append((stamp, v, w, sender))
-        for commands in by_sender.values():
-            zeros = [i for i, (_, v, w, _) in enumerate(commands) if v == 0.0 and w == 0.0]
-            after = commands[zeros[0]:] if zeros else commands
-            late += [c for c in after if c[1] != 0.0 or c[2] != 0.0]
-        return late
+        return moving_commands_after(self.layer_commands(), since)
 
     def still_after(self, since, watch):
-        """Watch ``watch`` s of sim time from ``since`` (e.g. the terminal state): returns
-        (moving commands after it, m moved and rad turned from ``since`` + SETTLE on)."""
+        """From ``since`` (e.g. the terminal state) on, and for ``watch`` s of sim time after
+        now (after whatever the caller did since then, e.g. a stray trigger): returns
+        (the moving commands after ``since``, m moved and rad turned from ``since`` + SETTLE)."""
         start = since + SETTLE
-        end = max(start, since) + watch
+        end = max(start, rospy.get_time()) + watch
         self.wait(lambda: rospy.get_time() >= end, 'the watch of %.0f s after %.2f s' % (watch, since))
         moved, turned = self.track.motion(start, end)
         return self.moving_commands_after(since), moved, turned
@@ -285,6 +307,8 @@ class FindingMission(object):
                 self.run.trigger.unregister()   # latched: the next mission's client would hear it
         for watched in (self.commands, self.rosout, self.status, self.diagnostics, self.track):
             watched.sub.unregister()
+        for publisher in self.kept:
+            publisher.unregister()
         for node in self.nodes:
             node.kill()
         self.layer.stop()

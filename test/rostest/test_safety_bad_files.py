@@ -44,6 +44,9 @@ CASES = {
                  ['landmark_000002', '|v| = 0.9 m/s exceeds the limit 0.7 m/s']),
     'spinning': (HEADER + GOOD + "landmark_000002: {data: [0.1, 4.0, 0.2, 1.0, 0.0]}\n",
                  ['landmark_000002', '|w| = 4 rad/s exceeds the limit']),
+    # issue 16, finding 1: a burst of odometry at x = 1e6 gave landmarks with d ~ 1e6
+    'too_far': (HEADER + GOOD + "landmark_000002: {data: [0.1, 0.0, 1000000.0, 2.0, 0.0]}\n",
+                ['landmark_000002', 'd = 1e+06 m is farther than the base can go in T = 2 s']),
 }
 TOPICS = ('state', 'storage', 'vision_lost', 'rotation_done')
 
