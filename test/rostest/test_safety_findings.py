@@ -234,10 +234,8 @@ class TestA_RecordingAndTriggers(MissionCase):
 
     @classmethod
     def play(cls):
-        cls.victim = None
-
         def plant(directory):
-            cls.victim = directory.rstrip('/') + '-victim.txt'
+            cls.victim = os.path.join(directory, 'victim.txt')      # removed with the mission
             with open(cls.victim, 'w') as stream:
                 stream.write('not the progress\n')
             cls.planted = os.path.join(directory, 'landmarks.progress.yaml.tmp')
@@ -379,12 +377,6 @@ class TestA_RecordingAndTriggers(MissionCase):
         self.assertIsNotNone(self.progress)
         self.assertEqual(self.progress.status, 'home')
         self.assertEqual(self.leftovers, [])
-
-    @classmethod
-    def tearDownClass(cls):
-        if cls.victim and os.path.exists(cls.victim):
-            os.remove(cls.victim)
-        super(TestA_RecordingAndTriggers, cls).tearDownClass()
 
 
 # --- findings 2, 4b, 5b, 5c: faults during the return --------------------------------------
