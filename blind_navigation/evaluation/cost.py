@@ -24,7 +24,6 @@ ones (``detect_dark``), on the same seeds.
 import argparse
 import json
 import os
-import signal
 import subprocess
 import sys
 import time
@@ -32,7 +31,7 @@ import time
 import yaml
 
 from .report import markdown_table, med_range, median
-from .ros_runs import free_port
+from .ros_runs import free_port, stop_group
 
 #: The paper's teleop speeds (Table VI: LSV, ASV): the laps of every drive.
 LAP_V, LAP_W, LAP_STRAIGHT = 0.086, 0.097, 20.0
@@ -118,7 +117,7 @@ def run_once(run_dir, launch_args, probe_args, timeout, drive_s):
             log('%s: %s' % (run_dir, error or 'timed out'))
         finally:
             for process in (probe, launch):
-                _stop(process)
+                stop_group(process)
     wall = time.time() - started
     if not os.path.exists(out):
         return {'failed': 'no probe result after %.0f s (probe exit %s); see %s' % (
@@ -138,17 +137,6 @@ def _wait_for_master(uri, launch, timeout=60.0):
                                % (uri, launch.poll()))
         time.sleep(0.2)
 
-
-def _stop(process):
-    """SIGINT to the process group, SIGKILL after 20 s."""
-    if process is None or process.poll() is not None:
-        return
-    os.killpg(process.pid, signal.SIGINT)
-    try:
-        process.wait(timeout=20)
-    except subprocess.TimeoutExpired:
-        os.killpg(process.pid, signal.SIGKILL)
-        process.wait()
 
 
 # --------------------------------------------------------------- reading a run

@@ -53,13 +53,21 @@ def _roslaunch(command, log, timeout):
         try:
             process.wait(timeout=timeout)
         except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGINT)
-            try:
-                process.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)
-                process.wait()
+            stop_group(process)
     return process.returncode, time.time() - started
+
+
+def stop_group(process):
+    """SIGINT to the process group of ``process`` (started with start_new_session), SIGKILL
+    after 20 s; nothing if it has ended."""
+    if process is None or process.poll() is not None:
+        return
+    os.killpg(process.pid, signal.SIGINT)
+    try:
+        process.wait(timeout=20)
+    except subprocess.TimeoutExpired:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
 
 
 def calibrate_ros(out_dir, seed=0, rtf=10.0, timeout=300.0):
