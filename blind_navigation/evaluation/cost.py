@@ -138,7 +138,6 @@ def _wait_for_master(uri, launch, timeout=60.0):
         time.sleep(0.2)
 
 
-
 # --------------------------------------------------------------- reading a run
 def _marks(result, prefix):
     return [m for m in result['marks'] if m['label'].startswith(prefix)]
