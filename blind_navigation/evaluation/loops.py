@@ -38,7 +38,7 @@ from ..sim.kobuki import load_profile
 from ..sim.random_paths import LOOP_CATEGORIES
 from .forward import harness_settings
 from .montecarlo import settings_for
-from .real_like import REAL, mission_of, percentile, run_jobs
+from .real_like import REAL, mission_of, percentile, result_row, run_jobs
 from .report import markdown_table, median, num, write_run
 
 MODES = ('unpruned', 'pruned')
@@ -93,14 +93,12 @@ def run_job(job):
     for mode in MODES:
         r = results[mode]
         pruning = r.pruning
-        rows.append({
-            'group': group, 'mission': r.mission, 'seed': seed, 'mode': mode, 'status': r.status,
-            'reason': r.reason, 'length': r.distance, 'landmarks': r.samples, 'error': r.position_error,
+        rows.append(dict(result_row(group, seed, mode, r), **{
             'route_length': r.route_length, 'return_length': r.return_length, 'return_time': r.return_time,
             'length_deviation': abs(r.return_length / r.route_length - 1.0) if r.route_length else float('nan'),
             'cuts': len(pruning.cuts) if pruning else 0, 'refused': len(pruning.refused) if pruning else 0,
             'saved': pruning.saved if pruning else 0.0, 'wall': time.time() - started,
-            'true_gaps': true_junction_gaps(r) if pruning else []})
+            'true_gaps': true_junction_gaps(r) if pruning else []}))
     base = rows[0]
     for row in rows:
         row['length_ratio'] = row['return_length'] / base['return_length']

@@ -76,16 +76,21 @@ def run_job(job):
     for mode in modes:
         r = results[mode]
         length = r.distance
-        rows.append({
-            'group': group, 'mission': r.mission, 'seed': seed, 'mode': mode, 'status': r.status,
-            'reason': r.reason, 'length': length, 'landmarks': r.samples, 'error': r.position_error,
+        rows.append(dict(result_row(group, seed, mode, r), **{
             'error_pct': 100.0 * r.position_error / length if length else float('nan'),
             'floor': r.floor_error,
             'floor_pct': 100.0 * r.floor_error / length if length and r.floor_error is not None
             else float('nan'),
             'dense_error': r.dense_error, 'ratio': _ratio(r.position_error, r.floor_error),
-            'late': len(r.late), 'duration': r.duration, 'wall': time.time() - started})
+            'late': len(r.late), 'duration': r.duration, 'wall': time.time() - started}))
     return rows
+
+
+def result_row(group, seed, mode, r):
+    """The columns every harness row has: the run (group, mission, seed, mode) and its
+    outcome (sim/harness.MissionResult ``r``: status, reason, length, landmarks, error)."""
+    return {'group': group, 'mission': r.mission, 'seed': seed, 'mode': mode, 'status': r.status,
+            'reason': r.reason, 'length': r.distance, 'landmarks': r.samples, 'error': r.position_error}
 
 
 def _ratio(error, floor):
