@@ -38,8 +38,6 @@ STATUS = 'blind_navigation/status'
 #: nav_msgs/Path for RViz: the path recorded so far, the return driven so far
 RECORDED_PATH = 'blind_navigation/recorded_path'
 RETURN_PATH = 'blind_navigation/return_path'
-#: nav_msgs/Path, latched: the route the return will drive, published when the return starts
-RETURN_ROUTE = 'blind_navigation/return_route'
 #: nav_msgs/Path, latched: the route the return will drive (after pruning), when it starts
 RETURN_ROUTE = 'blind_navigation/return_route'
 #: action blind_navigation/BackTravel: one landmark per goal
@@ -50,6 +48,8 @@ RECORD_LANDMARK = 'blind_navigation/record_landmark'
 # --- the layer's internal hand-overs
 #: blind_navigation/PathSample: sampling publisher -> saver / record client / rotate_pi
 SAMPLE = 'blind_navigation/sample'
+#: service blind_navigation/RecordedSamples: sampling publisher -> a restarted saver, what it missed
+RECORDED_SAMPLES = 'blind_navigation/recorded_samples'
 #: blind_navigation/StorageUsage: what the recorded file holds so far
 STORAGE = 'blind_navigation/storage'
 #: std_msgs/Bool: rotate_pi -> back_travel_client, the pi turn ended (true) or failed

@@ -4,6 +4,7 @@ Format (see INTERFACE.md), readable by PyYAML and by yaml-cpp::
 
     # comment lines
     blind_navigation: {format: 1, fields: [v, w, d, T, psi], mission: '...', ...}
+    samples_1: {from: landmark_000001, recording: 12.34, sample: 1}
     landmark_000001: {data: [0.0861, 0.0012, 0.1718, 2.0, 0.0131]}
     landmark_000002: {data: [0.0859, 0.0964, 0.0862, 1.0, 0.061]}
     gap_1: {before: landmark_000003, reason: '...'}
@@ -25,7 +26,19 @@ mid-mission, or the odometry re-anchored after a discontinuity), the writer
 writes a ``gap_<n>`` entry before the next landmark: that landmark measures
 ``d`` from where the robot was when recording resumed, not from the previous
 landmark. :func:`load_landmarks` reports every gap (those entries and holes
-in the numbering) in :attr:`LoadedPath.gaps`: the return must know them.
+in the numbering) in :attr:`LoadedPath.gaps`: the return must know them. A
+resumed writer writes its gap entry only before its first landmark
+(``pending_gap``), so a recorder that restores the chain first (ros/landmark_saving:
+the sampling publisher's record of the samples it missed) leaves none.
+
+Which sample a landmark came from: the topic recorder's samples carry the
+publisher's ``recording`` (the time it started) and a number, ``sample``. A
+``samples_<n>`` entry says which sample its ``from`` landmark was taken at;
+each later label is one sample on (a lost landmark's label too), until the next
+such entry, which is written only where that stops holding (the first
+landmark, a sample that made no landmark, a new recording). So a restarted
+recorder knows the last sample its file holds (:attr:`LoadedPath.sample`)
+without a number on every line.
 
 Mission files: a mission is never written over an earlier mission's file.
 :func:`open_mission_file` continues the current mission's file after a
@@ -51,13 +64,14 @@ from .landmark import FIELDS, Limits, landmark_from_values
 LABEL_PREFIX = 'landmark_'
 LABEL_RE = re.compile(r'^landmark_(\d+)$')
 GAP_RE = re.compile(r'^gap_(\d+)$')
+SAMPLES_RE = re.compile(r'^samples_(\d+)$')
 METADATA_KEY = 'blind_navigation'
 FINISHED_KEY = 'finished'
 FORMAT_VERSION = 1
 #: Largest landmark file read (about 300 hours of recording at 1 landmark/s).
 MAX_FILE_BYTES = 64 << 20
 #: Kinds of entry line the writer makes (a torn one is dropped on load).
-_OWN_LINES = (LABEL_PREFIX, 'gap_', FINISHED_KEY + ':')
+_OWN_LINES = (LABEL_PREFIX, 'gap_', 'samples_', FINISHED_KEY + ':')
 #: Why a restarted recorder's first landmark breaks the d chain.
 RESTART_GAP = ('the recorder restarted mid-mission: this landmark measures d from where the robot '
                'was at the restart, not from the previous landmark')
@@ -99,10 +113,14 @@ Gap = namedtuple('Gap', 'before reason')
 Gap.__doc__ = ('A break in the d chain: ``before`` is the label of the first landmark after it '
                '(its d does not start at the previous landmark), ``reason`` says why.')
 
-ResumeInfo = namedtuple('ResumeInfo', 'landmarks dropped warnings gap')
+SampleMark = namedtuple('SampleMark', 'recording seq')
+SampleMark.__doc__ = ('A sample of the sampling publisher: its ``recording`` (the time the recording '
+                      'started, s) and its number ``seq`` in it (1, 2, ...).')
+
+ResumeInfo = namedtuple('ResumeInfo', 'landmarks dropped warnings sample')
 ResumeInfo.__doc__ = ('What :meth:`LandmarkWriter.resume` found: ``landmarks`` already in the '
-                      'file, ``dropped`` torn entries cut off, ``warnings`` (text), ``gap`` (the '
-                      'key of the gap entry written, or None for a finished file).')
+                      'file, ``dropped`` torn entries cut off, ``warnings`` (text), ``sample`` (the '
+                      ':class:`SampleMark` of the last landmark, or None if the file does not say).')
 
 
 class LandmarkWriter(object):
@@ -113,7 +131,9 @@ class LandmarkWriter(object):
     :meth:`resume` continues an existing one. Attributes: ``path``, ``count``
     (landmarks in the file), ``lost`` (appends that failed), ``total_distance``
     (sum of d in the file, m), ``bytes``, ``finished``, ``resumed`` (a
-    :class:`ResumeInfo`, or None for a new file).
+    :class:`ResumeInfo`, or None for a new file), ``sample`` (the
+    :class:`SampleMark` of the last landmark, when known), ``pending_gap`` (the
+    reason of a gap entry to write before the next landmark, or None).
     """
 
     def __init__(self, path, metadata=None, fsync=True):
@@ -154,6 +174,10 @@ class LandmarkWriter(object):
         self._size = 0
         self._next_index = 1
         self._gaps = 0
+        self._samples_entries = 0
+        self._offset = None         # (recording, seq - label index) the last samples_ entry set
+        self.sample = None
+        self.pending_gap = None
         self._damaged = False
 
     @classmethod
@@ -163,10 +187,11 @@ class LandmarkWriter(object):
         The file is validated (:func:`load_landmarks`; a bad entry raises
         LandmarkFileError); a torn last entry is cut off (counted in
         ``resumed.dropped`` and warned about); labels continue after the last
-        one; a ``gap_<n>`` entry (``reason``) is written, since the next
-        landmark cannot measure ``d`` from the last one: the caller starts its
-        recorder from the current odometry. A finished file is not reopened:
-        the writer is ``finished`` and refuses appends.
+        one; a ``gap_<n>`` entry (``reason``) is pending (``pending_gap``: written
+        before the next landmark), since the next landmark cannot measure ``d``
+        from the last one, unless the caller restores the chain first
+        (:meth:`chain_restored`). A finished file is not reopened: the writer
+        is ``finished`` and refuses appends.
         """
         writer = cls.__new__(cls)
         writer._setup(path, fsync)
@@ -175,10 +200,13 @@ class LandmarkWriter(object):
         writer.total_distance = loaded.total_distance
         writer._next_index = loaded.last_index + 1
         writer._gaps = loaded.gap_entries
+        writer._samples_entries = loaded.samples_entries
         writer._size = loaded.intact_bytes
+        writer.sample = loaded.sample   # the next landmark writes a samples_ entry of its own:
+                                        # one a killed writer left before a torn line may be wrong
+        writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, loaded.sample)
         if loaded.finished:
             writer.finished = True
-            writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, None)
             return writer
         try:
             writer._fd = os.open(writer.path, os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW
@@ -191,11 +219,10 @@ class LandmarkWriter(object):
                                         % (loaded.size, info.st_size))
             if loaded.intact_bytes < info.st_size:
                 os.ftruncate(writer._fd, loaded.intact_bytes)
-            gap = writer.note_gap(reason)
         except OSError as error:
             writer.close()
             raise StorageError(writer.path, error, 'reopen')
-        writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, gap)
+        writer.pending_gap = str(reason)
         return writer
 
     @property
@@ -208,17 +235,46 @@ class LandmarkWriter(object):
         """The label the next landmark will get."""
         return label_for(self._next_index)
 
-    def append(self, landmark):
-        """Write ``landmark`` durably; return its label. StorageError if the
-        write fails (the label is used up, ``lost`` counts it)."""
+    def holds(self, sample):
+        """True if ``sample`` (a :class:`SampleMark`) is in the file already: the same
+        recording as the last landmark's sample and not after it."""
+        return (sample is not None and self.sample is not None
+                and sample.recording == self.sample.recording and sample.seq <= self.sample.seq)
+
+    def chain_restored(self):
+        """The caller's next landmark measures ``d`` from the file's last one after
+        all: no gap entry is written (see :meth:`resume`)."""
+        self.pending_gap = None
+
+    def append(self, landmark, sample=None):
+        """Write ``landmark`` (taken at ``sample``, a :class:`SampleMark`, if known)
+        durably, after the pending gap entry and the ``samples_`` entry it needs, in
+        one write; return its label. StorageError if the write fails (the label is
+        used up, ``lost`` counts it; the entries before it are written with the next)."""
         label = self.next_label
         self._check_open('append %s' % label)
         self._next_index += 1
+        lines, gap_key, offset = [], None, self._offset
+        if self.pending_gap is not None:
+            gap_key = 'gap_%d' % (self._gaps + 1)
+            lines.append(_flow_line(gap_key, {'before': label, 'reason': self.pending_gap}))
+        if sample is not None and (sample.recording, sample.seq - (self._next_index - 1)) != offset:
+            offset = (sample.recording, sample.seq - (self._next_index - 1))
+            lines.append(_flow_line('samples_%d' % (self._samples_entries + 1), {
+                'from': label, 'recording': float(sample.recording), 'sample': int(sample.seq)}))
+        lines.append(format_entry(label, landmark))
         try:
-            self._write_line(format_entry(label, landmark))
+            self._write_line(''.join(lines))
         except OSError as error:
             self.lost += 1
             raise StorageError(self.path, error, 'append %s to' % label, lost=self.lost)
+        if gap_key is not None:
+            self._gaps += 1
+            self.pending_gap = None
+        if offset != self._offset:
+            self._samples_entries += 1
+            self._offset = offset
+        self.sample = sample
         self.count += 1
         self.total_distance += landmark.d
         return label
@@ -293,7 +349,8 @@ class LoadedPath(object):
     entry), ``gaps`` (:class:`Gap` list: breaks of the d chain and landmarks
     lost to write failures), ``finished`` (the recorder marked the end),
     ``dropped`` (torn entries dropped), ``size`` and ``intact_bytes`` (file
-    bytes, and those before a dropped torn entry)."""
+    bytes, and those before a dropped torn entry), ``sample`` (the
+    :class:`SampleMark` of the last label, from the ``samples_`` entries, or None)."""
 
     def __init__(self, path, landmarks, labels, metadata, warnings, **details):
         self.path = path
@@ -308,6 +365,8 @@ class LoadedPath(object):
         self.intact_bytes = details.get('intact_bytes', 0)
         self.last_index = details.get('last_index', 0)
         self.gap_entries = details.get('gap_entries', 0)
+        self.samples_entries = details.get('samples_entries', 0)
+        self.sample = details.get('sample')
 
     @property
     def total_distance(self):
@@ -387,6 +446,30 @@ def _gap_from(path, key, value):
     return Gap(value['before'], value['reason'])
 
 
+def _samples_from(path, key, value):
+    """(label index, SampleMark) of a ``samples_<n>`` entry."""
+    if isinstance(value, dict) and isinstance(value.get('from'), str):
+        match = LABEL_RE.match(value['from'])
+        recording, seq = value.get('recording'), value.get('sample')
+        if match and isinstance(recording, (int, float)) and not isinstance(recording, bool) \
+                and isinstance(seq, int) and not isinstance(seq, bool) and seq >= 1:
+            return int(match.group(1)), SampleMark(float(recording), seq)
+    raise LandmarkFileError(path, 'a samples entry must be {from: landmark_<number>, recording: '
+                            '<s>, sample: <number from 1>}, got %r' % (value,), key)
+
+
+def _last_sample(marks, last_index):
+    """The SampleMark of label ``last_index`` by the ``samples_`` entry for the
+    latest label at or before it (of two for one label, the later in the file)."""
+    best = None
+    for index, mark in marks:
+        if index <= last_index and (best is None or index >= best[0]):
+            best = (index, mark)
+    if best is None or not last_index:
+        return None
+    return best[1]._replace(seq=best[1].seq + last_index - best[0])
+
+
 def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=True):
     """Read and validate a landmark file; raise LandmarkFileError on the first bad entry."""
     data, text = _read(path, follow_symlinks)
@@ -401,12 +484,15 @@ def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=Tru
     if not isinstance(document, dict):
         raise LandmarkFileError(path, 'top level must be a map of landmark entries, got %s'
                                 % type(document).__name__)
-    landmarks, labels, metadata, gaps, gap_entries = [], [], {}, [], 0
+    landmarks, labels, metadata, gaps, gap_entries, marks = [], [], {}, [], 0, []
     previous_index = 0
     for key, value in document.items():
         if isinstance(key, str) and GAP_RE.match(key):
             gaps.append(_gap_from(path, key, value))
             gap_entries += 1
+            continue
+        if isinstance(key, str) and SAMPLES_RE.match(key):
+            marks.append(_samples_from(path, key, value))
             continue
         if not isinstance(key, str) or not key.startswith(LABEL_PREFIX):
             metadata[key] = value
@@ -441,7 +527,8 @@ def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=Tru
                       gaps=gaps, finished=FINISHED_KEY in metadata,
                       dropped=1 if intact != text else 0, size=len(data),
                       intact_bytes=len(intact.encode('utf-8')), last_index=previous_index,
-                      gap_entries=gap_entries)
+                      gap_entries=gap_entries, samples_entries=len(marks),
+                      sample=_last_sample(marks, previous_index))
 
 
 # --- mission files -------------------------------------------------------------
@@ -533,7 +620,7 @@ def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, li
     start time) is given, and ``landmark_file`` is a symlink to a file whose
     header carries that same ``mission``, the recorder restarted mid-mission:
     that file is continued (:meth:`LandmarkWriter.resume`: validated, a torn
-    last entry cut off, labels continued, a gap entry written; a finished
+    last entry cut off, labels continued, a gap entry pending; a finished
     recording is not appended to). Otherwise a new file is started
     (:func:`start_mission_file`) with ``metadata`` and ``mission`` in its
     header. Without a ``mission`` id a file is never continued: appending a

@@ -3,10 +3,13 @@
 On each blind_navigation/PathSample on ``blind_navigation/sample`` whose
 command is ``sample`` or ``final``, saves one path landmark from the odometry
 at the tick (ros/landmark_saving.py: the same saving code as the service
-variant's record server). Params: those of
+variant's record server). Restarted within the mission, it first catches up
+on the samples it missed (LandmarkSaving.start_catch_up); samples that arrive
+meanwhile wait. Params: those of
 :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
 from blind_navigation import names
+from blind_navigation.core.store import SampleMark
 from blind_navigation.msg import PathSample
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.landmark_saving import LandmarkSaving
@@ -19,7 +22,10 @@ class LandmarkSaver(object):
 
     def __init__(self, layer):
         self.saving = LandmarkSaving(layer, self.ROLE, 'topic')
+        if self.saving.resuming:
+            self.saving.start_catch_up()
         self.sample_sub = subscribe(names.SAMPLE, PathSample, self.on_sample, queue_size=20)
 
     def on_sample(self, msg):
-        self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec())
+        self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec(),
+                         SampleMark(msg.recording, msg.seq) if msg.seq else None)

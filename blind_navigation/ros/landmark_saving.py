@@ -13,7 +13,7 @@ core/recorder.PathRecorder and appends it durably with core/store.LandmarkWriter
 to the mission's time-stamped file that the ``landmark_file`` param (a symlink)
 points at (core/store.open_mission_file: a saver restarted within the same
 mission, ``blind_navigation/mission_id``, continues that file after a gap
-entry; a new mission starts a new file). Only that param chooses the file:
+entry, unless it catches up; a new mission starts a new file). Only that param chooses the file:
 nothing received over ROS names a path; a ``landmark_file`` that is not a
 regular file or a symlink to one is refused by name. After each landmark it
 publishes the storage used (``blind_navigation/storage``, with the landmarks
@@ -27,12 +27,23 @@ the next landmark is tried again. An odometry discontinuity (the gate
 re-anchored on a reset) is a gap in the file: the next landmark measures ``d``
 from the odometry after it.
 
+Catching up (topic variant): a saver restarted within the mission asks the
+sampling publisher for the samples after the last one its file holds
+(:meth:`LandmarkSaving.catch_up`; core/store.SampleMark says which, the
+publisher's core/sample_log.SampleLog answers with the odometry it read at
+each) and makes their landmarks from that odometry as it would have: the file
+goes on without a gap, and the return drives the whole path. Live samples
+wait meanwhile; those the file then holds are skipped. If the publisher cannot
+answer (it restarted too, it is not there, the samples were dropped), the
+pending gap entry is written before the next landmark, as before.
+
 Params (``layer.params``, role ``landmark_saver`` or ``record_server``):
 ``landmark_file`` (the symlink to the mission's file; empty:
 ``$ROS_HOME/blind_navigation/landmarks.yaml``), ``fsync`` (fsync every
 landmark, not just flush), ``odom_timeout`` (s of sim time; a sample taken
 with older odometry is saved with a warning), ``odom_wait`` (s of wall time a
-sample waits for odometry covering its stamp).
+sample waits for odometry covering its stamp), ``catch_up_timeout`` (s of wall
+time a restarted saver waits for the sampling publisher's service).
 """
 import math
 import os
@@ -44,11 +55,13 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 
 from blind_navigation import names
-from blind_navigation.core.geometry import quaternion_from_yaw
+from blind_navigation.core.geometry import OdomState, quaternion_from_yaw
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder, storage_usage
-from blind_navigation.core.store import open_mission_file
+from blind_navigation.core.sample_log import START, answer_problem
+from blind_navigation.core.store import SampleMark, open_mission_file
 from blind_navigation.msg import StorageUsage
+from blind_navigation.srv import RecordedSamples
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import ros_home_file
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
@@ -72,6 +85,8 @@ class LandmarkSaving(object):
         'fsync': True,          # fsync every landmark (false: flush only)
         'odom_timeout': 1.0,    # s (sim); a sample with older odometry is saved with a warning
         'odom_wait': 0.2,       # s (wall) a sample waits for odometry covering its stamp
+        'catch_up_timeout': 3.0,  # s (wall) a restarted saver waits for the sampling publisher's
+                                  # record of the samples it missed
     }
 
     def __init__(self, layer, role, variant):
@@ -119,16 +134,20 @@ class LandmarkSaving(object):
             stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
                          % (self.writer.count, self.writer.total_distance))
 
-    def save(self, command, yaw, period, stamp):
-        """Save the landmark of the tick at ``stamp`` (s); return ``(label, '')`` or
-        ``('', why not)``. The first tick's start is the odometry at ``stamp - period``
-        (when the publisher started), or the first odometry seen if that is later."""
+    def save(self, command, yaw, period, stamp, sample=None):
+        """Save the landmark of the tick at ``stamp`` (s), the publisher's ``sample``
+        (a core/store.SampleMark, if known); return ``(label, '')`` or ``('', why
+        not)``. The first tick's start is the odometry at ``stamp - period`` (when the
+        publisher started), or the first odometry seen if that is later. A sample
+        the file holds already (caught up) is skipped."""
         with self._lock:
             if command not in COMMANDS:
                 return self._refuse('unknown command %r (expected one of %s)'
                                     % (command, ', '.join(COMMANDS)))
             if self.finished:
                 return self._refuse('recording has finished (a final sample was saved)')
+            if self.writer.holds(sample):
+                return '', 'sample %d is in the file already' % sample.seq
             if self.odometry.latest() is None:
                 return self._refuse('no valid odometry received on %s yet'
                                     % rospy.resolve_name(names.ODOM))
@@ -143,28 +162,107 @@ class LandmarkSaving(object):
                 odom = self.odometry.latest()
             if not self.recorder.started:
                 valid = stamp > 0 and math.isfinite(period) and period > 0
-                self._start = self.odometry.state_at(stamp - period) if valid else odom
-                self.recorder.start(self._start)
-                self._poses.extend((self._start.x, self._start.y, self._start.yaw))
-            try:
-                landmark = self.recorder.take(odom, yaw, period)
-            except ValueError as error:
-                return self._refuse('bad %s sample: %s' % (command, error))
-            try:
-                label = self.writer.append(landmark)
-            except StorageError as error:
-                return self._write_failed(error)
-            self._poses.extend((odom.x, odom.y, odom.yaw))
-            self.finished = command == FINAL
-            if self.finished:
-                try:
-                    self.writer.finish()
-                except StorageError as error:
-                    self._write_failed(error)
-        self._report(label, landmark)
-        if self.finished:
-            self.log.info('final landmark saved; recording finished')
+                self._start_chain(self.odometry.state_at(stamp - period) if valid else odom)
+            label, outcome = self._take(command, yaw, period, odom, sample)
+        if not label:
+            return '', outcome
+        self._report(label, outcome)
         return label, ''
+
+    def _start_chain(self, state):
+        """Start the recorder's d chain at ``state`` (lock held)."""
+        self.recorder.start(state)
+        self._poses.extend((state.x, state.y, state.yaw))
+
+    def _take(self, command, yaw, period, odom, sample):
+        """Make the landmark of a sample at odometry ``odom`` and write it (lock
+        held): ``(label, landmark)``, or ``('', why not)``."""
+        try:
+            landmark = self.recorder.take(odom, yaw, period)
+        except ValueError as error:
+            return self._refuse('bad %s sample: %s' % (command, error))
+        try:
+            label = self.writer.append(landmark, sample)
+        except StorageError as error:
+            return self._write_failed(error)
+        self._poses.extend((odom.x, odom.y, odom.yaw))
+        self.finished = command == FINAL
+        if self.finished:
+            try:
+                self.writer.finish()
+            except StorageError as error:
+                self._write_failed(error)
+            self.log.info('final landmark saved; recording finished')
+        return label, landmark
+
+    @property
+    def resuming(self):
+        """True if this saver continued the mission's file and may catch up."""
+        return self.writer.resumed is not None and not self.finished
+
+    def start_catch_up(self):
+        """Take the lock now and catch up in a thread (:meth:`catch_up`), so samples
+        that arrive meanwhile wait for it: call before subscribing to them."""
+        self._lock.acquire()
+
+        def run():
+            try:
+                self._catch_up()
+            finally:
+                self._lock.release()
+        thread = threading.Thread(target=run, name='catch_up')
+        thread.daemon = True
+        thread.start()
+        return thread
+
+    def catch_up(self):
+        """Ask the sampling publisher for the samples this file misses and save them
+        (module docstring); True if the chain was restored."""
+        with self._lock:
+            return self._catch_up()
+
+    def _catch_up(self):
+        """:meth:`catch_up` with the lock held."""
+        mark = self.writer.sample
+        if mark is None and self.writer.count:
+            self.log.warn('%s does not say which sample its last landmark came from: cannot '
+                          'catch up; the recording goes on after a gap', self.writer.path)
+            return False
+        name = rospy.resolve_name(names.RECORDED_SAMPLES)
+        try:
+            rospy.wait_for_service(name, self.params.catch_up_timeout)
+            answer = rospy.ServiceProxy(name, RecordedSamples)(
+                recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            self.log.warn('cannot catch up on the samples missed (%s); the recording goes on '
+                          'after a gap', error)
+            return False
+        problem = answer_problem(answer, mark)
+        if problem:
+            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on '
+                          'after a gap', problem)
+            return False
+        caught = []
+        for index, sample in enumerate(answer.samples):
+            state = OdomState(answer.x[index], answer.y[index], sample.yaw, answer.v[index],
+                              answer.w[index], sample.header.stamp.to_sec())
+            if index == 0:              # the file's last sample (or the start): the chain
+                self.recorder = PathRecorder()
+                self._start_chain(state)
+                self.writer.chain_restored()
+                continue
+            if sample.command == START or self.finished:
+                break
+            label, landmark = self._take(sample.command, sample.yaw, sample.period, state,
+                                         SampleMark(answer.recording, sample.seq))
+            if label:
+                caught.append((label, landmark))
+        self.log.warn('caught up: %d landmark(s) of samples %d to %d saved from the sampling '
+                      "publisher's record; no gap in %s", len(caught), answer.samples[0].seq + 1,
+                      answer.samples[-1].seq, self.writer.path)
+        if caught:
+            self._report(*caught[-1])
+        return True
 
     def _write_failed(self, error):
         """A landmark could not be written: ERROR, and the storage message says so."""

@@ -33,6 +33,13 @@ elapsed time), then it stops. A ``vision_lost`` itself does not stop it: only
 the mission's owner decides that vision loss ends the recording, so a stray
 trigger while idle changes nothing.
 
+Each sample carries the recording's id (the time it started) and its number
+(``recording``, ``seq``), and the publisher logs what a landmark needs of it,
+with the odometry it read at the stamp (core/sample_log.SampleLog; with
+``yaw_source`` ``odom``). A saver restarted mid-recording asks for what it
+missed on the ``blind_navigation/recorded_samples`` service
+(srv/RecordedSamples.srv), so its file goes on without a gap.
+
 Params (``layer.params``): ``straight_rate``, ``curved_rate`` (Hz) and
 ``deadband`` (rad per yaw difference) of core/segment.SAMPLING_DEFAULTS,
 ``yaw_source`` (``odom`` or ``pose2d``), ``min_subscribers`` (recording starts
@@ -48,8 +55,10 @@ from geometry_msgs.msg import Pose2D
 from blind_navigation import names
 from blind_navigation.core import mission_state
 from blind_navigation.core.motion_events import EVENT_DEFAULTS, EventSampler
+from blind_navigation.core.sample_log import SampleLog
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, SamplingSchedule, period_of
 from blind_navigation.msg import PathSample
+from blind_navigation.srv import RecordedSamples, RecordedSamplesResponse
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED, subscribe
 
@@ -92,7 +101,12 @@ class SamplingPublisher(object):
         self._last_tick = None      # rospy.Time of the last tick (or of the start)
         self._events_fed = None     # stamp (s) of the last odometry state fed to the events
         self.stopped = False
+        self.recording = 0.0        # the recording's id: when it started (s), 0 before
+        self.seq = 0                # the number of the last sample published
+        self.samples = None         # SampleLog of the recording (yaw_source odom)
         self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
+        self.samples_service = rospy.Service(names.RECORDED_SAMPLES, RecordedSamples,
+                                             self._recorded_samples)
         if p.yaw_source == 'pose2d':
             self.source = rospy.resolve_name(names.POSE2D)
             subscribe(names.POSE2D, Pose2D, self._on_pose2d, queue_size=10)
@@ -151,10 +165,51 @@ class SamplingPublisher(object):
     def _publish(self, command, yaw, period, stamp=None):
         """Publish one sample (lock held) stamped ``stamp`` (rospy.Time, default now)
         and mark the tick."""
-        msg = PathSample(command=command, yaw=yaw, period=period)
+        self.seq += 1
+        msg = PathSample(command=command, yaw=yaw, period=period, recording=self.recording,
+                         seq=self.seq)
         msg.header.stamp = stamp or rospy.Time.now()
+        if self.samples is not None:
+            state = self.layer.odometry.state_at(msg.header.stamp.to_sec())
+            if state is None:
+                self.samples = None
+                self.log.warn('no odometry to log sample %d with: a recorder restarted from now '
+                              'on cannot catch up', self.seq)
+            else:
+                self.samples.append(command, msg.header.stamp.to_sec(), yaw, period, state)
         self.sample_pub.publish(msg)
         self._last_tick = msg.header.stamp
+
+    def _recorded_samples(self, request):
+        """The RecordedSamples service: the samples after ``request.after`` of this recording."""
+        with self._lock:
+            response = RecordedSamplesResponse(recording=self.recording)
+            if self.samples is None:
+                response.message = ('no samples logged (%s)' % ('not recording yet' if not self.seq
+                                    else 'yaw_source is not odom' if self.params.yaw_source != 'odom'
+                                    else 'the log stopped'))
+                return response
+            if request.after and request.recording != self.recording:
+                response.message = ('the caller follows recording %.3f, this is recording %.3f'
+                                    % (request.recording, self.recording))
+                return response
+            logged = self.samples.since(request.after)
+            if logged is None:
+                response.message = 'sample %d is not kept (%d to %d are)' % (
+                    request.after, self.samples.first, self.samples.last)
+                return response
+        for entry in logged:
+            sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
+                                recording=self.recording, seq=entry.seq)
+            sample.header.stamp = rospy.Time.from_sec(entry.stamp)
+            response.samples.append(sample)
+            response.x.append(entry.x)
+            response.y.append(entry.y)
+            response.v.append(entry.v)
+            response.w.append(entry.w)
+        self.log.info('sent samples %d to %d of recording %.3f to a restarted recorder',
+                      request.after, self.seq, self.recording)
+        return response
 
     def _feed_events(self):
         """Feed the event sampler the odometry states accepted since it was last fed,
@@ -184,6 +239,9 @@ class SamplingPublisher(object):
                 ready = self.sample_pub.get_num_connections() >= self.params.min_subscribers
                 if ready and yaw is not None and mission_state.records(self.layer.mission.state):
                     self._last_tick = rospy.Time.now()
+                    self.recording = self._last_tick.to_sec()
+                    if self.params.yaw_source == 'odom':
+                        self.samples = SampleLog(self.recording, self.layer.odometry.latest())
                     self.schedule.update(yaw)
                     if self.events is not None:
                         self.events.start(self._last_tick.to_sec())

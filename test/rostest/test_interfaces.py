@@ -17,7 +17,9 @@ TIMEOUT = 10.0
 class InterfacesTest(unittest.TestCase):
 
     def test_path_sample_has_the_papers_three_variables(self):
-        self.assertEqual(PathSample.__slots__, ['header', 'command', 'yaw', 'period'])
+        # and which sample it is, for a restarted recorder (srv/RecordedSamples.srv)
+        self.assertEqual(PathSample.__slots__, ['header', 'command', 'yaw', 'period',
+                                                'recording', 'seq'])
 
     def test_action_goal_is_a_landmark(self):
         self.assertEqual(BackTravelGoal.__slots__, ['v', 'w', 'd', 'T', 'psi'])

@@ -12,8 +12,8 @@ import yaml
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
 from blind_navigation.core.store import (RESTART_GAP, Gap, LandmarkFileError, LandmarkWriter,
-                                         format_entry, load_landmarks, open_mission_file,
-                                         start_mission_file)
+                                         SampleMark, format_entry, load_landmarks,
+                                         open_mission_file, start_mission_file)
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
         Landmark(0.0859, 0.0964, 0.0862, 1.0, 0.0610),
@@ -341,7 +341,8 @@ def test_a_restarted_recorder_continues_the_current_mission(tmp_path):
     resumed = open_mission_file(link, mission='mission-1', metadata={'recorder': 'topic'})
     assert resumed.path == first_file and os.path.realpath(link) == first_file
     assert resumed.resumed.landmarks == 3 and resumed.resumed.dropped == 1
-    assert resumed.resumed.gap == 'gap_1' and 'torn' in resumed.resumed.warnings[0]
+    assert resumed.pending_gap == RESTART_GAP and 'torn' in resumed.resumed.warnings[0]
+    assert resumed.resumed.sample is None          # written without sample numbers
     assert resumed.count == 3 and resumed.total_distance == pytest.approx(sum(l.d for l in PATH[:3]))
     assert resumed.append(PATH[1]) == 'landmark_000004'
     resumed.finish()
@@ -401,3 +402,87 @@ def test_d_beyond_what_the_base_can_cover_in_T_refuses_the_file(tmp_path):
     with pytest.raises(LandmarkFileError) as error:
         load_landmarks(str(path))
     assert 'landmark_000002' in str(error.value) and 'farther than the base can go' in str(error.value)
+
+
+# --- which sample each landmark came from, and catching up after a restart -------------
+
+def test_samples_entries_only_where_the_numbering_changes(tmp_path):
+    path = str(tmp_path / 'lm.yaml')
+    with LandmarkWriter(path) as writer:
+        for seq, landmark in zip((1, 2, 4, 5), PATH):       # sample 3 made no landmark
+            writer.append(landmark, SampleMark(12.5, seq))
+        writer.append(PATH[0], SampleMark(40.25, 1))         # the publisher restarted
+    text = open(path).read()
+    assert text.count('samples_') == 3, text
+    loaded = load_landmarks(path)
+    assert loaded.landmarks == PATH + [PATH[0]] and loaded.gaps == [] and loaded.warnings == []
+    assert loaded.sample == SampleMark(40.25, 1)
+    assert load_landmarks(path).metadata == {'format': 1, 'fields': ['v', 'w', 'd', 'T', 'psi']}
+
+
+def test_the_last_sample_counts_lost_labels(tmp_path):
+    path = str(tmp_path / 'lm.yaml')
+    with LandmarkWriter(path) as writer:
+        writer.append(PATH[0], SampleMark(3.0, 7))
+        writer._next_index += 1                              # landmark_000002 lost (sample 8)
+        writer.append(PATH[1], SampleMark(3.0, 9))
+    assert open(path).read().count('samples_') == 1
+    assert load_landmarks(path).sample == SampleMark(3.0, 9)
+
+
+def test_a_resumed_writer_knows_its_last_sample_and_restores_the_chain(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    writer = open_mission_file(link, mission='m')
+    for seq, landmark in enumerate(PATH[:3], 1):
+        writer.append(landmark, SampleMark(5.0, seq))
+    writer.close()
+    resumed = open_mission_file(link, mission='m')
+    assert resumed.resumed.sample == resumed.sample == SampleMark(5.0, 3)
+    assert resumed.holds(SampleMark(5.0, 3)) and resumed.holds(SampleMark(5.0, 1))
+    assert not resumed.holds(SampleMark(5.0, 4)) and not resumed.holds(SampleMark(6.0, 1))
+    resumed.chain_restored()                                 # caught up: no gap
+    resumed.append(PATH[3], SampleMark(5.0, 4))
+    resumed.close()
+    loaded = load_landmarks(link)
+    assert loaded.gaps == [] and loaded.sample == SampleMark(5.0, 4) and loaded.landmarks == PATH
+
+
+def test_a_resumed_writer_that_cannot_catch_up_writes_its_gap(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    writer = open_mission_file(link, mission='m')
+    writer.append(PATH[0], SampleMark(5.0, 1))
+    writer.close()
+    resumed = open_mission_file(link, mission='m')
+    assert load_landmarks(link).gaps == []                   # nothing written until a landmark
+    resumed.append(PATH[1], SampleMark(5.0, 9))
+    resumed.close()
+    loaded = load_landmarks(link)
+    assert loaded.gaps == [Gap('landmark_000002', RESTART_GAP)]
+    assert loaded.sample == SampleMark(5.0, 9)
+
+
+def test_a_samples_entry_left_before_a_torn_line_is_overridden(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    writer = open_mission_file(link, mission='m')
+    writer.append(PATH[0], SampleMark(5.0, 1))
+    writer.close()
+    with open(os.path.realpath(link), 'a') as stream:       # killed mid-write of the next pair
+        stream.write("samples_2: {from: landmark_000002, recording: 5.0, sample: 30}\n"
+                     + format_entry('landmark_000002', PATH[1])[:15])
+    resumed = open_mission_file(link, mission='m')
+    assert resumed.sample == SampleMark(5.0, 1)
+    resumed.chain_restored()
+    resumed.append(PATH[1], SampleMark(5.0, 2))
+    resumed.close()
+    assert load_landmarks(link).sample == SampleMark(5.0, 2)
+
+
+@pytest.mark.parametrize('entry', ['samples_1: [1, 2]', 'samples_1: {from: landmark_1, sample: 0, recording: 1.0}',
+                                   "samples_1: {from: lm_1, sample: 1, recording: 1.0}",
+                                   "samples_1: {from: landmark_1, sample: 1, recording: 'x'}"])
+def test_a_bad_samples_entry_is_refused_by_name(tmp_path, entry):
+    path = tmp_path / 'lm.yaml'
+    path.write_text(entry + '\n' + format_entry('landmark_000001', PATH[0]))
+    with pytest.raises(LandmarkFileError) as error:
+        load_landmarks(str(path))
+    assert 'samples_1' in str(error.value)

@@ -1,0 +1,101 @@
+"""The sampling publisher's record of its samples, for a recorder restarted mid-recording.
+
+The landmark saver reads the odometry at each sample's stamp from its own
+history; a saver killed and started again has lost the samples published
+meanwhile, and its history starts at its restart. The publisher (which did not
+restart) keeps, per sample, what a landmark needs: the command, stamp, yaw,
+period, and the odometry it read at the stamp (x, y, v, w). Entry 0 is where
+the recording started (command ``start``). A restarted saver asks for the
+samples after the last one its file holds (core/store.SampleMark,
+srv/RecordedSamples.srv) and rebuilds the landmarks it missed exactly as it
+would have, so the return drives the whole path.
+
+Five doubles and a byte per sample; past ``capacity`` samples the oldest half
+is dropped (a saver that needs those gets nothing and notes a gap).
+"""
+import math
+from array import array
+from collections import namedtuple
+
+#: Command of entry 0: where the recording started.
+START = 'start'
+#: Samples kept by default (about 28 hours at one a second; 50 bytes each).
+CAPACITY = 100000
+
+LoggedSample = namedtuple('LoggedSample', 'seq command stamp yaw period x y v w')
+LoggedSample.__doc__ = ('One sample as published (``seq`` from 0 = the start, ``command``, '
+                        '``stamp`` s, ``yaw`` rad, ``period`` s) and the odometry read at its stamp '
+                        '(``x``, ``y`` m, ``v`` m/s, ``w`` rad/s).')
+
+_FIELDS = LoggedSample._fields[2:]
+
+
+class SampleLog(object):
+    """Samples of one recording, numbered from 0 (its start); see the module docstring."""
+
+    def __init__(self, recording, start, capacity=CAPACITY):
+        """``recording``: the recording's id (the time it started, s); ``start``: an
+        OdomState-like object where it started (entry 0)."""
+        if not capacity >= 2:
+            raise ValueError('sample log capacity must be >= 2, got %r' % (capacity,))
+        self.recording = float(recording)
+        self.capacity = int(capacity)
+        self.first = 0              # seq of the oldest entry kept
+        self._commands = [START]
+        self._values = {name: array('d') for name in _FIELDS}
+        self._add(start.stamp, start.yaw, 0.0, start)
+
+    @property
+    def last(self):
+        """The seq of the newest sample (0: none since the start)."""
+        return self.first + len(self._commands) - 1
+
+    def append(self, command, stamp, yaw, period, odom):
+        """Log the next sample (``odom``: OdomState-like at ``stamp``); return its seq."""
+        if len(self._commands) >= self.capacity:
+            drop = len(self._commands) // 2
+            del self._commands[:drop]
+            for values in self._values.values():
+                del values[:drop]
+            self.first += drop
+        self._commands.append(command)
+        self._add(stamp, yaw, period, odom)
+        return self.last
+
+    def _add(self, stamp, yaw, period, odom):
+        for name, value in zip(_FIELDS, (stamp, yaw, period, odom.x, odom.y, odom.v, odom.w)):
+            self._values[name].append(value)
+
+    def since(self, after):
+        """Sample ``after`` and every later one, as LoggedSample, or None if sample
+        ``after`` is not kept (dropped, or not taken yet)."""
+        if not self.first <= after <= self.last:
+            return None
+        offset = after - self.first
+        values = [self._values[name][offset:] for name in _FIELDS]
+        return [LoggedSample(after + i, command, *row)
+                for i, (command, row) in enumerate(zip(self._commands[offset:], zip(*values)))]
+
+
+def answer_problem(answer, mark):
+    """Why ``answer`` (a RecordedSamples response: ``recording``, ``message``,
+    ``samples`` with ``seq``, ``yaw``, ``period``, and columns ``x``, ``y``, ``v``,
+    ``w``) cannot continue a file whose last sample is ``mark`` (core/store.SampleMark,
+    or None for none), or '': the right recording, the samples from ``mark`` on in
+    order, one odometry row each, every number finite."""
+    if not answer.samples:
+        return answer.message or 'no samples sent'
+    after = mark.seq if mark else 0
+    if mark is not None and answer.recording != mark.recording:
+        return 'the answer is of recording %r, the file follows %r' % (answer.recording, mark.recording)
+    columns = (answer.x, answer.y, answer.v, answer.w)
+    if any(len(column) != len(answer.samples) for column in columns):
+        return 'the answer has %d samples but odometry columns of %s' % (
+            len(answer.samples), [len(column) for column in columns])
+    seqs = [sample.seq for sample in answer.samples]
+    if seqs != list(range(after, after + len(seqs))):
+        return 'the samples are not %d, %d, ... in order (got %s...)' % (after, after + 1, seqs[:5])
+    numbers = [sample.yaw for sample in answer.samples] + [sample.period for sample in answer.samples]
+    if not all(math.isfinite(value) for column in columns + (numbers,) for value in column):
+        return 'the answer holds a value that is not a finite number'
+    return ''

@@ -1,0 +1,76 @@
+"""The sampling publisher's record of its samples (core/sample_log.py), and the check a
+restarted saver makes of the publisher's answer before it continues its file from it
+(the right recording, the samples from its last one on in order, one odometry row each,
+finite; anything else leaves the gap entry)."""
+import math
+from types import SimpleNamespace
+
+import pytest
+
+from blind_navigation.core.geometry import OdomState
+from blind_navigation.core.sample_log import START, SampleLog, answer_problem
+from blind_navigation.core.store import SampleMark
+
+
+def state(t):
+    return OdomState(0.1 * t, 0.0, 0.0, 0.1, 0.0, t)
+
+
+def test_entry_zero_is_the_start_and_samples_number_from_one():
+    log = SampleLog(2.5, state(2.5))
+    assert log.last == 0
+    assert [log.append('sample', t, 0.0, 1.0, state(t)) for t in (3.5, 4.5)] == [1, 2]
+    entries = log.since(0)
+    assert [e.seq for e in entries] == [0, 1, 2] and entries[0].command == START
+    assert entries[2].x == pytest.approx(0.45) and entries[2].period == 1.0
+    assert [e.seq for e in log.since(2)] == [2]
+    assert log.since(3) is None
+
+
+def test_past_capacity_the_oldest_half_is_dropped():
+    log = SampleLog(0.0, state(0.0), capacity=4)
+    for t in range(1, 7):
+        log.append('sample', float(t), 0.0, 1.0, state(float(t)))
+    assert log.last == 6 and log.first > 0
+    assert log.since(0) is None
+    assert [e.seq for e in log.since(log.first)] == list(range(log.first, 7))
+    assert log.since(6)[0].stamp == 6.0
+
+
+def test_capacity_must_hold_two():
+    with pytest.raises(ValueError):
+        SampleLog(0.0, state(0.0), capacity=1)
+
+
+
+def sample(seq, yaw=0.1, period=1.0):
+    return SimpleNamespace(seq=seq, yaw=yaw, period=period)
+
+
+def answer(seqs, recording=7.5, **columns):
+    n = len(seqs)
+    rows = {name: columns.get(name, [0.1 * k for k in range(n)]) for name in 'xyvw'}
+    return SimpleNamespace(recording=recording, message='', samples=[sample(s) for s in seqs], **rows)
+
+
+def test_an_answer_from_the_files_last_sample_on_fits():
+    assert answer_problem(answer([4, 5, 6]), SampleMark(7.5, 4)) == ''
+    assert answer_problem(answer([0, 1]), None) == ''          # an empty file: from the start
+
+
+@pytest.mark.parametrize('bad, mark, words', [
+    (answer([]), SampleMark(7.5, 4), 'no samples'),
+    (answer([4, 5], recording=9.0), SampleMark(7.5, 4), 'recording'),
+    (answer([5, 6]), SampleMark(7.5, 4), 'in order'),
+    (answer([4, 6]), SampleMark(7.5, 4), 'in order'),
+    (answer([4, 5], x=[0.0]), SampleMark(7.5, 4), 'columns'),
+    (answer([4, 5], y=[0.0, math.nan]), SampleMark(7.5, 4), 'finite'),
+])
+def test_an_answer_that_does_not_fit_is_refused_with_the_reason(bad, mark, words):
+    assert words in answer_problem(bad, mark)
+
+
+def test_a_non_finite_yaw_is_refused():
+    bad = answer([4, 5])
+    bad.samples[1].yaw = math.inf
+    assert 'finite' in answer_problem(bad, SampleMark(7.5, 4))
