@@ -15,7 +15,8 @@ monitor), ``correct_heading`` (run the gyro heading correction).
 import sys
 
 # genpy imports numpy only for optional type checks and runs without it; no role of
-# this process needs numpy, and not loading it saves about 15 MB of memory.
+# this process needs numpy unless the vision monitor's dark detector is on (it lifts
+# this block: core/vision.numpy_module), and not loading it saves about 15 MB.
 sys.modules.setdefault('numpy', None)
 
 import rospy  # noqa: E402
