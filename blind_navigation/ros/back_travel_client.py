@@ -567,7 +567,8 @@ class BackTravelClient(object):
         blocking = self.state in (state.ROTATING, state.RETURNING)
         diagnostics.age_status(stat, 'odometry', self.odometry.age(), self.params.odom_timeout,
                                diagnostics.ERROR if blocking else diagnostics.WARN,
-                               diagnostics.ERROR if blocking else diagnostics.WARN)
+                               diagnostics.ERROR if blocking else diagnostics.WARN,
+                               listening=self.odometry.listening())
         stat.add('refused messages', self.odometry.refused)
 
     def _file_status(self, stat):

@@ -246,7 +246,8 @@ class BackTravelServer(object):
         stat.add('goals done', '%d of %d' % (self.next_goal, len(self.landmarks)))
         if self.layer.mission.state == mission_state.RETURNING:
             diagnostics.age_status(stat, 'odometry', self.odometry.age(), self.params.odom_timeout,
-                                   diagnostics.ERROR)
+                                   diagnostics.ERROR,
+                                   listening=self.odometry.listening())
         elif self.last_abort:
             stat.summary(diagnostics.ERROR, 'last goal aborted: %s' % self.last_abort)
         else:

@@ -57,9 +57,14 @@ class Diagnostics(object):
         self.now()
 
 
-def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR):
+def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR, listening=None):
     """Fill ``stat`` for a stream last heard ``age`` s ago (None: never): OK while
-    fresh, ``level_when_stale`` beyond ``stale`` s, ``missing_level`` if never heard."""
+    fresh, ``level_when_stale`` beyond ``stale`` s, ``missing_level`` if never heard.
+    ``listening``: s since the subscription began (a role that subscribes when its
+    phase begins), if known: nothing heard since then is OK (waiting) for ``stale`` s."""
+    if listening is not None and listening <= stale and (age is None or age > listening):
+        stat.summary(OK, 'waiting for the first %s (listening for %.2f s)' % (what, listening))
+        return
     if age is None:
         stat.summary(missing_level, 'no %s received yet' % what)
         return

@@ -60,6 +60,7 @@ class OdometryFeed(object):
         self._lock = threading.Condition()
         self._holders = set()
         self._subscriber = None
+        self._subscribed_at = None  # rospy time (s) the current subscription began
         self._states = deque()      # accepted OdomStates, oldest first
         self._received = None       # rospy time (s) the newest accepted state arrived
         self._listeners = ()        # f(state) for every accepted state
@@ -79,6 +80,7 @@ class OdometryFeed(object):
                 # history state_at reads the sampling ticks' odometry from
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
                                              queue_size=RECEIVE_QUEUE, tcp_nodelay=True)
+                self._subscribed_at = ros_time()
 
     def release(self, holder):
         """``holder`` no longer needs it: unsubscribe when nobody does."""
@@ -203,6 +205,13 @@ class OdometryFeed(object):
         with self._lock:
             received = self._received
         return None if received is None else ros_time() - received
+
+    def listening(self):
+        """Seconds since the current subscription began, None while not subscribed (an
+        idle role's feed subscribes only when its phase begins)."""
+        with self._lock:
+            since = self._subscribed_at if self._subscriber is not None else None
+        return None if since is None else ros_time() - since
 
     def fresh(self, timeout):
         """The newest state (in the corrected frame once a correction is set) if it

@@ -5,6 +5,7 @@ test (rosrun), state and /rosout collectors, and the walk of a
 back_travel_client (the mission's owner) to ``returning``: recording,
 vision lost, the base turned by pi (the client checks the real turn), the pi
 turn reported done."""
+import contextlib
 import math
 import os
 import signal
@@ -35,15 +36,35 @@ class SimClock(object):
         self._pub = rospy.Publisher('/clock', Clock, queue_size=10)
         self.t = SIM_BASE
         self.rtf = rtf
+        self._lock = threading.Lock()
+        self._frozen = False
         threading.Thread(target=self._run, daemon=True).start()
         wait_for(lambda: rospy.get_time() >= SIM_BASE, 'the test sees its own /clock')
+
+    @contextlib.contextmanager
+    def frozen(self):
+        """Sim time stands still inside (``with clock.frozen() as t``), once this process
+        sees the frozen time ``t``: whatever reacts meanwhile reacts in a callback, at
+        once, and its sim time is ``t`` however late the machine runs it. A reaction
+        that waits for the next control cycle cannot happen until the clock goes on."""
+        with self._lock:
+            self._frozen = True
+            t = self.t
+        try:
+            wait_for(lambda: rospy.get_time() >= t, 'the test sees the frozen clock')
+            yield t
+        finally:
+            self._frozen = False
 
     def _run(self):
         next_wall = time.monotonic()
         while not rospy.is_shutdown():
-            self.t += CLOCK_STEP
+            with self._lock:
+                if not self._frozen:
+                    self.t += CLOCK_STEP
+                t = self.t
             try:
-                self._pub.publish(Clock(clock=rospy.Time.from_sec(self.t)))
+                self._pub.publish(Clock(clock=rospy.Time.from_sec(t)))
             except rospy.ROSException:
                 return
             next_wall += CLOCK_STEP / self.rtf

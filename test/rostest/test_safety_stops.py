@@ -84,6 +84,14 @@ class SafetyStopsTest(unittest.TestCase):
     def commands_after(self, t0):
         return [c for c in list(self.base.commands) if c[0] >= t0]
 
+    def wait_for_zero_while_frozen(self, t0, what):
+        """With sim time frozen at ``t0`` (SimClock.frozen): a zero velocity command
+        arrives, so the stop is the event callback's own, within no control cycle: the
+        latency asserted then is in sim time, free of the machine's load."""
+        wait_for(lambda: first_zero_after(list(self.base.commands), t0),
+                 'a zero velocity command after %s while sim time stood still (is the stop left '
+                 'to the next control cycle?)' % what)
+
     def assert_stopped_after(self, t0, bound, what):
         commands = list(self.base.commands)
         found = first_zero_after(commands, t0)
@@ -154,10 +162,11 @@ class SafetyStopsTest(unittest.TestCase):
     def test_3_bumper_event_aborts_and_blocks_goals_while_pressed(self):
         since = self.start_return('bumper', [0.1] * 5)
         rospy.sleep(0.5)
-        pressed = rospy.get_time()
-        self.bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
-                                               state=kobuki.BumperEvent.PRESSED))
         try:
+            with self.clock.frozen() as pressed:
+                self.bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
+                                                       state=kobuki.BumperEvent.PRESSED))
+                self.wait_for_zero_while_frozen(pressed, 'the bumper event')
             self.assertEqual(self.layer.wait_final(since), 'aborted')
             self.assert_stopped_after(pressed, CONTROL_PERIOD, 'the bumper event')
             self.assertIn('bumper center pressed', self.abort_reason())
@@ -177,8 +186,9 @@ class SafetyStopsTest(unittest.TestCase):
     def test_4_cancel_stops_within_one_control_cycle(self):
         since = self.start_return('cancel', [0.1] * 5)
         rospy.sleep(0.5)
-        cancelled = rospy.get_time()
-        self.cancel.publish(GoalID())          # cancel every goal, as `rostopic pub` would
+        with self.clock.frozen() as cancelled:
+            self.cancel.publish(GoalID())      # cancel every goal, as `rostopic pub` would
+            self.wait_for_zero_while_frozen(cancelled, 'the cancel')
         self.assertEqual(self.layer.wait_final(since), 'aborted')
         self.assert_stopped_after(cancelled, CONTROL_PERIOD, 'the cancel')
         self.assertIn('PREEMPTED', self.abort_reason())
