@@ -49,7 +49,7 @@ class SimClock(object):
         that waits for the next control cycle cannot happen until the clock goes on."""
         with self._lock:
             self._frozen = True
-            t = self.t
+            t = rospy.Time.from_sec(self.t).to_sec()     # as published: whole nanoseconds
         try:
             wait_for(lambda: rospy.get_time() >= t, 'the test sees the frozen clock')
             yield t
