@@ -29,7 +29,7 @@ from the odometry after it.
 
 Catching up (topic variant): a saver restarted within the mission asks the
 sampling publisher for the samples after the last one its file holds
-(:meth:`LandmarkSaving.catch_up`; core/store.SampleMark says which, the
+(:meth:`LandmarkSaving.start_catch_up`; core/store.SampleMark says which, the
 publisher's core/sample_log.SampleLog answers with the odometry it read at
 each) and makes their landmarks from that odometry as it would have: the file
 goes on without a gap, and the return drives the whole path. Live samples
@@ -201,8 +201,8 @@ class LandmarkSaving(object):
         return self.writer.resumed is not None and not self.finished
 
     def start_catch_up(self):
-        """Take the lock now and catch up in a thread (:meth:`catch_up`), so samples
-        that arrive meanwhile wait for it: call before subscribing to them."""
+        """Take the lock now and catch up in a thread, so samples that arrive meanwhile
+        wait for it: call before subscribing to them."""
         self._lock.acquire()
 
         def run():
@@ -215,14 +215,9 @@ class LandmarkSaving(object):
         thread.start()
         return thread
 
-    def catch_up(self):
-        """Ask the sampling publisher for the samples this file misses and save them
-        (module docstring); True if the chain was restored."""
-        with self._lock:
-            return self._catch_up()
-
     def _catch_up(self):
-        """:meth:`catch_up` with the lock held."""
+        """Ask the sampling publisher for the samples this file misses and save them
+        (module docstring; the lock held); True if the chain was restored."""
         mark = self.writer.sample
         if mark is None and self.writer.count:
             self.log.warn('%s does not say which sample its last landmark came from: cannot '

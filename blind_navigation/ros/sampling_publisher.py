@@ -170,13 +170,14 @@ class SamplingPublisher(object):
                          seq=self.seq)
         msg.header.stamp = stamp or rospy.Time.now()
         if self.samples is not None:
-            state = self.layer.odometry.state_at(msg.header.stamp.to_sec())
+            seconds = msg.header.stamp.to_sec()
+            state = self.layer.odometry.state_at(seconds)
             if state is None:
                 self.samples = None
                 self.log.warn('no odometry to log sample %d with: a recorder restarted from now '
                               'on cannot catch up', self.seq)
             else:
-                self.samples.append(command, msg.header.stamp.to_sec(), yaw, period, state)
+                self.samples.append(command, seconds, yaw, period, state)
         self.sample_pub.publish(msg)
         self._last_tick = msg.header.stamp
 
