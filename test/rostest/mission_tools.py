@@ -16,7 +16,9 @@ import threading
 
 import roslib.packages
 import rospy
-from actionlib_msgs.msg import GoalID
+from collections import namedtuple
+
+from actionlib_msgs.msg import GoalID, GoalStatus
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, Empty, String
 
@@ -33,6 +35,9 @@ from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult, 
 
 #: The state walk of a mission that comes home (back_travel_client owns it).
 HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
+#: What a mission ended with: the robot's distance from the start (m, ground truth), its
+#: speed (m/s) and the recorded file (core/store.LoadedPath).
+Outcome = namedtuple('Outcome', 'error speed loaded')
 FINAL_STATES = ('home', 'aborted')
 TELEOP_TOPIC = '/cmd_vel_mux/input/teleop'
 MISSION_DONE_TOPIC = '/mission_driver/done'
@@ -207,6 +212,11 @@ class MissionRun(object):
                   % self.state_names())
         self.wait_sim(SETTLE, 'robot stopping after the last goal')
 
+    def outcome(self):
+        """Wait until the mission ends (and the robot settles); its :data:`Outcome`."""
+        self.wait_until_final()
+        return Outcome(self.error(), self.truth.speed(), self.recorded())
+
     def error(self):
         """Ground-truth distance (m) between the mission's start and the robot now."""
         x, y = self.truth.position()
@@ -270,3 +280,20 @@ class MissionRun(object):
             except subprocess.TimeoutExpired:
                 self.operator.kill()
 
+
+class HomeMission(object):
+    """Mixin of the mission tests whose mission ends home: the TestCase sets
+    ``mission_run`` (a MissionRun) and ``loaded`` in setUpClass."""
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.mission_run.remove_recording()
+
+    def test_state_walks_to_home(self):
+        self.assertEqual(self.mission_run.state_names(), HOME_WALK)
+
+    def assert_every_landmark_succeeded(self, more_than):
+        """More than ``more_than`` landmarks, and one succeeded goal for each."""
+        self.assertGreater(len(self.loaded.landmarks), more_than)
+        self.assertEqual(self.mission_run.goal_outcomes(),
+                         [GoalStatus.SUCCEEDED] * len(self.loaded.landmarks))

@@ -23,18 +23,17 @@ import unittest
 
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalStatus
 from std_msgs.msg import String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import HOME_WALK, STOPPED_SPEED, MissionRun  # noqa: E402
+from mission_tools import HomeMission, STOPPED_SPEED, MissionRun  # noqa: E402
 from recording_tools import Collector  # noqa: E402
 
 from blind_navigation.core.geometry import wrap_angle  # noqa: E402
 from blind_navigation.sim.mission import load_mission  # noqa: E402
 
 
-class MissionTest(unittest.TestCase):
+class MissionTest(HomeMission, unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
@@ -57,10 +56,7 @@ class MissionTest(unittest.TestCase):
             cls.states_at_mission_end = cls.mission_run.wait_for_operator(cls.mission)
             if triggers[cls.trigger]:
                 triggers[cls.trigger](cls.mission_run)
-            cls.mission_run.wait_until_final()
-            cls.error = cls.mission_run.error()
-            cls.speed = cls.mission_run.truth.speed()
-            cls.loaded = cls.mission_run.recorded()
+            cls.error, cls.speed, cls.loaded = cls.mission_run.outcome()
         finally:
             cls.mission_run.stop_operator()
         rospy.loginfo('MISSION %s (%s, %s recorder, %s trigger, %s): state %s, final error %.3f m '
@@ -69,13 +65,6 @@ class MissionTest(unittest.TestCase):
                       cls.trigger, 'one process' if cls.mission_run.compact else 'paper layout',
                       cls.mission_run.state_names()[-1], cls.error, cls.max_error,
                       len(cls.loaded.landmarks), cls.loaded.total_distance, cls.speed)
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.mission_run.remove_recording()
-
-    def test_state_walks_to_home(self):
-        self.assertEqual(self.mission_run.state_names(), HOME_WALK)
 
     def test_the_whole_mission_was_recorded_before_vision_was_lost(self):
         # Recording began with the robot at its start (the fake's ground truth
@@ -91,10 +80,8 @@ class MissionTest(unittest.TestCase):
 
     def test_every_recorded_landmark_is_driven_back_in_reverse(self):
         self.assertEqual(self.loaded.metadata.get('recorder'), self.recorder)
-        self.assertGreater(len(self.loaded.landmarks), 5)
         # One succeeded result per landmark: each one was sent and driven...
-        self.assertEqual(self.mission_run.goal_outcomes(),
-                         [GoalStatus.SUCCEEDED] * len(self.loaded.landmarks))
+        self.assert_every_landmark_succeeded(5)
         # ... in reverse order, as recorded (in the heading correction's frame; the goals
         # seen: at least the moving ones).
         expected = self.mission_run.goals_expected(self.loaded.landmarks)

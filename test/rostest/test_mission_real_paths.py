@@ -30,13 +30,12 @@ import unittest
 
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalStatus
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
 from std_msgs.msg import Float64
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import HOME_WALK, STOPPED_SPEED, MissionRun, PathByState  # noqa: E402
+from mission_tools import HomeMission, STOPPED_SPEED, MissionRun, PathByState  # noqa: E402
 from recording_tools import Collector  # noqa: E402
 
 from blind_navigation.core.geometry import wrap_angle, yaw_from_quaternion  # noqa: E402
@@ -110,7 +109,7 @@ class GapTrigger(object):
         return max(pauses) if pauses else None
 
 
-class RealPathMissionTest(unittest.TestCase):
+class RealPathMissionTest(HomeMission, unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
@@ -133,10 +132,7 @@ class RealPathMissionTest(unittest.TestCase):
             cls.mission_run.start_operator(cls.mission)
             cls.mission_run.wait_for_operator(cls.mission)
             cls.mission_run.trigger_by_publisher()
-            cls.mission_run.wait_until_final()
-            cls.error = cls.mission_run.error()
-            cls.speed = cls.mission_run.truth.speed()
-            cls.loaded = cls.mission_run.recorded()
+            cls.error, cls.speed, cls.loaded = cls.mission_run.outcome()
         finally:
             cls.mission_run.stop_operator()
         cls.forward = cls.paths.of('recording')
@@ -149,22 +145,14 @@ class RealPathMissionTest(unittest.TestCase):
                       if cls.trigger else '')
 
     @classmethod
-    def tearDownClass(cls):
-        cls.mission_run.remove_recording()
-
-    @classmethod
     def holds(cls):
         """Lengths (s) of the holds the role driving in the gap's state logged as over."""
         role, prefix = HOLDING_ROLE[cls.trigger.state]
         pattern = re.compile(r'%s: %s: odometry back after a ([0-9.]+) s hold' % (role, prefix))
         return [float(m.group(1)) for m in (pattern.search(line.msg) for line in cls.log.snapshot()) if m]
 
-    def test_state_walks_to_home(self):
-        self.assertEqual(self.mission_run.state_names(), HOME_WALK)
-
     def test_every_landmark_is_a_goal_that_succeeded(self):
-        self.assertGreater(len(self.loaded.landmarks), 5)
-        self.assertEqual(self.mission_run.goal_outcomes(), [GoalStatus.SUCCEEDED] * len(self.loaded.landmarks))
+        self.assert_every_landmark_succeeded(5)
 
     def test_the_operator_drove_the_mission(self):
         # the paper profile's speed droop costs up to 7 % at 0.2 m/s
