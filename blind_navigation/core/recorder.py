@@ -11,6 +11,7 @@ Also the storage of a recorded path (section 5: count, bytes, bytes
 per metre), shared by the ROS nodes and the evaluation.
 """
 import bisect
+import itertools
 from collections import deque, namedtuple
 
 from .geometry import distance, wrap_angle
@@ -49,6 +50,10 @@ class OdometryHistory(object):
         while self._states[-1].stamp - self._states[0].stamp > self.span:
             self._states.popleft()
 
+    def clear(self):
+        """Forget every state (the odometry after a discontinuity is another frame)."""
+        self._states.clear()
+
     @property
     def latest(self):
         return self._states[-1] if self._states else None
@@ -58,9 +63,17 @@ class OdometryHistory(object):
         are newer; None if empty."""
         if not self._states:
             return None
-        stamps = [state.stamp for state in self._states]
-        index = bisect.bisect_right(stamps, stamp) - 1
-        return self._states[max(index, 0)]
+        return self._states[max(self._index_after(stamp) - 1, 0)]
+
+    def after(self, stamp):
+        """The states stamped after ``stamp``, oldest first."""
+        if not self._states or self._states[-1].stamp <= stamp:
+            return []
+        return list(itertools.islice(self._states, self._index_after(stamp), None))
+
+    def _index_after(self, stamp):
+        """Index of the first state stamped after ``stamp``."""
+        return bisect.bisect_right([state.stamp for state in self._states], stamp)
 
 
 class PathRecorder(object):

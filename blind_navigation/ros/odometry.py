@@ -22,11 +22,8 @@ Once the heading correction is known (:meth:`~OdometryFeed.set_correction`),
 then on: the pi turn and the return drive on it. Visual odometry is fed
 unchecked to raw listeners (a lost message is information there).
 """
-import bisect
-import itertools
 import threading
 import time
-from collections import deque
 
 import rospy
 from rospy.rostime import is_wallclock
@@ -34,11 +31,17 @@ from rospy.rostime import is_wallclock
 from ..core.heading_correction import CorrectedOdometry
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
+from ..core.recorder import OdometryHistory
 from .common import subscribe
 
-#: Messages the subscription queues while its thread is busy (1 s of 50 Hz odometry;
-#: each costs tens of microseconds, so a backlog is worked off at once).
-RECEIVE_QUEUE = 50
+#: No receive queue limit. rospy reads a subscription's socket in chunks of up to
+#: 64 KiB (about 90 odometry messages) and, with a queue size, keeps only the newest
+#: that many of each chunk: a receive thread that fell behind (a loaded host, sim time
+#: at 10x) lost up to 40 messages at once, a 0.8 s hole in the history state_at reads
+#: ticks from, and two recorders of one tick read odometry centimetres apart. Unlimited,
+#: every message of a chunk is used (tens of microseconds each); memory stays bounded
+#: by the chunk.
+RECEIVE_QUEUE = None
 
 
 def ros_time():
@@ -61,7 +64,7 @@ class OdometryFeed(object):
         self._holders = set()
         self._subscriber = None
         self._subscribed_at = None  # rospy time (s) the current subscription began
-        self._states = deque()      # accepted OdomStates, oldest first
+        self._states = OdometryHistory(self.history)   # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
         self._listeners = ()        # f(state) for every accepted state
         self._raw_listeners = ()    # f(wire) for every message
@@ -75,9 +78,8 @@ class OdometryFeed(object):
         with self._lock:
             self._holders.add(holder)
             if self._subscriber is None:
-                # a queue of RECEIVE_QUEUE messages: rospy drops all but the newest when its
-                # receive thread falls behind, and a dropped message is a hole in the
-                # history state_at reads the sampling ticks' odometry from
+                # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
+                # in the history state_at reads the sampling ticks' odometry from
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
                                              queue_size=RECEIVE_QUEUE, tcp_nodelay=True)
                 self._subscribed_at = ros_time()
@@ -143,12 +145,7 @@ class OdometryFeed(object):
             return
         now = ros_time()
         with self._lock:
-            states = self._states
-            if states and state.stamp < states[-1].stamp:
-                states.clear()                          # the clock went back (sim time reset)
-            states.append(state)
-            while state.stamp - states[0].stamp > self.history:
-                states.popleft()
+            self._states.append(state)      # (a stamp going back: sim time reset, a new history)
             self._received = now
             self.frame_id = wire.frame_id or self.frame_id
             if self._corrector is not None:
@@ -168,26 +165,20 @@ class OdometryFeed(object):
     def latest(self):
         """The newest accepted raw OdomState, or None."""
         with self._lock:
-            return self._states[-1] if self._states else None
+            return self._states.latest
 
     def state_at(self, stamp):
         """The newest accepted raw state stamped at or before ``stamp`` (the oldest
         kept if all are newer), None if there is none."""
         with self._lock:
-            if not self._states:
-                return None
-            index = bisect.bisect_right([s.stamp for s in self._states], stamp) - 1
-            return self._states[max(index, 0)]
+            return self._states.at(stamp)
 
     def states_after(self, stamp):
         """The accepted raw states stamped after ``stamp`` (s), oldest first: those of the
         last ``history`` s (a consumer that needs every state reads them in batches so,
         instead of being called for each message)."""
         with self._lock:
-            if not self._states or self._states[-1].stamp <= stamp:
-                return []
-            index = bisect.bisect_right([s.stamp for s in self._states], stamp)
-            return list(itertools.islice(self._states, index, None))
+            return self._states.after(stamp)
 
     def wait_for_stamp(self, stamp, timeout):
         """Wait at most ``timeout`` wall seconds until a state stamped at or after
@@ -195,8 +186,9 @@ class OdometryFeed(object):
         with self._lock:
             self._waiting += 1
             try:
-                return self._lock.wait_for(lambda: bool(self._states) and self._states[-1].stamp >= stamp,
-                                           timeout=timeout)
+                return self._lock.wait_for(
+                    lambda: self._states.latest is not None and self._states.latest.stamp >= stamp,
+                    timeout=timeout)
             finally:
                 self._waiting -= 1
 
@@ -220,7 +212,7 @@ class OdometryFeed(object):
         with self._lock:
             if self._received is None or now - self._received > timeout:
                 return None
-            state = self._corrector.state if self._corrector is not None else self._states[-1]
+            state = self._corrector.state if self._corrector is not None else self._states.latest
         return state._replace(stamp=now)
 
     def describe_missing(self, timeout):
@@ -243,7 +235,7 @@ class OdometryFeed(object):
             corrector = CorrectedOdometry(correction)
             corrector.update(reference)
         with self._lock:
-            latest = self._states[-1] if self._states else None
+            latest = self._states.latest
             if latest is not None and latest.stamp > reference.stamp:
                 corrector.update(latest)
             self._corrector = corrector

@@ -157,7 +157,11 @@ def test_odometry_history_reads_the_state_at_a_stamp():
     assert history.at(11.01) == states[50]                # the latest not after the tick
     assert history.at(99.0) == states[-1]                 # newer than all: the latest
     assert history.at(0.0) == states[49]                  # older than kept (1 s): the oldest kept
+    assert history.after(11.95) == states[98:]            # the states stamped after a stamp
+    assert history.after(11.98) == [] and history.after(0.0) == states[49:]
     history.append(OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 1.0))   # sim time reset
     assert history.at(11.0).stamp == 1.0
+    history.clear()
+    assert history.latest is None and history.after(0.0) == []
     with pytest.raises(ValueError):
         OdometryHistory(span=0.0)

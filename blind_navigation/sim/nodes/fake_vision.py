@@ -70,7 +70,7 @@ class FakeVision(object):
         rospy.Service(names.SET_VISION, SetBool, self.on_set_vision)
         self.period = 1.0 / p.rate
         self.next_frame = None
-        subscribe(names.GROUND_TRUTH, Odometry, self.on_truth, queue_size=100)
+        subscribe(names.GROUND_TRUTH, Odometry, self.on_truth, queue_size=None)  # every pose (ros/odometry.RECEIVE_QUEUE)
 
     def on_truth(self, msg):
         """Frames are clocked by the base's 50 Hz true pose stamps: one frame per ``period``

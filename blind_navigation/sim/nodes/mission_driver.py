@@ -52,7 +52,7 @@ class MissionDriver(object):
         else:
             self.go.set()
         if self.operator is not None:
-            subscribe('ground_truth', Odometry, self._on_ground_truth, queue_size=50)
+            subscribe('ground_truth', Odometry, self._on_ground_truth, queue_size=None)  # every pose (ros/odometry.RECEIVE_QUEUE)
         rospy.on_shutdown(self.stop)
 
     def _on_ground_truth(self, msg):
