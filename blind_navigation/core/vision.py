@@ -63,8 +63,34 @@ class Debounce(object):
         self.onset, self.count, self.fired = None, 0, False
 
 
+class HostFlow(object):
+    """Arrival times of a stream that shares the host and the transport with the
+    watched ones but not the camera: the wheel odometry. While it flows, a silent
+    camera or visual odometry is a vision fault; when it is silent too (longer than
+    ``gap`` s), the whole host or transport stalled, and that is no vision loss.
+    A stall's silence counts from the later of its last message and the moment this
+    stream resumed after such an outage, so the backlog that arrives after a host
+    stall is read before anything fires. Unknown (nothing received yet): no effect."""
+
+    def __init__(self, gap):
+        if not gap > 0:
+            raise ValueError('host flow gap must be > 0 s, got %r' % (gap,))
+        self.gap = gap
+        self.last = None        # last arrival
+        self.resumed = None     # end of the last outage
+
+    def arrived(self, t):
+        if self.last is not None and t - self.last > self.gap:
+            self.resumed = t
+        self.last = t
+
+    def flowing(self, t):
+        return self.last is None or t - self.last <= self.gap
+
+
 class StallDetector(object):
-    """Fires when no message arrived for ``timeout`` s (+ debounce). Armed by the first message."""
+    """Fires when no message arrived for ``timeout`` s (+ debounce). Armed by the first message.
+    With a :class:`HostFlow`, only silence while that stream flows counts."""
 
     def __init__(self, name, timeout, debounce, what='message'):
         if timeout <= 0:
@@ -83,15 +109,30 @@ class StallDetector(object):
         self.last = t
         self.debounce.update(t, False)
 
-    def check(self, t):
-        """Periodic check at ``t``; a ``Loss`` or None."""
-        if self.last is None:
+    def check(self, t, host=None):
+        """Periodic check at ``t`` (``host``: a :class:`HostFlow` or None); a ``Loss`` or None."""
+        if self.last is None or (host is not None and not host.flowing(t)):
             return None
-        silent = t - self.last
-        if not self.debounce.update(t, silent >= self.timeout, onset=self.last + self.timeout):
+        since = self._since(self.last, host)
+        silent = t - since
+        if not self.debounce.update(t, silent >= self.timeout, onset=since + self.timeout):
             return None
         return Loss(self.name, 'no %s for %.2f s (timeout %.2f s + debounce %.2f s)'
-                    % (self.what, silent, self.timeout, self.debounce.hold), t, self.last)
+                    % (self.what, t - self.last, self.timeout, self.debounce.hold), t, self.last)
+
+    def due(self, now, host=None):
+        """When this stall could fire next (an unarmed one: as if its first message came
+        ``now``); while ``host`` is silent, ``host.gap`` from now."""
+        if host is not None and not host.flowing(now):
+            return now + host.gap
+        return self._since(now if self.last is None else self.last, host) + self.timeout + self.debounce.hold
+
+    @staticmethod
+    def _since(last, host):
+        """Where the silence counts from: the last message, or the host's resumption."""
+        if host is not None and host.resumed is not None:
+            return max(last, host.resumed)
+        return last
 
 
 class ConditionDetector(object):
@@ -212,7 +253,7 @@ class VisionLossMonitor(object):
     """
 
     def __init__(self, enabled, image_timeout=1.0, vo_timeout=1.0, debounce=0.5,
-                 dark_threshold=10.0, dark_frames=3):
+                 dark_threshold=10.0, dark_frames=3, host_gap=0.5):
         unknown = set(enabled) - set(DETECTORS)
         if unknown:
             raise ValueError('unknown vision detectors %s (known: %s)'
@@ -226,6 +267,7 @@ class VisionLossMonitor(object):
         self.odom_info = ConditionDetector('odom_info', debounce)
         self._stalls = (self.stall, self.vo_stall)
         self._all = (self.stall, self.vo_stall, self.dark, self.vo_lost, self.odom_info)
+        self.host = HostFlow(host_gap)
         self.last_t = None
 
     def _clock(self, t):
@@ -235,6 +277,7 @@ class VisionLossMonitor(object):
                 detector.debounce.reset()
             for stall in self._stalls:
                 stall.last = None
+            self.host = HostFlow(self.host.gap)
         self.last_t = t
 
     def _fired(self, *losses):
@@ -261,10 +304,14 @@ class VisionLossMonitor(object):
         self._clock(t)
         return self._fired(self.odom_info.update(t, 'odom_info lost flag set' if lost else None))
 
+    def host_flow(self, t):
+        """A wheel-odometry message arrived at ``t`` (see :class:`HostFlow`)."""
+        self.host.arrived(t)
+
     def check(self, t):
         """Periodic check for the stall detectors (call at a few times the debounce rate)."""
         self._clock(t)
-        return self._fired(*(stall.check(t) for stall in self._stalls))
+        return self._fired(*(stall.check(t, self.host) for stall in self._stalls))
 
     def manual(self, t, source):
         """Somebody declared vision lost by hand; fires at once (no debounce) if enabled."""

@@ -23,7 +23,12 @@ std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
 stall detectors are checked when one of them could fire next (the last
 message + timeout + debounce), not on a periodic timer: while the streams
 flow that is one check per ``image_timeout + debounce``, and a stall fires
-at its exact latency.
+at its exact latency. A stall counts only while the wheel odometry (the
+shared feed's arrivals) flows: when it is silent too for ``host_stall_gap``
+s, the whole host or transport stalled (the soak saw a 1.8 s stall of the
+machine) and the silence counts again only from when the wheel odometry
+resumed (core/vision.HostFlow). A robot whose wheel odometry stopped for good
+cannot drive back anyway; its stall detectors wait for it.
 Whether the loss ends the recording is the mission owner's decision
 (back_travel_client): a loss reported while idle changes nothing. A detector
 with nothing to watch says so once (no camera, no visual odometry after
@@ -33,7 +38,8 @@ Params (``layer.params``): ``detect_stall``, ``detect_dark``,
 ``detect_vo_lost``, ``detect_vo_stall``, ``detect_odom_info``,
 ``detect_manual`` (per-detector enables), ``image_timeout``, ``vo_timeout``,
 ``debounce`` (s), ``dark_threshold`` (mean intensity 0..255),
-``dark_frames`` (consecutive dark images), ``no_input_warning`` (s).
+``dark_frames`` (consecutive dark images), ``no_input_warning`` (s),
+``host_stall_gap`` (s).
 """
 import threading
 
@@ -47,6 +53,7 @@ from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensit
                                           odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.odometry import ros_time
 
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 #: s: the stall checks never come closer together than this (a stall about to fire)
@@ -70,6 +77,8 @@ class VisionMonitor(object):
         'dark_threshold': 10.0,      # mean intensity (0..255) below which an image is dark
         'dark_frames': 3,            # consecutive dark images before it counts
         'no_input_warning': 5.0,     # s with no camera or visual odometry before it warns
+        'host_stall_gap': 0.5,       # s without wheel odometry too: the host stalled, a silent
+                                     # camera or VO is then no vision loss (core/vision.HostFlow)
     }
 
     def __init__(self, layer):
@@ -78,7 +87,7 @@ class VisionMonitor(object):
         enabled = {name for name in ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
                    if getattr(p, 'detect_' + name)}
         self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
-                                         p.dark_threshold, p.dark_frames)
+                                         p.dark_threshold, p.dark_frames, p.host_stall_gap)
         self.layer = layer
         self.lock = threading.Lock()
         self.done = False
@@ -105,6 +114,10 @@ class VisionMonitor(object):
         if self.watching_vo:
             layer.visual_odometry.add_listener(self.on_vo, raw=True)
             layer.visual_odometry.acquire(self.ROLE)
+        # the wheel odometry's arrivals tell a host stall from a vision fault (one process:
+        # the recorder's subscription already; the paper's layout: one more)
+        layer.odometry.add_listener(self.on_wheel_odometry, raw=True)
+        layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg, self.on_odom_info,
                                               queue_size=5))
@@ -128,6 +141,9 @@ class VisionMonitor(object):
             self.warn_once('image', '%s on %s: dark detector idle'
                            % (error, rospy.resolve_name(names.CAMERA)))
         self.feed(self.monitor.image, mean)
+
+    def on_wheel_odometry(self, _wire):
+        self.monitor.host_flow(ros_time())
 
     def on_vo(self, wire):
         self.last_vo = rospy.get_time()
@@ -201,8 +217,7 @@ class VisionMonitor(object):
         checks = []
         for stall in (self.monitor.stall, self.monitor.vo_stall):
             if stall.name in self.monitor.enabled:
-                checks.append((now if stall.last is None else stall.last)
-                              + stall.timeout + stall.debounce.hold)
+                checks.append(stall.due(now, self.monitor.host))
         if self.started is None:
             checks.append(now)
         elif now < self.started + self.params.no_input_warning:
@@ -249,6 +264,8 @@ class VisionMonitor(object):
         if self.watching_vo:
             self.layer.visual_odometry.remove_listener(self.on_vo)
             self.layer.visual_odometry.release(self.ROLE)
+        self.layer.odometry.remove_listener(self.on_wheel_odometry)
+        self.layer.odometry.release(self.ROLE)
 
     def warn_once(self, key, text):
         if key not in self.warned:

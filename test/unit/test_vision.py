@@ -167,6 +167,74 @@ def test_vo_stall_fires_when_vo_stops():
     assert losses[0].t == pytest.approx(1.0 - DT + 1.5, abs=DT + 1e-9)
 
 
+def test_vo_stall_fires_while_wheel_odometry_flows():
+    monitor = VisionLossMonitor({'vo_stall'}, vo_timeout=1.0, debounce=0.5)
+    losses = []
+    for t in times(0.0, 4.0):
+        monitor.host_flow(t)                 # the wheel odometry goes on
+        if t < 1.0:
+            losses += monitor.vo_odometry(t, None)
+        losses += monitor.check(t)
+    assert [loss.detector for loss in losses] == ['vo_stall']
+    assert losses[0].t == pytest.approx(1.0 - DT + 1.5, abs=DT + 1e-9)   # as without it
+
+
+def test_a_host_stall_is_no_vision_loss():
+    """The whole host stalls 1.8 s (every stream silent, the soak's second hour); the
+    first check after it runs before any message is read; then the backlog comes,
+    wheel odometry first: nothing fires."""
+    monitor = VisionLossMonitor({'vo_stall', 'stall'}, vo_timeout=1.0, debounce=0.5)
+    for t in times(0.0, 2.0):
+        monitor.host_flow(t)
+        monitor.vo_odometry(t, None)
+        monitor.image(t, None)
+    assert monitor.check(3.8) == []          # the stall's end: nothing read yet
+    monitor.host_flow(3.8)
+    assert monitor.check(3.81) == []         # wheel odometry resumed, VO not read yet
+    monitor.host_flow(3.85)
+    assert monitor.check(3.9) == []
+    monitor.vo_odometry(3.9, None)
+    monitor.image(3.9, None)
+    assert silence(monitor, 3.95, 5.0) == []
+    assert monitor.vo_stall.due(4.0, monitor.host) == pytest.approx(3.9 + 1.5)
+
+
+def test_stall_checks_are_due_when_a_stall_could_fire():
+    monitor = VisionLossMonitor({'vo_stall'}, vo_timeout=1.0, debounce=0.5)
+    stall, host = monitor.vo_stall, monitor.host
+    assert stall.due(2.0) == stall.due(2.0, host) == pytest.approx(3.5)   # unarmed: from now
+    monitor.vo_odometry(1.0, None)
+    monitor.host_flow(1.0)
+    assert stall.due(1.2, host) == pytest.approx(2.5)
+    assert stall.due(2.0, host) == pytest.approx(2.5)          # overdue: check at once
+    assert stall.due(3.0, host) == pytest.approx(3.5)          # host silent: again in its gap
+    monitor.host_flow(3.0)                                     # resumed
+    assert stall.due(3.0, host) == pytest.approx(4.5)
+
+
+def test_vo_stall_after_a_host_stall_counts_from_the_resumption():
+    monitor = VisionLossMonitor({'vo_stall'}, vo_timeout=1.0, debounce=0.5)
+    for t in times(0.0, 2.0):
+        monitor.host_flow(t)
+        monitor.vo_odometry(t, None)
+    losses = []
+    for t in times(3.8, 7.0):                # the host resumed; visual odometry never does
+        monitor.host_flow(t)
+        losses += monitor.check(t)
+    assert [loss.detector for loss in losses] == ['vo_stall']
+    assert losses[0].t == pytest.approx(3.8 + 1.5, abs=DT + 1e-9)
+    assert losses[0].since == pytest.approx(2.0 - DT)          # the last VO message
+
+
+def test_without_wheel_odometry_the_stall_detectors_work_as_before():
+    monitor = VisionLossMonitor({'vo_stall'}, vo_timeout=1.0, debounce=0.5)
+    feed_vo(monitor, 0.0, 1.0, GOOD_VO)
+    assert monitor.host.flowing(10.0)
+    assert [loss.detector for loss in silence(monitor, 1.0, 4.0)] == ['vo_stall']
+    with pytest.raises(ValueError):
+        VisionLossMonitor({'vo_stall'}, host_gap=0.0)
+
+
 # --- odom_info lost flag -----------------------------------------------------------------------
 
 def odom_info_bytes(lost, frame_id=b'odom'):
