@@ -13,11 +13,10 @@ import shutil
 import subprocess
 import sys
 import threading
+from collections import namedtuple
 
 import roslib.packages
 import rospy
-from collections import namedtuple
-
 from actionlib_msgs.msg import GoalID, GoalStatus
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, Empty, String

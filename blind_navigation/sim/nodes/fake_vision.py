@@ -30,6 +30,7 @@ from blind_navigation import names
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 from blind_navigation.ros.common import load_params, set_pose, subscribe
+from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 MODES = ('dark', 'stall', 'lost')
 LOST_COVARIANCE = 9999.0
@@ -70,7 +71,7 @@ class FakeVision(object):
         rospy.Service(names.SET_VISION, SetBool, self.on_set_vision)
         self.period = 1.0 / p.rate
         self.next_frame = None
-        subscribe(names.GROUND_TRUTH, Odometry, self.on_truth, queue_size=None)  # every pose (ros/odometry.RECEIVE_QUEUE)
+        subscribe(names.GROUND_TRUTH, Odometry, self.on_truth, queue_size=RECEIVE_QUEUE)  # every pose
 
     def on_truth(self, msg):
         """Frames are clocked by the base's 50 Hz true pose stamps: one frame per ``period``

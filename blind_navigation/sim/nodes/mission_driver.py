@@ -25,6 +25,7 @@ from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.sim.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
 from blind_navigation.ros.common import load_params, odom_state_from_msg, subscribe, twist
+from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 STOP_MESSAGES = 3
 
@@ -52,7 +53,7 @@ class MissionDriver(object):
         else:
             self.go.set()
         if self.operator is not None:
-            subscribe('ground_truth', Odometry, self._on_ground_truth, queue_size=None)  # every pose (ros/odometry.RECEIVE_QUEUE)
+            subscribe('ground_truth', Odometry, self._on_ground_truth, queue_size=RECEIVE_QUEUE)  # every pose
         rospy.on_shutdown(self.stop)
 
     def _on_ground_truth(self, msg):
