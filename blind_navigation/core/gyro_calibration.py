@@ -126,7 +126,7 @@ class SpinCalibration(object):
 
     def result(self):
         """The :class:`GyroCalibration`; CalibrationError if not determined."""
-        rows = self.fit.rows
+        rows = list(self.fit.rows)
         if len(rows) < self.fit.min_windows:
             raise CalibrationError('only %d windows with valid visual odometry (need %d): is '
                                    'visual odometry running and tracking?'

@@ -17,8 +17,13 @@ random walk, so the increments of separate windows are independent);
 :func:`robust_fit` solves it by least squares, with one pass that drops windows
 whose residual is beyond ``outlier_k`` robust standard deviations (a VO jump),
 and gives ``b``, ``s`` and their standard errors.
+
+The windows are kept as packed doubles (:class:`WindowRows`, 24 bytes each) and
+at most :data:`MAX_WINDOWS` of them, the newest: a recording of hours costs the
+robot tens of kilobytes, not a Python tuple per window without end.
 """
 import math
+from array import array
 from collections import deque
 
 from .geometry import wrap_angle
@@ -36,6 +41,48 @@ GYRO_FIT_DEFAULTS = {
 HISTORY = 5.0
 #: Visual-odometry samples kept while waiting for odometry to cover their stamps.
 MAX_PENDING = 300
+#: Windows kept (2 hours of 2 s windows); past it the oldest half is dropped.
+MAX_WINDOWS = 3600
+
+
+class WindowRows(object):
+    """The fit's windows ``(gyro increment, VO increment, dt)``, packed: a sequence
+    of 3-tuples with ``append``; past ``capacity`` rows the oldest half is dropped."""
+
+    def __init__(self, capacity=MAX_WINDOWS):
+        if not capacity >= 2:
+            raise ValueError('window capacity must be >= 2, got %r' % (capacity,))
+        self.capacity = int(capacity)
+        self._values = array('d')
+
+    def append(self, row):
+        if len(self) >= self.capacity:
+            del self._values[:3 * (len(self) // 2)]
+        gyro, vo, dt = row
+        self._values.extend((gyro, vo, dt))
+
+    def __len__(self):
+        return len(self._values) // 3
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        if index < 0:
+            index += len(self)
+        if not 0 <= index < len(self):
+            raise IndexError('window %d of %d' % (index, len(self)))
+        return tuple(self._values[3 * index:3 * index + 3])
+
+    def __setitem__(self, index, row):
+        if index < 0:
+            index += len(self)
+        if not 0 <= index < len(self):
+            raise IndexError('window %d of %d' % (index, len(self)))
+        self._values[3 * index:3 * index + 3] = array('d', row)
+
+    def __iter__(self):
+        values = self._values
+        return (tuple(values[i:i + 3]) for i in range(0, len(values), 3))
 
 
 class GyroVisualFit(object):
@@ -51,7 +98,7 @@ class GyroVisualFit(object):
             raise ValueError('gyro fit: need window > 0, max_gap > 0, min_windows >= 3 '
                              '(window %r, max_gap %r, min_windows %r)'
                              % (self.window, self.max_gap, self.min_windows))
-        self.rows = []              # (gyro increment, VO increment, dt) per window
+        self.rows = WindowRows()    # (gyro increment, VO increment, dt) per window
         self._first_stamp = None    # of the first odometry
         self._odom = deque()        # (stamp, unwrapped gyro yaw)
         self._pending = deque()     # (stamp, VO yaw or None) not yet covered by odometry

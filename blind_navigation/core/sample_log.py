@@ -10,8 +10,12 @@ samples after the last one its file holds (core/store.SampleMark,
 srv/RecordedSamples.srv) and rebuilds the landmarks it missed exactly as it
 would have, so the return drives the whole path.
 
-Five doubles and a byte per sample; past ``capacity`` samples the oldest half
-is dropped (a saver that needs those gets nothing and notes a gap).
+Seven doubles per sample. Each recorder says which sample its file holds last
+(StorageUsage ``sample``, after every landmark): the samples before the oldest of
+those are dropped (:meth:`SampleLog.confirm`), so the log holds only what a
+restart could still need, and a recording of hours costs nothing more. Past
+``capacity`` samples (a recorder that stopped confirming) the oldest half is
+dropped (a saver that needs those gets nothing and notes a gap).
 """
 import math
 from array import array
@@ -41,6 +45,7 @@ class SampleLog(object):
         self.recording = float(recording)
         self.capacity = int(capacity)
         self.first = 0              # seq of the oldest entry kept
+        self.confirmed = {}         # recorder (its file) -> seq of the last sample it holds
         self._commands = [START]
         self._values = {name: array('d') for name in _FIELDS}
         self._add(start.stamp, start.yaw, 0.0, start)
@@ -53,14 +58,28 @@ class SampleLog(object):
     def append(self, command, stamp, yaw, period, odom):
         """Log the next sample (``odom``: OdomState-like at ``stamp``); return its seq."""
         if len(self._commands) >= self.capacity:
-            drop = len(self._commands) // 2
-            del self._commands[:drop]
-            for values in self._values.values():
-                del values[:drop]
-            self.first += drop
+            self._drop(len(self._commands) // 2)
         self._commands.append(command)
         self._add(stamp, yaw, period, odom)
         return self.last
+
+    def confirm(self, recorder, seq):
+        """Recorder ``recorder`` (e.g. its file) holds the samples up to ``seq``: a
+        restart of it asks from ``seq`` on. Drops what no confirmed recorder needs:
+        the samples before the oldest confirmation."""
+        if seq > self.last or seq < self.confirmed.get(recorder, 0):
+            return                  # not taken yet, or older than what it said before
+        self.confirmed[recorder] = seq
+        self._drop(min(self.confirmed.values()) - self.first)
+
+    def _drop(self, count):
+        """Drop the ``count`` oldest entries."""
+        if count <= 0:
+            return
+        del self._commands[:count]
+        for values in self._values.values():
+            del values[:count]
+        self.first += count
 
     def _add(self, stamp, yaw, period, odom):
         for name, value in zip(_FIELDS, (stamp, yaw, period, odom.x, odom.y, odom.v, odom.w)):

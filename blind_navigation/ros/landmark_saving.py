@@ -298,9 +298,11 @@ class LandmarkSaving(object):
 
     def _publish_storage(self, now):
         used = storage_usage(self.writer.count, self.writer.bytes, self.writer.total_distance)
+        mark = self.writer.sample
         msg = StorageUsage(file=self.writer.path, landmarks=used.landmarks, bytes=used.bytes,
                            distance=used.distance, bytes_per_metre=used.bytes_per_metre,
-                           lost=self.writer.lost, error=self.error)
+                           lost=self.writer.lost, error=self.error,
+                           recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
         msg.header.stamp = now
         self.storage_pub.publish(msg)
         return used

@@ -38,7 +38,9 @@ Each sample carries the recording's id (the time it started) and its number
 with the odometry it read at the stamp (core/sample_log.SampleLog; with
 ``yaw_source`` ``odom``). A saver restarted mid-recording asks for what it
 missed on the ``blind_navigation/recorded_samples`` service
-(srv/RecordedSamples.srv), so its file goes on without a gap.
+(srv/RecordedSamples.srv), so its file goes on without a gap. Each recorder's
+``blind_navigation/storage`` says which sample its file holds last; the log
+drops the samples before the oldest of those, so it stays a few entries long.
 
 Params (``layer.params``): ``straight_rate``, ``curved_rate`` (Hz) and
 ``deadband`` (rad per yaw difference) of core/segment.SAMPLING_DEFAULTS,
@@ -57,7 +59,7 @@ from blind_navigation.core import mission_state
 from blind_navigation.core.motion_events import EVENT_DEFAULTS, EventSampler
 from blind_navigation.core.sample_log import SampleLog
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, SamplingSchedule, period_of
-from blind_navigation.msg import PathSample
+from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordedSamplesResponse
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED, subscribe
@@ -113,6 +115,7 @@ class SamplingPublisher(object):
         else:
             self.source = rospy.resolve_name(names.ODOM)
             layer.odometry.acquire(self.ROLE)
+            subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=10)
         layer.mission.on_change(self._on_state)
         layer.diagnostics.add('sampling', self._diagnose)
 
@@ -132,6 +135,13 @@ class SamplingPublisher(object):
             self._pose2d_yaw = msg.theta
         else:
             self.log.warn_throttle(5.0, 'yaw from %s not used: theta is %r', self.source, msg.theta)
+
+    def _on_storage(self, msg):
+        """A recorder saved up to sample ``msg.sample``: the log keeps only what a restart of
+        it could still ask for (core/sample_log.SampleLog.confirm)."""
+        with self._lock:
+            if self.samples is not None and msg.sample and msg.recording == self.samples.recording:
+                self.samples.confirm(msg.file, msg.sample)
 
     def _yaw(self):
         if self.params.yaw_source == 'pose2d':

@@ -39,7 +39,7 @@ from blind_navigation.core.geometry import quaternion_from_yaw  # noqa: E402
 from blind_navigation.core.segment import SamplingSchedule  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import StorageUsage, PathSample  # noqa: E402
-from blind_navigation.srv import RecordLandmark  # noqa: E402
+from blind_navigation.srv import RecordedSamples, RecordLandmark  # noqa: E402
 from mission_owner import MissionOwner  # noqa: E402
 from recording_tools import (WALL_TIMEOUT, Collector, kill_node, landmark_info,  # noqa: E402
                              subscribers_of, wait_for)
@@ -275,6 +275,21 @@ class CompareTest(RecordingTestBase):
             self.assertEqual(last.bytes, os.path.getsize(loaded.path), variant)
             self.assertAlmostEqual(last.distance, loaded.total_distance, delta=1e-4)
             self.assertAlmostEqual(last.bytes_per_metre, last.bytes / last.distance, places=6)
+
+    def test_the_sample_log_keeps_only_what_a_restarted_saver_needs(self):
+        final = [s for s in self.samples.snapshot() if s.command == 'final'][0]
+        by_file = {os.path.realpath(msg.file): msg for msg in self.storage_msgs.snapshot()}
+        topic = by_file[os.path.realpath(self.files['topic'].path)]
+        self.assertEqual((topic.recording, topic.sample), (final.recording, final.seq),
+                         'the saver does not confirm its last sample')
+        service = by_file[os.path.realpath(self.files['service'].path)]
+        self.assertEqual(service.sample, 0, 'the service recorder has no sample numbers')
+        ask = rospy.ServiceProxy(names.RECORDED_SAMPLES, RecordedSamples)
+        early = ask(recording=final.recording, after=1)
+        self.assertEqual(len(early.samples), 0)
+        self.assertIn('sample 1 is not kept (%d to %d are)' % (final.seq, final.seq), early.message)
+        last = ask(recording=final.recording, after=final.seq)
+        self.assertEqual([sample.seq for sample in last.samples], [final.seq], last.message)
 
     def test_recorded_path_has_the_start_and_every_landmark(self):
         paths = self.paths.snapshot()

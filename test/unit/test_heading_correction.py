@@ -8,7 +8,7 @@ import pytest
 
 from blind_navigation.core.geometry import OdomState, wrap_angle
 from blind_navigation.core.gyro_calibration import GyroCalibration
-from blind_navigation.core.gyro_fit import GyroVisualFit
+from blind_navigation.core.gyro_fit import GyroVisualFit, WindowRows
 from blind_navigation.core.heading_correction import (CorrectedOdometry, GyroCorrection,
                                                        correct_landmarks, estimate_correction,
                                                        no_correction)
@@ -106,6 +106,31 @@ def test_lost_stretches_break_windows_and_a_jump_is_dropped():
     jumped = estimate_correction(calibrator, scale_prior=prior)
     assert jumped.windows == correction.windows - 1
     assert jumped.bias == pytest.approx(correction.bias, abs=2 * correction.bias_std)
+
+
+def test_windows_are_packed_and_bounded_keeping_the_newest():
+    rows = WindowRows(capacity=6)
+    for i in range(8):
+        rows.append((i, -i, 2.0))
+    # at the 7th the oldest 3 went; the 8th fits
+    assert len(rows) == 5
+    assert list(rows) == [(i, -i, 2.0) for i in range(3, 8)]
+    assert rows[0] == (3.0, -3.0, 2.0) and rows[-1] == (7.0, -7.0, 2.0)
+    assert rows[1:3] == [(4.0, -4.0, 2.0), (5.0, -5.0, 2.0)]
+    rows[-1] = (7.0, 0.5, 2.0)
+    assert rows[4] == (7.0, 0.5, 2.0)
+    with pytest.raises(IndexError):
+        rows[5]
+    with pytest.raises(ValueError):
+        WindowRows(capacity=1)
+
+
+def test_a_long_recording_keeps_a_bounded_number_of_windows():
+    fit = GyroVisualFit()
+    fit.rows = WindowRows(capacity=50)
+    correction = feed(fit, weaving, 300.0, bias=4e-4, scale=0.005)   # about 150 windows
+    assert 25 <= len(fit.rows) <= 50
+    assert correction.bias == pytest.approx(4e-4, abs=max(4 * correction.bias_std, 1e-5))
 
 
 def test_bad_params_refused():

@@ -37,6 +37,32 @@ def test_past_capacity_the_oldest_half_is_dropped():
     assert log.since(6)[0].stamp == 6.0
 
 
+def test_what_every_recorder_confirmed_is_dropped_up_to_the_oldest_confirmation():
+    log = SampleLog(0.0, state(0.0))
+    for t in range(1, 11):
+        log.append('sample', float(t), 0.0, 1.0, state(float(t)))
+    log.confirm('topic.yaml', 7)
+    assert log.first == 7 and [e.seq for e in log.since(7)] == [7, 8, 9, 10]
+    log.confirm('service.yaml', 4)          # a second recorder behind: nothing it needs goes
+    assert log.first == 7 and log.since(4) is None
+    log.confirm('service.yaml', 9)
+    assert log.first == 7                   # the topic recorder still needs 7 on
+    log.confirm('topic.yaml', 10)
+    assert log.first == 9 and log.since(9)[0].stamp == 9.0
+
+
+def test_a_confirmation_of_a_sample_not_taken_or_older_than_before_changes_nothing():
+    log = SampleLog(0.0, state(0.0))
+    for t in range(1, 6):
+        log.append('sample', float(t), 0.0, 1.0, state(float(t)))
+    log.confirm('a.yaml', 9)
+    assert log.first == 0 and log.confirmed == {}
+    log.confirm('a.yaml', 3)
+    log.confirm('a.yaml', 2)
+    assert log.first == 3 and log.confirmed == {'a.yaml': 3}
+    assert [e.seq for e in log.since(3)] == [3, 4, 5]
+
+
 def test_capacity_must_hold_two():
     with pytest.raises(ValueError):
         SampleLog(0.0, state(0.0), capacity=1)
