@@ -18,6 +18,10 @@ from blind_navigation.ros.common import twist
 import waiting
 
 TIMEOUT = 20.0       # s of wall time for any wait
+#: s of wall time a message may take between nodes on a loaded machine; in sim time it is
+#: rtf times longer. The exact timeouts are unit-tested on the core (test/unit/test_kobuki.py,
+#: test_mux_mission.py): here the bounds check that the nodes apply them.
+WALL_LAG = 0.1
 
 
 def wait_for(condition, what, timeout=TIMEOUT):
@@ -117,7 +121,8 @@ class FakeTurtlebotTest(unittest.TestCase):
         wait_for(lambda: self.active[-1] == 'idle', 'safety controller 0.2 s timeout')
         self.assertEqual(self.active[-2], 'Safe reactive controller', 'announcements: %s' % self.active)
         taken, released = self.active_received[-2:]   # arrival times, free of this test's polling
-        self.assertLess(released - taken, 0.2 + 0.3, 'released %.2f s after the takeover' % (released - taken))
+        self.assertLess(released - taken, 0.2 + 0.1 + WALL_LAG * self.rtf,
+                        'released %.2f s after the takeover' % (released - taken))
 
     def test_4_teleop_moves_the_base_and_it_stops_0_6_s_after_the_last_command(self):
         truth = Recorder('/ground_truth/odom', Odometry)
@@ -137,19 +142,21 @@ class FakeTurtlebotTest(unittest.TestCase):
         wait_for(lambda: self.active[-1] == 'idle', 'the mux to release teleop after its last command')
         forwarded = [t for t, m in zip(self.output_received, self.output) if m.linear.x == 0.2]
         last_forwarded = forwarded[-1]
-        wait_for(lambda: truth.messages and truth.messages[-1].header.stamp.to_sec() > last_forwarded + 1.5,
-                 '1.5 s of sim time after the last forwarded command')
+        settled = last_forwarded + 0.7 + 0.3 + WALL_LAG * self.rtf + 0.5
+        wait_for(lambda: truth.messages and truth.messages[-1].header.stamp.to_sec() > settled,
+                 'ground truth %.1f s after the last forwarded command' % (settled - last_forwarded))
         moving = [m for m in truth.messages if m.twist.twist.linear.x > 0.01]
         stopped_at = moving[-1].header.stamp.to_sec()
         self.assertGreater(truth.messages[-1].pose.pose.position.x - start_x, 0.3)
         # dropped at the first 10 Hz check after 0.6 s, then the 'kobuki' profile's
-        # 0.1 s motor lag takes 0.3 s to slow from 0.2 to 0.01 m/s; 0.15 s for scheduling.
-        # The base cannot have heard the command before it was published.
+        # 0.1 s motor lag takes 0.3 s to slow from 0.2 to 0.01 m/s; the base cannot have
+        # heard the command before it was published, nor much after this test heard it
         self.assertGreater(stopped_at - last_published, 0.6 - 0.15,
                            'stopped %.2f s after the last command was published' % (stopped_at - last_published))
-        self.assertLess(stopped_at - last_forwarded, 0.7 + 0.3 + 0.15,
+        self.assertLess(stopped_at - last_forwarded, 0.7 + 0.3 + WALL_LAG * self.rtf,
                         'stopped %.2f s after the last command was forwarded (published %.2f s before that)'
                         % (stopped_at - last_forwarded, last_forwarded - last_published))
+
 
 if __name__ == '__main__':
     rospy.init_node('test_fake_turtlebot')
