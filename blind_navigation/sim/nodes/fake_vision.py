@@ -6,8 +6,10 @@ turns with the robot's true heading; ``width`` x ``height``, 640 x 480 for a
 Kinect-sized stream), with each frame its ``camera/rgb/camera_info``, and ``rtabmap/odom`` (true pose from
 ``ground_truth/odom`` plus sim/visual_odometry drift, TF ``vo_odom`` ->
 ``vo_base_footprint``) at ``rate`` Hz of sim time (clocked by the true pose stamps). Vision fails at
-``vision_fail_at`` (sim s) or on ``fake_turtlebot/set_vision`` (SetBool, false =
-fail now, true = restore), in one of three modes:
+``vision_fail_at`` (sim s), ``vision_fail_after_mission`` s of sim time after the
+scripted operator is done (``mission_driver/done``: a loaded machine cannot make
+an operator finish by a fixed time), or on ``fake_turtlebot/set_vision``
+(SetBool, false = fail now, true = restore), in one of three modes:
 
 * ``dark``: images keep coming but are black; odometry is lost;
 * ``stall``: camera and odometry stop publishing;
@@ -24,6 +26,7 @@ import tf2_ros
 from geometry_msgs.msg import TransformStamped
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import CameraInfo, Image
+from std_msgs.msg import Bool
 from std_srvs.srv import SetBool, SetBoolResponse
 
 from blind_navigation import names
@@ -41,12 +44,13 @@ PANORAMA_COLUMNS = 720
 
 class FakeVision(object):
     """Params (DEFAULTS): ``rate`` Hz; ``width``, ``height`` image size; ``seed``; ``vision_fail_at``
-    sim s ('' = never); ``vision_failure`` mode; ``scale_error_std``, ``yaw_drift_per_metre``,
+    sim s ('' = never); ``vision_fail_after_mission`` sim s after mission_driver/done ('' = never);
+    ``vision_failure`` mode; ``scale_error_std``, ``yaw_drift_per_metre``,
     ``yaw_drift_per_radian`` (sim/visual_odometry); ``odom_frame``, ``base_frame``,
     ``camera_frame``; ``publish_tf``.
     """
     DEFAULTS = dict(VO_DRIFT_DEFAULTS, rate=VO_RATE, width=80, height=60, seed=0,
-                    vision_fail_at='', vision_failure='dark', odom_frame='vo_odom',
+                    vision_fail_at='', vision_fail_after_mission='', vision_failure='dark', odom_frame='vo_odom',
                     base_frame='vo_base_footprint', camera_frame='camera_rgb_optical_frame',
                     publish_tf=True)
 
@@ -55,6 +59,9 @@ class FakeVision(object):
         if p.vision_failure not in MODES:
             raise ValueError('~vision_failure must be one of %s, got %r' % (MODES, p.vision_failure))
         self.fail_at = float(p.vision_fail_at) if str(p.vision_fail_at).strip() else None
+        if str(p.vision_fail_after_mission).strip():
+            self.fail_after_mission = float(p.vision_fail_after_mission)
+            subscribe(names.MISSION_DONE, Bool, self.on_mission_done, queue_size=1)
         self.failed = False
         self.truth = None
         self.drift = DriftingOdometry(int(p.seed) + 1, p.scale_error_std, p.yaw_drift_per_metre,
@@ -90,6 +97,12 @@ class FakeVision(object):
                     raise
                 return      # at shutdown the camera topics close before the base stops
             self.next_frame += self.period
+
+    def on_mission_done(self, msg):
+        if msg.data and self.fail_at is None and not self.failed:
+            self.fail_at = rospy.get_time() + self.fail_after_mission
+            rospy.loginfo('fake_vision: the operator is done; vision fails at sim t %.2f s',
+                          self.fail_at)
 
     def on_set_vision(self, request):
         self.failed = not request.data
