@@ -9,7 +9,12 @@ source "$repo/scripts/ros_env.sh"
 results="$BN_WS/build/test_results/blind_navigation"
 rm -rf "$results"
 echo "run_tests: catkin_make run_tests (log: $BN_WS/test.log)"
-catkin_make -C "$BN_WS" run_tests > "$BN_WS/test.log" 2>&1
+# One suite at a time: catkin_make's default `-j<cores> -l<cores>` starts a second suite
+# whenever the load dips, and two fake robots at rtf 5-10 on a 2-core machine starve each
+# other's timing (a CI failure: a detection 1.16 s late beside another suite). Behaviour
+# under load is checked on purpose, in the suites that load the machine themselves and in
+# docs/cost.md's runs.
+catkin_make -C "$BN_WS" run_tests -j1 -l1 > "$BN_WS/test.log" 2>&1
 status=$?
 # the workspace's link: catkin_lint wants the package in a directory named after it
 /usr/bin/python3 "$repo/scripts/catkin_lint_junit.py" "$BN_WS/src/blind_navigation" \
