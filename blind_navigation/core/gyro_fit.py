@@ -64,21 +64,22 @@ class WindowRows(object):
     def __len__(self):
         return len(self._values) // 3
 
+    def _offset(self, index):
+        """Where window ``index`` (negative: from the end) starts in the packed values."""
+        count = len(self)
+        if not -count <= index < count:
+            raise IndexError('window %d of %d' % (index, count))
+        return 3 * (index % count)
+
     def __getitem__(self, index):
         if isinstance(index, slice):
             return [self[i] for i in range(*index.indices(len(self)))]
-        if index < 0:
-            index += len(self)
-        if not 0 <= index < len(self):
-            raise IndexError('window %d of %d' % (index, len(self)))
-        return tuple(self._values[3 * index:3 * index + 3])
+        at = self._offset(index)
+        return tuple(self._values[at:at + 3])
 
     def __setitem__(self, index, row):
-        if index < 0:
-            index += len(self)
-        if not 0 <= index < len(self):
-            raise IndexError('window %d of %d' % (index, len(self)))
-        self._values[3 * index:3 * index + 3] = array('d', row)
+        at = self._offset(index)
+        self._values[at:at + 3] = array('d', row)
 
     def __iter__(self):
         values = self._values

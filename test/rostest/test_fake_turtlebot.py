@@ -16,6 +16,7 @@ from std_msgs.msg import String
 from blind_navigation.ros.common import twist
 
 import waiting
+from recording_tools import Collector
 
 TIMEOUT = 20.0       # s of wall time for any wait
 #: s of wall time a message may take between nodes on a loaded machine; in sim time it is
@@ -54,23 +55,17 @@ class FakeTurtlebotTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.rtf = rospy.get_param('~rtf')
-        cls.active = []
-        cls.active_received = []                      # sim time each announcement arrived here
-        rospy.Subscriber('/cmd_vel_mux/active', String, cls.on_active)
-        cls.output = []
-        cls.output_received = []                      # sim time each mux output arrived here
-        rospy.Subscriber('/mobile_base/commands/velocity', Twist, cls.on_output)
+        cls.active = Collector('/cmd_vel_mux/active', String)       # with sim arrival times
+        cls.output = Collector('/mobile_base/commands/velocity', Twist)
         wait_for(lambda: not rospy.Time.now().is_zero(), 'the /clock')
 
-    @classmethod
-    def on_active(cls, msg):
-        cls.active_received.append(rospy.Time.now().to_sec())
-        cls.active.append(msg.data)
+    def announced(self):
+        """The mux's announcements on ``active`` so far."""
+        return [msg.data for msg in self.active.snapshot()]
 
-    @classmethod
-    def on_output(cls, msg):
-        cls.output_received.append(rospy.Time.now().to_sec())
-        cls.output.append(msg)
+    def announced_last(self, name):
+        announced = self.announced()
+        return bool(announced) and announced[-1] == name
 
     def sim_now(self):
         return rospy.Time.now().to_sec()
@@ -119,21 +114,21 @@ class FakeTurtlebotTest(unittest.TestCase):
         navi = rospy.Publisher('/cmd_vel_mux/input/navi', Twist, queue_size=10)
         teleop = rospy.Publisher('/cmd_vel_mux/input/teleop', Twist, queue_size=10)
         safety = rospy.Publisher('/cmd_vel_mux/input/safety_controller', Twist, queue_size=10)
-        wait_for(lambda: self.active and self.active[-1] == 'idle', 'latched idle on /cmd_vel_mux/active')
+        wait_for(lambda: self.announced_last('idle'), 'latched idle on /cmd_vel_mux/active')
         for pub in (navi, teleop, safety):
             wait_for(lambda: pub.get_num_connections() > 0, 'mux subscription of %s' % pub.name)
         navi.publish(twist(0.01))
-        wait_for(lambda: self.active[-1] == 'Navigation', 'Navigation to take the mux')
+        wait_for(lambda: self.announced_last('Navigation'), 'Navigation to take the mux')
         teleop.publish(twist(0.02))
-        wait_for(lambda: self.active[-1] == 'Teleoperation', 'Teleoperation to take over Navigation')
-        wait_for(lambda: self.output and self.output[-1].linear.x == 0.02, 'teleop command forwarded')
+        wait_for(lambda: self.announced_last('Teleoperation'), 'Teleoperation to take over Navigation')
+        wait_for(lambda: self.output.snapshot() and self.output.snapshot()[-1].linear.x == 0.02, 'teleop command forwarded')
         navi.publish(twist(0.03))                     # lower priority: dropped while teleop holds
         safety.publish(twist(0.04))
-        wait_for(lambda: self.active[-1] == 'Safe reactive controller', 'safety controller takeover')
-        self.assertNotIn(0.03, [m.linear.x for m in self.output], 'navi forwarded under teleop')
-        wait_for(lambda: self.active[-1] == 'idle', 'safety controller 0.2 s timeout')
-        self.assertEqual(self.active[-2], 'Safe reactive controller', 'announcements: %s' % self.active)
-        taken, released = self.active_received[-2:]   # arrival times, free of this test's polling
+        wait_for(lambda: self.announced_last('Safe reactive controller'), 'safety controller takeover')
+        self.assertNotIn(0.03, [m.linear.x for m in self.output.snapshot()], 'navi forwarded under teleop')
+        wait_for(lambda: self.announced_last('idle'), 'safety controller 0.2 s timeout')
+        self.assertEqual(self.announced()[-2], 'Safe reactive controller', 'announcements: %s' % self.announced())
+        (taken, _), (released, _) = self.active.items[-2:]   # arrival times, free of this test's polling
         self.assertLess(released - taken, 0.2 + 0.1 + WALL_LAG * self.rtf,
                         'released %.2f s after the takeover' % (released - taken))
 
@@ -152,8 +147,8 @@ class FakeTurtlebotTest(unittest.TestCase):
         # The base hears the mux's output when this test does, give or take scheduling: under
         # load, delivery lags by tens of ms of wall time, which rtf multiplies in sim time, so
         # the timeout is timed from the last forwarded command this test heard.
-        wait_for(lambda: self.active[-1] == 'idle', 'the mux to release teleop after its last command')
-        forwarded = [t for t, m in zip(self.output_received, self.output) if m.linear.x == 0.2]
+        wait_for(lambda: self.announced_last('idle'), 'the mux to release teleop after its last command')
+        forwarded = [t for t, m in list(self.output.items) if m.linear.x == 0.2]
         last_forwarded = forwarded[-1]
         settled = last_forwarded + 0.7 + 0.3 + WALL_LAG * self.rtf + 0.5
         wait_for(lambda: truth.messages and truth.messages[-1].header.stamp.to_sec() > settled,
