@@ -25,6 +25,25 @@ def shutting_down():
     return rospy.core.is_shutdown_requested()
 
 
+#: Asked by rospy before every log line it sends to /rosout (rospy/impl/rosout.py).
+ROSOUT_TOPICS_FLAG = '/rosout_disable_topics_generation'
+
+
+def cache_rosout_flag():
+    """Keep :data:`ROSOUT_TOPICS_FLAG` in rospy's param cache, once per process.
+
+    While that param is unset (as it is unless someone sets it), rospy asks the
+    master for it again at every log line (ros/ros_comm#2337: the "unset" answer
+    is not cached), a round trip to the master per landmark logged. The first
+    ask subscribes this process to the param, as rospy does; if it is unset, its
+    default (False, which rospy and roscpp both assume) is put into the cache.
+    The master still sends a later value (``paramUpdate``), which replaces it.
+    """
+    from rospy.impl.paramserver import get_param_server_cache
+    if rospy.get_param_cached(ROSOUT_TOPICS_FLAG, None) is None:
+        get_param_server_cache().set(rospy.resolve_name(ROSOUT_TOPICS_FLAG), False)
+
+
 def load_params(defaults, namespace='~'):
     """Read each param ``namespace + name`` (private ``~name`` by default, ``~role/name``
     for a role hosted with others in one process), falling back to ``defaults[name]``;

@@ -32,7 +32,7 @@ from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
-from .common import load_params, subscribe
+from .common import cache_rosout_flag, load_params, subscribe
 from .diagnostics import Diagnostics
 from .mission import MissionStateView
 from .motion import SafetyMonitor
@@ -68,6 +68,7 @@ class Layer(object):
     this process (params under ``~<role>/``)."""
 
     def __init__(self, compact=False):
+        cache_rosout_flag()
         self.compact = compact
         self.node = rospy.get_name()
         owner = self.node if compact else rospy.get_param('~mission_owner', MISSION_OWNER)
