@@ -42,6 +42,8 @@ MISSION = 'test_safety'
 NORMAL_ACCURACY = 0.075
 #: s wall any one wait of a mission may take (layer start-up, a phase of the mission).
 WALL_TIMEOUT = 90.0
+#: The mission states that end a mission.
+FINAL_STATES = ('home', 'aborted')
 #: s of sim time the base needs to stop after the last command (the paper profile's motor
 #: time constant 0.25 s, as mission_tools.SETTLE; the ideal base stops at once).
 SETTLE = 1.0
@@ -247,8 +249,8 @@ class FindingMission(object):
 
     def wait_final(self):
         """Until home or aborted; returns (state, sim time it was received)."""
-        self.wait(lambda: set(self.run.state_names()) & {'home', 'aborted'}, 'state home or aborted')
-        final = [name for name in self.run.state_names() if name in ('home', 'aborted')][0]
+        self.wait(lambda: set(self.run.state_names()) & set(FINAL_STATES), 'state home or aborted')
+        final = [name for name in self.run.state_names() if name in FINAL_STATES][0]
         return final, self.state_time(final)
 
     def wait_sim(self, seconds):
@@ -264,7 +266,15 @@ class FindingMission(object):
         return self.logged(text, node)[-1]
 
     def final_reason(self):
-        """The reason of the last mission status (latched, from the owner)."""
+        """The reason of the mission status that announced the final state (home or aborted),
+        else of the last status (latched, from the owner). The owner publishes the state and
+        then the status on two topics, so the state can arrive first: once the state is final,
+        this waits for its status."""
+        def final_statuses():
+            return [msg for msg in self.status.snapshot() if msg.state in FINAL_STATES]
+        if set(self.run.state_names()) & set(FINAL_STATES):
+            self.wait(final_statuses, 'the mission status of the final state')
+            return final_statuses()[-1].reason
         statuses = self.status.snapshot()
         return statuses[-1].reason if statuses else ''
 
