@@ -6,6 +6,7 @@ import os
 import rospkg
 import rospy
 from geometry_msgs.msg import Twist
+from rospy.impl.paramserver import get_param_server_cache
 
 from . import subscription_watchdog
 from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
@@ -39,7 +40,6 @@ def cache_rosout_flag():
     default (False, which rospy and roscpp both assume) is put into the cache.
     The master still sends a later value (``paramUpdate``), which replaces it.
     """
-    from rospy.impl.paramserver import get_param_server_cache
     if rospy.get_param_cached(ROSOUT_TOPICS_FLAG, None) is None:
         get_param_server_cache().set(rospy.resolve_name(ROSOUT_TOPICS_FLAG), False)
 

@@ -28,7 +28,7 @@ from blind_navigation import names
 from blind_navigation.core.geometry import wrap_angle, yaw_from_quaternion
 from blind_navigation.msg import MissionStatus
 
-from mission_tools import TELEOP_TOPIC, MissionRun
+from mission_tools import FINAL_STATES, TELEOP_TOPIC, MissionRun
 from recording_tools import Collector, Diagnostics
 from safety_rig import Node
 from waiting import wait_for
@@ -42,8 +42,6 @@ MISSION = 'test_safety'
 NORMAL_ACCURACY = 0.075
 #: s wall any one wait of a mission may take (layer start-up, a phase of the mission).
 WALL_TIMEOUT = 90.0
-#: The mission states that end a mission.
-FINAL_STATES = ('home', 'aborted')
 #: s of sim time the base needs to stop after the last command (the paper profile's motor
 #: time constant 0.25 s, as mission_tools.SETTLE; the ideal base stops at once).
 SETTLE = 1.0
@@ -247,10 +245,14 @@ class FindingMission(object):
         self.wait(lambda: self.state_time(state) is not None, 'state %s' % state)
         return self.state_time(state)
 
+    def final_state(self):
+        """The first final state (home or aborted) the test received, or None."""
+        return next((name for name in self.run.state_names() if name in FINAL_STATES), None)
+
     def wait_final(self):
         """Until home or aborted; returns (state, sim time it was received)."""
-        self.wait(lambda: set(self.run.state_names()) & set(FINAL_STATES), 'state home or aborted')
-        final = [name for name in self.run.state_names() if name in FINAL_STATES][0]
+        self.wait(self.final_state, 'state home or aborted')
+        final = self.final_state()
         return final, self.state_time(final)
 
     def wait_sim(self, seconds):
@@ -272,7 +274,7 @@ class FindingMission(object):
         this waits for its status."""
         def final_statuses():
             return [msg for msg in self.status.snapshot() if msg.state in FINAL_STATES]
-        if set(self.run.state_names()) & set(FINAL_STATES):
+        if self.final_state():
             self.wait(final_statuses, 'the mission status of the final state')
             return final_statuses()[-1].reason
         statuses = self.status.snapshot()
