@@ -63,6 +63,14 @@ class FakeBase(object):
         waiting.wait_for(lambda: self._turn_left == 0.0, 'the base turned by %.2f rad' % angle,
                          timeout)
 
+    def cut_odometry(self):
+        """Stops publishing odometry (``publish_odom = True`` resumes it); returns the
+        sim time of the last odometry published, taken with the tick locked out, so no
+        odometry follows it."""
+        with self._lock:
+            self.publish_odom = False
+            return self.odom_stamps[-1]
+
     def _on_cmd(self, msg):
         with self._lock:
             self.commands.append((rospy.get_time(), msg.linear.x, msg.angular.z))

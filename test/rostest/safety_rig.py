@@ -56,6 +56,19 @@ class SimClock(object):
         finally:
             self._frozen = False
 
+    @contextlib.contextmanager
+    def slowed(self, rtf):
+        """Sim time runs at ``rtf`` x real time inside (``with clock.slowed(0.2)``). For a
+        reaction a node leaves to its next control cycle, which a frozen clock would
+        never let happen: the machine's scheduling and delivery delays then count only
+        ``rtf`` x in the sim-time latency, so what is asserted is the node's own design
+        (its timeout and control period), not how loaded the test machine was."""
+        previous, self.rtf = self.rtf, rtf
+        try:
+            yield
+        finally:
+            self.rtf = previous
+
     def _run(self):
         next_wall = time.monotonic()
         while not rospy.is_shutdown():
