@@ -186,7 +186,8 @@ class BackTravelClient(object):
         self.state_pub.publish(String(data=new_state))
         self._publish_status()
         if new_state in (state.RECORDING, state.ROTATING, state.RETURNING):
-            self.odometry.acquire(self.ROLE)
+            # while recording it only reads the odometry where vision is lost (catch_up)
+            self.odometry.acquire(self.ROLE, batched=new_state == state.RECORDING)
         elif new_state in state.TERMINAL:
             self.odometry.release(self.ROLE)
         self.layer.diagnostics.now()
@@ -271,6 +272,7 @@ class BackTravelClient(object):
             if current not in (state.ROTATING, state.RETURNING):   # repeats are simply idempotent
                 self.log.warn('vision_lost from %s ignored in state %s', sender, current)
             return
+        self.odometry.catch_up()
         latest = self.odometry.latest()
         anchor = [latest.x, latest.y] if latest is not None else None
         self._turn_start = latest.yaw if latest is not None else None

@@ -95,7 +95,7 @@ class LandmarkSaving(object):
         if not isinstance(p.fsync, bool):
             raise ValueError('~fsync must be true or false, got %r' % (p.fsync,))
         self.odometry = layer.odometry
-        self.odometry.acquire(role)
+        self.odometry.acquire(role, batched=True)   # reads back: at a stamp, waiting for it
         self.odometry.on_reanchor(self._on_reanchor)
         self._lock = threading.Lock()
         self._start = None
@@ -159,6 +159,7 @@ class LandmarkSaving(object):
                 self.odometry.wait_for_stamp(stamp, self.params.odom_wait)
                 odom = self.odometry.state_at(stamp)
             else:                               # an unstamped request: the latest odometry
+                self.odometry.catch_up()
                 odom = self.odometry.latest()
             if not self.recorder.started:
                 valid = stamp > 0 and math.isfinite(period) and period > 0

@@ -13,8 +13,22 @@ impossible twist); refused odometry never refreshes the feed, so whoever drives
 on it holds as for stale odometry. When the refused stream turns out to be a
 genuine discontinuity (an odometry reset: consistent with itself for a
 second), the gate re-anchors on it and the roles hear of it
-(:meth:`~OdometryFeed.on_reanchor`): the recorder notes a gap, a return aborts. The accepted states of the last ``history`` seconds are
-kept (:meth:`~OdometryFeed.state_at`: the state at a sampling tick's stamp).
+(:meth:`~OdometryFeed.on_reanchor`): the recorder notes a gap, a return aborts.
+The accepted states of the last ``history`` seconds are kept
+(:meth:`~OdometryFeed.state_at`: the state at a sampling tick's stamp).
+
+While every holder only reads back (``acquire(holder, batched=True)``: the
+recorder, and the mission owner before vision loss), messages are taken
+``BATCH`` at a time: a message's read, check and history update cost about
+eight times more alone than right after another (docs/cost.md, "Where the
+recording part's CPU goes"). Listeners then hear of a batch at once, and the
+newest state lags up to ``BATCH - 1`` messages: a reader that needs the newest
+waits until what was received is taken (:meth:`~OdometryFeed.catch_up`) or for
+its stamp (:meth:`~OdometryFeed.wait_for_stamp`); while anyone waits, every
+message is taken as it arrives, so the wait is one odometry period at most. All
+taking happens on the receive thread (a re-anchor's callbacks take the
+recorder's lock). A holder that drives (the pi turn, the return) holds
+unbatched: every message is taken as it arrives.
 
 Once the heading correction is known (:meth:`~OdometryFeed.set_correction`),
 :meth:`~OdometryFeed.fresh` returns odometry in the corrected frame
@@ -42,6 +56,11 @@ from .common import subscribe
 #: every message of a chunk is used (tens of microseconds each); memory stays bounded
 #: by the chunk.
 RECEIVE_QUEUE = None
+#: Messages taken together while every holder is batched (0.1 s of Kobuki's 50 Hz).
+BATCH = 5
+#: Longest wait (s, wall) of :meth:`OdometryFeed.catch_up` for the next message; without
+#: one (odometry stopped) the reader goes on with the states taken.
+CATCH_UP_WAIT = 0.2
 
 
 def ros_time():
@@ -61,22 +80,29 @@ class OdometryFeed(object):
         self._reanchor_listeners = []
         self.frame_id = 'odom'
         self._lock = threading.Condition()
-        self._holders = set()
+        self._holders = {}          # holder -> batched
+        self._batch = 1             # messages taken together (BATCH while every holder is batched)
+        self._take_lock = threading.Lock()   # one thread takes messages at a time, in order
+        self._pending = []          # raw messages received, not yet taken (while batched)
+        self._arrived = 0           # messages received
+        self._taken = 0             # messages taken (accepted or refused)
         self._subscriber = None
         self._subscribed_at = None  # rospy time (s) the current subscription began
         self._states = OdometryHistory(self.history)   # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
         self._listeners = ()        # f(state) for every accepted state
         self._raw_listeners = ()    # f(wire) for every message
-        self._waiting = 0           # threads in wait_for_stamp
+        self._waiting = 0           # threads in wait_for_stamp or catch_up
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
 
     # --- subscription --------------------------------------------------------------------------
-    def acquire(self, holder):
-        """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
+    def acquire(self, holder, batched=False):
+        """``holder`` (any hashable) needs this odometry: subscribe if nobody did. With
+        ``batched`` it only reads back (module docstring); acquiring again changes that."""
         with self._lock:
-            self._holders.add(holder)
+            self._holders[holder] = batched
+            self._update_batch()
             if self._subscriber is None:
                 # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
                 # in the history state_at reads the sampling ticks' odometry from
@@ -87,16 +113,30 @@ class OdometryFeed(object):
     def release(self, holder):
         """``holder`` no longer needs it: unsubscribe when nobody does."""
         with self._lock:
-            self._holders.discard(holder)
+            self._holders.pop(holder, None)
+            self._update_batch()
             subscriber = self._subscriber if not self._holders else None
             if subscriber is not None:
                 self._subscriber = None
         if subscriber is not None:
             subscriber.unregister()
 
+    def _update_batch(self):
+        """(lock held) Batch only while every holder is batched."""
+        self._batch = BATCH if self._holders and all(self._holders.values()) else 1
+
     @property
     def subscribed(self):
         return self._subscriber is not None
+
+    @property
+    def batched(self):
+        return self._batch > 1
+
+    @property
+    def pending(self):
+        """Messages received but not yet taken (only while batched)."""
+        return len(self._pending)
 
     def add_listener(self, callback, raw=False):
         """Call ``callback(state)`` for every accepted state, or with ``raw``
@@ -125,8 +165,38 @@ class OdometryFeed(object):
 
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
+        with self._take_lock:
+            self._pending.append(msg._buff)
+            self._arrived += 1
+            if len(self._pending) < self._batch and not self._waiting:
+                return
+            pending, self._pending = self._pending, []
+            try:
+                for buff in pending:
+                    self._take(buff)
+            finally:
+                with self._lock:
+                    self._taken += len(pending)
+                    if self._waiting:
+                        self._lock.notify_all()
+
+    def catch_up(self, timeout=CATCH_UP_WAIT):
+        """Wait at most ``timeout`` wall seconds until the messages received so far are
+        taken (while batched: at the next message), so that :meth:`latest`,
+        :meth:`state_at` and :meth:`states_after` hold them; True if they are."""
+        with self._lock:
+            arrived = self._arrived
+            if self._taken >= arrived:
+                return True
+            self._waiting += 1
+            try:
+                return self._lock.wait_for(lambda: self._taken >= arrived, timeout=timeout)
+            finally:
+                self._waiting -= 1
+
+    def _take(self, buff):
         try:
-            wire = read_odometry(msg._buff)
+            wire = read_odometry(buff)
         except ValueError as error:
             self._refuse('not a nav_msgs/Odometry: %s' % error)
             return
@@ -151,8 +221,6 @@ class OdometryFeed(object):
             if self._corrector is not None:
                 self._corrector.update(state)
             listeners = self._listeners
-            if self._waiting:
-                self._lock.notify_all()
         for listener in listeners:
             listener(state)
 
@@ -182,7 +250,8 @@ class OdometryFeed(object):
 
     def wait_for_stamp(self, stamp, timeout):
         """Wait at most ``timeout`` wall seconds until a state stamped at or after
-        ``stamp`` was accepted; True if one was."""
+        ``stamp`` was accepted; True if one was. While it waits, every message is taken
+        as it arrives (with those pending before it), batched or not."""
         with self._lock:
             self._waiting += 1
             try:

@@ -114,7 +114,9 @@ class SamplingPublisher(object):
             subscribe(names.POSE2D, Pose2D, self._on_pose2d, queue_size=10)
         else:
             self.source = rospy.resolve_name(names.ODOM)
-            layer.odometry.acquire(self.ROLE)
+            # event sampling reads back (the ticks 0.5 s late, the rest after catch_up): the
+            # feed may batch; the paper's ticks read the newest yaw at once
+            layer.odometry.acquire(self.ROLE, batched=self.events is not None)
             subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=10)
         layer.mission.on_change(self._on_state)
         layer.diagnostics.add('sampling', self._diagnose)
@@ -143,11 +145,14 @@ class SamplingPublisher(object):
             if self.samples is not None and msg.sample and msg.recording == self.samples.recording:
                 self.samples.confirm(msg.file, msg.sample)
 
-    def _yaw(self):
+    def _yaw(self, at=None):
+        """The newest yaw, or with ``at`` (s) the odometry's yaw at that stamp."""
         if self.params.yaw_source == 'pose2d':
             return self._pose2d_yaw
-        latest = self.layer.odometry.latest()
-        return None if latest is None else latest.yaw
+        odometry = self.layer.odometry
+        odometry.catch_up()
+        state = odometry.latest() if at is None else odometry.state_at(at)
+        return None if state is None else state.yaw
 
     def _on_state(self, _old, new):
         if not mission_state.records(new):
@@ -163,11 +168,12 @@ class SamplingPublisher(object):
             if self._last_tick is None:
                 self.log.info('%s before recording started; nothing recorded', reason)
             else:
+                now = rospy.Time.now()
                 if self.events is not None:
-                    self._publish_events(rospy.get_time())
-                elapsed = (rospy.Time.now() - self._last_tick).to_sec()
+                    self._publish_events(now.to_sec())
+                elapsed = (now - self._last_tick).to_sec()
                 if elapsed >= MIN_FINAL_PERIOD:
-                    self._publish(FINAL, self._yaw(), elapsed)
+                    self._publish(FINAL, self._yaw(now.to_sec()), elapsed, now)
                 self.log.info('%s: recording stopped (final partial cycle %.3f s)', reason, elapsed)
         if self.params.yaw_source == 'odom':
             self.layer.odometry.release(self.ROLE)
@@ -226,6 +232,7 @@ class SamplingPublisher(object):
         """Feed the event sampler the odometry states accepted since it was last fed,
         in order (lock held)."""
         odometry = self.layer.odometry
+        odometry.catch_up()
         latest = odometry.latest()
         if latest is not None and latest.stamp < self._events_fed:
             self._events_fed = float('-inf')     # the clock went back: every state kept is new

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest: ros/odometry.OdometryFeed loses no message when its receive thread falls
-behind (a loaded host; sim time at 10x).
+behind (a loaded host; sim time at 10x), and takes messages in batches only while
+every holder reads back (batched), with readers catching up on the rest.
 
 rospy reads a subscription's socket in chunks of up to 64 KiB and, with a queue
 size, keeps only the newest that many messages of a chunk. Here a listener holds
@@ -17,7 +18,7 @@ import rostest
 from nav_msgs.msg import Odometry
 
 import waiting
-from blind_navigation.ros.odometry import OdometryFeed
+from blind_navigation.ros.odometry import BATCH, OdometryFeed
 
 TOPIC = '/odometry_feed_test/odom'
 BURST = 300          # messages (about 200 KiB: three of rospy's read chunks)
@@ -66,6 +67,99 @@ class OdometryFeedBurstTest(unittest.TestCase):
         self.assertEqual(feed.refused, 0)
 
 
+class OdometryFeedBatchTest(unittest.TestCase):
+    """Batching (module docstring of ros/odometry.py): while every holder is batched,
+    messages wait for BATCH of them or for a reader; a driving holder turns it off."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.feed = OdometryFeed(TOPIC + '_batched')
+        cls.feed.acquire('recorder', batched=True)
+        cls.publisher = rospy.Publisher(TOPIC + '_batched', Odometry, queue_size=None)
+        waiting.wait_for(lambda: cls.publisher.get_num_connections() == 1,
+                         'the feed never connected', WAIT)
+        cls.stamp = 2000.0
+        cls.received = 0
+
+    def publish(self, count):
+        """Publish ``count`` messages PERIOD apart; wait until the feed received them
+        (taken or pending). Returns the last stamp."""
+        for _ in range(count):
+            self.stamp += PERIOD
+            self.publisher.publish(odometry(self.stamp))
+        type(self).stamp = self.stamp
+        type(self).received += count
+        waiting.wait_for(lambda: self.feed._arrived >= self.received,
+                         'the feed never received message %d' % self.received, WAIT)
+        return self.stamp
+
+    def newest(self):
+        latest = self.feed.latest()
+        return None if latest is None else round(latest.stamp, 6)
+
+    def test_1_fewer_than_a_batch_wait_and_a_reader_catches_up_at_the_next_message(self):
+        self.assertTrue(self.feed.batched)
+        first = self.publish(1)
+        self.publish(BATCH - 2)
+        self.assertEqual(self.feed.pending, BATCH - 1)
+        self.assertIsNone(self.feed.latest(), 'a message was taken before its batch was full')
+        result = []
+        reader = threading.Thread(target=lambda: result.append(self.feed.catch_up(WAIT)))
+        reader.start()
+        waiting.wait_for(lambda: self.feed._waiting == 1, 'the reader never waited', WAIT)
+        last = self.publish(1)
+        reader.join(WAIT)
+        self.assertEqual(result, [True], 'catch_up did not return True at the next message')
+        self.assertEqual(self.newest(), round(last, 6))
+        self.assertEqual(self.feed.pending, 0)
+        stamps = [state.stamp for state in self.feed.states_after(first - 1.0)]
+        self.assertEqual(len(stamps), BATCH)
+        self.assertEqual(stamps, sorted(stamps), 'taken out of order')
+
+    def test_2_a_full_batch_is_taken_without_a_reader(self):
+        last = self.publish(BATCH)
+        waiting.wait_for(lambda: self.newest() == round(last, 6),
+                         'a full batch was not taken', WAIT)
+        self.assertEqual(self.feed.pending, 0)
+
+    def test_3_catch_up_without_a_next_message_gives_up_and_keeps_what_was_taken(self):
+        before = self.newest()
+        self.publish(1)
+        started = time.monotonic()
+        self.assertFalse(self.feed.catch_up(0.3))
+        self.assertGreaterEqual(time.monotonic() - started, 0.3)
+        self.assertEqual(self.newest(), before)
+        self.assertEqual(self.feed.pending, 1)
+
+    def test_4_a_stamp_waited_for_is_taken_as_it_arrives(self):
+        self.publish(1)      # pending (test 3 left one too)
+        result = []
+        target = self.stamp + PERIOD / 2     # the next message's stamp, clear of rounding
+        reader = threading.Thread(target=lambda: result.append(self.feed.wait_for_stamp(target, WAIT)))
+        reader.start()
+        waiting.wait_for(lambda: self.feed._waiting == 1, 'the reader never waited', WAIT)
+        last = self.publish(1)
+        reader.join(WAIT)
+        self.assertEqual(result, [True])
+        self.assertEqual(self.newest(), round(last, 6))
+        self.assertEqual(self.feed.pending, 0)
+
+    def test_5_a_driving_holder_turns_batching_off_until_it_releases(self):
+        self.feed.acquire('driver')
+        try:
+            self.assertFalse(self.feed.batched)
+            for _ in range(3):
+                last = self.publish(1)
+                waiting.wait_for(lambda: self.newest() == round(last, 6),
+                                 'a message was not taken at once with a driving holder', WAIT)
+        finally:
+            self.feed.release('driver')
+        self.assertTrue(self.feed.batched)
+        self.publish(1)
+        self.assertEqual(self.feed.pending, 1)
+        self.assertEqual(self.feed.refused, 0)
+
+
 if __name__ == '__main__':
     rospy.init_node('test_odometry_feed')
-    rostest.rosrun('blind_navigation', 'odometry_feed', OdometryFeedBurstTest)
+    rostest.rosrun('blind_navigation', 'odometry_feed', '__main__')   # both test classes
