@@ -43,6 +43,7 @@ from std_msgs.msg import Bool, Empty, String
 from std_srvs.srv import SetBool
 
 from blind_navigation import names
+from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.msg import StorageUsage
 
 #: The fake TurtleBot's nodes (launch/fake_turtlebot.launch) and the master's own: not the layer.
@@ -50,7 +51,6 @@ NOT_LAYER = ('/mobile_base', '/cmd_vel_mux', '/fake_vision', '/mission_driver', 
 #: Where the vision monitor latches the detector that fired: alone, and hosted in the one process.
 LOSS_TOPICS = ('/vision_monitor/loss', '/blind_navigation/loss')
 UNTIL = ('windows', 'vision_lost', 'recording_end', 'home')
-FINAL_STATES = ('home', 'aborted')
 
 
 def proc_status_kb(pid, field):
@@ -242,7 +242,7 @@ class CostProbe(object):
             self.wait(lambda: self.state != 'recording' and self.storage_after_recording,
                       a.detect_timeout + 30.0, 'the final landmark')
         elif a.until == 'home':
-            self.wait(lambda: self.state in FINAL_STATES, a.return_timeout, 'state home or aborted')
+            self.wait(lambda: self.state in TERMINAL, a.return_timeout, 'state home or aborted')
             time.sleep(a.settle)
             self.mark('after ' + self.state)
 

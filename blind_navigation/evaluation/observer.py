@@ -21,10 +21,9 @@ from std_srvs.srv import SetBool
 
 from blind_navigation import names
 from blind_navigation.core.geometry import distance
+from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.msg import StorageUsage
 from blind_navigation.ros.common import load_params, start_node
-
-FINAL = ('home', 'aborted')
 
 
 class DemoObserver(object):
@@ -56,7 +55,7 @@ class DemoObserver(object):
         self.mission_done = self.mission_done or msg.data
 
     def _on_truth(self, msg):
-        key = 'return' if self.state in ('rotating', 'returning') or self.state in FINAL else 'forward'
+        key = 'return' if self.state in ('rotating', 'returning') or self.state in TERMINAL else 'forward'
         p = msg.pose.pose.position
         path = self.paths[key]
         if not path or distance(path[-1][0], path[-1][1], p.x, p.y) > 0.005:
@@ -79,7 +78,7 @@ class DemoObserver(object):
         rospy.wait_for_service(names.SET_VISION, timeout=30.0)
         rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
         rospy.loginfo('demo: vision failed on purpose; waiting for the return')
-        self.wait(lambda: self.state in FINAL, p.timeout, 'state home or aborted')
+        self.wait(lambda: self.state in TERMINAL, p.timeout, 'state home or aborted')
         rospy.sleep(p.settle)
         self.report()
 

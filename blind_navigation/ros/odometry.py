@@ -122,8 +122,13 @@ class OdometryFeed(object):
             subscriber.unregister()
 
     def _update_batch(self):
-        """(lock held) Batch only while every holder is batched."""
-        self._batch = BATCH if self._holders and all(self._holders.values()) else 1
+        """(lock held) Batch only while every holder is batched; log a change while held."""
+        batch = BATCH if self._holders and all(self._holders.values()) else 1
+        if batch != self._batch and self._holders:
+            rospy.loginfo('%s: odometry on %s: %s', rospy.get_name(), rospy.resolve_name(self.topic),
+                          'taken %d messages at a time (every holder reads back)' % batch
+                          if batch > 1 else 'every message taken as it arrives')
+        self._batch = batch
 
     @property
     def subscribed(self):

@@ -29,6 +29,7 @@ from recording_tools import Collector, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
+from blind_navigation.core.mission_state import TERMINAL  # noqa: E402
 from blind_navigation.msg import MissionStatus, PathSample  # noqa: E402
 
 WALL_TIMEOUT = 120.0
@@ -73,9 +74,9 @@ def main():
         wait_for(lambda: any(m.data for m in done.snapshot()), 'the operator is done', WALL_TIMEOUT)
         wait_sim(2.0, 'the robot stops')
         trigger.publish(Empty())
-        wait_for(lambda: {'home', 'aborted'} & {m.data for m in states.snapshot()},
+        wait_for(lambda: set(TERMINAL) & {m.data for m in states.snapshot()},
                  'state home or aborted', WALL_TIMEOUT)
-        final_at = [t for t, m in list(states.items) if m.data in ('home', 'aborted')][0]
+        final_at = [t for t, m in list(states.items) if m.data in TERMINAL][0]
         wait_sim(SETTLE + WATCH, 'the watch after the terminal state')
         moved, turned = track.motion(final_at + SETTLE, final_at + SETTLE + WATCH)
         late = moving_commands_after(layer_commands(commands), final_at)

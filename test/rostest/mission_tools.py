@@ -26,6 +26,7 @@ from recording_tools import Collector, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
 from blind_navigation import names
+from blind_navigation.core.mission_state import TERMINAL as FINAL_STATES  # noqa: E402
 from blind_navigation.core.heading_correction import correct_landmarks  # noqa: E402
 from blind_navigation.ros.layer import correction_from_message  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
@@ -37,7 +38,6 @@ HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
 #: What a mission ended with: the robot's distance from the start (m, ground truth), its
 #: speed (m/s) and the recorded file (core/store.LoadedPath).
 Outcome = namedtuple('Outcome', 'error speed loaded')
-FINAL_STATES = ('home', 'aborted')
 TELEOP_TOPIC = '/cmd_vel_mux/input/teleop'
 MISSION_DONE_TOPIC = '/mission_driver/done'
 #: The one process of blind_navigation.launch (its default): every role's params under it.
@@ -98,7 +98,7 @@ class PathByState(object):
         with self._lock:
             if self._last is not None and self.state is not None:
                 step = math.hypot(p.x - self._last[0], p.y - self._last[1])
-                key = 'return' if self.state in ('returning', 'home', 'aborted') else self.state
+                key = 'return' if self.state == 'returning' or self.state in FINAL_STATES else self.state
                 self.length[key] = self.length.get(key, 0.0) + step
             self._last = (p.x, p.y)
 

@@ -19,6 +19,7 @@ from rosgraph_msgs.msg import Clock, Log
 from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation.core.landmark import Landmark
+from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.core.store import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
@@ -186,7 +187,7 @@ class Layer(object):
             time.sleep(0.2)
 
     def wait_final(self, since, timeout=120.0):
-        wait_for(lambda: set(self.state_list(since)) & {'home', 'aborted'},
+        wait_for(lambda: set(self.state_list(since)) & set(TERMINAL),
                  'state home or aborted', timeout)
         return self.state_list(since)[-1]
 

@@ -15,10 +15,10 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from std_msgs.msg import String
 
 from blind_navigation import names
+from blind_navigation.core.mission_state import TERMINAL
 
 import waiting
 
-FINAL = ('home', 'aborted')
 #: diagnostic_updater's placeholder when a status is added, before its first check ran
 STARTING = 'Node starting up'
 #: s of wall time for the mission (about 100 s of sim time at rtf 2)
@@ -52,7 +52,7 @@ class DiagnosticsTest(unittest.TestCase):
         cls.state = None
         rospy.Subscriber('/diagnostics', DiagnosticArray, cls._on_diagnostics, queue_size=100)
         rospy.Subscriber('/' + cls.prefix + names.STATE, String, cls._on_state)
-        waiting.wait_for(lambda: cls.state in FINAL, 'the mission to end (state %s)' % cls.state,
+        waiting.wait_for(lambda: cls.state in TERMINAL, 'the mission to end (state %s)' % cls.state,
                          MISSION_TIMEOUT)
         rospy.sleep(2.0)        # the statuses published after the end (sim time)
 

@@ -16,12 +16,12 @@ from std_msgs.msg import String
 from tf2_msgs.msg import TFMessage
 
 from blind_navigation import names
+from blind_navigation.core.mission_state import TERMINAL
 
 import waiting
 
 #: topics that are global by design: the clock, logging, diagnostics, TF
 GLOBAL_TOPICS = {'/clock', '/rosout', '/rosout_agg', '/diagnostics', '/tf', '/tf_static'}
-FINAL = ('home', 'aborted')
 #: s of wall time for the two missions (about 100 s of sim time each at rtf 2, two layers
 #: and two fakes on two cores)
 MISSION_TIMEOUT = 240.0
@@ -66,7 +66,7 @@ class TwoRobotsTest(unittest.TestCase):
         cls.frames = set()
         rospy.Subscriber('/tf', TFMessage, cls._on_tf, queue_size=100)
         waiting.wait_for(lambda: all(r.start for r in cls.robots), 'both ground truths', 60.0)
-        waiting.wait_for(lambda: all(r.state in FINAL for r in cls.robots),
+        waiting.wait_for(lambda: all(r.state in TERMINAL for r in cls.robots),
                          'both missions to end (states %s)' % [r.state for r in cls.robots],
                          MISSION_TIMEOUT)
 

@@ -39,6 +39,7 @@ from std_msgs.msg import Empty, String
 
 from blind_navigation import names
 from blind_navigation.core.geometry import distance
+from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.evaluation.observer import DemoObserver, main as observe
 
@@ -135,7 +136,7 @@ class BenchProbe(DemoObserver):
         rospy.wait_for_service(names.SET_VISION, timeout=30.0)
         from std_srvs.srv import SetBool
         rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
-        self.wait(lambda: self.state in ('home', 'aborted'), p.timeout, 'state home or aborted')
+        self.wait(lambda: self.state in TERMINAL, p.timeout, 'state home or aborted')
         rss_timer.shutdown()
         rospy.sleep(p.settle)
         self.report()
