@@ -189,13 +189,17 @@ class OdometryFeed(object):
         """Wait at most ``timeout`` wall seconds until the messages received so far are
         taken (while batched: at the next message), so that :meth:`latest`,
         :meth:`state_at` and :meth:`states_after` hold them; True if they are."""
+        arrived = self._arrived
+        return self._wait_until(lambda: self._taken >= arrived, timeout)
+
+    def _wait_until(self, condition, timeout):
+        """Wait at most ``timeout`` wall seconds until ``condition()`` (checked with the
+        lock held) is true; True if it is. While anyone waits, every message is taken as
+        it arrives, with those pending before it."""
         with self._lock:
-            arrived = self._arrived
-            if self._taken >= arrived:
-                return True
             self._waiting += 1
             try:
-                return self._lock.wait_for(lambda: self._taken >= arrived, timeout=timeout)
+                return self._lock.wait_for(condition, timeout=timeout)
             finally:
                 self._waiting -= 1
 
@@ -257,14 +261,8 @@ class OdometryFeed(object):
         """Wait at most ``timeout`` wall seconds until a state stamped at or after
         ``stamp`` was accepted; True if one was. While it waits, every message is taken
         as it arrives (with those pending before it), batched or not."""
-        with self._lock:
-            self._waiting += 1
-            try:
-                return self._lock.wait_for(
-                    lambda: self._states.latest is not None and self._states.latest.stamp >= stamp,
-                    timeout=timeout)
-            finally:
-                self._waiting -= 1
+        return self._wait_until(
+            lambda: self._states.latest is not None and self._states.latest.stamp >= stamp, timeout)
 
     def age(self):
         """Seconds since the newest accepted state arrived, None before any."""
