@@ -10,6 +10,7 @@ set -euo pipefail
 COMMON=(g++ cmake make libyaml-cpp-dev python3-yaml python3-numpy python3-rospkg
         python3-setuptools python3-catkin-pkg python3-docutils
         python3-matplotlib python3-psutil python3-pytest python3-hypothesis
+        python3-venv python3-pip   # install_sim_venv.sh: the fake's physics engine
         "catkin-lint|python3-catkin-lint")
 DEBIAN_ROS=(catkin ros-message-generation ros-message-runtime
             ros-std-msgs python3-std-msgs ros-geometry-msgs python3-geometry-msgs
@@ -52,7 +53,7 @@ for choice in "${wanted[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#wanted[@]} packages present"
-  exit 0
+  exec bash "$(dirname "$0")/install_sim_venv.sh"   # the simulator's physics engine (PyPI, pinned)
 fi
 
 SUDO=""
@@ -75,3 +76,4 @@ for choice in "${missing[@]}"; do
 done
 echo "install_deps: installing ${install[*]}"
 $SUDO apt-get install -y -q --no-install-recommends "${install[@]}"
+bash "$(dirname "$0")/install_sim_venv.sh"   # the simulator's physics engine (PyPI, pinned)
