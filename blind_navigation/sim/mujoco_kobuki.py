@@ -47,10 +47,16 @@ FLOORS = {'tile': (0.9, 0.03), 'carpet': (0.6, 0.15)}
 WORLD_KEYS = ('description', 'floor', 'threshold', 'ramp')
 
 
+_ENGINE = []                  # the mujoco module, once imported
+
+
 def import_mujoco():
     """The ``mujoco`` module: from sys.path, else from the simulator's virtualenv."""
+    if _ENGINE:
+        return _ENGINE[0]
     try:
         import mujoco
+        _ENGINE.append(mujoco)
         return mujoco
     except ImportError:
         pass
@@ -66,6 +72,7 @@ def import_mujoco():
     except ImportError as error:
         raise ImportError('the physics base needs mujoco (%s); install it with '
                           'scripts/install_sim_venv.sh (make deps)' % error)
+    _ENGINE.append(mujoco)
     return mujoco
 
 
@@ -169,7 +176,7 @@ class MujocoKobuki(SimulatedKobuki):
             raise ValueError('the mujoco base has no arena (bumper, cliff, wheel drop): use base kinematic')
         super(MujocoKobuki, self).__init__(profile, seed=seed, start=start)
         self.profile['acceleration_limiter'] = True     # kobuki_node's limiter: the Kobuki's acceleration
-        mujoco = self._mujoco = import_mujoco()
+        mujoco = import_mujoco()
         self.world = load_world(world)
         xml = model_xml(self.world, (self._left.radius, self._right.radius), tuple(payload))
         self.model = mujoco.MjModel.from_xml_string(xml)
@@ -197,7 +204,7 @@ class MujocoKobuki(SimulatedKobuki):
         qpos[0], qpos[1] = pose.x, pose.y
         qpos[3:7] = (math.cos(pose.yaw / 2.0), 0.0, 0.0, math.sin(pose.yaw / 2.0))
         self.data.qvel[:] = 0.0
-        self._mujoco.mj_forward(self.model, self.data)
+        import_mujoco().mj_forward(self.model, self.data)
         self._unwrapped = pose.yaw
         self._read_state()
 
@@ -209,7 +216,7 @@ class MujocoKobuki(SimulatedKobuki):
             self._targets[index] = goal
             self.data.ctrl[index] = goal / WHEEL_RADIUS
         rate_before = self.data.qvel[5]
-        self._mujoco.mj_step(self.model, self.data, nstep=self._substeps)
+        import_mujoco().mj_step(self.model, self.data, nstep=self._substeps)
         self._turn += 0.5 * (rate_before + self.data.qvel[5]) * h
         self._read_state()
 
