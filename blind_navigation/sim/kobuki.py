@@ -21,13 +21,10 @@ the same object. What it reproduces (numbers from the Kobuki and kobuki_node):
 Every random draw comes from ``random.Random(seed)``: same seed, same run.
 """
 import math
-import os
 import random
 
-import yaml
-
 from ..core.geometry import OdomState, Pose2D, wrap_angle
-from .config_dir import config_dir
+from .config_dir import config_dir, load_named
 
 WHEEL_RADIUS = 0.035          # m
 WHEEL_SEPARATION = 0.230      # m
@@ -69,14 +66,7 @@ def load_profile(name_or_path):
     Missing keys take the ideal value; unknown keys or wrong types raise ValueError
     naming the key and the file.
     """
-    path = name_or_path
-    if os.path.sep not in name_or_path and not name_or_path.endswith('.yaml'):
-        path = os.path.join(PROFILE_DIR, name_or_path + '.yaml')
-    if not os.path.isfile(path):
-        known = sorted(f[:-5] for f in os.listdir(PROFILE_DIR) if f.endswith('.yaml'))
-        raise ValueError('noise profile %r not found (%s); known: %s' % (name_or_path, path, known))
-    with open(path) as stream:
-        data = yaml.safe_load(stream) or {}
+    path, data = load_named(PROFILE_DIR, name_or_path, 'noise profile')
     return make_profile(data, where=path)
 
 

@@ -22,10 +22,8 @@ import math
 import os
 import sys
 
-import yaml
-
 from ..core.geometry import Pose2D, wrap_angle
-from .config_dir import config_dir
+from .config_dir import config_dir, load_named
 from .kobuki import WHEEL_RADIUS, WHEEL_SEPARATION, SimulatedKobuki
 
 BASES = ('kinematic', 'mujoco')
@@ -84,14 +82,7 @@ def engine_name():
 def load_world(name_or_path):
     """World dict: a name in config/worlds/ (``tile``, ``carpet``, ``threshold``, ``ramp``)
     or a YAML path; ValueError naming the key and the file when it is wrong."""
-    path = name_or_path
-    if os.path.sep not in name_or_path and not name_or_path.endswith('.yaml'):
-        path = os.path.join(WORLD_DIR, name_or_path + '.yaml')
-    if not os.path.isfile(path):
-        known = sorted(f[:-5] for f in os.listdir(WORLD_DIR) if f.endswith('.yaml'))
-        raise ValueError('physics world %r not found (%s); known: %s' % (name_or_path, path, known))
-    with open(path) as stream:
-        world = yaml.safe_load(stream) or {}
+    path, world = load_named(WORLD_DIR, name_or_path, 'physics world')
     if not isinstance(world, dict) or set(world) - set(WORLD_KEYS):
         raise ValueError('%s: a world is a mapping of %s' % (path, ', '.join(WORLD_KEYS)))
     world.setdefault('floor', 'tile')
