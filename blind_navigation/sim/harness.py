@@ -2,8 +2,9 @@
 
 One run = what the ROS graph does, over the same core objects, at a fixed
 control step: a scripted operator (sim/mission.py) drives a SimulatedKobuki
-(sim/kobuki.py) while the two-rate SamplingSchedule and the PathRecorder take
-landmarks from its odometry; the mission ends, the robot is left to stop,
+(sim/kobuki.py; with the ``base`` setting ``mujoco`` the physics base,
+sim/mujoco_kobuki.py) while the two-rate SamplingSchedule and the PathRecorder
+take landmarks from its odometry; the mission ends, the robot is left to stop,
 vision is lost (a final landmark covers the partial cycle, the return route is
 anchored at the odometry position), core/rotation.py turns by pi, and the
 landmarks are driven back in reverse order.
