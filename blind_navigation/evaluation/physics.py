@@ -107,7 +107,7 @@ def verdict(rows):
 NOTE = ('Both bases run the same missions and seeds (the same sensor-error draws) in '
         'blind_navigation.launch\'s default configuration; the floor is the ideal follower on '
         'the same base (sim/harness). The physics base is sim/mujoco_kobuki.py on the tile floor: '
-        'slip comes from the wheel contacts (most in turns), the castors drag, and kobuki_node\'s '
+        'slip comes from the wheel contacts (most in turns), the castors drag, and kobuki_driver\'s '
         'acceleration limiter is on; docs/evaluation.md says why the bases differ.\n')
 
 
