@@ -97,22 +97,24 @@ def load_world(name_or_path):
 
 
 def _features(world, floor_friction):
-    """MJCF geoms of the world's threshold and ramp (each across the whole floor)."""
-    geoms, friction = [], '%g 0.005 0.0001' % floor_friction
+    """(MJCF geoms, assets) of the world's threshold and ramp (each across the whole floor)."""
+    geoms, assets, friction = [], [], '%g 0.005 0.0001' % floor_friction
     threshold = world.get('threshold')
     if threshold:
         geoms.append('<geom name="threshold" type="capsule" size="%g" fromto="%g -20 0 %g 20 0" '
                      'friction="%s"/>' % (threshold['height'], threshold['x'], threshold['x'], friction))
     ramp = world.get('ramp')
-    if ramp:
+    if ramp:      # a height field: no vertical edge at the foot or the crest to catch a wheel
         a, x0, length = math.radians(ramp['slope_deg']), ramp['x'], ramp['length']
-        top, half, thick = length * math.tan(a), length / math.cos(a) / 2.0, 0.05
-        cx, cz = x0 + length / 2.0 + thick * math.sin(a), top / 2.0 - thick * math.cos(a)
-        geoms.append('<geom name="ramp" type="box" size="%g 20 %g" pos="%g 0 %g" euler="0 %g 0" '
-                     'friction="%s"/>' % (half, thick, cx, cz, -ramp['slope_deg'], friction))
-        geoms.append('<geom name="plateau" type="box" size="10 20 %g" pos="%g 0 %g" friction="%s"/>'
-                     % (top / 2.0, x0 + length + 10.0, top / 2.0, friction))
-    return geoms
+        top, first, last, step = length * math.tan(a), x0 - 1.0, x0 + length + 20.0, 0.05
+        columns = int(round((last - first) / step)) + 1
+        heights = ' '.join('%.4f' % min(max((first + i * step - x0) / length, 0.0), 1.0)
+                           for i in range(columns))
+        geoms.append('<geom name="ramp" type="hfield" hfield="ramp" pos="%g 0 0" friction="%s"/>'
+                     % ((first + last) / 2.0, friction))
+        assets.append('<hfield name="ramp" nrow="2" ncol="%d" size="%g 20 %g 0.05" elevation="%s %s"/>'
+                      % (columns, (last - first) / 2.0, top, heights, heights))
+    return geoms, assets
 
 
 def model_xml(world, radii, payload=(0.0, 0.0, 0.0)):
@@ -139,15 +141,16 @@ def model_xml(world, radii, payload=(0.0, 0.0, 0.0)):
     castors = ''.join('<geom name="{n}_castor" type="sphere" size="{r:g}" pos="{x:g} 0 {z:g}" mass="0.01" '
                       'friction="0 0 0"/>'.format(n=n, r=CASTOR_RADIUS, x=x, z=CASTOR_RADIUS + CASTOR_GAP)
                       for n, x in (('front', CASTOR_X), ('rear', -CASTOR_X)))
+    features, assets = _features(world, castor_friction)
     load = ('<geom name="payload" type="sphere" size="0.03" pos="%g %g 0.1" mass="%g" contype="0" '
             'conaffinity="0"/>' % (px, py, mass)) if mass > 0 else ''
     return ('<mujoco model="kobuki"><option timestep="{dt:g}" integrator="implicitfast" cone="elliptic" impratio="10"/>'
-            '<worldbody><geom name="floor" type="plane" size="0 0 1" friction="{wf:g} 0.005 0.0001"/>{feat}'
+            '<asset>{assets}</asset><worldbody><geom name="floor" type="plane" size="0 0 1" friction="{wf:g} 0.005 0.0001"/>{feat}'
             '<body name="base" pos="0 0 0"><freejoint name="root"/>'
             '<geom name="shell" type="cylinder" size="0.175 0.04" pos="{cx:g} 0 0.08" mass="{sm:g}" '
             'contype="0" conaffinity="0"/>{castors}{load}{wheels}</body></worldbody>'
             '<actuator>{motors}</actuator></mujoco>').format(
-                dt=TIMESTEP, wf=castor_friction, feat=''.join(_features(world, castor_friction)),
+                dt=TIMESTEP, wf=castor_friction, feat=''.join(features), assets=''.join(assets),
                 sm=shell_mass, cx=BODY_COM_X, castors=castors, load=load, wheels=''.join(wheels), motors=''.join(motors))
 
 
