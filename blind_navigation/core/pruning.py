@@ -230,6 +230,8 @@ def _neighbours(route, radius, min_loop):
     for vertex, (x, y) in enumerate(zip(route.x, route.y)):
         cells.setdefault((math.floor(x / radius), math.floor(y / radius)), []).append(vertex)
     s, scanned = route.s, [0]
+    # each cell's route positions, to bisect on (bisect's key= is Python 3.10+)
+    positions = {key: [s[v] for v in cell] for key, cell in cells.items()}
 
     def near(u):
         x, y = route.x[u], route.y[u]
@@ -239,7 +241,7 @@ def _neighbours(route, radius, min_loop):
                 cell = cells.get((i, j))
                 if not cell:
                     continue
-                first = bisect.bisect_left(cell, s[u] + min_loop, key=lambda v: s[v])
+                first = bisect.bisect_left(positions[(i, j)], s[u] + min_loop)
                 for w in cell[max(first, bisect.bisect_right(cell, u)):]:
                     scanned[0] += 1
                     if math.hypot(route.x[w] - x, route.y[w] - y) <= radius:

@@ -36,13 +36,14 @@ CONDITIONS = {'ROS_PYTHON_VERSION': '3', 'ROS_DISTRO': 'noetic'}
 
 
 def is_stdlib(module):
-    if hasattr(sys, 'stdlib_module_names'):
-        return module in sys.stdlib_module_names
+    """Built in, frozen, or found in the interpreter's standard library directory
+    (sys.stdlib_module_names is Python 3.10+)."""
     if module in sys.builtin_module_names:
         return True
     spec = importlib.util.find_spec(module)
     origin = (spec.origin or '') if spec else ''
-    return origin.startswith(sysconfig.get_paths()['stdlib']) and 'packages' not in origin
+    return origin == 'frozen' or (origin.startswith(sysconfig.get_paths()['stdlib'])
+                                  and 'packages' not in origin)
 
 
 def python_files(paths):
