@@ -16,7 +16,14 @@ results="${1:-$BN_WS/build/test_results/blind_navigation}"
 python38=$(find_python38) || {
   echo "noetic_lane: no Python 3.8 here (pyenv's versions/3.8.*, python3.8 on PATH): lane skipped"; exit 0; }
 start=$SECONDS
-make_venv py38 "$python38" py38.txt && debian_ros_behind "$BN_WS/venvs/py38" || exit 1
+# the set-up as one test case, so that a lane that cannot start fails make test
+setup_case() {
+  /usr/bin/python3 -c 'import sys; sys.path.insert(0, sys.argv[1]); from junit_case import write_case
+write_case(sys.argv[2], "noetic_lane", "noetic_lane set-up", sys.argv[3], int(sys.argv[4]), sys.argv[5:], "")' \
+    "$repo/scripts" "$results/lint-noetic_lane.xml" "$python38" "$@"
+}
+fail() { echo "noetic_lane: $1" >&2; setup_case 1 "$1"; exit 1; }
+make_venv py38 "$python38" py38.txt && debian_ros_behind "$BN_WS/venvs/py38" || fail "no py38 venv"
 venv="$BN_WS/venvs/py38" ws="$BN_WS/py38_ws"
 mkdir -p "$ws/src" "$results"
 [ -e "$ws/src/blind_navigation" ] || ln -s "$repo" "$ws/src/blind_navigation"
@@ -31,7 +38,7 @@ lane() {
 }
 lane catkin_make -C "$ws" -DPYTHON_EXECUTABLE="$venv/bin/python3" -DCATKIN_ENABLE_TESTING=OFF \
   -DCMAKE_BUILD_TYPE=Release > "$ws/build.log" 2>&1 || {
-    tail -20 "$ws/build.log"; echo "noetic_lane: catkin_make with $venv/bin/python3 failed ($ws/build.log)" >&2; exit 1; }
+    tail -20 "$ws/build.log"; fail "catkin_make with $venv/bin/python3 failed ($ws/build.log)"; }
 # The fake TurtleBot's base and camera (the test rig, not the layer) broadcast TF with
 # tf2_ros, whose tf2_py._tf2 is a C extension Debian builds for its Python 3.11 only:
 # they run under /usr/bin/python3 (their relays' shebang); every other node under 3.8.
@@ -39,6 +46,7 @@ for rig in fake_kobuki.py fake_vision.py; do
   sed -i '1s|^#!.*|#!/usr/bin/python3|' "$ws/devel/lib/blind_navigation/$rig"
 done
 echo "noetic_lane: $("$venv/bin/python3" --version) ($python38), workspace $ws"
+setup_case 0
 
 status=0
 # the venv's pytest script: `python -m pytest` would put the repo first on sys.path,

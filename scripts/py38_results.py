@@ -5,13 +5,16 @@ rostest-*.xml entry of each test node (testNAME, scripts/test_summary.py's
 fallback when a node wrote no result) -> testPREFIXNAME in rostest-PREFIX*.xml.
 
 Usage: /usr/bin/python3 scripts/py38_results.py RUN_DIR RESULTS_DIR PREFIX
-Exit status 1 when RUN_DIR holds no rostest result.
+When RUN_DIR holds no rostest result (rostest did not start), writes a failed
+MISSING-PREFIX*.xml case instead and exits 1.
 """
 import glob
 import os
 import shutil
 import sys
 import xml.etree.ElementTree as ET
+
+from junit_case import write_case
 
 
 def copy_results(run_dir, results_dir, prefix):
@@ -35,8 +38,13 @@ def copy_results(run_dir, results_dir, prefix):
 def main(argv):
     if len(argv) != 4:
         sys.exit(__doc__)
-    if not copy_results(*argv[1:]):
-        print('py38_results: no rostest result in %s' % argv[1])
+    run_dir, results_dir, prefix = argv[1:]
+    if not copy_results(run_dir, results_dir, prefix):
+        message = 'no rostest result in %s' % run_dir
+        print('py38_results: ' + message)
+        name = os.path.basename(os.path.dirname(os.path.abspath(run_dir)))
+        write_case(os.path.join(results_dir, 'MISSING-%s%s.xml' % (prefix, name)), 'rostest',
+                   'rostest ' + name, run_dir, 1, [message], '')
         return 1
     return 0
 
