@@ -40,7 +40,8 @@ a return was under way resumes with the next landmark (progress
 ``returning``, updated within ``resume_timeout`` wall seconds, file unchanged,
 robot within ``resume_max_offset`` of where it stopped); one that cannot trust
 its progress ends ``aborted``; a finished or old return starts ``idle``. The
-landmark file is only read.
+landmark file is only read. A topic of this process refused for its type
+(ros/wiring.py) ends the mission ``aborted``, the fault as the reason.
 
 Params (``layer.params``): ``landmark_file`` (empty:
 $ROS_HOME/blind_navigation/landmarks.yaml), ``odom_timeout`` (s),
@@ -87,7 +88,7 @@ from blind_navigation.core.progress import (ABORT, IGNORE, PROGRESS_DEFAULTS, Pr
 from blind_navigation.core.safety import SAFETY_DEFAULTS, expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal, MissionStatus, StorageUsage
-from blind_navigation.ros import diagnostics
+from blind_navigation.ros import diagnostics, wiring
 from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
 from blind_navigation.ros.goal_runner import GoalRunner
 from blind_navigation.ros.landmark_saving import landmark_file
@@ -164,6 +165,7 @@ class BackTravelClient(object):
         self.client = None
         self._start_from_progress()
         layer.safety.on_trip(self._on_trip)
+        wiring.on_fault(self._on_wiring_fault)
         subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
         subscribe(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
         subscribe(names.ROTATION_DONE, Bool, self._on_rotation_done, queue_size=1)
@@ -316,6 +318,10 @@ class BackTravelClient(object):
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
+
+    def _on_wiring_fault(self, fault):
+        if self.state not in state.TERMINAL:
+            self.set_state(state.ABORTED, fault)
 
     def _on_odom(self, raw):
         if self.state != state.RETURNING:

@@ -1,5 +1,5 @@
 """Small rospy glue shared by every node (the layer's and the fake TurtleBot's):
-params, watched subscriptions, message conversions, Twist."""
+params, watched (and type-checked) subscriptions, message conversions, Twist."""
 import math
 import os
 
@@ -8,7 +8,7 @@ import rospy
 from geometry_msgs.msg import Twist
 from rospy.impl.paramserver import get_param_server_cache
 
-from . import subscription_watchdog
+from . import subscription_watchdog, wiring
 from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 
 #: Indices of the diagonal of a 6x6 row-major covariance (x, y, z, roll, pitch, yaw).
@@ -63,11 +63,26 @@ def load_params(defaults, namespace='~'):
     return type('Params', (object,), values)()
 
 
-def subscribe(topic, data_class, callback, callback_args=None, **options):
+def subscribe(topic, data_class, callback, callback_args=None, expected=None, **options):
     """``rospy.Subscriber`` whose registration the subscription watchdog checks
-    (a publisher registering at the same moment is not missed)."""
+    (a publisher registering at the same moment is not missed); with ``expected``
+    (ros/wiring.Expected: for a raw ``rospy.AnyMsg`` subscription) the watchdog
+    also checks the topic's type at the master."""
     return subscription_watchdog.watch(rospy.Subscriber(topic, data_class, callback, callback_args,
-                                                        **options))
+                                                        **options), expected)
+
+
+def subscribe_checked(topic, data_class, callback, callback_args=None, **options):
+    """:func:`subscribe` of ``topic`` as ``data_class`` that refuses another type
+    (ros/wiring.py): raw bytes, checked per connection, then deserialised."""
+    expected = wiring.Expected.of(data_class)
+
+    def on_raw(raw, args=None):
+        if expected.accepts(topic, raw._connection_header):
+            msg = data_class()
+            msg.deserialize(raw._buff)
+            callback(msg) if callback_args is None else callback(msg, args)
+    return subscribe(topic, rospy.AnyMsg, on_raw, callback_args, expected, **options)
 
 
 def odom_state_from_msg(msg):

@@ -35,11 +35,14 @@ Once the heading correction is known (:meth:`~OdometryFeed.set_correction`),
 (core/heading_correction.CorrectedOdometry), updated with every message from
 then on: the pi turn and the return drive on it. Visual odometry is fed
 unchecked to raw listeners (a lost message is information there).
+Either way a connection that carries another type than nav_msgs/Odometry is
+refused (ros/wiring.py: one FATAL line, nothing moves).
 """
 import threading
 import time
 
 import rospy
+from nav_msgs.msg import Odometry
 from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
@@ -47,6 +50,7 @@ from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
 from .common import subscribe
+from .wiring import Expected
 
 #: No receive queue limit. rospy reads a subscription's socket in chunks of up to
 #: 64 KiB (about 90 odometry messages) and, with a queue size, keeps only the newest
@@ -77,6 +81,7 @@ class OdometryFeed(object):
         self.checked = checked
         self.history = float(history)
         self.gate = OdometryGate(on_reanchor=self._on_reanchor) if checked else None
+        self.expected = Expected.of(Odometry)
         self._reanchor_listeners = []
         self.frame_id = 'odom'
         self._lock = threading.Condition()
@@ -107,7 +112,8 @@ class OdometryFeed(object):
                 # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
                 # in the history state_at reads the sampling ticks' odometry from
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
-                                             queue_size=RECEIVE_QUEUE, tcp_nodelay=True)
+                                             expected=self.expected, queue_size=RECEIVE_QUEUE,
+                                             tcp_nodelay=True)
                 self._subscribed_at = ros_time()
 
     def release(self, holder):
@@ -170,6 +176,8 @@ class OdometryFeed(object):
 
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
+        if not self.expected.accepts(self.topic, msg._connection_header):
+            return      # another type on this connection: refused (ros/wiring.py)
         with self._take_lock:
             self._pending.append(msg._buff)
             self._arrived += 1

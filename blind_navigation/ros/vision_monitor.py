@@ -53,8 +53,12 @@ from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensit
                                           odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.wiring import Expected
 from blind_navigation.ros.odometry import ros_time
 
+#: RTAB-Map's OdomInfo: rtabmap_msgs from 0.21 on, rtabmap_ros before (its MD5 sum changes
+#: between releases; the lost flag's place does not)
+ODOM_INFO = Expected(('rtabmap_msgs/OdomInfo', 'rtabmap_ros/OdomInfo'))
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 #: s: the stall checks never come closer together than this (a stall about to fire)
 MIN_CHECK_WAIT = 0.01
@@ -120,7 +124,7 @@ class VisionMonitor(object):
         layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg, self.on_odom_info,
-                                              queue_size=5))
+                                              expected=ODOM_INFO, queue_size=5))
         layer.mission.on_change(self.on_state)
         layer.diagnostics.add('vision monitor', self.status)
         threading.Thread(target=self.watch_stalls, name='vision_monitor_stalls', daemon=True).start()
@@ -168,11 +172,8 @@ class VisionMonitor(object):
                       rospy.resolve_name(names.CAMERA_INFO))
 
     def on_odom_info(self, msg):
-        msg_type = msg._connection_header.get('type', '')
-        if not msg_type.endswith('/OdomInfo'):
-            self.warn_once('odom_info_type', '%s carries %s, not rtabmap OdomInfo: ignored'
-                           % (rospy.resolve_name(names.VO_ODOM_INFO), msg_type))
-            return
+        if not ODOM_INFO.accepts(names.VO_ODOM_INFO, msg._connection_header):
+            return      # refused (ros/wiring.py)
         try:
             lost = odom_info_lost(msg._buff)
         except ValueError as error:

@@ -92,7 +92,7 @@ class OwnSensors(SensorRig):
         self.image_pub = rospy.Publisher('/camera/rgb/image_rect_color', Image, queue_size=5)
         self.camera_info_pub = rospy.Publisher('/camera/rgb/camera_info', CameraInfo, queue_size=5)
         self.vo_pub = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=5)
-        self.info_pub = rospy.Publisher('/rtabmap/odom_info', ODOM_INFO, queue_size=5)
+        self.info_pub = rospy.Publisher('/rtabmap/odom_info_lite', ODOM_INFO, queue_size=5)
         self.sensor_topics = {pub.resolved_name
                               for pub in (self.image_pub, self.camera_info_pub, self.vo_pub,
                                           self.info_pub)}
