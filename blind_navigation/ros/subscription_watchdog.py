@@ -14,8 +14,8 @@ connection to, to rospy's own publisher-update path, which connects them.
 Between checks its thread sleeps; with nothing to check it costs nothing.
 A subscription with an expected type (ros/wiring.Expected) also has its
 topic's type checked at the master in those checks (a wrongly typed topic is
-refused there even before its first message). Uses rospy 1.15's registration internals (the Noetic line); does nothing if
-they are not there.
+refused there even before its first message). Uses rospy 1.15's registration
+internals (the Noetic line); does nothing if they are not there.
 """
 import heapq
 import threading

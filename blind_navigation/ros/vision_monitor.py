@@ -53,8 +53,8 @@ from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensit
                                           odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
-from blind_navigation.ros.wiring import Expected
 from blind_navigation.ros.odometry import ros_time
+from blind_navigation.ros.wiring import Expected
 
 #: RTAB-Map's OdomInfo: rtabmap_msgs from 0.21 on, rtabmap_ros before (its MD5 sum changes
 #: between releases; the lost flag's place does not)

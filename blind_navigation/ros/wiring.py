@@ -76,8 +76,12 @@ def refuse(topic, expected, found):
         listeners = list(_listeners)
     rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
                    rospy.get_name(), fault)
-    for listener in listeners:
-        listener(fault)
+    for listener in listeners:      # each one: a failing listener must not keep an output moving
+        try:
+            listener(fault)
+        except Exception as error:
+            rospy.logerr('%s: while refusing %s: %s: %s', rospy.get_name(), topic,
+                         type(error).__name__, error)
 
 
 def on_fault(callback):

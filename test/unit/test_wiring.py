@@ -86,3 +86,16 @@ def test_a_kobuki_msgs_without_its_classes_counts_as_absent(monkeypatch):
     finally:
         monkeypatch.undo()
         importlib.reload(kobuki_msgs_compat)
+
+
+def test_a_failing_listener_does_not_keep_the_others_from_hearing(fatal, monkeypatch):
+    errors, heard = [], []
+    monkeypatch.setattr(rospy, 'logerr', lambda text, *args: errors.append(text % args))
+
+    def broken(_fault):
+        raise RuntimeError('broken listener')
+    wiring.on_fault(broken)
+    wiring.on_fault(heard.append)
+    wiring.refuse('/mobile_base/events/cliff', wiring.Expected(('kobuki_msgs/CliffEvent',)), 'std_msgs/String')
+    assert len(fatal) == 1 and len(heard) == 1
+    assert errors and 'RuntimeError: broken listener' in errors[0]
