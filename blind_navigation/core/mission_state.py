@@ -48,11 +48,6 @@ CALIBRATION_ROLE = 'calibrate_gyro'
 MOTION_OWNER = {ROTATING: ROTATION_ROLE, RETURNING: BACK_TRAVEL_ROLE}
 
 
-def can_move_to(current, new):
-    """True when the state machine allows ``current`` -> ``new``."""
-    return new in TRANSITIONS.get(current, ())
-
-
 def may_move(role, state):
     """True when ``role`` may command motion while the mission is in ``state``
     (None: no mission is running, which only the calibration may use)."""

@@ -339,7 +339,7 @@ class LandmarkWriter(object):
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *_exc):
         self.close()
 
 

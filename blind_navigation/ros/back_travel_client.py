@@ -151,7 +151,6 @@ class BackTravelClient(object):
         self._return = threading.Event()
         self._trip = None
         self._turn_start = None          # raw odometry yaw where recording stopped
-        self._rotation_deadline = None   # rospy time
         self.correction = layer.heading_correction() if p.heading_correction else None
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=1, latch=True)

@@ -155,14 +155,7 @@ class CorrectionReceiver(object):
         self.correction = self.reference = None
         self._lock = threading.Lock()
         self._received = threading.Event()
-        self._callbacks = []
         subscribe(names.HEADING_CORRECTION, HeadingCorrection, self._on_correction, queue_size=1)
-
-    def on_receive(self, callback):
-        """Call ``callback()`` once the correction is installed (at once if it is)."""
-        self._callbacks.append(callback)
-        if self._received.is_set():
-            callback()
 
     @property
     def received(self):
@@ -178,8 +171,6 @@ class CorrectionReceiver(object):
             self.correction, self.reference = correction, reference
             self.odometry.set_correction(correction, reference, snapshot)
             self._received.set()
-        for callback in list(self._callbacks):
-            callback()
 
     def to_plain(self):
         """The installed correction and the corrected frame's state now, as plain

@@ -131,10 +131,6 @@ class OdometryFeed(object):
         self._batch = batch
 
     @property
-    def subscribed(self):
-        return self._subscriber is not None
-
-    @property
     def batched(self):
         return self._batch > 1
 
