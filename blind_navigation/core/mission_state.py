@@ -12,8 +12,7 @@ the mission's owner (back_travel_client)::
 - ``rotating``: vision was lost while recording (a trigger in any other state
   is logged and changes nothing; repeated triggers change nothing).
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts
-  (the layer is started again).
+- ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts.
 
 Motion is commanded only by the role that owns the phase (:data:`MOTION_OWNER`):
 the pi turn in ``rotating``, the back travel in ``returning``; every velocity

@@ -2,13 +2,9 @@
 mission state, the Kobuki's safety events, the heading correction and
 /diagnostics.
 
-A *role* is one of the layer's node classes in this package (sampling
-publisher, landmark saver, record server and client, heading correction,
-rotate_pi, back-travel server and client, vision monitor). A role runs alone
-in its own node (launch/paper.launch: the paper's layout, one process per
-node) or together with the others in one process (nodes/blind_navigation_node.py,
-the default of launch/blind_navigation.launch). Either way it is built as
-``Role(layer)`` and finds here what it shares with the roles beside it:
+A *role* is one of the layer's node classes, built as ``Role(layer)``, alone in
+its own node (launch/paper.launch) or with the others in one process
+(nodes/blind_navigation_node.py, the default). It finds here:
 
 - :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
   with others (each role's DEFAULTS are the one source of its defaults);
