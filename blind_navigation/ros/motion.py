@@ -1,6 +1,5 @@
 """What may move the robot: the Kobuki's safety events and the one velocity
-output every moving role uses (the pi turn, the back travel, the gyro
-calibration).
+output every moving role uses (the pi turn, the back travel, the calibration).
 
 :class:`SafetyMonitor` watches the Kobuki's bumper, cliff and wheel-drop events
 (core/safety.SafetyEvents) once per process and calls every registered
