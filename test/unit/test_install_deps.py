@@ -20,8 +20,10 @@ COMMANDS = ('rospack', 'rostopic', 'rosservice', 'rosnode', 'rosparam', 'roslaun
 #: commands from the venvs install_deps.sh makes: command -> (venv, requirements file)
 VENV_COMMANDS = {'vermin': ('tools', 'tools.txt')}
 #: launch nodes of other packages that no test or make target starts: type -> why
-OPTIONAL_NODES = {'rviz': "demo.launch's rviz:=true (default false), a desktop's choice",
-                  'rgbd_odometry': "rtabmap_vo.launch: the real robot's RTAB-Map, not the tests"}
+#: (a package given by an arg, rtabmap_vo.launch's $(arg odom_pkg), is not resolved)
+OPTIONAL_NODES = {'rviz': "rviz.launch, only with rviz:=true (default false): a desktop's choice",
+                  'nodelet': "kobuki_safety_controller.launch: the real robot's Kobuki stack "
+                             "(turtlebot2_noetic.rosinstall), not the tests"}
 #: where ROS installs a package's node executables (libexec)
 LIBEXEC = ('/opt/ros/noetic/lib', '/usr/lib')
 
@@ -67,8 +69,10 @@ def calls(path, text):
         lines = (line.split('#')[0] if not path.endswith('.py') else line for line in text.splitlines())
         if any(re.search(pattern, line) for line in lines):
             found.add(command)
-    for pkg, kind in re.findall(r'pkg="([^"$]+)" type="([^"]+)"', text):
-        if pkg != 'blind_navigation':
+    for tag in re.findall(r'<(?:node|test)\b[^>]*>', text):
+        attributes = dict(re.findall(r'(\w+)="([^"]*)"', tag))
+        pkg, kind = attributes.get('pkg', ''), attributes.get('type', '')
+        if pkg and '$' not in pkg and pkg != 'blind_navigation':
             nodes[kind] = pkg
     return found, nodes
 
