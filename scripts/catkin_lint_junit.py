@@ -6,10 +6,10 @@ PACKAGE_DIR must be named after the package (catkin_lint reports a directory
 named otherwise): make test lints the workspace's src/blind_navigation.
 Exit status: catkin_lint's (0 when it found no problem).
 """
-import os
 import subprocess
 import sys
-import xml.etree.ElementTree as ET
+
+from junit_case import write_case
 
 COMMAND = ['catkin_lint', '--strict', '-W2']
 #: catkin_lint's own notices when rosdep is not installed: not problems of the package
@@ -32,20 +32,6 @@ def lint(package_dir):
     return run.returncode, problems, run.stdout
 
 
-def write_result(path, package_dir, status, problems, output):
-    name = ' '.join(COMMAND)
-    suite = ET.Element('testsuite', name='catkin_lint', tests='1', failures='1' if status else '0',
-                       errors='0')
-    case = ET.SubElement(suite, 'testcase', classname='catkin_lint', name=name)
-    if status:
-        failure = ET.SubElement(case, 'failure', message='%d problem(s): %s' % (
-            len(problems), problems[0] if problems else 'exit %d' % status))
-        failure.text = output or '\n'.join(problems)
-    ET.SubElement(case, 'system-out').text = '%s %s\n%s' % (name, package_dir, output)
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding='utf-8', xml_declaration=True)
-
-
 def main(argv):
     if len(argv) != 3:
         sys.exit(__doc__)
@@ -55,7 +41,7 @@ def main(argv):
         print('catkin_lint: %s' % line)
     print('catkin_lint --strict -W2 %s: %s' % (
         package_dir, 'clean' if status == 0 else '%d problem(s)' % len(problems)))
-    write_result(result, package_dir, status, problems, output)
+    write_case(result, 'catkin_lint', ' '.join(COMMAND), package_dir, status, problems, output)
     return status
 
 

@@ -5,12 +5,13 @@
 # tools (catkin_lint for make test). On Debian 12 ROS comes from Debian's packages;
 # where ROS Noetic lives in /opt/ros/noetic, from the ros-noetic-* packages.
 # "a|b" installs a, or b where the distribution has no a.
+# Then the pinned virtual environments (scripts/venvs.sh, requirements/): tools
+# (vermin) and, where a Python 3.8 is found, py38 (the Noetic lane).
 set -euo pipefail
 
 COMMON=(g++ cmake make libyaml-cpp-dev python3-yaml python3-numpy python3-rospkg
-        python3-setuptools python3-catkin-pkg python3-docutils
+        python3-setuptools python3-venv python3-catkin-pkg python3-docutils
         python3-matplotlib python3-psutil python3-pytest python3-hypothesis
-        python3-venv python3-pip   # install_sim_venv.sh: the fake's physics engine
         "catkin-lint|python3-catkin-lint")
 DEBIAN_ROS=(catkin ros-message-generation ros-message-runtime
             ros-std-msgs python3-std-msgs ros-geometry-msgs python3-geometry-msgs
@@ -18,11 +19,11 @@ DEBIAN_ROS=(catkin ros-message-generation ros-message-runtime
             ros-actionlib-msgs python3-actionlib-msgs ros-diagnostic-msgs python3-diagnostic-msgs
             python3-rospy python3-actionlib python3-diagnostic-updater python3-genpy
             python3-rosgraph python3-roslaunch
-            # the test rig
+            # the test rig (rospack-tools: the rospack command)
             ros-std-srvs python3-std-srvs ros-rosgraph-msgs python3-rosgraph-msgs
             python3-rosbag python3-tf2-ros python3-roslib python3-rosnode python3-rostest
             librostest-dev python3-rosmaster python3-rosparam python3-rostopic
-            python3-rosservice python3-rosmsg)
+            python3-rosservice python3-rosmsg rospack-tools)
 NOETIC_ROS=(ros-noetic-catkin ros-noetic-message-generation ros-noetic-message-runtime
             ros-noetic-std-msgs ros-noetic-geometry-msgs ros-noetic-nav-msgs
             ros-noetic-sensor-msgs ros-noetic-actionlib-msgs ros-noetic-diagnostic-msgs
@@ -31,7 +32,7 @@ NOETIC_ROS=(ros-noetic-catkin ros-noetic-message-generation ros-noetic-message-r
             # the test rig
             ros-noetic-std-srvs ros-noetic-rosgraph-msgs ros-noetic-rosbag ros-noetic-tf2-ros
             ros-noetic-roslib ros-noetic-rosnode ros-noetic-rostest ros-noetic-rostopic
-            ros-noetic-rosservice)
+            ros-noetic-rosservice ros-noetic-rospack)
 
 if [ -f /opt/ros/noetic/setup.bash ]; then
   wanted=("${COMMON[@]}" "${NOETIC_ROS[@]}")
@@ -51,29 +52,41 @@ for choice in "${wanted[@]}"; do
   done
   [ -n "$found" ] || missing+=("$choice")
 done
+apt_install() {
+  local SUDO="" choice pkg pick install=()
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "install_deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    SUDO="sudo"
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  for choice in "${missing[@]}"; do
+    pick=""
+    for pkg in ${choice//|/ }; do
+      if [ -n "$(apt-cache policy "$pkg" 2>/dev/null | awk '/Candidate:/ && $2 != "(none)" {print $2}')" ]; then
+        pick=$pkg; break
+      fi
+    done
+    [ -n "$pick" ] || { echo "install_deps: no package for $choice in the apt sources" >&2; exit 1; }
+    install+=("$pick")
+  done
+  echo "install_deps: installing ${install[*]}"
+  $SUDO apt-get install -y -q --no-install-recommends "${install[@]}"
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install_deps: all ${#wanted[@]} packages present"
-  exec bash "$(dirname "$0")/install_sim_venv.sh"   # the simulator's physics engine (PyPI, pinned)
+else
+  apt_install
 fi
 
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then
-  command -v sudo >/dev/null || { echo "install_deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
-  SUDO="sudo"
+# shellcheck source=venvs.sh
+source "$(dirname "$0")/venvs.sh"
+make_venv tools /usr/bin/python3 tools.txt
+make_venv sim /usr/bin/python3 sim.txt --system-site-packages   # the fake's physics engine (MuJoCo)
+if python38=$(find_python38); then
+  make_venv py38 "$python38" py38.txt
+  debian_ros_behind "$BN_WS/venvs/py38"
+else
+  echo "install_deps: no Python 3.8 (pyenv or python3.8 on PATH): no py38 venv, the Noetic lane will not run"
 fi
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -q
-install=()
-for choice in "${missing[@]}"; do
-  pick=""
-  for pkg in ${choice//|/ }; do
-    if [ -n "$(apt-cache policy "$pkg" 2>/dev/null | awk '/Candidate:/ && $2 != "(none)" {print $2}')" ]; then
-      pick=$pkg; break
-    fi
-  done
-  [ -n "$pick" ] || { echo "install_deps: no package for $choice in the apt sources" >&2; exit 1; }
-  install+=("$pick")
-done
-echo "install_deps: installing ${install[*]}"
-$SUDO apt-get install -y -q --no-install-recommends "${install[@]}"
-bash "$(dirname "$0")/install_sim_venv.sh"   # the simulator's physics engine (PyPI, pinned)

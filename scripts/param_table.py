@@ -159,10 +159,11 @@ def meaning(src, expression, param):
         text = src.comment(line)
         if text:
             return text, src.where(line)
+        key = _subscript_key(value) if isinstance(value, ast.Subscript) else None
         if isinstance(value, ast.Subscript) and isinstance(value.value, ast.Name) \
-                and isinstance(value.slice, ast.Constant):
+                and isinstance(key, ast.Constant):
             module, name = resolve(src, value.value.id)
-            return _meaning_in(module, name, value.slice.value)
+            return _meaning_in(module, name, key.value)
         return '', src.where(line)
     looked_up = {id(n.value) for n in ast.walk(expression) if isinstance(n, ast.Subscript)}
     names = sorted((n for n in ast.walk(expression) if isinstance(n, ast.Name)
@@ -172,6 +173,12 @@ def meaning(src, expression, param):
     if not holders:
         return '', src.where(expression.lineno)
     return _meaning_in(*holders[-1], param)
+
+
+def _subscript_key(node):
+    """The key of ``node`` (an ast.Subscript): Python 3.8 wraps it in an ast.Index."""
+    key = node.slice
+    return key.value if isinstance(key, getattr(ast, 'Index', ())) else key
 
 
 def _meaning_in(module, name, param):

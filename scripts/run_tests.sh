@@ -1,7 +1,9 @@
 #!/bin/bash
 # Run every unit test (pytest, no master) and every rostest suite through
 # `catkin_make run_tests`, lint the package (catkin_lint --strict -W2, one more
-# test case), then print one summary line `N passed, N failed`.
+# test case; vermin -t=3.8-, one more), run the Noetic lane (scripts/noetic_lane.sh:
+# the unit tests, harness missions and mission rostests under Python 3.8), then
+# print one summary line `N passed, N failed`.
 # Exit status is non-zero on any failure or when no test ran.
 set -uo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -19,6 +21,9 @@ status=$?
 # the workspace's link: catkin_lint wants the package in a directory named after it
 /usr/bin/python3 "$repo/scripts/catkin_lint_junit.py" "$BN_WS/src/blind_navigation" \
   "$results/lint-catkin_lint.xml"
+/usr/bin/python3 "$repo/scripts/vermin_junit.py" "$BN_WS/venvs/tools/bin/vermin" "$repo" \
+  "$results/lint-vermin.xml"
+bash "$repo/scripts/noetic_lane.sh"
 /usr/bin/python3 "$repo/scripts/test_summary.py" "$results"
 summary=$?
 if [ $status -ne 0 ]; then

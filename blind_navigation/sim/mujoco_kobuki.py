@@ -14,7 +14,7 @@ the motors' lag (``motor_time_constant``, on the servo's target); the speed droo
 ripple and slip terms are not used: slip comes from the contacts.
 
 ``mujoco`` is imported when a base is built (``base='kinematic'`` needs none):
-from the interpreter's path, else from ``$BN_WS/venvs/sim`` (scripts/install_sim_venv.sh).
+from the interpreter's path, else from ``$BN_WS/venvs/sim`` (requirements/sim.txt, by install_deps.sh).
 :func:`make_base` builds either base by name. Numbers and sources: docs/fake_turtlebot.md.
 """
 import glob
@@ -69,7 +69,7 @@ def import_mujoco():
         import mujoco
     except ImportError as error:
         raise ImportError('the physics base needs mujoco (%s); install it with '
-                          'scripts/install_sim_venv.sh (make deps)' % error)
+                          'scripts/install_deps.sh (make deps)' % error)
     _ENGINE.append(mujoco)
     return mujoco
 

@@ -10,7 +10,7 @@ from blind_navigation.sim.mujoco_kobuki import engine_name, import_mujoco, load_
 
 try:
     import_mujoco()
-except ImportError as error:           # make deps installs it (scripts/install_sim_venv.sh)
+except ImportError as error:           # make deps installs it (scripts/install_deps.sh: requirements/sim.txt)
     pytest.skip('mujoco not installed: %s' % error, allow_module_level=True)
 
 

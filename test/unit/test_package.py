@@ -32,20 +32,21 @@ NOT_IMPORTED = {'message_runtime': 'the generated msg/srv/action classes',
                 'roslaunch': 'the launch files',
                 'yaml-cpp': 'tools/landmark_info.cpp'}
 #: rig imports that package.xml cannot declare, each with where it is installed from
-NOT_DECLARED = {'mujoco': 'PyPI, pinned, into $BN_WS/venvs/sim by scripts/install_sim_venv.sh '
+NOT_DECLARED = {'mujoco': 'PyPI, pinned, into $BN_WS/venvs/sim by scripts/install_deps.sh '
                           '(the physics base, sim/mujoco_kobuki.py: a test and bench dependency only)'}
 #: where the conditions of package.xml are evaluated: Noetic with Python 3
 CONDITIONS = {'ROS_PYTHON_VERSION': '3', 'ROS_DISTRO': 'noetic'}
 
 
 def is_stdlib(module):
-    if hasattr(sys, 'stdlib_module_names'):
-        return module in sys.stdlib_module_names
+    """Built in, frozen, or found in the interpreter's standard library directory
+    (sys.stdlib_module_names is Python 3.10+)."""
     if module in sys.builtin_module_names:
         return True
     spec = importlib.util.find_spec(module)
     origin = (spec.origin or '') if spec else ''
-    return origin.startswith(sysconfig.get_paths()['stdlib']) and 'packages' not in origin
+    return origin == 'frozen' or (origin.startswith(sysconfig.get_paths()['stdlib'])
+                                  and 'packages' not in origin)
 
 
 def python_files(paths):

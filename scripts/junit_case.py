@@ -1,0 +1,21 @@
+"""One xunit test case for a whole check (a linter's run), so that make test counts a
+problem it finds as a failed test (scripts/test_summary.py reads lint-*.xml).
+
+write_case(path, suite, command, target, status, problems, output): ``command`` ran on
+``target`` and exited ``status``; ``problems`` are its problem lines, ``output`` all it said.
+"""
+import os
+import xml.etree.ElementTree as ET
+
+
+def write_case(path, suite_name, command, target, status, problems, output):
+    suite = ET.Element('testsuite', name=suite_name, tests='1', failures='1' if status else '0',
+                       errors='0')
+    case = ET.SubElement(suite, 'testcase', classname=suite_name, name=command)
+    if status:
+        failure = ET.SubElement(case, 'failure', message='%d problem(s): %s' % (
+            len(problems), problems[0] if problems else 'exit %d' % status))
+        failure.text = output or '\n'.join(problems)
+    ET.SubElement(case, 'system-out').text = '%s %s\n%s' % (command, target, output)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    ET.ElementTree(suite).write(path, encoding='utf-8', xml_declaration=True)
