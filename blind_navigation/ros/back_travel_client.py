@@ -17,7 +17,11 @@ and, with its reason and the return's progress, on ``blind_navigation/status``
   ``rotation_timeout`` s: ``aborted``;
 - ``returning`` -> ``home`` (every goal succeeded) or ``aborted`` (with the
   reason: bad landmark file, no server, a goal failed, a Kobuki safety event,
-  the whole return's allowance spent).
+  the whole return's allowance spent);
+- any state but ``home`` / ``aborted`` -> ``aborted``: a role failed (an
+  unexpected exception, ros/faults.py), reported at once by a role of this
+  process or on ``blind_navigation/role_failure`` by another process; the
+  reason names the role and the exception.
 
 The return: loads the landmark file with core/store.load_landmarks (a bad file
 aborts with the file and entry named; nothing is driven), expresses the
@@ -162,11 +166,14 @@ class BackTravelClient(object):
         # arrives while registerSubscriber is in flight, so subscribing at start-up,
         # while the server registers, can leave feedback/result unconnected for good.
         self.client = None
+        guard = self.guard = layer.guard(self.ROLE)
+        layer.faults.on_failure(self._on_failure)
         self._start_from_progress()
-        layer.safety.on_trip(self._on_trip)
-        subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
-        subscribe(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
-        subscribe(names.ROTATION_DONE, Bool, self._on_rotation_done, queue_size=1)
+        layer.safety.on_trip(guard(self._on_trip))
+        subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
+        subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
+        subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
+        subscribe(names.ROTATION_DONE, Bool, guard(self._on_rotation_done), queue_size=1)
         layer.diagnostics.add('mission', self._mission_status)
         layer.diagnostics.add('odometry', self._odometry_status)
         layer.diagnostics.add('landmark file', self._file_status)
@@ -279,7 +286,8 @@ class BackTravelClient(object):
         self._save_progress(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
                                                  time.time(), self.layer.mission_id))
         self.set_state(state.ROTATING, 'vision lost (%s)' % sender)
-        rospy.Timer(rospy.Duration(self.rotation_timeout), self._check_rotation, oneshot=True)
+        rospy.Timer(rospy.Duration(self.rotation_timeout), self.guard(self._check_rotation),
+                    oneshot=True)
 
     def _check_rotation(self, _event):
         if self.state == state.ROTATING:
@@ -313,6 +321,20 @@ class BackTravelClient(object):
             return 'the robot turned %.2f rad since vision loss, not pi' % turned
         return None
 
+    def _on_failure(self, reason):
+        """A role failed (ros/faults.py): the mission ends ``aborted`` with ``reason``."""
+        with self._lock:
+            current = self.state
+        if current in state.TERMINAL:
+            self.log.error('%s (the mission had ended %s)', reason, current)
+            return
+        self.set_state(state.ABORTED, reason)
+
+    def _on_failure_report(self, msg):
+        sender = msg._connection_header.get('callerid', '?')
+        if sender != rospy.get_name():          # this process's roles report at once
+            self._on_failure('%s (%s)' % (msg.data, sender))
+
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
@@ -344,7 +366,7 @@ class BackTravelClient(object):
     # --- the return ----------------------------------------------------------------------------
     def run(self):
         """Drive returns when the state says so (blocks until shutdown)."""
-        self.odometry.add_listener(self._on_odom)
+        self.odometry.add_listener(self.guard(self._on_odom))
         rospy.on_shutdown(self._return.set)
         while True:
             self._return.wait()         # a return to drive, or shutdown

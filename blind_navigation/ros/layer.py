@@ -20,7 +20,9 @@ the default of launch/blind_navigation.launch). Either way it is built as
 - :attr:`Layer.safety`: the Kobuki's bumper, cliff and wheel-drop events;
 - :meth:`Layer.heading_correction`: the latched gyro correction, installed into
   the shared odometry as soon as it arrives;
-- :attr:`Layer.diagnostics`: the process's /diagnostics.
+- :attr:`Layer.diagnostics`: the process's /diagnostics;
+- :meth:`Layer.guard`: wraps every thread target and callback of a role, so an
+  exception in it stops the robot and ends the mission (ros/faults.py).
 """
 import math
 import threading
@@ -32,10 +34,12 @@ from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
+from std_msgs.msg import String
 from .common import cache_rosout_flag, load_params, subscribe
 from .diagnostics import Diagnostics
+from .faults import Faults
 from .mission import MissionStateView
-from .motion import SafetyMonitor
+from .motion import SafetyMonitor, halt_all
 from .odometry import OdometryFeed
 
 #: The node that owns the mission state when back_travel_client runs as its own node.
@@ -82,6 +86,9 @@ class Layer(object):
         self.safety = SafetyMonitor()
         namespace = rospy.get_namespace().strip('/')
         self.diagnostics = Diagnostics(namespace or 'none')
+        failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
+        self.faults = Faults(self.diagnostics, lambda text: failure_pub.publish(String(data=text)),
+                             halt_all)
         self._correction = None
         self._correction_lock = threading.Lock()
 
@@ -95,6 +102,12 @@ class Layer(object):
         for name in shared:
             setattr(own, name, rospy.get_param('~' + name, defaults[name]))
         return own
+
+    def guard(self, role):
+        """``guard(fn)``: ``fn`` whose unexpected exception fails ``role``: zero velocity,
+        the mission ``aborted`` naming it, diagnostics ERROR (ros/faults.py). Every thread
+        target and callback a role registers goes through it."""
+        return self.faults.guard(role)
 
     def logger(self, role):
         """A RoleLog naming the node, and the role when it shares the node."""
@@ -122,9 +135,11 @@ def start_roles(role_classes, compact=False):
     """Build the roles (classes taking the Layer) of this process, in order, after
     ``rospy.init_node``; a bad param (ValueError) or a file a role cannot use (e.g. a
     ``landmark_file`` that is a directory: core/files.FileContentError, OSError) is logged
-    as fatal, naming it, and exits with status 1. Returns the roles; :func:`run_roles` runs them."""
+    as fatal, naming it, and exits with status 1. Returns the roles (a list with the
+    ``layer`` they share); :func:`run_roles` runs them."""
     layer = Layer(compact)
-    roles = []
+    roles = Roles()
+    roles.layer = layer
     for role_class in role_classes:
         try:
             roles.append(role_class(layer))
@@ -134,12 +149,17 @@ def start_roles(role_classes, compact=False):
     return roles
 
 
+class Roles(list):
+    """The roles of a process (start_roles), with ``layer``, the Layer they share."""
+
+
 def run_roles(roles):
-    """Run each role's blocking ``run()`` loop (if it has one) in its own thread, and
-    spin until shutdown."""
+    """Run each role's blocking ``run()`` loop (if it has one) in its own guarded thread
+    (:meth:`Layer.guard`), and spin until shutdown."""
     for role in roles:
         if hasattr(role, 'run'):
-            threading.Thread(target=role.run, name=role.ROLE, daemon=True).start()
+            threading.Thread(target=roles.layer.guard(role.ROLE)(role.run), name=role.ROLE,
+                             daemon=True).start()
     rospy.spin()
 
 

@@ -15,9 +15,11 @@ curvature kept); :meth:`~MotionOutput.halt` stops at once and turns every
 later :meth:`~MotionOutput.publish` into zero until
 :meth:`~MotionOutput.release`, so a control loop that computed its command
 before a cancel or a safety event cannot move the robot again. Zero is
-published on node shutdown.
+published on node shutdown. :func:`halt_all` (a role of the process failed,
+ros/faults.py) halts every output of the process for good: no release.
 """
 import threading
+import weakref
 
 import rospy
 from geometry_msgs.msg import Twist
@@ -31,6 +33,14 @@ from .common import subscribe, twist
 #: kind -> (message class, field naming the sensor)
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
                'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
+#: Every MotionOutput of this process (halt_all).
+_OUTPUTS = weakref.WeakSet()
+
+
+def halt_all(reason):
+    """Zero velocity now on every output of this process, for good (a role failed)."""
+    for output in list(_OUTPUTS):
+        output.halt(reason, final=True)
 
 
 class SafetyMonitor(object):
@@ -77,6 +87,7 @@ class MotionOutput(object):
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
+        self.final = False          # halted for good (halt_all): release() does not resume
         self._lock = threading.Lock()
         self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
         if safety is not None:
@@ -84,6 +95,7 @@ class MotionOutput(object):
         if mission is not None:
             mission.on_change(self._on_state)
         rospy.on_shutdown(lambda: self.halt('node shutdown'))
+        _OUTPUTS.add(self)
 
     @property
     def allowed(self):
@@ -109,14 +121,16 @@ class MotionOutput(object):
         with self._lock:
             self._send(0.0, 0.0)
 
-    def halt(self, reason):
+    def halt(self, reason, final=False):
         with self._lock:
-            self.halted = reason
+            if not self.final:
+                self.halted, self.final = reason, final
             self._send(0.0, 0.0)
 
     def release(self):
         with self._lock:
-            self.halted = None
+            if not self.final:
+                self.halted = None
 
     def _send(self, v, w):
         try:
