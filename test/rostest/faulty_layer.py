@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Test-only (role_failure_*.test): the one-process layer, nodes/blind_navigation_node.py
-run by its normal main(), with ONE method of one role's code made to raise, as a bug
-would. The first argument names the fault (:data:`FAULTS`):
+"""Test-only (role_failure_*.test): a layer node run by its normal main()
+(nodes/blind_navigation_node.py, the one process; or the node script named by the second
+argument, e.g. rotate_pi.py of the paper's layout), with ONE method of one role's code
+made to raise, as a bug would. The first argument names the fault (:data:`FAULTS`):
 
 - ``client``: the client's route building after vision loss raises Python 3.8's
   TypeError of bisect(key=) (BackTravelClient._pruned, issue 21's report);
@@ -52,13 +53,14 @@ FAULTS = {
 
 def main():
     args = rospy.myargv(sys.argv)
-    if len(args) < 2 or args[1] not in FAULTS:
-        sys.exit('usage: faulty_layer.py %s [ROS args]' % '|'.join(sorted(FAULTS)))
+    if len(args) not in (2, 3) or args[1] not in FAULTS:
+        sys.exit('usage: faulty_layer.py %s [NODE_SCRIPT] [ROS args]' % '|'.join(sorted(FAULTS)))
     FAULTS[args[1]]()
-    found = roslib.packages.find_node('blind_navigation', 'blind_navigation_node.py')
+    script = args[2] if len(args) == 3 else 'blind_navigation_node.py'
+    found = roslib.packages.find_node('blind_navigation', script)
     if not found:
-        sys.exit('blind_navigation_node.py not found in package blind_navigation')
-    sys.argv = [found[0]] + sys.argv[2:]
+        sys.exit('%s not found in package blind_navigation' % script)
+    sys.argv = [found[0]] + [arg for arg in sys.argv[1:] if arg not in args[1:]]
     runpy.run_path(found[0], run_name='__main__')
 
 

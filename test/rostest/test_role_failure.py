@@ -1,10 +1,15 @@
 #!/usr/bin/env python3
-"""rostest (role_failure_client/server/rotate.test): a role that fails ends the mission safely.
+"""rostest (role_failure_{client,server,rotate,paper_rotate}.test): a role that fails ends
+the mission safely.
 
 The layer runs in its default layout (one process) through faulty_layer.py, which
 makes one method of one role raise (``~fault``): the client's route building after
 vision loss (issue 21's Python 3.8 TypeError), the server's control step
-mid-return, or rotate_pi's turn step mid-turn. A short mission is recorded on the
+mid-return, or rotate_pi's turn step mid-turn. In the paper's layout
+(``~replace``: a node, e.g. rotate_pi) this test replaces that node, before the
+recording starts, by faulty_layer.py running the node's script under the same
+name (the launch's params stay on the master), so the failure crosses processes
+to the owner, back_travel_client. A short mission is recorded on the
 ideal fake TurtleBot and vision is lost. Asserted: the state ends ``aborted`` with
 the role and the exception (type and message) in the reason; zero velocity
 reaches the mux input (teleop) within ZERO_WITHIN of the abort and nothing moves
@@ -14,10 +19,12 @@ the traceback is logged once, as FATAL.
 """
 import math
 import os
+import subprocess
 import sys
 import threading
 import unittest
 
+import roslib.packages
 import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticStatus
@@ -27,7 +34,7 @@ from std_msgs.msg import String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import STOPPED_SPEED, TELEOP_TOPIC, MissionRun, TimedTwists  # noqa: E402
-from recording_tools import Collector, Diagnostics  # noqa: E402
+from recording_tools import Collector, Diagnostics, subscribers_of  # noqa: E402
 from faulty_layer import BISECT_KEY  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
@@ -53,8 +60,6 @@ MOVING_V, MOVING_W = 0.03, 0.1
 STOP_WITHIN, STAY_FOR, STAY_WITHIN, STAY_YAW = 1.0, 3.0, 0.002, 0.005
 #: rad/s on ground truth that counts as not turning
 STOPPED_W = 0.01
-#: the layer's one process: its diagnostics statuses are named after it
-NODE = 'blind_navigation'
 
 
 class Truth(object):
@@ -85,6 +90,11 @@ class RoleFailureTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.fault = rospy.get_param('~fault')
+        cls.replace = rospy.get_param('~replace', '')
+        #: the failing process and the owner's (their diagnostics statuses are named after them)
+        cls.node = cls.replace or 'blind_navigation'
+        cls.owner = 'back_travel_client' if cls.replace else 'blind_navigation'
+        cls.replacement = None
         cls.reason, cls.before = EXPECTED[cls.fault]
         cls.mission = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
         cls.teleop = TimedTwists(TELEOP_TOPIC)
@@ -95,6 +105,8 @@ class RoleFailureTest(unittest.TestCase):
         rospy.Subscriber(names.STATE, String, cls._on_state, queue_size=10)
         mission = rospy.get_param('~mission')
         try:
+            if cls.replace:
+                cls.replace_node(run)
             run.wait_for_layer()
             run.start_operator(mission)
             run.wait_for_operator(mission)
@@ -111,8 +123,28 @@ class RoleFailureTest(unittest.TestCase):
             run.wait_sim(1.5, 'the diagnostics after the end')
         finally:
             run.stop_operator()
+            if cls.replacement is not None and cls.replacement.poll() is None:
+                cls.replacement.terminate()
+                cls.replacement.wait(timeout=20.0)
         rospy.loginfo('ROLE FAILURE %s: states %s; reason %r', cls.fault, run.state_names(),
                       cls.status.snapshot()[-1].reason if cls.status.snapshot() else None)
+
+    @classmethod
+    def replace_node(cls, run):
+        """Kill the launch's node ``~replace`` and start faulty_layer.py with its script
+        under its name, before the recording starts (it needs this node's sample
+        subscription)."""
+        name = '/' + cls.replace
+        run.wait(lambda: name in subscribers_of(names.SAMPLE), '%s never subscribed' % name)
+        subprocess.run(['rosnode', 'kill', name], check=True, timeout=run.wall_timeout)
+        run.wait(lambda: name not in subscribers_of(names.SAMPLE), '%s was not killed' % name)
+        found = roslib.packages.find_node('blind_navigation', 'faulty_layer.py')
+        if not found:
+            raise AssertionError('faulty_layer.py not found in package blind_navigation')
+        cls.replacement = subprocess.Popen([found[0], cls.fault, cls.replace + '.py',
+                                            '__name:=' + cls.replace])
+        run.wait(lambda: name in subscribers_of(names.SAMPLE),
+                 'the faulty %s never subscribed %s' % (name, names.SAMPLE))
 
     @classmethod
     def tearDownClass(cls):
@@ -133,7 +165,7 @@ class RoleFailureTest(unittest.TestCase):
 
     def fatal_logs(self):
         return [msg for msg in self.rosout.snapshot()
-                if msg.level == Log.FATAL and msg.name == '/' + NODE and 'Traceback' in msg.msg]
+                if msg.level == Log.FATAL and msg.name == '/' + self.node and 'Traceback' in msg.msg]
 
     def test_2_zero_velocity_on_the_mux_input_at_once(self):
         fatal = self.fatal_logs()
@@ -168,11 +200,11 @@ class RoleFailureTest(unittest.TestCase):
         self.assertLess(abs(wrap_angle(yaw1 - yaw0)), STAY_YAW)
 
     def test_4_diagnostics_show_the_failure_as_error(self):
-        for name, text in (('role failures', self.reason), ('mission', 'aborted: ' + self.reason)):
-            status = self.diagnostics.status('%s: %s' % (NODE, name))
+        for name, text in (('%s: role failures' % self.node, self.reason),
+                           ('%s: mission' % self.owner, 'aborted: ' + self.reason)):
+            status = self.diagnostics.status(name)
             self.assertIsNotNone(status, 'no status %r on /diagnostics' % name)
-            self.assertEqual(self.diagnostics.level('%s: %s' % (NODE, name)), DiagnosticStatus.ERROR,
-                             status[0])
+            self.assertEqual(self.diagnostics.level(name), DiagnosticStatus.ERROR, status[0])
             self.assertIn(text, status[0])
 
     def test_5_traceback_logged_once_as_fatal(self):
