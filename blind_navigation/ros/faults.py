@@ -5,15 +5,18 @@ target and callback a role registers (docs/safety.md, "A role that fails").
 exception (any ``Exception`` not raised while the node shuts down), calls
 :meth:`Faults.fail` and returns None instead of raising. ``fail(role, error)``:
 
-1. logs the traceback once per role and place (rospy.logfatal), repeats in
-   one line at most every :data:`REPEAT_LOG_PERIOD` s (wall);
-2. halts every velocity output of this process for good (ros/motion.halt_all);
+1. halts every velocity output of this process for good (ros/motion.halt_all);
+2. logs the traceback (rospy.logfatal);
 3. reports ``<role> failed: <Type>: <message>`` to the mission's owner: at once
    to the callbacks of this process (:meth:`Faults.on_failure`, the owner when
    hosted here) and on ``blind_navigation/role_failure`` (std_msgs/String,
    latched) for an owner in another process; the owner ends the mission
    ``aborted`` with that reason;
 4. turns this process's ``role failures`` diagnostics status to ERROR.
+
+Steps 2-4 happen once per role and place (a callback failing at every message
+reports once; the mission is over); a repeat halts again, is counted and
+logged in one line at most every :data:`REPEAT_LOG_PERIOD` s (wall).
 """
 import functools
 import threading
@@ -44,7 +47,8 @@ class Faults(object):
         self._lock = threading.Lock()
         self._logged = {}           # (role, place) -> when (wall) it was last logged
         self._callbacks = []
-        self.failures = []          # the reasons, in order
+        self.failures = []          # the reasons, in order (one per role and place)
+        self.repeats = 0            # failures at a place that had failed already
         diagnostics.add('role failures', self._status)
 
     def guard(self, role):
@@ -69,8 +73,9 @@ class Faults(object):
         self._callbacks.append(callback)
 
     def fail(self, role, error, place=''):
-        """``role`` failed with ``error`` (an exception, in its ``except`` block when
-        ``place`` names where): stop, report, diagnose (module docstring)."""
+        """``role`` failed with ``error`` (an exception, in its ``except`` block: its
+        traceback is logged) at ``place`` (where, e.g. a method's name): stop, report,
+        diagnose (module docstring)."""
         reason = describe(role, error)
         self._halt(reason)
         now = time.monotonic()
@@ -78,12 +83,15 @@ class Faults(object):
             last = self._logged.get((role, place))
             if last is None or now - last >= REPEAT_LOG_PERIOD:
                 self._logged[(role, place)] = now
-            self.failures.append(reason)
-        if last is None:
-            rospy.logfatal('%s: %s in %s; stopping the robot and ending the mission:\n%s',
-                           rospy.get_name(), reason, place or '?', traceback.format_exc())
-        elif now - last >= REPEAT_LOG_PERIOD:
-            rospy.logerr('%s: %s again in %s', rospy.get_name(), reason, place)
+            self.repeats += last is not None
+            if last is None:
+                self.failures.append(reason)
+        if last is not None:
+            if now - last >= REPEAT_LOG_PERIOD:
+                rospy.logerr('%s: %s again in %s', rospy.get_name(), reason, place)
+            return
+        rospy.logfatal('%s: %s in %s; stopping the robot and ending the mission:\n%s',
+                       rospy.get_name(), reason, place or '?', traceback.format_exc())
         for callback in list(self._callbacks):
             try:
                 callback(reason)
@@ -100,6 +108,7 @@ class Faults(object):
         with self._lock:
             failures = list(self.failures)
         stat.add('failures', len(failures))
+        stat.add('repeats', self.repeats)
         if failures:
             stat.summary(diag.ERROR, failures[-1] if len(failures) == 1 else
                          '%s (and %d more)' % (failures[0], len(failures) - 1))

@@ -80,15 +80,18 @@ class Layer(object):
         #: This mission's id: the same for every restart of a node within one launch of the
         #: layer, new for each launch (the recorder continues its file, the client its return).
         self.mission_id = rospy.get_param(MISSION_ID, None)
-        self.odometry = OdometryFeed(names.ODOM)
-        self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False)
-        self.mission = MissionStateView(self.mission_owner)
-        self.safety = SafetyMonitor()
         namespace = rospy.get_namespace().strip('/')
         self.diagnostics = Diagnostics(namespace or 'none')
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
         self.faults = Faults(self.diagnostics, lambda text: failure_pub.publish(String(data=text)),
                              halt_all)
+        # what the roles share fails like a role, under its own name
+        self.diagnostics.guard = self.guard('diagnostics')
+        self.odometry = OdometryFeed(names.ODOM, guard=self.guard('odometry feed'))
+        self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
+                                            guard=self.guard('visual odometry feed'))
+        self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
+        self.safety = SafetyMonitor(self.guard('safety monitor'))
         self._correction = None
         self._correction_lock = threading.Lock()
 
@@ -118,7 +121,8 @@ class Layer(object):
         first call: only the roles that drive on it subscribe)."""
         with self._correction_lock:
             if self._correction is None:
-                self._correction = CorrectionReceiver(self.odometry)
+                self._correction = CorrectionReceiver(self.odometry,
+                                                      self.guard('heading correction receiver'))
             return self._correction
 
 
@@ -170,13 +174,14 @@ class CorrectionReceiver(object):
     frame starts. A return resumed after the whole layer restarted installs the
     correction it kept in its progress (:meth:`install_plain`)."""
 
-    def __init__(self, odometry):
+    def __init__(self, odometry, guard=None):
         self.odometry = odometry
         self.correction = self.reference = None
         self._lock = threading.Lock()
         self._received = threading.Event()
         self._callbacks = []
-        subscribe(names.HEADING_CORRECTION, HeadingCorrection, self._on_correction, queue_size=1)
+        subscribe(names.HEADING_CORRECTION, HeadingCorrection,
+                  guard(self._on_correction) if guard else self._on_correction, queue_size=1)
 
     def on_receive(self, callback):
         """Call ``callback()`` once the correction is installed (at once if it is)."""

@@ -89,15 +89,35 @@ def test_a_dying_thread_is_reported_not_silent(caplog):
     assert 'Traceback' in fatal[0] and 'in pruning' in fatal[0] and 'TypeError' in fatal[0]
 
 
-def test_the_traceback_is_logged_once_per_place(caplog):
+def test_a_repeating_failure_reports_once_per_place_and_halts_every_time(caplog):
     rig = Rig()
     guarded = rig.faults.guard('vision_monitor')(pruning)
     with caplog.at_level(logging.DEBUG):
         for _ in range(3):
             guarded()
-    assert len(rig.reported) == 3
+    assert len(rig.halts) == 3
+    assert len(rig.reported) == len(rig.published) == rig.diagnostics.nows == 1
     assert len([r for r in caplog.records if 'Traceback' in r.getMessage()]) == 1
-    assert '(and 2 more)' in rig.status().message
+    stat = rig.status()
+    assert (stat.message, stat.values['failures'], stat.values['repeats']) == (
+        REASON.replace('back_travel_client', 'vision_monitor'), 1, 2)
+
+
+def test_failures_at_two_places_are_both_reported():
+    rig = Rig()
+    rig.faults.guard('vision_monitor')(pruning)()
+    rig.faults.guard('rotate_pi')(pruning)()
+    assert [reason.split()[0] for reason in rig.reported] == ['vision_monitor', 'rotate_pi']
+    assert '(and 1 more)' in rig.status().message
+
+
+def test_a_failing_diagnostics_check_does_not_recurse():
+    """A check that raises, guarded, fails while fail() publishes the diagnostics."""
+    rig = Rig()
+    check = rig.faults.guard('diagnostics')(pruning)
+    rig.diagnostics.now = check         # what Diagnostics.now does: run every (guarded) check
+    check()
+    assert len(rig.reported) == 1 and rig.faults.repeats == 1
 
 
 def test_a_failing_owner_callback_does_not_stop_the_report():
