@@ -1,14 +1,6 @@
-"""What the roles hosted in one process share: params, logs, odometry, the
-mission state, the Kobuki's safety events, the heading correction and
-/diagnostics.
-
-A *role* is one of the layer's node classes in this package (sampling
-publisher, landmark saver, record server and client, heading correction,
-rotate_pi, back-travel server and client, vision monitor). A role runs alone
-in its own node (launch/paper.launch: the paper's layout, one process per
-node) or together with the others in one process (nodes/blind_navigation_node.py,
-the default of launch/blind_navigation.launch). Either way it is built as
-``Role(layer)`` and finds here what it shares with the roles beside it:
+"""What the roles hosted in one process share. A *role* is one of the layer's node classes, built as ``Role(layer)``, alone in
+its own node (launch/paper.launch) or with the others in one process
+(nodes/blind_navigation_node.py, the default). It finds here:
 
 - :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
   with others (each role's DEFAULTS are the one source of its defaults);
@@ -21,8 +13,7 @@ the default of launch/blind_navigation.launch). Either way it is built as
 - :meth:`Layer.heading_correction`: the latched gyro correction, installed into
   the shared odometry as soon as it arrives;
 - :attr:`Layer.diagnostics`: the process's /diagnostics;
-- :meth:`Layer.guard`: wraps every thread target and callback of a role, so an
-  exception in it stops the robot and ends the mission (ros/faults.py).
+- :meth:`Layer.guard`: every callback and thread target of a role (ros/faults.py).
 """
 import math
 import threading
@@ -37,9 +28,10 @@ from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
 from .common import cache_rosout_flag, load_params, subscribe
 from .diagnostics import Diagnostics
+from . import wiring
 from .faults import Faults
 from .mission import MissionStateView
-from .motion import SafetyMonitor, halt_all
+from .motion import SafetyMonitor
 from .odometry import OdometryFeed
 
 #: The node that owns the mission state when back_travel_client runs as its own node.
@@ -82,9 +74,9 @@ class Layer(object):
         self.mission_id = rospy.get_param(MISSION_ID, None)
         namespace = rospy.get_namespace().strip('/')
         self.diagnostics = Diagnostics(namespace or 'none')
+        self.faults = Faults(self.diagnostics)
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
-        self.faults = Faults(self.diagnostics, lambda text: failure_pub.publish(String(data=text)),
-                             halt_all)
+        wiring.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
         # what the roles share fails like a role, under its own name
         self.diagnostics.guard = self.guard('diagnostics')
         self.odometry = OdometryFeed(names.ODOM, guard=self.guard('odometry feed'))
@@ -179,15 +171,8 @@ class CorrectionReceiver(object):
         self.correction = self.reference = None
         self._lock = threading.Lock()
         self._received = threading.Event()
-        self._callbacks = []
         subscribe(names.HEADING_CORRECTION, HeadingCorrection,
                   guard(self._on_correction) if guard else self._on_correction, queue_size=1)
-
-    def on_receive(self, callback):
-        """Call ``callback()`` once the correction is installed (at once if it is)."""
-        self._callbacks.append(callback)
-        if self._received.is_set():
-            callback()
 
     @property
     def received(self):
@@ -203,8 +188,6 @@ class CorrectionReceiver(object):
             self.correction, self.reference = correction, reference
             self.odometry.set_correction(correction, reference, snapshot)
             self._received.set()
-        for callback in list(self._callbacks):
-            callback()
 
     def to_plain(self):
         """The installed correction and the corrected frame's state now, as plain

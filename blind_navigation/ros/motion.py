@@ -1,10 +1,10 @@
 """What may move the robot: the Kobuki's safety events and the one velocity
-output every moving role uses (the pi turn, the back travel, the gyro
-calibration).
+output every moving role uses (the pi turn, the back travel, the calibration).
 
 :class:`SafetyMonitor` watches the Kobuki's bumper, cliff and wheel-drop events
 (core/safety.SafetyEvents) once per process and calls every registered
-output's halt from the event callback, at once.
+output's halt from the event callback, at once; an event topic of another type
+is refused (ros/wiring.py).
 
 :class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
 name, remappable) for one role, and only when that role may move in the
@@ -15,11 +15,10 @@ curvature kept); :meth:`~MotionOutput.halt` stops at once and turns every
 later :meth:`~MotionOutput.publish` into zero until
 :meth:`~MotionOutput.release`, so a control loop that computed its command
 before a cancel or a safety event cannot move the robot again. Zero is
-published on node shutdown. :func:`halt_all` (a role of the process failed,
-ros/faults.py) halts every output of the process for good: no release.
+published on node shutdown. Once any subscription of the process was refused
+for its type (ros/wiring.py) every output publishes zero for good.
 """
 import threading
-import weakref
 
 import rospy
 from geometry_msgs.msg import Twist
@@ -27,20 +26,12 @@ from geometry_msgs.msg import Twist
 from .. import names
 from ..core import mission_state
 from ..core.safety import SafetyEvents, VelocityLimits
-from . import kobuki_msgs_compat as kobuki
-from .common import subscribe, twist
+from . import kobuki_msgs_compat as kobuki, wiring
+from .common import subscribe_checked, twist
 
 #: kind -> (message class, field naming the sensor)
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
                'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
-#: Every MotionOutput of this process (halt_all).
-_OUTPUTS = weakref.WeakSet()
-
-
-def halt_all(reason):
-    """Zero velocity now on every output of this process, for good (a role failed)."""
-    for output in list(_OUTPUTS):
-        output.halt(reason, final=True)
 
 
 class SafetyMonitor(object):
@@ -54,8 +45,8 @@ class SafetyMonitor(object):
         self._callbacks = []
         for kind, topic in names.SAFETY_EVENTS.items():
             msg_type, index_field = EVENT_TYPES[kind]
-            subscribe(topic, msg_type, guard(self._on_event) if guard else self._on_event,
-                      (kind, index_field), queue_size=10)
+            subscribe_checked(topic, msg_type, guard(self._on_event) if guard else self._on_event,
+                              (kind, index_field), queue_size=10)
 
     def on_trip(self, callback):
         self._callbacks.append(callback)
@@ -88,15 +79,14 @@ class MotionOutput(object):
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
-        self.final = False          # halted for good (halt_all): release() does not resume
         self._lock = threading.Lock()
         self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
         if safety is not None:
             safety.on_trip(lambda reason: self.halt('safety: ' + reason))
         if mission is not None:
             mission.on_change(self._on_state)
+        wiring.on_fault(self.halt)
         rospy.on_shutdown(lambda: self.halt('node shutdown'))
-        _OUTPUTS.add(self)
 
     @property
     def allowed(self):
@@ -115,23 +105,21 @@ class MotionOutput(object):
 
     def publish(self, v, w):
         with self._lock:
-            moving = self.halted is None and self.allowed
+            moving = self.halted is None and self.allowed and not wiring.faulty()
             self._send(*(self.limits.clamp(v, w) if moving else (0.0, 0.0)))
 
     def stop(self):
         with self._lock:
             self._send(0.0, 0.0)
 
-    def halt(self, reason, final=False):
+    def halt(self, reason):
         with self._lock:
-            if not self.final:
-                self.halted, self.final = reason, final
+            self.halted = reason
             self._send(0.0, 0.0)
 
     def release(self):
         with self._lock:
-            if not self.final:
-                self.halted = None
+            self.halted = None
 
     def _send(self, v, w):
         try:

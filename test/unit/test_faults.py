@@ -1,8 +1,8 @@
 """ros/faults.py, without a master: a guarded callback or thread target that
-raises stops every velocity output of the process for good, reports the role
-and the exception (type and message) to the mission's owner and on the topic,
-turns the diagnostics to ERROR and logs the traceback once; an exception while
-the node shuts down is not a failure."""
+raises declares the role and the exception (type and message) in the process's
+fault registry (ros/wiring.declare: the listeners are the velocity outputs, zero
+for good, and the mission's owner), turns the diagnostics to ERROR and logs the
+traceback once; an exception while the node shuts down is not a failure."""
 import logging
 import threading
 
@@ -10,8 +10,15 @@ import pytest
 
 rospy = pytest.importorskip('rospy')
 
-from blind_navigation.ros import diagnostics, faults  # noqa: E402
-from blind_navigation.ros.motion import MotionOutput, halt_all  # noqa: E402
+from blind_navigation.ros import diagnostics, faults, wiring  # noqa: E402
+from blind_navigation.ros.motion import MotionOutput  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def registry(monkeypatch):
+    """A fresh process fault registry (ros/wiring.py)."""
+    monkeypatch.setattr(wiring, '_faults', {})
+    monkeypatch.setattr(wiring, '_listeners', [])
 
 
 class FakeDiagnostics(object):
@@ -40,9 +47,9 @@ class Stat(object):
 class Rig(object):
     def __init__(self):
         self.diagnostics = FakeDiagnostics()
-        self.published, self.halts, self.reported = [], [], []
-        self.faults = faults.Faults(self.diagnostics, self.published.append, self.halts.append)
-        self.faults.on_failure(self.reported.append)
+        self.reported = []          # what the registry's listeners (outputs, owner) hear
+        self.faults = faults.Faults(self.diagnostics)
+        wiring.on_fault(self.reported.append)
 
     def status(self):
         stat = Stat()
@@ -61,9 +68,7 @@ def test_a_failing_callback_halts_reports_and_diagnoses():
     rig = Rig()
     assert rig.status().level == diagnostics.OK
     assert rig.faults.guard('back_travel_client')(pruning)() is None
-    assert rig.halts == [REASON]
-    assert rig.reported == [REASON]
-    assert rig.published == [REASON]
+    assert rig.reported == [REASON] and wiring.faulty() and wiring.fault() == REASON
     assert rig.diagnostics.nows == 1
     stat = rig.status()
     assert (stat.level, stat.message, stat.values['failures']) == (diagnostics.ERROR, REASON, 1)
@@ -73,7 +78,7 @@ def test_a_guarded_callback_passes_arguments_and_result_through():
     rig = Rig()
     add = rig.faults.guard('rotate_pi')(lambda a, b=0: a + b)
     assert add(2, b=3) == 5
-    assert (rig.halts, rig.reported, rig.published) == ([], [], [])
+    assert rig.reported == [] and not wiring.faulty()
 
 
 def test_a_dying_thread_is_reported_not_silent(caplog):
@@ -89,14 +94,13 @@ def test_a_dying_thread_is_reported_not_silent(caplog):
     assert 'Traceback' in fatal[0] and 'in pruning' in fatal[0] and 'TypeError' in fatal[0]
 
 
-def test_a_repeating_failure_reports_once_per_place_and_halts_every_time(caplog):
+def test_a_repeating_failure_reports_once_per_place(caplog):
     rig = Rig()
     guarded = rig.faults.guard('vision_monitor')(pruning)
     with caplog.at_level(logging.DEBUG):
         for _ in range(3):
             guarded()
-    assert len(rig.halts) == 3
-    assert len(rig.reported) == len(rig.published) == rig.diagnostics.nows == 1
+    assert len(rig.reported) == rig.diagnostics.nows == 1
     assert len([r for r in caplog.records if 'Traceback' in r.getMessage()]) == 1
     stat = rig.status()
     assert (stat.message, stat.values['failures'], stat.values['repeats']) == (
@@ -120,18 +124,18 @@ def test_a_failing_diagnostics_check_does_not_recurse():
     assert len(rig.reported) == 1 and rig.faults.repeats == 1
 
 
-def test_a_failing_owner_callback_does_not_stop_the_report():
+def test_a_failing_listener_does_not_stop_the_report():
+    wiring.on_fault(lambda reason: 1 / 0)
     rig = Rig()
-    rig.faults._callbacks.insert(0, lambda reason: 1 / 0)
     rig.faults.guard('rotate_pi')(pruning)()
-    assert len(rig.reported) == 1 and len(rig.published) == 1
+    assert len(rig.reported) == 1
 
 
 def test_an_exception_at_shutdown_is_not_a_failure(monkeypatch):
     rig = Rig()
     monkeypatch.setattr(faults, 'shutting_down', lambda: True)
     assert rig.faults.guard('rotate_pi')(pruning)() is None
-    assert (rig.halts, rig.reported, rig.published) == ([], [], [])
+    assert rig.reported == [] and not wiring.faulty()
 
 
 def test_system_exit_is_not_caught():
@@ -144,8 +148,8 @@ def test_system_exit_is_not_caught():
     assert rig.reported == []
 
 
-def test_halt_all_stops_every_output_for_good():
-    # the calibration's role may move without a mission: only the halt can stop it here
+def test_a_role_failure_stops_every_output_for_good():
+    # the calibration's role may move without a mission: only the fault can stop it here
     outputs = [MotionOutput('calibrate_gyro', 0.2, 1.0), MotionOutput('calibrate_gyro', 0.2, 1.0)]
     sent = []
     for output in outputs:
@@ -153,12 +157,9 @@ def test_halt_all_stops_every_output_for_good():
         output.publish(0.1, 0.5)
     assert sent == [(0.1, 0.5), (0.1, 0.5)]
     del sent[:]
-    halt_all('rotate_pi failed: TypeError: x')
-    assert sent == [(0.0, 0.0), (0.0, 0.0)]
+    Rig().faults.guard('rotate_pi')(pruning)()
+    assert sent == [(0.0, 0.0), (0.0, 0.0)]      # at once, from the registry's listeners
     for output in outputs:
         output.release()                # a new turn or goal would release: not after a failure
-        output.halt('cancel')           # nor would a later ordinary halt undo it
-        output.release()
         output.publish(0.1, 0.5)
-        assert output.final and output.halted == 'rotate_pi failed: TypeError: x'
-    assert set(sent) == {(0.0, 0.0)}
+    assert set(sent) == {(0.0, 0.0)} and len(sent) == 4
