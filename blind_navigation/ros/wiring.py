@@ -67,16 +67,13 @@ class Expected(object):
 
 
 def refuse(topic, expected, found):
-    """``topic`` carries ``found``, not ``expected``: one FATAL line (per topic and
-    process), then every :func:`on_fault` listener."""
+    """``topic`` carries ``found``, not ``expected``: declared (every :func:`on_fault`
+    listener), then one FATAL line (per topic and process)."""
     topic = rospy.resolve_name(topic)
     fault = 'wrong wiring: %s carries %s, expected %s' % (topic, found, expected)
-    with _lock:
-        if topic in _faults:
-            return
-    rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
-                   rospy.get_name(), fault)
-    declare(topic, fault)
+    if declare(topic, fault):       # once per topic: the outputs stopped, the owner told
+        rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
+                       rospy.get_name(), fault)
 
 
 def declare(key, fault):
