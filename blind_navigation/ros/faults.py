@@ -9,7 +9,7 @@ declares ``<role> failed: <Type>: <message>`` in the process's fault registry
 process publishes zero at once and for good, the mission's owner ends the
 mission ``aborted`` with it (in its process; ros/layer.Layer publishes each
 fault on ``blind_navigation/role_failure`` for an owner in another process).
-It logs the traceback (rospy.logfatal) and turns the process's ``role
+It logs the traceback first (rospy.logfatal) and turns the process's ``role
 failures`` diagnostics status to ERROR. All that once per role and place; a
 repeat is counted and logged in one line at most every
 :data:`REPEAT_LOG_PERIOD` s (wall).
@@ -79,9 +79,9 @@ class Faults(object):
             if now - last >= REPEAT_LOG_PERIOD:
                 rospy.logerr('%s: %s again in %s', rospy.get_name(), reason, place)
             return
-        wiring.declare('%s in %s' % (role, place), reason)   # zero velocity, the owner aborts
-        rospy.logfatal('%s: %s in %s; the robot stopped, the mission ends:\n%s',
+        rospy.logfatal('%s: %s in %s; stopping the robot, ending the mission:\n%s',
                        rospy.get_name(), reason, place or '?', traceback.format_exc())
+        wiring.declare('%s in %s' % (role, place), reason)   # zero velocity, the owner aborts
         self._diagnostics.now()
 
     def _status(self, stat):
