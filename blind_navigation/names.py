@@ -57,6 +57,8 @@ STORAGE = 'blind_navigation/storage'
 ROTATION_DONE = 'blind_navigation/rotation_done'
 #: service blind_navigation/SetReturnRoute: back_travel_client -> back_travel_server
 SET_RETURN_ROUTE = 'blind_navigation/set_return_route'
+#: std_msgs/String, latched: a role of some process failed (ros/faults.py) -> the mission's owner
+ROLE_FAILURE = 'blind_navigation/role_failure'
 #: blind_navigation/HeadingCorrection, latched: the gyro correction of the return
 HEADING_CORRECTION = 'blind_navigation/heading_correction'
 

@@ -13,9 +13,10 @@ reverse order, one goal at a time, within the whole return's allowance; then
 ``home`` or ``aborted`` with the reason. It publishes the return's poses on
 ``blind_navigation/return_path``. The progress (core/progress) is written next
 to ``landmark_file`` at vision loss and after each goal: a restarted client
-resumes or aborts. The landmark file is only read. A topic of this process
-refused for its type (ros/wiring.py) ends the mission ``aborted``. The
-transitions and their reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
+resumes or aborts. The landmark file is only read. A fault of this process
+(ros/wiring.py: a refused topic, a role's exception) or one another process
+reports on ``blind_navigation/role_failure`` ends the mission ``aborted``.
+Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
 import json
 import math
@@ -118,12 +119,14 @@ class BackTravelClient(object):
         # arrives while registerSubscriber is in flight, so subscribing at start-up,
         # while the server registers, can leave feedback/result unconnected for good.
         self.client = None
+        guard = self.guard = layer.guard(self.ROLE)
         self._start_from_progress()
-        layer.safety.on_trip(self._on_trip)
-        wiring.on_fault(self._on_wiring_fault)
-        subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
-        subscribe(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
-        subscribe(names.ROTATION_DONE, Bool, self._on_rotation_done, queue_size=1)
+        layer.safety.on_trip(guard(self._on_trip))
+        wiring.on_fault(self._on_fault)
+        subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
+        subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
+        subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
+        subscribe(names.ROTATION_DONE, Bool, guard(self._on_rotation_done), queue_size=1)
         layer.diagnostics.add('mission', self._mission_status)
         layer.diagnostics.add('odometry', self._odometry_status)
         layer.diagnostics.add('landmark file', self._file_status)
@@ -236,7 +239,8 @@ class BackTravelClient(object):
         self._save_progress(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
                                                  time.time(), self.layer.mission_id))
         self.set_state(state.ROTATING, 'vision lost (%s)' % sender)
-        rospy.Timer(rospy.Duration(self.rotation_timeout), self._check_rotation, oneshot=True)
+        rospy.Timer(rospy.Duration(self.rotation_timeout), self.guard(self._check_rotation),
+                    oneshot=True)
 
     def _check_rotation(self, _event):
         if self.state == state.ROTATING:
@@ -270,13 +274,25 @@ class BackTravelClient(object):
             return 'the robot turned %.2f rad since vision loss, not pi' % turned
         return None
 
+    def _on_fault(self, reason):
+        """A fault of this process (ros/wiring.py: a refused topic, a role's exception,
+        ros/faults.py) or of another (``blind_navigation/role_failure``): the mission
+        ends ``aborted`` with ``reason``."""
+        with self._lock:
+            current = self.state
+        if current in state.TERMINAL:
+            self.log.error('%s (the mission had ended %s)', reason, current)
+            return
+        self.set_state(state.ABORTED, reason)
+
+    def _on_failure_report(self, msg):
+        sender = msg._connection_header.get('callerid', '?')
+        if sender != rospy.get_name():          # this process's roles report at once
+            self._on_fault('%s (%s)' % (msg.data, sender))
+
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
-
-    def _on_wiring_fault(self, fault):
-        if self.state not in state.TERMINAL:
-            self.set_state(state.ABORTED, fault)
 
     def _on_odom(self, raw):
         if self.state != state.RETURNING:
@@ -305,7 +321,7 @@ class BackTravelClient(object):
     # --- the return ----------------------------------------------------------------------------
     def run(self):
         """Drive returns when the state says so (blocks until shutdown)."""
-        self.odometry.add_listener(self._on_odom)
+        self.odometry.add_listener(self.guard(self._on_odom))
         rospy.on_shutdown(self._return.set)
         while True:
             self._return.wait()         # a return to drive, or shutdown

@@ -64,11 +64,12 @@ class LandmarkSaving(object):
     def __init__(self, layer, role, variant):
         p = self.params = layer.params(role, self.DEFAULTS)
         self.log = layer.logger(role)
+        self.guard = layer.guard(role)      # the recorder's callbacks and threads
         if not isinstance(p.fsync, bool):
             raise ValueError('~fsync must be true or false, got %r' % (p.fsync,))
         self.odometry = layer.odometry
         self.odometry.acquire(role, batched=True)   # reads back: at a stamp, waiting for it
-        self.odometry.on_reanchor(self._on_reanchor)
+        self.odometry.on_reanchor(self.guard(self._on_reanchor))
         self._lock = threading.Lock()
         self._start = None
         self._poses = array('d')       # x, y, yaw of every landmark (and the start)
@@ -183,7 +184,7 @@ class LandmarkSaving(object):
                 self._catch_up()
             finally:
                 self._lock.release()
-        thread = threading.Thread(target=run, name='catch_up')
+        thread = threading.Thread(target=self.guard(run), name='catch_up')
         thread.daemon = True
         thread.start()
         return thread

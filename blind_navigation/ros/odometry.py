@@ -56,8 +56,9 @@ def ros_time():
 class OdometryFeed(object):
     """Shared odometry of ``topic`` (see module docstring)."""
 
-    def __init__(self, topic, checked=True, history=10.0):
+    def __init__(self, topic, checked=True, history=10.0, guard=None):
         self.topic = topic
+        self._on_message_guarded = guard(self._on_message) if guard else self._on_message
         self.checked = checked
         self.history = float(history)
         self.gate = OdometryGate(on_reanchor=self._on_reanchor) if checked else None
@@ -91,7 +92,7 @@ class OdometryFeed(object):
             if self._subscriber is None:
                 # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
                 # in the history state_at reads the sampling ticks' odometry from
-                self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
+                self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message_guarded,
                                              expected=self.expected, queue_size=RECEIVE_QUEUE,
                                              tcp_nodelay=True)
                 self._subscribed_at = ros_time()
