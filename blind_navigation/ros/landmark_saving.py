@@ -23,9 +23,9 @@ recorded path (``blind_navigation/recorded_path``, nav_msgs/Path for RViz).
 A write failure (a full disk, an I/O error) is an ERROR in the log and in
 ``blind_navigation/storage`` (the mission's owner reports it in the mission
 status and diagnostics); the landmark is lost, the file keeps whole lines, and
-the next landmark is tried again. An odometry discontinuity (the gate
-re-anchored on a reset) is a gap in the file: the next landmark measures ``d``
-from the odometry after it.
+the next landmark is tried again. An odometry reset the feed carried across
+(ros/odometry.py) changes nothing; one it could not is a gap in the file: the
+next landmark measures ``d`` from the odometry after it.
 
 Catching up (topic variant): a saver restarted within the mission asks the
 sampling publisher for the samples after the last one its file holds
@@ -267,8 +267,12 @@ class LandmarkSaving(object):
         self._publish_storage(rospy.Time.now())
         return '', self.error
 
-    def _on_reanchor(self, reason):
-        """The odometry jumped and the gate took the new stream: the d chain breaks here."""
+    def _on_reanchor(self, reason, trusted):
+        """The odometry jumped and the gate took the new stream: carried across in the old
+        frame (``trusted``: the chain goes on), or the d chain breaks here (a gap whose reason
+        names the reset: the return refuses such a file, core/odometry_reset.is_untrusted_reset)."""
+        if trusted:
+            return
         with self._lock:
             if self.finished or not self.recorder.started:
                 return

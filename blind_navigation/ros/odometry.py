@@ -12,8 +12,12 @@ non-finite values and a null quaternion are dropped, and the plausibility gate
 impossible twist); refused odometry never refreshes the feed, so whoever drives
 on it holds as for stale odometry. When the refused stream turns out to be a
 genuine discontinuity (an odometry reset: consistent with itself for a
-second), the gate re-anchors on it and the roles hear of it
-(:meth:`~OdometryFeed.on_reanchor`): the recorder notes a gap, a return aborts.
+second), the gate re-anchors on it (core/odometry_reset.ResetCarrier): a
+trusted reset is carried across, every state from then on in the old frame
+(the chain refused meanwhile too), so every role goes on as if nothing
+happened; an untrusted one is heard of (:meth:`~OdometryFeed.on_reanchor`: the
+recorder notes a gap, the mission owner aborts a turn or return) and the feed
+is never fresh again while subscribed (:meth:`~OdometryFeed.fresh`: None).
 The accepted states of the last ``history`` seconds are kept
 (:meth:`~OdometryFeed.state_at`: the state at a sampling tick's stamp).
 
@@ -43,6 +47,7 @@ import rospy
 from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
+from ..core.odometry_reset import ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
@@ -76,8 +81,10 @@ class OdometryFeed(object):
         self.topic = topic
         self.checked = checked
         self.history = float(history)
-        self.gate = OdometryGate(on_reanchor=self._on_reanchor) if checked else None
+        self.gate = OdometryGate() if checked else None
+        self.carrier = ResetCarrier(self.gate) if checked else None
         self._reanchor_listeners = []
+        self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
         self._lock = threading.Condition()
         self._holders = {}          # holder -> batched
@@ -118,6 +125,7 @@ class OdometryFeed(object):
             subscriber = self._subscriber if not self._holders else None
             if subscriber is not None:
                 self._subscriber = None
+                self.lost = None    # the next holder starts on the frame it finds
         if subscriber is not None:
             subscriber.unregister()
 
@@ -153,15 +161,16 @@ class OdometryFeed(object):
                 self._listeners += (callback,)
 
     def on_reanchor(self, callback):
-        """Call ``callback(reason)`` when the gate re-anchored on a discontinuity."""
+        """Call ``callback(reason, trusted)`` when the gate re-anchored on a discontinuity
+        (``trusted``: carried across in the old frame; else the frame is lost)."""
         self._reanchor_listeners.append(callback)
 
-    def _on_reanchor(self, reason):
-        rospy.logwarn('%s: %s', rospy.get_name(), reason)
-        with self._lock:
-            self._states.clear()            # the history before the jump is another frame
+    def _on_reset(self, reset):
+        """(receive thread) Log a re-anchor (core ResetEstimate) and tell the listeners."""
+        trusted = reset.frame is not None
+        (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
         for callback in list(self._reanchor_listeners):
-            callback(reason)
+            callback(reset.reason, trusted)
 
     def remove_listener(self, callback):
         with self._lock:
@@ -218,20 +227,29 @@ class OdometryFeed(object):
         except ValueError as error:
             self._refuse(str(error))
             return
-        problem = self.gate.check(state)
-        if problem:
-            self._refuse(problem)
+        taken = self.carrier.take(state)
+        if taken.problem:
+            self._refuse(taken.problem)
             return
+        reset = taken.reset
         now = ros_time()
         with self._lock:
-            self._states.append(state)      # (a stamp going back: sim time reset, a new history)
-            self._received = now
+            if reset is not None and reset.frame is None:
+                self._states.clear()        # the history before it is another frame
+                self.lost = reset.reason
+            for state in taken.states:      # (a stamp going back: sim time reset, a new history)
+                self._states.append(state)
+                if self._corrector is not None:
+                    self._corrector.update(state)
+            if self.lost is None:
+                self._received = now
             self.frame_id = wire.frame_id or self.frame_id
-            if self._corrector is not None:
-                self._corrector.update(state)
             listeners = self._listeners
-        for listener in listeners:
-            listener(state)
+        for state in taken.states:
+            for listener in listeners:
+                listener(state)
+        if reset is not None:
+            self._on_reset(reset)
 
     def _refuse(self, reason):
         self.refused += 1
@@ -279,10 +297,11 @@ class OdometryFeed(object):
 
     def fresh(self, timeout):
         """The newest state (in the corrected frame once a correction is set) if it
-        arrived within ``timeout`` s, stamped now; else None."""
+        arrived within ``timeout`` s, stamped now; else None (always once the frame
+        is lost: :attr:`lost`)."""
         now = ros_time()
         with self._lock:
-            if self._received is None or now - self._received > timeout:
+            if self.lost is not None or self._received is None or now - self._received > timeout:
                 return None
             state = self._corrector.state if self._corrector is not None else self._states.latest
         return state._replace(stamp=now)
@@ -290,6 +309,8 @@ class OdometryFeed(object):
     def describe_missing(self, timeout):
         """Why :meth:`fresh` returned None, for logs and results."""
         topic = rospy.resolve_name(self.topic)
+        if self.lost is not None:
+            return 'the odometry on %s cannot be used: %s' % (topic, self.lost)
         if self._received is None:
             return 'no valid odometry received on %s' % topic
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
