@@ -275,6 +275,10 @@ class BackTravelClient(object):
             if current not in (state.ROTATING, state.RETURNING):   # repeats are simply idempotent
                 self.log.warn('vision_lost from %s ignored in state %s', sender, current)
             return
+        if self.odometry.lost:
+            self.set_state(state.ABORTED, 'vision lost (%s), but %s: the way back is unknown; '
+                           'not travelling back' % (sender, self.odometry.lost))
+            return
         self.odometry.catch_up()
         latest = self.odometry.latest()
         anchor = [latest.x, latest.y] if latest is not None else None

@@ -152,7 +152,7 @@ class LandmarkSaving(object):
                 return self._refuse('no valid odometry received on %s yet'
                                     % rospy.resolve_name(names.ODOM))
             age = self.odometry.age()
-            if age > self.params.odom_timeout:
+            if age > self.params.odom_timeout and self.odometry.lost is None:
                 self.log.warn_throttle(5.0, 'odometry on %s is %.1f s old',
                                        rospy.resolve_name(names.ODOM), age)
             if stamp > 0:

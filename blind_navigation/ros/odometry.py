@@ -283,7 +283,8 @@ class OdometryFeed(object):
             lambda: self._states.latest is not None and self._states.latest.stamp >= stamp, timeout)
 
     def age(self):
-        """Seconds since the newest accepted state arrived, None before any."""
+        """Seconds since the newest accepted state arrived, None before any; once the frame
+        is lost (:attr:`lost`), since the last state before."""
         with self._lock:
             received = self._received
         return None if received is None else ros_time() - received
