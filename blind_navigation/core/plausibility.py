@@ -166,11 +166,12 @@ class OdometryGate(object):
     ``on_reanchor(reason)`` is called first. Garbage that alternates with the
     real stream, is not self-consistent, or whose stamps do not advance
     (``rostopic pub`` without a header stamp) never re-anchors; a refused
-    chain with a gap longer than ``reanchor_time`` is forgotten. The callback
-    must treat it as a discontinuity: while recording, the next landmark
-    cannot measure ``d`` from the previous one (a gap:
-    core/store.LandmarkWriter.note_gap, and a restarted recorder); while
-    returning, the anchor's frame is gone (abort).
+    chain with a gap longer than ``reanchor_time`` is forgotten. At a
+    re-anchor, :attr:`reanchored_from` (the old reference, None if no second
+    state ever confirmed it) and :attr:`reanchor_chain` (the chain's states)
+    let core/odometry_reset.ResetCarrier carry the old frame across, or say
+    why it cannot (then the callback's owner treats it as a discontinuity: a
+    gap in the recording, an aborted return).
     """
 
     def __init__(self, params=None, on_reanchor=None):
