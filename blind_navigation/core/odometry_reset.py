@@ -154,6 +154,7 @@ class ResetCarrier(object):
         self.gate = gate
         self.params = params
         self.frame = IDENTITY
+        self.reset_stamp = None     # stamp (s) of the newest reset carried across, or None
         gate.on_reanchor = self._notice
 
     @staticmethod
@@ -195,6 +196,23 @@ class ResetCarrier(object):
         if estimate.frame is None:
             return Taken((state,), None, estimate)      # the new frame, as it comes
         self.frame = estimate.frame.after(self.frame)
+        self.reset_stamp = self.gate.reanchor_chain[0].stamp
         states = tuple(estimate.frame.apply(s) for s in self.gate.reanchor_chain)
         self.gate.reset(states[-1], confirmed=True)
         return Taken(states, None, estimate)
+
+    def adopt(self, frame, stamp):
+        """Take ``frame`` (a whole Frame) that another carrier of the same odometry made
+        for the reset at ``stamp`` (s), unless this one carried it (or a later one) itself.
+        Returns None (not taken), 'taken', or 'restart': states at or after ``stamp`` were
+        accepted in the old frame (the gate starts again; the caller drops them)."""
+        reference = self.gate.reference
+        if self.reset_stamp is not None and stamp <= self.reset_stamp + 1e-9:
+            return None
+        if self.gate.refusing and (reference is None or reference.stamp < stamp):
+            return None     # confirming that reset itself: it carries it across alike
+        self.frame, self.reset_stamp = frame, stamp
+        if reference is not None and reference.stamp >= stamp:
+            self.gate.reset()
+            return 'restart'
+        return 'taken'

@@ -76,7 +76,8 @@ class Layer(object):
         #: This mission's id: the same for every restart of a node within one launch of the
         #: layer, new for each launch (the recorder continues its file, the client its return).
         self.mission_id = rospy.get_param(MISSION_ID, None)
-        self.odometry = OdometryFeed(names.ODOM)
+        # one process: one feed; the paper's layout: the nodes share a reset's frame
+        self.odometry = OdometryFeed(names.ODOM, frame_topic=None if compact else names.ODOMETRY_FRAME)
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False)
         self.mission = MissionStateView(self.mission_owner)
         self.safety = SafetyMonitor()

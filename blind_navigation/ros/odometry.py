@@ -18,6 +18,9 @@ trusted reset is carried across, every state from then on in the old frame
 happened; an untrusted one is heard of (:meth:`~OdometryFeed.on_reanchor`: the
 recorder notes a gap, the mission owner aborts a turn or return) and the feed
 is never fresh again while subscribed (:meth:`~OdometryFeed.fresh`: None).
+In the paper's layout each node has its own feed: one that carried a reset
+across publishes its frame (latched, ``frame_topic``), and a feed that was not
+listening then takes it.
 The accepted states of the last ``history`` seconds are kept
 (:meth:`~OdometryFeed.state_at`: the state at a sampling tick's stamp).
 
@@ -44,14 +47,16 @@ import threading
 import time
 
 import rospy
+from geometry_msgs.msg import PoseStamped
 from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
-from ..core.odometry_reset import ResetCarrier
+from ..core.geometry import yaw_from_quaternion
+from ..core.odometry_reset import Frame, ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
-from .common import subscribe
+from .common import set_pose, subscribe
 
 #: No receive queue limit. rospy reads a subscription's socket in chunks of up to
 #: 64 KiB (about 90 odometry messages) and, with a queue size, keeps only the newest
@@ -77,7 +82,7 @@ def ros_time():
 class OdometryFeed(object):
     """Shared odometry of ``topic`` (see module docstring)."""
 
-    def __init__(self, topic, checked=True, history=10.0):
+    def __init__(self, topic, checked=True, history=10.0, frame_topic=None):
         self.topic = topic
         self.checked = checked
         self.history = float(history)
@@ -102,6 +107,10 @@ class OdometryFeed(object):
         self._waiting = 0           # threads in wait_for_stamp or catch_up
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
+        self._frame_pub = None
+        if checked and frame_topic:     # share a reset's frame with the other nodes' feeds
+            self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
+            subscribe(frame_topic, PoseStamped, self._on_shared_frame)
 
     # --- subscription --------------------------------------------------------------------------
     def acquire(self, holder, batched=False):
@@ -166,11 +175,32 @@ class OdometryFeed(object):
         self._reanchor_listeners.append(callback)
 
     def _on_reset(self, reset):
-        """(receive thread) Log a re-anchor (core ResetEstimate) and tell the listeners."""
+        """(receive thread) Log a re-anchor (core ResetEstimate), share a trusted one's
+        frame, tell the listeners."""
         trusted = reset.frame is not None
         (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
+        if trusted and self._frame_pub is not None:
+            msg = PoseStamped()
+            msg.header.stamp, msg.header.frame_id = rospy.Time.from_sec(self.carrier.reset_stamp), self.frame_id
+            set_pose(msg.pose, *self.carrier.frame)
+            self._frame_pub.publish(msg)
         for callback in list(self._reanchor_listeners):
             callback(reset.reason, trusted)
+
+    def _on_shared_frame(self, msg):
+        """Another node's feed carried a reset across: take its frame unless this one did."""
+        q = msg.pose.orientation
+        frame = Frame(msg.pose.position.x, msg.pose.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
+        with self._take_lock:
+            taken = self.carrier.adopt(frame, msg.header.stamp.to_sec())
+            if taken == 'restart':
+                with self._lock:
+                    self._states.clear()    # taken in the odometry's new frame as it came
+        if taken:
+            rospy.logwarn('%s: odometry on %s: the frame %s carried a reset at %.3f s across with: '
+                          '(%.3f, %.3f, %.3f)', rospy.get_name(), rospy.resolve_name(self.topic),
+                          msg._connection_header.get('callerid', '?'), msg.header.stamp.to_sec(),
+                          *frame)
 
     def remove_listener(self, callback):
         with self._lock:

@@ -130,3 +130,33 @@ def test_a_silence_without_a_reset_is_not_a_reset(command, stop):
             states.append(base.odom)
     taken, resets, _ = carry(states)
     assert resets == [] and len(taken) == len(states)
+
+
+def test_a_carrier_not_listening_at_the_reset_adopts_the_frame_another_made():
+    published, unreset = drive((0.3, 0.0))
+    _, resets, first = carry(published)
+    reset_stamp = first.reset_stamp
+    assert resets[0].frame is not None and reset_stamp == pytest.approx(4.02)
+    # listening before and after, not at the reset: takes the frame, goes on in it
+    late = ResetCarrier(OdometryGate())
+    before = [s for s in published if s.stamp < 3.0]
+    after = [s for s in published if s.stamp > 5.0]
+    taken = [t for s in before for t in late.take(s).states]
+    assert late.adopt(first.frame, reset_stamp) == 'taken'
+    for state in after:
+        result = late.take(state)
+        assert result.problem is None and result.reset is None
+        taken.extend(result.states)
+    truth = {s.stamp: s for s in unreset}
+    assert all(math.hypot(t.x - truth[t.stamp].x, t.y - truth[t.stamp].y) < 0.01 for t in taken)
+    # the carrier that made it, or one confirming it itself, does not take it again
+    assert first.adopt(first.frame, reset_stamp) is None
+    confirming = ResetCarrier(OdometryGate())
+    for state in [s for s in published if s.stamp < 4.5]:
+        confirming.take(state)
+    assert confirming.gate.refusing and confirming.adopt(first.frame, reset_stamp) is None
+    # one that took the new frame as it came (listening only after it) starts again in it
+    fresh = ResetCarrier(OdometryGate())
+    fresh.take(after[0])
+    assert fresh.adopt(first.frame, reset_stamp) == 'restart' and fresh.gate.reference is None
+    assert fresh.take(after[1]).states[0] == pytest.approx(first.frame.apply(after[1]))
