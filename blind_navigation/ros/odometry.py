@@ -107,6 +107,7 @@ class OdometryFeed(object):
         self._waiting = 0           # threads in wait_for_stamp or catch_up
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
+        self._new_subscription = False
         self._frame_pub = None
         if checked and frame_topic:     # share a reset's frame with the other nodes' feeds
             self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
@@ -125,6 +126,7 @@ class OdometryFeed(object):
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
                                              queue_size=RECEIVE_QUEUE, tcp_nodelay=True)
                 self._subscribed_at = ros_time()
+                self._new_subscription = True   # what happened unheard is no jump to check
 
     def release(self, holder):
         """``holder`` no longer needs it: unsubscribe when nobody does."""
@@ -257,6 +259,9 @@ class OdometryFeed(object):
         except ValueError as error:
             self._refuse(str(error))
             return
+        if self._new_subscription:
+            self._new_subscription = False
+            self.gate.reset()               # the first state heard now is the reference
         taken = self.carrier.take(state)
         if taken.problem:
             self._refuse(taken.problem)
