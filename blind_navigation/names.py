@@ -21,8 +21,9 @@ CAMERA = 'camera/rgb/image_rect_color'
 CAMERA_INFO = 'camera/rgb/camera_info'
 #: nav_msgs/Odometry of RTAB-Map's visual odometry (heading correction, detection)
 VO_ODOM = 'rtabmap/odom'
-#: rtabmap_ros/OdomInfo (detection: its ``lost`` flag)
-VO_ODOM_INFO = 'rtabmap/odom_info'
+#: RTAB-Map's OdomInfo without words, keypoints and local map (detection: its ``lost`` flag;
+#: the full ``odom_info`` makes rgbd_odometry serialise those for every frame)
+VO_ODOM_INFO = 'rtabmap/odom_info_lite'
 #: Kobuki's safety events (kobuki_msgs/BumperEvent, CliffEvent, WheelDropEvent)
 SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
                  'cliff': 'mobile_base/events/cliff',

@@ -1,55 +1,20 @@
 """Back-travel control: drive the recorded path back to the start (paper 3.3.5).
 
-After the pi turn the robot drives the recorded path in the opposite
-direction, landmarks in reverse order, one action goal per landmark. Modes:
+Three modes (docs/back_travel.md, "Control modes"):
 
-- ``time`` -- the paper's sampled-time control (:class:`TimeController`, one per
-  goal): publish the landmark's velocity for its period ``T``. Reversing time
-  on a path traversed with ``(v, w)`` while facing the other way gives
-  ``(v, -w)``: ``v`` replayed as recorded, the turn mirrored; straight segments
-  (``T`` equal to the straight period) publish ``v`` only.
-- ``distance`` -- the paper's travelled-distance control
-  (:class:`DistanceController`): the same velocities until odometry shows ``d``.
-- ``closed_loop`` -- this package's mode (the paper's limitation 4, "does not
-  correct drift"): the whole route is built at once from every landmark
-  (core/route.build_route: modelled curves between ticks, reversed stretches,
-  corners where the robot turned in place or reversed) and
-  :class:`RouteFollower` drives it: pure pursuit along each piece between
-  corners (lookahead growing with speed), at the recorded speed (never
-  faster: :func:`section_limits`, core/safety.goal_limits per section, except
-  that a stretch recorded slower than ``creep_v`` may be driven at it),
-  slowing down towards each corner and the end, stopping at a corner and
-  turning in place (core/rotation.Rotation) to face the route a little ahead.
-  The robot always drives forward (the Kobuki's bumper is at its front).
+- ``time``: the paper's sampled-time control, one :class:`TimeController` per
+  goal: the landmark's ``(v, -w)`` for its period ``T``.
+- ``distance``: the paper's travelled-distance control
+  (:class:`DistanceController`): the same commands until odometry shows ``d``.
+- ``closed_loop``: :class:`RouteFollower` drives the whole route
+  (core/route.build_route): pure pursuit between corners, a turn in place at
+  each corner, at the recorded speed and never faster (:func:`section_limits`).
 
-Closed-loop API (the ROS action server and client, and the harness)::
-
-    route = build_route(landmarks, anchor, params)     # core/route.py; anchor = (x, y)
-    follower = RouteFollower(route, params)
-    follower.start(odom_state, section=0)    # section: first goal to drive (resume: > 0)
-    while not (follower.done or follower.failed):
-        v, w = follower.step(odom_state)     # clamped to the section's limits
-        follower.section_finished(i)         # goal i (return order) done?
-    follower.limits[i]                       # goal i's VelocityLimits (clamp the output by these)
-    follower.reason                          # why it failed ('' otherwise)
-    follower.progress                        # (m along the route, corner turn phase)
-    follower.section                         # first unfinished section
-    follower.late                            # [(section, s taken, s nominal)] over their time
-    follower.travelled                       # odometry path length since start, m
-    route.to_lists() / Route.from_lists()    # plain lists of floats (progress file, ROS)
-
-The follower fails only when the return stops making progress
-(core/allowance.ProgressWatch: ``stall_timeout``, the whole-return allowance);
-a section over ``timeout_factor`` x its nominal time + ``timeout_margin`` is
-recorded in ``late``, not fatal. A gap between steps (the node held the robot
-while odometry was stale, core/allowance.OdomGrace) does not count.
-
-The per-goal controllers (``time``, ``distance``; :func:`make_controller`):
-``start(odom_state)``, ``step(odom_state) -> (v, w)`` until ``done`` (or
-``failed``: the goal's time allowance ran out), ``travelled`` = odometry path
-length since start. Times come from ``odom_state.stamp``. Every command is
-clamped to ``max_v``/``max_w``. core/goal.make_goal gives both kinds of goal
-one interface.
+The per-goal controllers (:func:`make_controller`): ``start(odom_state)``,
+``step(odom_state) -> (v, w)`` until ``done`` or ``failed``, ``travelled``;
+times come from ``odom_state.stamp``; every command is clamped to
+``max_v``/``max_w``. The follower's API: docs/back_travel.md, "The route
+follower"; core/goal.make_goal gives both kinds of goal one interface.
 """
 import math
 

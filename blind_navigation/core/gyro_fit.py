@@ -2,25 +2,15 @@
 one-off gyro calibration (core/gyro_calibration.py) and the bias estimated
 while a mission records (core/heading_correction.py).
 
-The back travel tracks the recorded route on wheel/gyro odometry, whose heading
-is the integrated gyro: it turns with the gyro's bias ``b`` (rad/s) and its
-scale error ``s`` (measured rate = (1 + s) true rate + b). While vision works,
-visual odometry (RTAB-Map's) observes the same yaw without those errors (it
-drifts with motion instead, not with time).
-
-:class:`GyroVisualFit` cuts the data into windows of ``window`` seconds between
-visual-odometry samples, each giving the gyro's yaw increment (odometry yaw
-interpolated at the VO stamps) and VO's over the same interval; windows that
-contain a lost VO message or a gap longer than ``max_gap`` are not used. The
-model is ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (visual-odometry drift is a
-random walk, so the increments of separate windows are independent);
-:func:`robust_fit` solves it by least squares, with one pass that drops windows
-whose residual is beyond ``outlier_k`` robust standard deviations (a VO jump),
-and gives ``b``, ``s`` and their standard errors.
-
-The windows are kept as packed doubles (:class:`WindowRows`, 24 bytes each) and
-at most :data:`MAX_WINDOWS` of them, the newest: a recording of hours costs the
-robot tens of kilobytes, not a Python tuple per window without end.
+:class:`GyroVisualFit` cuts the data into windows of ``window`` s between
+visual-odometry samples (a window with a lost VO message or a gap longer than
+``max_gap`` is not used), each giving the gyro's and VO's yaw increments, and
+fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt``; :func:`robust_fit` solves it
+by least squares with one pass that drops outliers (``outlier_k``) and gives
+the bias ``b`` (rad/s), the scale error ``s`` and their standard errors. The
+windows are kept packed (:class:`WindowRows`), at most :data:`MAX_WINDOWS`,
+the newest. Why and what was measured: docs/back_travel.md, "Gyro heading
+correction".
 """
 import math
 from array import array

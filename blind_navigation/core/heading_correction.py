@@ -1,34 +1,20 @@
 """The heading correction of the return: which gyro errors to correct, and the
 corrected odometry frame the pi turn and the return drive on.
 
-* :func:`estimate_correction` decides the :class:`GyroCorrection` of a
-  mission: the bias, fused from visual odometry while recording
-  (core/gyro_fit.py) and the standstill after vision loss (core/gyro_bias.py),
-  and the scale error from the gyro's one-off calibration
-  (core/gyro_calibration.py), not from the mission: its path turns too little,
-  and visual odometry's drift in a few turns can pass for a scale error.
-  Without a calibration the scale is not corrected.
-* A term is used only when it is significant (more than ``significance``
-  standard errors from zero; sqrt 2 is the break-even: correcting by an
-  estimate of standard error sigma leaves an error of variance sigma^2, not
-  correcting leaves the term itself, whose square is estimated without bias
-  by estimate^2 - sigma^2) and the bias only when sane (``|b| <= max_bias``).
-  The calibrated scale needs ``scale_significance`` standard errors: it is one
-  measurement applied to every mission until the next calibration, so a chance
-  false positive would bias them all (sqrt 2 would pass one perfect gyro in
-  six).
-* :class:`CorrectedOdometry` turns the raw odometry stream into the corrected
-  frame: heading increments ``(dpsi - b dt) / (1 + s)``, position increments
-  rotated by the heading correction accumulated so far, turn rate
-  ``(w - b) / (1 + s)``. The frame coincides with the raw one at its first
-  sample (the reference: where the return starts, i.e. where recording stopped).
-* :func:`correct_landmarks` expresses recorded landmarks in that same frame:
-  each ``psi`` gets the correction the corrected frame would have had at the
-  landmark's time (landmark times from the ``T`` chain, the last landmark at the
-  reference), ``w`` the corrected rate. The landmark file is not changed.
+* :func:`estimate_correction`: the mission's :class:`GyroCorrection`: the bias
+  fused from visual odometry while recording (core/gyro_fit.py) and the
+  standstill after vision loss (core/gyro_bias.py), the scale error from the
+  one-off calibration (core/gyro_calibration.py); a term only when significant
+  (``significance``, ``scale_significance``) and sane.
+* :class:`CorrectedOdometry`: the raw odometry stream in the corrected frame,
+  which coincides with the raw one at its first sample (the reference: where
+  recording stopped).
+* :func:`correct_landmarks`: the recorded landmarks in that same frame (the
+  landmark file is not changed).
 
 Plain Python, used by the heading_correction node, back_travel_client and the
-simulation harness alike.
+simulation harness alike. The rules and their reasons: docs/back_travel.md,
+"Gyro heading correction".
 """
 import math
 from collections import namedtuple

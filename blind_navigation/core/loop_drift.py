@@ -2,43 +2,13 @@
 them together: the drift gathered over the loop between them (core/pruning.py
 cuts a loop only when this leaves the passes within its radius).
 
-The route (core/route.Route, return order) is the recorded path in the
-corrected odometry frame. Each of its vertices was passed at a recording time
-(landmark times from the ``T`` chain, interpolated along each landmark's period
-by distance; a vertex where the robot stood or turned in place was reached at
-one time and left at a later one) with an unwrapped heading (the landmarks'
-``psi`` chained by core/route.period_turn). A loop runs, in recording order,
-from leaving the earlier pass's vertex ``w`` to reaching the later pass's
-vertex ``u`` (``u < w`` in return order). Odometry says the two passes are
-``gap`` apart; what they truly are apart differs by the odometry's error
-gathered over the loop, with these parts (small-angle: a heading error
-``e(t)`` moves each displacement ``dX`` sideways by ``e dX``):
-
-- **gyro bias** left after the heading correction: ``e = b (t - t_w)``; the
-  position error is ``b |sum (t - t_w) dX|``, std ``bias_std`` times that sum
-  (core/heading_correction.GyroCorrection's, or ``uncorrected_bias_std`` where
-  the bias was not corrected);
-- **gyro scale** left after the calibration: ``e = s (psi - psi_w)`` (the
-  heading turned since ``w``), std ``scale_std`` x ``|sum (psi - psi_w) dX|``
-  (or ``uncorrected_scale_std``);
-- **gyro white noise**: the heading random-walks with ``gyro_noise_density``
-  (rad/sqrt(s)); the variance is density^2 x the time integral of
-  ``|X_u - X(t)|^2`` over the loop (a heading kick at ``t`` swings all that
-  follows about where the robot was);
-- **wheels**: ``wheel_error_per_m`` x the loop's length. Conservative: none of
-  it is assumed to cancel around the loop (a constant distance scale does
-  cancel on a closed loop; slip that changes with speed, direction or floor
-  does not).
-
-The parts are independent; their variances add. A robot that skipped several
-loops carries all their drift (:meth:`Drift.plus`): the bias and scale errors
-add as vectors (the same ``b`` and ``s``), the white noise's as variances
-(independent), the wheels' as standard deviations (the same robot on the same
-floor: as conservative over several loops as over one, so skipping three 9 m
-loops costs what skipping one 27 m loop does).
-
-Every loop costs O(1) after an O(n) pass over the route (prefix sums), so
-checking many candidate loops stays linear in their number.
+A loop runs, in recording order, from leaving the earlier pass's route vertex
+``w`` to reaching the later pass's vertex ``u``. Its drift's standard deviation
+has four independent parts: the gyro bias and scale left after the heading
+correction and calibration, the gyro's white noise and the wheels' error per
+metre; :meth:`Drift.plus` adds the drift of several skipped loops. Every loop
+costs O(1) after an O(n) pass over the route (prefix sums). The model and its
+reasons: docs/pruning.md, "Honest about drift".
 """
 import math
 from collections import namedtuple

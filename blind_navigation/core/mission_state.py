@@ -12,8 +12,7 @@ the mission's owner (back_travel_client)::
 - ``rotating``: vision was lost while recording (a trigger in any other state
   is logged and changes nothing; repeated triggers change nothing).
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts
-  (the layer is started again).
+- ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts.
 
 Motion is commanded only by the role that owns the phase (:data:`MOTION_OWNER`):
 the pi turn in ``rotating``, the back travel in ``returning``; every velocity
@@ -46,11 +45,6 @@ BACK_TRAVEL_ROLE = 'back_travel_server'
 #: The one-off gyro calibration runs outside any mission (no state) and may spin then.
 CALIBRATION_ROLE = 'calibrate_gyro'
 MOTION_OWNER = {ROTATING: ROTATION_ROLE, RETURNING: BACK_TRAVEL_ROLE}
-
-
-def can_move_to(current, new):
-    """True when the state machine allows ``current`` -> ``new``."""
-    return new in TRANSITIONS.get(current, ())
 
 
 def may_move(role, state):

@@ -1,34 +1,18 @@
 """Motion events: where an extra landmark makes the recorded path unambiguous.
 
-The paper samples at fixed periods (1 s on curves, 2 s on straight segments).
-Five numbers at each end of a period describe smooth motion well (core/route.py
-models it), but not a period in which the robot stopped translating and turned
-in place, started off after a turn, or reversed its direction of travel: the
-landmarks do not say when within the period that happened, and a reversal
-leaves even the direction of the chord ambiguous (the net displacement of
-"back 0.3 m, forward 0.2 m" and of "back 0.2 m, forward 0.3 m" differ in sign).
+The paper's fixed periods do not say when within a period the robot stopped
+and turned in place, set off after a turn, or reversed (docs/recording.md,
+"Motion events"). :class:`MotionEvents` watches odometry (every state) and
+reports an *event* when the robot's way of moving changes between ``still``,
+``forward`` and ``backward``: the speed averaged over ``event_window`` s
+crosses ``event_speed`` (with ``event_hysteresis``) and the new state holds for
+``event_debounce`` s. The event is dated back to where the raw speed left the
+old state; the robot's first setting off is an event too.
 
-:class:`MotionEvents` watches odometry (every state, e.g. 50 Hz) and reports an
-*event* when the robot's way of moving changes between ``still`` (not
-translating: standing or turning in place), ``forward`` and ``backward``: the
-linear speed, averaged over ``event_window`` s, crosses ``event_speed`` m/s
-(with ``event_hysteresis``: it must fall below ``event_speed`` x that to count
-as stopped again), and the new state has held for ``event_debounce`` s. The
-event is dated back to where the raw speed last left the old state (the start
-of its final run on the new side): at a reversal, where ``v`` crossed zero.
-The robot's first setting off is an event too, so the start heading, which the
-landmark file does not otherwise hold, is recorded. A landmark taken at each
-event, from the odometry at the event's stamp (as the landmark saver reads
-the odometry at a tick's stamp), with ``T`` = the
-time since the previous landmark (as for the final partial period), keeps the
-file format unchanged. The periodic ticks keep their times but are taken
-``event_latency`` s late (from the odometry at their stamp), so an event dated
-back before a tick is stored before it.
-
-:class:`EventSampler` interleaves those landmarks with the periodic ticks, the
-same way for the sampling publisher (blind_navigation.launch: ``event_sampling``
-on; launch/paper.launch keeps the paper's sampling) and the simulation harness.
-Plain Python.
+:class:`EventSampler` interleaves a landmark at each event (``T`` = the time
+since the previous one) with the periodic ticks, which are taken
+``event_latency`` s late, the same way for the sampling publisher and the
+simulation harness. Plain Python.
 """
 from collections import deque
 

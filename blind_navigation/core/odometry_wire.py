@@ -2,8 +2,7 @@
 
 The layer subscribes to odometry (50 Hz wheel odometry, RTAB-Map's visual
 odometry) as raw bytes (rospy.AnyMsg) and reads just the fields it uses with
-one precompiled ``struct`` call: about ten times cheaper than building the
-whole message in Python, for every message of the mission.
+one precompiled ``struct`` call: about ten times cheaper than the whole message.
 
 ROS 1 wire layout (little endian; L1, L2 are the string lengths)::
 

@@ -2,40 +2,19 @@
 
 Three gates, all against the base's limits (Kobuki: 0.7 m/s, pi rad/s):
 
-- :class:`Limits` (used by core/landmark.landmark_from_values, so by the
-  recorder, the landmark file loader and the action goals): a landmark's
-  ``|v|`` and ``|w|`` within the limits, and its ``d`` within what the base
-  can cover in ``T``: ``d <= max_v (T (1 + speed_margin) + time_slack)``.
-  ``|v| T`` is *not* a bound: ``v`` is the speed at the tick, and a landmark
-  taken as the robot stops has ``v = 0`` and ``d > 0``.
-- :class:`OdometryGate`: successive odometry states (x, y, yaw, v, w, stamp);
-  refuses non-finite values, twists beyond the limits, stamps going back,
-  and position or yaw steps larger than the limits allow over the stamps'
-  ``dt``. A refused state never becomes the reference; see the class for the
-  re-anchor rule (a genuine odometry reset vs a burst of garbage). Used while
-  recording (no landmark from refused odometry) and while returning (hold,
-  as for stale odometry).
+- :class:`Limits` (core/landmark.landmark_from_values: the recorder, the
+  landmark file loader, the action goals): a landmark's ``|v|`` and ``|w|``
+  within the limits, and its ``d`` within what the base can cover in ``T``.
+- :class:`OdometryGate`: successive odometry states; refuses non-finite values,
+  twists beyond the limits, stamps going back, and position or yaw steps larger
+  than the limits allow over the stamps' ``dt``; a refused state never becomes
+  the reference (see the class for the re-anchor rule). Used while recording
+  and while returning.
 - :class:`RouteBudget`: the whole return may not drive more than
-  ``route_length_factor`` x the length the recorded landmarks command plus
-  ``route_length_margin``.
+  ``route_length_factor`` x the recorded length plus ``route_length_margin``.
 
-Margins (:data:`PLAUSIBILITY_DEFAULTS`) and why:
-
-- ``speed_margin`` (fraction): measured twists and mean speeds may exceed the
-  commanded limit a little (encoder ripple, gyro noise, a slope); 10 % is far
-  above that noise and far below any fault worth catching (1e6).
-- ``time_slack`` (s): the two odometry states behind a landmark are each the
-  latest at or before their tick, so either may predate it by one odometry
-  period (0.05 s at 20 Hz; Kobuki: 0.02 s) or by the saver's ``odom_wait``
-  (0.2 s) when odometry lags: their interval can exceed ``T`` by that much.
-  It also covers the final, partial period (a tiny ``T``). The stored six
-  significant digits change ``d`` and ``T`` by at most 5e-7 of their value,
-  which the relative margin covers.
-- ``position_jitter`` (m) and ``yaw_jitter`` (rad): what an odometry's own
-  noise may move between two messages, beyond the limits x dt (encoder-only
-  Kobuki odometry: ~1e-4 m; a fused or corrected odometry: ~1 cm).
-- ``reanchor_time`` (s of the stream's stamps): see :class:`OdometryGate`.
-- ``route_length_factor`` and ``route_length_margin`` (m): see :class:`RouteBudget`.
+The margins (:data:`PLAUSIBILITY_DEFAULTS`) and why: docs/safety.md,
+"Plausibility margins".
 """
 import math
 from collections import namedtuple

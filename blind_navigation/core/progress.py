@@ -1,30 +1,19 @@
 """The persisted progress of a return, and whether a restarted layer may resume it.
 
 Life of a return (each step returns a new, validated :class:`ReturnProgress`;
-the caller persists it with :func:`save_progress`, atomically, next to the
-landmark file: :func:`progress_path`):
+the caller persists it atomically with :func:`save_progress` next to the
+landmark file, :func:`progress_path`): :meth:`ReturnProgress.begin` at vision
+loss (landmark file, anchor, odometry frame, mission id),
+:meth:`~ReturnProgress.start` when the robot starts back (the file's sha256
+and landmark count, the route as plain data), :meth:`~ReturnProgress.goal_done`
+after each goal, :meth:`~ReturnProgress.finish` with ``home`` or ``aborted``.
 
-- :meth:`ReturnProgress.begin` at vision loss (status ``rotating``): the
-  landmark file's real path, the anchor (odometry [x, y] where recording
-  stopped), the odometry frame, the mission id;
-- :meth:`~ReturnProgress.start` when the robot starts back (``returning``):
-  the landmark file's sha256 and landmark count, and the ``route`` as plain
-  data (a list of [x, y] waypoints, or a dict of plain data the caller
-  defines), so that a resumed return follows the same route;
-- :meth:`~ReturnProgress.goal_done` after each goal (completed count, position,
-  distance travelled so far);
-- :meth:`~ReturnProgress.finish` with ``home`` or ``aborted`` and the reason.
-
-A restarted layer asks :func:`resume_from_file` (or, with a loaded progress,
+A restarted layer asks :func:`resume_from_file` (or
 :meth:`~ReturnProgress.resume`) what to do: :data:`RESUME`, :data:`IGNORE`
-(nothing was under way: no file, a finished return, or one left over from an
-earlier mission) or :data:`ABORT` (a return was under way and cannot safely
-continue). A progress file that cannot be trusted (unreadable, not YAML, a
-missing, unknown or mistyped field, ``completed`` beyond the landmark count, a
-negative count, a NaN anchor, an unknown status, ...) gives ABORT naming the
-file and the field, never IGNORE: the return it described may have been under
-way. :func:`settle_abort` then records the abort, so the next start is clean.
-The recorded landmark file itself is only ever read.
+(nothing was under way) or :data:`ABORT` (a return was under way and cannot
+safely continue, or the file cannot be trusted: docs/safety.md, "Faults");
+:func:`settle_abort` then records the abort, so the next start is clean. The
+recorded landmark file itself is only ever read.
 """
 import datetime
 import hashlib

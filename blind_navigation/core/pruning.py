@@ -10,55 +10,11 @@ API (the back-travel client and the harness, after core/route.build_route)::
     result.refused      # [Cut] candidate loops refused for their drift (one per candidate)
     result.describe()   # one line per cut and refused candidate, for the log
 
-**Where.** The route (return order: vertex 0 is where recording stopped, the
-last vertex the start) is the recorded path in the corrected odometry frame.
-Walking it from the anchor, at each vertex ``u`` the earlier passes within
-``prune_radius`` (a grid of cells that size: each vertex looks at nine cells)
-that are at least ``prune_min_loop`` further along the route are candidate
-junctions ``w``: the path between them (recorded from ``w`` to ``u``) is a loop,
-an out-and-back corridor, a dead end backed out of, or everything since the
-start when the path passes the start again. The cut lands where the earlier
-pass comes nearest ``u`` (on one of the two segments at ``w``: a point of the
-recorded path, added as a vertex). The return goes from ``u`` straight there,
-the junction's chord, and on along the earlier pass: it passes only through
-points of the recorded path, and the chord joins two passes within the radius.
-
-**Why the radius.** ``prune_radius`` is half the Kobuki's 0.35 m footprint:
-while the robot's centre moves along a chord of at most that length between
-two passes, it stays within a quarter footprint (0.09 m) of one of them, so
-its body stays inside the band the two passes' bodies swept but for a sliver
-of at most that; a larger radius lets the chord's sweep reach a full radius
-beyond it (and a door a robot passes twice is still crossed where the passes
-meet).
-
-**The rule (honest about drift).** Odometry's ``gap`` is not the truth: the two
-passes are truly apart by the gap plus the drift gathered over the loop
-(core/loop_drift.py: gyro bias and scale left after the heading correction and
-calibration, gyro white noise, wheel error per metre; a robot that already
-skipped loops carries their drift too, so each candidate is judged with the
-drift of every cut before it; a jump on from a junction just reached is one
-chord when that fits the rule). A cut is made only when
-``gap + prune_sigmas x drift std <= prune_radius``: ``prune_sigmas`` standard
-deviations sure (the default: 95 %) that the true passes are within the radius. Among a vertex's
-candidates the one furthest along (the most saved) is cut; candidates
-refused are reported, one per candidate loop (the largest of a run of
-vertices).
-
-**The protocol stays.** The route keeps one section per landmark: a section
-that ended inside a cut now ends at the junction, on arrival (the goals of the
-cut follow one another there), the junction is a corner (the robot stops
-there, so those goals are handed over while it stands, then turns onto the
-chord), and the sections after it end where they did. So the client still
-sends every landmark as a goal, the progress counts stay right, and a resumed
-return follows the same (pruned) route from its progress file.
-
-Cost: O(n) to set up (grid, prefix sums), then per vertex walked the nearby
-vertices of nine cells (a bisection each) and O(1) per candidate: n log n at
-most in the landmark count for paths that pass each place a bounded number of
-times. The follower's cost per control step does not change.
-
-``time`` and ``distance`` replay landmarks open loop and cannot prune: only
-``closed_loop`` drives this route.
+A cut joins a vertex ``u`` to an earlier pass within ``prune_radius`` (found on
+a grid of cells that size) when ``gap + prune_sigmas x drift std <=
+prune_radius`` (core/loop_drift.py); the route keeps one section per landmark.
+Where, why the radius, the rule, the protocol and the cost: docs/pruning.md.
+Only ``closed_loop`` drives this route.
 """
 import bisect
 import math

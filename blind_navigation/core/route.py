@@ -1,66 +1,22 @@
 """The whole return route, built at once from the recorded landmarks (closed-loop return).
 
-API (used by core/back_travel.RouteFollower, the back_travel server and client,
-and the harness)::
+API (core/back_travel.RouteFollower, the back_travel server and client, the harness)::
 
     route = build_route(landmarks, anchor, params=None)   # landmarks in recording order,
                                                           # anchor = (x, y) where recording stopped
     route.sections            # one per landmark, in RETURN order (goal i = landmarks[-1 - i])
-    route.section_end(i)      # (s, phase): the progress at which goal i ends ("Progress" below)
+    route.section_end(i)      # (s, phase): the progress at which goal i ends
     route.length              # m along the route
     landmark_positions(landmarks, anchor)  # where each landmark was taken, rebuilt
     data = route.to_lists()   # {name: [float, ...]}: plain, serialisable (progress file, ROS)
     route = Route.from_lists(data)  # the same route back; ValueError naming the bad field
 
-Geometry. Landmark k was taken at position P_k; ``d`` is |P_k - P_(k-1)| (P_(-1)
-the start of the recording) and the anchor is the last one's position. The
-route runs from the anchor back to the start through every P_k, in reverse. The
-way between two ticks is modelled from all five variables at both ends: the
-heading as a cubic Hermite in time through ``(psi, w)`` at both ends (the turn
-between the two ``psi`` taken on the branch the mean turn rate points to, so a
-turn faster than pi per period is not unwrapped the short way), the signed
-speed linear between the two ``v`` plus, when the ends are slower than the mean
-speed ``d / T`` says, a bump that makes up the difference. The modelled motion
-gives the chord's direction (the direction of the speed-weighted mean heading:
-exact on arcs; on turn-then-drive within one period it is the heading the
-robot drove at, not the mean of the two ``psi``) and intermediate points
-(``curve_step`` rad, ``curve_spacing`` m apart), scaled to the recorded ``d``, so
-the route follows the recorded arcs instead of cutting across them. ``v`` keeps
-its sign: a stretch recorded reversing has the direction ``psi + pi``. What
-the landmarks cannot tell is when within a period the way of moving changed: a
-reversal within one period leaves even the sign of its chord open, a turn in
-place and driving off within one period its timing (core/motion_events.py
-proposes a landmark at each such change).
-
-Points closer than ``merge_distance`` merge, and so do the points of a period
-that turned on a radius below ``in_place_radius`` and moved at most a few merge
-distances (a turn in place: the base's wheel jitter moves it a centimetre or
-two while it turns), so pauses, turns in place and odometry jitter leave no
-short, noisy pieces. Where the route turns by more than
-``corner_angle`` at one point (a turn in place, a cusp where the recorded
-motion reversed, a turn-then-drive) the point is a *corner*: the follower drives
-to it, stops, turns in place to face along the next piece, and drives on; the
-route never cuts a corner. The robot always drives forward on the return (the
-Kobuki's bumper is at its front; being round, it sweeps no new space turning
-in place), so it faces the way it travels: along a reversed stretch it faces as
-it faced when recording.
-
-Progress is a mark ``(s, phase)`` compared in that order: ``s`` the distance
-along the route (m), ``phase`` in [0, 1] the share of a corner's turn done
-while standing at it. A landmark recorded standing still ends when the route
-reaches its point (at once, or on arrival); a landmark recorded turning in
-place at a corner is a heading goal: it ends when its share of the corner's
-turn (by its recorded heading change) is done. Vertex 0 (the anchor) is a
-corner too: the robot aligns with the route there (after the pi turn it faces
-the mirrored last heading; if the recording ended reversing or with a turn in
-place, that is not the way to go).
-
-Per section the route keeps the recorded speed (``max(|v|, d/T)``), the recorded
-turn rate (``max(|w|, |turn|/T)``), the nominal time (core/safety.expected_duration)
-and the corner turn it owns, for the follower's limits and allowances.
-
-Every step is linear in the number of landmarks (a bounded number of points per
-landmark; cumulative lengths, no per-query sums).
+The way between two ticks is modelled from all five variables at both ends and
+scaled to the recorded ``d``; a point where the route turns by more than
+``corner_angle`` is a *corner* (the follower stops and turns in place there).
+Progress is a mark ``(s, phase)``: m along the route, then the share of a
+corner's turn done. Geometry, merging, corners and progress: docs/back_travel.md,
+"The route".
 """
 import math
 

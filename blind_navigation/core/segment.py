@@ -11,18 +11,10 @@ differences. The robot is on a *curved* segment if
 otherwise it is on a *straight* segment. The sampling period is the curved
 period on curved segments and the straight period on straight ones.
 
-Noise. On a straight line the yaw still wanders by tiny amounts. Read
-literally, the rules call three tiny differences of one sign a curve (one time
-in four for white noise), and a straight heading of +-pi whose noise crosses
-the seam a wrap-around curve. ``deadband`` (rad per difference) treats a
-difference whose *wrapped* size is at most ``deadband`` as "no change": it has
-no sign, so it cannot make all three differences agree, nor supply the second
-sign of rule 3. (Wrapped size, so that noise across the seam, a raw difference
-of about 2pi, is no change either.) Otherwise the rules use the raw
-differences exactly as the paper states them.
-``deadband=0`` is the paper's rule exactly. The default, 0.01 rad, is a tenth
-of the yaw change per curved-rate sample in the paper's experiments
-(0.097 rad/s at 1 Hz), so real turns still switch the rate as in the paper.
+``deadband`` (rad per difference) treats a difference whose *wrapped* size is
+at most ``deadband`` as "no change" (no sign), so yaw noise on a straight line
+makes no curve; ``deadband=0`` is the paper's rule exactly. Why, and why the
+default: docs/recording.md, "The classifier's dead-band".
 """
 import math
 from collections import deque

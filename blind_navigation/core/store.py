@@ -11,43 +11,12 @@ Format (see INTERFACE.md), readable by PyYAML and by yaml-cpp::
     landmark_000003: {data: [0.0901, 0.0, 0.1802, 2.0, 0.0608]}
     finished: {landmarks: 3, lost: 0}
 
-Writing (:class:`LandmarkWriter`): each landmark is one line, written with
-``os.write`` and (optionally) fsynced before ``append`` returns, so a killed
-writer loses at most the landmark in flight. A failed write (ENOSPC, EIO, ...)
-raises core/files.StorageError naming the file, the label and the errno text
-and counting the landmarks lost; the half-written line is cut off again, so
-the file stays a sequence of whole lines, and the next append starts on a
-clean line boundary or fails cleanly. A lost landmark's label is not reused:
-the hole in the numbering marks the loss in the file itself.
-
-Gaps in the ``d`` chain: ``d`` is measured from the previous landmark's
-position, which is in no file. When the chain breaks (the recorder restarted
-mid-mission, or the odometry re-anchored after a discontinuity), the writer
-writes a ``gap_<n>`` entry before the next landmark: that landmark measures
-``d`` from where the robot was when recording resumed, not from the previous
-landmark. :func:`load_landmarks` reports every gap (those entries and holes
-in the numbering) in :attr:`LoadedPath.gaps`: the return must know them. A
-resumed writer writes its gap entry only before its first landmark
-(``pending_gap``), so a recorder that restores the chain first (ros/landmark_saving:
-the sampling publisher's record of the samples it missed) leaves none.
-
-Which sample a landmark came from: the topic recorder's samples carry the
-publisher's ``recording`` (the time it started) and a number, ``sample``. A
-``samples_<n>`` entry says which sample its ``from`` landmark was taken at;
-each later label is one sample on (a lost landmark's label too), until the next
-such entry, which is written only where that stops holding (the first
-landmark, a sample that made no landmark, a new recording). So a restarted
-recorder knows the last sample its file holds (:attr:`LoadedPath.sample`)
-without a number on every line.
-
-Mission files: a mission is never written over an earlier mission's file.
-:func:`open_mission_file` continues the current mission's file after a
-restart (same ``mission`` id in its header, recording not finished) or starts
-a new time-stamped file and points the configured ``landmark_file`` name at it
-with a symlink. A ``landmark_file`` that is neither a regular file nor a
-symlink (e.g. a directory), or a symlink to something that is not a regular
-file, is refused by name. A torn last line (no newline, or unparsable) is
-dropped on load and reported; on resume it is cut off the file.
+:class:`LandmarkWriter` appends one durable line per landmark (a failed write
+raises core/files.StorageError and leaves whole lines); :func:`load_landmarks`
+reads a file back with its gaps (:class:`LoadedPath`); :func:`open_mission_file`
+continues the current mission's file or starts a new time-stamped one behind
+the ``landmark_file`` symlink. Why lines, gaps, sample marks and mission
+files: docs/recording.md, "File".
 """
 import datetime
 import os
@@ -339,7 +308,7 @@ class LandmarkWriter(object):
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *_exc):
         self.close()
 
 

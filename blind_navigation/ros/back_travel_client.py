@@ -3,62 +3,19 @@ and the owner of the mission's state (core/mission_state.py).
 
 It publishes the state latched on ``blind_navigation/state`` (std_msgs/String)
 and, with its reason and the return's progress, on ``blind_navigation/status``
-(blind_navigation/MissionStatus); the roles of the layer obey it:
-
-- ``idle`` -> ``recording``: the recorder saved its first landmark
-  (``blind_navigation/storage``);
-- ``recording`` -> ``rotating``: ``blind_navigation/vision_lost`` (a trigger
-  in any other state is logged and changes nothing; repeated triggers are
-  idempotent). The anchor (odometry position where recording stopped) and the
-  landmark file's real path are kept;
-- ``rotating`` -> ``returning``: ``blind_navigation/rotation_done`` true, and
-  the robot really turned by about pi since recording stopped (a hand-over
-  that does not fit is refused and logged); false, or no valid report within
-  ``rotation_timeout`` s: ``aborted``;
-- ``returning`` -> ``home`` (every goal succeeded) or ``aborted`` (with the
-  reason: bad landmark file, no server, a goal failed, a Kobuki safety event,
-  the whole return's allowance spent).
-
-The return: loads the landmark file with core/store.load_landmarks (a bad file
-aborts with the file and entry named; nothing is driven), expresses the
-landmarks in the heading-corrected frame (with ``heading_correction``: the
-latched ``blind_navigation/heading_correction``, awaited at most
-``correction_timeout``; none: aborted, the frames would not agree), builds the
-route (core/route.build_route; with ``prune_loops``, pruned of loops and
-doubled-back stretches by core/pruning.prune_route with the heading
-correction's uncertainty, each cut and refused candidate logged), waits for
-the server (``server_timeout``), sets the route
-(``blind_navigation/set_return_route``), then sends the landmarks in reverse
-order, one goal at a time, the whole return within ``return_timeout_factor``
-x the expected time + ``return_timeout_margin``. It publishes the odometry
-poses of the return on ``blind_navigation/return_path``.
-
-Progress (core/progress.ReturnProgress: real path and sha256 of the landmark
-file, anchor, landmarks completed, position) is written atomically next to
-``landmark_file`` at vision loss and after each goal. A client restarted while
-a return was under way resumes with the next landmark (progress
-``returning``, updated within ``resume_timeout`` wall seconds, file unchanged,
-robot within ``resume_max_offset`` of where it stopped); one that cannot trust
-its progress ends ``aborted``; a finished or old return starts ``idle``. The
-landmark file is only read.
-
-Params (``layer.params``): ``landmark_file`` (empty:
-$ROS_HOME/blind_navigation/landmarks.yaml), ``odom_timeout`` (s),
-``server_timeout`` (s), ``goal_timeout_factor`` and ``goal_timeout_margin``
-(a goal is cancelled when the server has said nothing of it, neither a result
-nor feedback, for factor * its expected duration + margin: a backstop for a
-silent server; how long a goal the server drives may take is the server's
-call: its progress watch, its time allowance), ``return_timeout_factor``,
-``return_timeout_margin`` (s), ``slowest_v`` (m/s), ``max_v``/``max_w`` (a
-landmark beyond them is a bad file), ``resume_timeout`` (s, wall),
-``resume_max_offset`` (m), ``path_spacing`` (m between return_path poses),
-``heading_correction``, ``correction_timeout`` (s), ``rotation_timeout`` (s
-from vision loss to the end of the pi turn: the standstill's timeout, core
-gyro_bias.standstill_timeout of the shared ``standstill_time``, plus
-``rotation_margin``), ``turn_tolerance`` (rad a finished pi turn may differ
-from pi), ``prune_loops`` (set by the launch files; only the ``closed_loop``
-control drives the route: blind_navigation.launch sets it false for ``time``
-and ``distance``) and core/pruning.PRUNE_DEFAULTS.
+(blind_navigation/MissionStatus). Vision lost while recording: ``rotating``
+(the anchor and the landmark file's real path kept); the pi turn reported done
+(``blind_navigation/rotation_done``) and the robot really turned: it loads the
+landmarks (core/store), expresses them in the heading-corrected frame, builds
+the route (core/route; with ``prune_loops`` pruned by core/pruning), sets it on
+the server (``blind_navigation/set_return_route``) and sends the landmarks in
+reverse order, one goal at a time, within the whole return's allowance; then
+``home`` or ``aborted`` with the reason. It publishes the return's poses on
+``blind_navigation/return_path``. The progress (core/progress) is written next
+to ``landmark_file`` at vision loss and after each goal: a restarted client
+resumes or aborts. The landmark file is only read. A topic of this process
+refused for its type (ros/wiring.py) ends the mission ``aborted``. The
+transitions and their reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
 import json
 import math
@@ -88,7 +45,7 @@ from blind_navigation.core.progress import (ABORT, IGNORE, PROGRESS_DEFAULTS, Pr
 from blind_navigation.core.safety import SAFETY_DEFAULTS, expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal, MissionStatus, StorageUsage
-from blind_navigation.ros import diagnostics
+from blind_navigation.ros import diagnostics, wiring
 from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
 from blind_navigation.ros.goal_runner import GoalRunner
 from blind_navigation.ros.landmark_saving import landmark_file
@@ -153,7 +110,6 @@ class BackTravelClient(object):
         self._trip = None
         self._lost = None           # an untrusted odometry reset during the turn or the return
         self._turn_start = None          # raw odometry yaw where recording stopped
-        self._rotation_deadline = None   # rospy time
         self.correction = layer.heading_correction() if p.heading_correction else None
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=1, latch=True)
@@ -166,6 +122,7 @@ class BackTravelClient(object):
         self.client = None
         self._start_from_progress()
         layer.safety.on_trip(self._on_trip)
+        wiring.on_fault(self._on_wiring_fault)
         self.odometry.on_reanchor(self._on_reset)
         subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
         subscribe(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
@@ -327,6 +284,10 @@ class BackTravelClient(object):
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
+
+    def _on_wiring_fault(self, fault):
+        if self.state not in state.TERMINAL:
+            self.set_state(state.ABORTED, fault)
 
     def _on_reset(self, reason, trusted):
         """An untrusted odometry reset: the frame of the turn and the route is lost

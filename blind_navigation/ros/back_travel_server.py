@@ -2,50 +2,20 @@
 
 Serves ``blind_navigation/back_travel`` (blind_navigation/BackTravel): each
 goal is one path landmark ``(v, w, d, T, psi)``, driven on ``cmd_vel`` in the
-mode ``control`` (core/goal.py): ``time`` and ``distance`` (the paper's: the
-landmark's own controller, core/back_travel.py) or ``closed_loop`` (the goals
-of a return share one core/back_travel.RouteFollower over the whole route, and
-a goal ends when its section of the route is done). Feedback (distance so far)
-at ``feedback_rate``; result = odometry distance and duration.
+mode ``control`` (core/goal.py): ``time`` and ``distance`` (the landmark's own
+controller, core/back_travel.py) or ``closed_loop`` (the goals of a return
+share one core/back_travel.RouteFollower over the route the mission's owner
+set with ``blind_navigation/set_return_route``; a goal ends when its section is
+done). Feedback: the distance so far; result: odometry distance and duration.
 
-It serves its own mission only. ``blind_navigation/set_return_route``
-(blind_navigation/SetReturnRoute), from the mission's owner while the mission
-is ``returning``, gives the route (core/route.Route, built by the client), the
-landmarks of its goals in return order and how many are done; it is refused
-(with the reason) if the route or a landmark is not valid or the robot is more
-than ``route_max_offset`` from where the route continues. A goal is accepted
-while the mission is ``returning``, from the mission's owner, one at a time,
-and only if it is the next landmark of that route; any other goal is rejected
-with the reason (a second client neither preempts nor drives). When the
-mission leaves ``returning`` the active goal is aborted and the output halted
-at once (ros/motion.MotionOutput moves only in ``returning``).
-
-Between goals the last command holds (the next goal follows within
-milliseconds), for at most ``handover_timeout`` after a goal last published one
-(core/goal.CommandHold); then zero velocity is published, so the robot stops
-after the last landmark, and a run of goals that end as they start (publishing
-nothing: the landmarks of a loop the route cut) cannot keep it driving on.
-
-Safety (core/safety.py, docs/safety.md): each goal is clamped to ``max_v`` /
-``max_w`` and to what was recorded; odometry older than ``odom_timeout``
-commands zero at once and holds the goal, which continues if odometry comes
-back within ``odom_grace`` s and is aborted otherwise (core/allowance.OdomGrace;
-refused, implausible odometry holds too); a closed-loop return fails only when
-it stops making progress (core/allowance.ProgressWatch: ``stall_timeout``, or
-its whole allowance spent), a goal over its nominal time is logged; a Kobuki
-bumper, cliff or wheel-drop event halts the output at once and aborts the goal
-naming the sensor; while a sensor is still active no goal starts. Cancel,
-error and shutdown publish zero velocity.
-
-Params (``layer.params``): core/back_travel's BACK_TRAVEL_DEFAULTS (but
-``straight_period``: from the shared ``straight_rate``), core/allowance's
-ALLOWANCE_DEFAULTS, ``control`` (set by the launch files), ``control_rate``,
-``feedback_rate`` (Hz), ``handover_timeout`` (s), ``route_max_offset`` (m),
-``status_frequency`` (Hz: the action server's periodic status, set as
-actionlib's ``~actionlib_status_frequency`` of the node; the status is latched
-and published at every goal transition anyway, the periodic one only repeats
-it: actionlib's 5 Hz cost 0.1 % of a core all through the recording,
-docs/cost.md).
+It serves its own mission only: a goal is accepted while the mission is
+``returning``, from the mission's owner, one at a time, and only if it is the
+next landmark of the route. Between goals the last command holds for at most
+``handover_timeout`` (core/goal.CommandHold). Every command is clamped and
+state-gated (ros/motion.MotionOutput); stale or refused odometry holds the goal
+(core/allowance.OdomGrace), a Kobuki event aborts it; cancel, error and
+shutdown publish zero velocity. Details and reasons: docs/back_travel.md,
+docs/safety.md.
 """
 import json
 import threading

@@ -4,24 +4,16 @@ Spins the robot in place ``turns`` full turns counter-clockwise, pauses, and as
 many clockwise (core/gyro_calibration.SpinCalibration), driving ``cmd_vel``
 while feeding the odometry yaw (``odom``) and RTAB-Map's visual-odometry yaw
 (``rtabmap/odom``; a lost message breaks the current window) to its
-GyroVisualFit. It starts only once both arrive (without visual odometry the
-calibration is impossible: it says so and stops before spinning). When the
-spins are done it fits the gyro's scale error and writes it to
-``calibration_file`` (atomically; an existing file is first copied to
-``<calibration_file>.previous``), which heading_correction reads at mission
-start. On any failure (a turn over its time allowance, a calibration the data
-do not determine, odometry older than ``odom_timeout``, a Kobuki
-bumper/cliff/wheel-drop event, shutdown) the robot is stopped at once, the
-reason is logged as an error and the file is left untouched. The node then
-exits: status 0 on success, 1 on failure; it always ends with zero velocity.
-Stamps come from the messages and the loop is a rospy.Rate, so it works under
-use_sim_time.
-
-Params: core/gyro_calibration's SPIN_DEFAULTS, core/gyro_fit's
-GYRO_FIT_DEFAULTS, ``max_scale`` (core/heading_correction), ``calibration_file``
-(empty: $ROS_HOME/blind_navigation/gyro_calibration.yaml), ``control_rate``
-(Hz), ``odom_timeout`` (s), ``start_timeout`` (s of wall time to wait for
-odometry and visual odometry).
+GyroVisualFit. It starts only once both arrive (without visual odometry it says
+so and stops before spinning). When the spins are done it
+writes the gyro's scale error to ``calibration_file`` (atomically; an existing
+file is first copied to ``<calibration_file>.previous``), which
+heading_correction reads at mission start. On any failure (a turn over its
+time allowance, a calibration the data do not determine, stale odometry, a
+Kobuki event, shutdown) the robot stops at once, the reason is logged as an
+error and the file is left untouched. The node then exits: status 0 on
+success, 1 on failure, always with zero velocity. Stamps come from the
+messages and the loop is a rospy.Rate, so it works under use_sim_time.
 """
 import os
 import shutil

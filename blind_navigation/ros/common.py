@@ -1,5 +1,5 @@
 """Small rospy glue shared by every node (the layer's and the fake TurtleBot's):
-params, watched subscriptions, message conversions, Twist."""
+params, watched (and type-checked) subscriptions, message conversions, Twist."""
 import math
 import os
 
@@ -8,12 +8,8 @@ import rospy
 from geometry_msgs.msg import Twist
 from rospy.impl.paramserver import get_param_server_cache
 
-from . import subscription_watchdog
+from . import subscription_watchdog, wiring
 from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
-
-#: Indices of the diagonal of a 6x6 row-major covariance (x, y, z, roll, pitch, yaw).
-COVARIANCE_DIAGONAL = (0, 7, 14, 21, 28, 35)
-
 
 #: The default of a param that the launch file sets (its launch arg holds the default).
 REQUIRED = object()
@@ -63,11 +59,26 @@ def load_params(defaults, namespace='~'):
     return type('Params', (object,), values)()
 
 
-def subscribe(topic, data_class, callback, callback_args=None, **options):
+def subscribe(topic, data_class, callback, callback_args=None, expected=None, **options):
     """``rospy.Subscriber`` whose registration the subscription watchdog checks
-    (a publisher registering at the same moment is not missed)."""
+    (a publisher registering at the same moment is not missed); with ``expected``
+    (ros/wiring.Expected: for a raw ``rospy.AnyMsg`` subscription) the watchdog
+    also checks the topic's type at the master."""
     return subscription_watchdog.watch(rospy.Subscriber(topic, data_class, callback, callback_args,
-                                                        **options))
+                                                        **options), expected)
+
+
+def subscribe_checked(topic, data_class, callback, callback_args=None, **options):
+    """:func:`subscribe` of ``topic`` as ``data_class`` that refuses another type
+    (ros/wiring.py): raw bytes, checked per connection, then deserialised."""
+    expected = wiring.Expected.of(data_class)
+
+    def on_raw(raw, args=None):
+        if expected.accepts(topic, raw._connection_header):
+            msg = data_class()
+            msg.deserialize(raw._buff)
+            callback(msg) if callback_args is None else callback(msg, args)
+    return subscribe(topic, rospy.AnyMsg, on_raw, callback_args, expected, **options)
 
 
 def odom_state_from_msg(msg):
@@ -80,28 +91,6 @@ def odom_state_from_msg(msg):
         raise ValueError('non-finite odometry (x, y, v, w) = %r' % (values,))
     return OdomState(pose.position.x, pose.position.y, yaw, twist.linear.x,
                      twist.angular.z, msg.header.stamp.to_sec())
-
-
-def odometry_lost_reason(msg):
-    """Why a visual-odometry nav_msgs/Odometry means lost (RTAB-Map's convention,
-    core/vision.vo_lost_reason), or None when it is valid."""
-    from ..core.vision import vo_lost_reason  # here: core.vision loads numpy, most nodes need neither
-    pose = msg.pose.pose
-    return vo_lost_reason((pose.position.x, pose.position.y, pose.position.z),
-                          (pose.orientation.x, pose.orientation.y, pose.orientation.z,
-                           pose.orientation.w),
-                          [msg.pose.covariance[i] for i in COVARIANCE_DIAGONAL],
-                          [msg.twist.covariance[i] for i in COVARIANCE_DIAGONAL])
-
-
-def usable_odom_state(msg, topic):
-    """OdomState of ``msg``, or None after a throttled warning naming ``topic`` when the
-    odometry is NaN or its quaternion null (such odometry is never used)."""
-    try:
-        return odom_state_from_msg(msg)
-    except ValueError as error:
-        rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s' % (rospy.get_name(), topic, error))
-        return None
 
 
 def twist(v=0.0, w=0.0):

@@ -2,36 +2,19 @@
 the correction to the roles that drive the return.
 
 While recording, it feeds the raw odometry yaw (the shared ``odom`` feed) and
-RTAB-Map's visual-odometry yaw (``rtabmap/odom``; a lost message, RTAB-Map's
-convention, breaks the current window) to core/gyro_fit.GyroVisualFit. Without
-visual odometry it says so once (and in diagnostics): the bias is then measured
-by the standstill alone.
-
-When the mission moves to ``rotating`` (vision lost) it keeps the last raw
-odometry as the reference (where the return starts) and measures the gyro bias
-with the robot standing still (core/gyro_bias.StandstillBias) until
-core/gyro_bias.standstill_complete: the bias is known well enough for this
-mission (its std x the recording's duration within ``heading_budget``, after
-at least ``standstill_min`` s of still odometry), or ``standstill_time`` s of
-still odometry were counted, or ``standstill_timeout`` s after the reference
-passed (the robot kept moving: whatever was counted is used). Then it
-estimates the correction (core/heading_correction.estimate_correction: the
-bias from visual odometry and the standstill fused, the scale from the gyro
-calibration file when there is one) and publishes it latched on
-``blind_navigation/heading_correction`` (blind_navigation/HeadingCorrection,
-with the reference pose). It does not relay odometry: rotate_pi and the back
-travel correct the raw odometry themselves from the reference on
-(ros/layer.CorrectionReceiver, ros/odometry.OdometryFeed.set_correction), and
-back_travel_client expresses the landmarks in the same frame.
-``standstill_time`` 0: the estimate is made at vision loss, without a
-standstill. One estimate per mission.
-
-Params (``layer.params``): core/gyro_fit's GYRO_FIT_DEFAULTS,
-core/heading_correction's CORRECTION_DEFAULTS and core/gyro_bias's
-STANDSTILL_DEFAULTS; ``gyro_calibration_file`` (the YAML calibrate_gyro.launch
-writes; empty: $ROS_HOME/blind_navigation/gyro_calibration.yaml);
-``standstill_timeout`` (s after vision loss; unset: core/gyro_bias.standstill_timeout);
-``vo_timeout`` (s without visual odometry before it warns).
+RTAB-Map's visual-odometry yaw (``rtabmap/odom``) to
+core/gyro_fit.GyroVisualFit; without visual odometry it says so once (and in
+diagnostics). When the mission moves to ``rotating`` it keeps the last raw
+odometry as the reference and measures the bias standing still
+(core/gyro_bias.StandstillBias) until core/gyro_bias.standstill_complete
+(``heading_budget``, ``standstill_time``, ``standstill_timeout``; 0 s: none).
+Then it estimates the correction (core/heading_correction.estimate_correction,
+the scale from ``gyro_calibration_file`` when there is one) and publishes it
+latched on ``blind_navigation/heading_correction``
+(blind_navigation/HeadingCorrection, with the reference pose). It relays no
+odometry: the roles that drive install the correction into their shared feed.
+One estimate per mission. Details and reasons: docs/back_travel.md, "Gyro
+heading correction".
 """
 import datetime
 import os

@@ -4,7 +4,9 @@ Debian has no kobuki_msgs. If the package is installed (a real TurtleBot2
 workspace) its classes are used; otherwise identical classes are generated at
 import time from the same definitions, with the same type names and MD5 sums,
 so nodes using them interoperate with a real Kobuki's ``/mobile_base/events/*``
-and ``commands/motor_power`` topics either way.
+and ``commands/motor_power`` topics either way. A ``kobuki_msgs`` on the path
+whose generated classes are missing (a source checkout not built) counts as
+absent.
 """
 import genpy.dynamic
 
@@ -23,7 +25,7 @@ def _load():
     try:
         import kobuki_msgs.msg as real
         return {name: getattr(real, name) for name in DEFINITIONS}
-    except ImportError:
+    except (ImportError, AttributeError):    # AttributeError: a kobuki_msgs without its classes
         return {name: genpy.dynamic.generate_dynamic('kobuki_msgs/' + name, text)['kobuki_msgs/' + name]
                 for name, text in DEFINITIONS.items()}
 

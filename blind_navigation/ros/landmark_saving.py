@@ -7,43 +7,16 @@ the paper's recorder variants (section 3.3.3, Figure 4).
   request (sent by ros/record_client.py).
 
 Either way the saver reads odometry itself from the process's shared feed (the
-state at the tick's stamp: the latest odometry stamped no later than the tick;
-odometry the plausibility gate refused is never used), makes the landmark with
-core/recorder.PathRecorder and appends it durably with core/store.LandmarkWriter
-to the mission's time-stamped file that the ``landmark_file`` param (a symlink)
-points at (core/store.open_mission_file: a saver restarted within the same
-mission, ``blind_navigation/mission_id``, continues that file after a gap
-entry, unless it catches up; a new mission starts a new file). Only that param chooses the file:
-nothing received over ROS names a path; a ``landmark_file`` that is not a
-regular file or a symlink to one is refused by name. After each landmark it
-publishes the storage used (``blind_navigation/storage``, with the landmarks
-lost to write failures and the last error) and, when someone listens, the
-recorded path (``blind_navigation/recorded_path``, nav_msgs/Path for RViz).
-
-A write failure (a full disk, an I/O error) is an ERROR in the log and in
-``blind_navigation/storage`` (the mission's owner reports it in the mission
-status and diagnostics); the landmark is lost, the file keeps whole lines, and
-the next landmark is tried again. An odometry reset the feed carried across
-(ros/odometry.py) changes nothing; one it could not is a gap in the file: the
-next landmark measures ``d`` from the odometry after it.
-
-Catching up (topic variant): a saver restarted within the mission asks the
-sampling publisher for the samples after the last one its file holds
-(:meth:`LandmarkSaving.start_catch_up`; core/store.SampleMark says which, the
-publisher's core/sample_log.SampleLog answers with the odometry it read at
-each) and makes their landmarks from that odometry as it would have: the file
-goes on without a gap, and the return drives the whole path. Live samples
-wait meanwhile; those the file then holds are skipped. If the publisher cannot
-answer (it restarted too, it is not there, the samples were dropped), the
-pending gap entry is written before the next landmark, as before.
-
-Params (``layer.params``, role ``landmark_saver`` or ``record_server``):
-``landmark_file`` (the symlink to the mission's file; empty:
-``$ROS_HOME/blind_navigation/landmarks.yaml``), ``fsync`` (fsync every
-landmark, not just flush), ``odom_timeout`` (s of sim time; a sample taken
-with older odometry is saved with a warning), ``odom_wait`` (s of wall time a
-sample waits for odometry covering its stamp), ``catch_up_timeout`` (s of wall
-time a restarted saver waits for the sampling publisher's service).
+state at the tick's stamp), makes the landmark with core/recorder.PathRecorder
+and appends it durably with core/store.LandmarkWriter to the mission's file
+behind the ``landmark_file`` symlink (core/store.open_mission_file). After each
+landmark it publishes the storage used (``blind_navigation/storage``) and, when
+someone listens, the recorded path (``blind_navigation/recorded_path``). A
+write failure is an ERROR and a lost landmark; an odometry reset the feed
+could not carry across is a gap (one it carried across changes nothing).
+A saver restarted within the mission catches up on the samples it missed from
+the sampling publisher (:meth:`LandmarkSaving.start_catch_up`). Details and
+reasons: docs/recording.md ("Saving", "File").
 """
 import math
 import os

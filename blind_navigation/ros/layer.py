@@ -2,13 +2,9 @@
 mission state, the Kobuki's safety events, the heading correction and
 /diagnostics.
 
-A *role* is one of the layer's node classes in this package (sampling
-publisher, landmark saver, record server and client, heading correction,
-rotate_pi, back-travel server and client, vision monitor). A role runs alone
-in its own node (launch/paper.launch: the paper's layout, one process per
-node) or together with the others in one process (nodes/blind_navigation_node.py,
-the default of launch/blind_navigation.launch). Either way it is built as
-``Role(layer)`` and finds here what it shares with the roles beside it:
+A *role* is one of the layer's node classes, built as ``Role(layer)``, alone in
+its own node (launch/paper.launch) or with the others in one process
+(nodes/blind_navigation_node.py, the default). It finds here:
 
 - :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
   with others (each role's DEFAULTS are the one source of its defaults);
@@ -156,14 +152,7 @@ class CorrectionReceiver(object):
         self.correction = self.reference = None
         self._lock = threading.Lock()
         self._received = threading.Event()
-        self._callbacks = []
         subscribe(names.HEADING_CORRECTION, HeadingCorrection, self._on_correction, queue_size=1)
-
-    def on_receive(self, callback):
-        """Call ``callback()`` once the correction is installed (at once if it is)."""
-        self._callbacks.append(callback)
-        if self._received.is_set():
-            callback()
 
     @property
     def received(self):
@@ -179,8 +168,6 @@ class CorrectionReceiver(object):
             self.correction, self.reference = correction, reference
             self.odometry.set_correction(correction, reference, snapshot)
             self._received.set()
-        for callback in list(self._callbacks):
-            callback()
 
     def to_plain(self):
         """The installed correction and the corrected frame's state now, as plain

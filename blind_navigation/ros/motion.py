@@ -1,10 +1,10 @@
 """What may move the robot: the Kobuki's safety events and the one velocity
-output every moving role uses (the pi turn, the back travel, the gyro
-calibration).
+output every moving role uses (the pi turn, the back travel, the calibration).
 
 :class:`SafetyMonitor` watches the Kobuki's bumper, cliff and wheel-drop events
 (core/safety.SafetyEvents) once per process and calls every registered
-output's halt from the event callback, at once.
+output's halt from the event callback, at once; an event topic of another type
+is refused (ros/wiring.py).
 
 :class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
 name, remappable) for one role, and only when that role may move in the
@@ -15,7 +15,8 @@ curvature kept); :meth:`~MotionOutput.halt` stops at once and turns every
 later :meth:`~MotionOutput.publish` into zero until
 :meth:`~MotionOutput.release`, so a control loop that computed its command
 before a cancel or a safety event cannot move the robot again. Zero is
-published on node shutdown.
+published on node shutdown. Once any subscription of the process was refused
+for its type (ros/wiring.py) every output publishes zero for good.
 """
 import threading
 
@@ -25,8 +26,8 @@ from geometry_msgs.msg import Twist
 from .. import names
 from ..core import mission_state
 from ..core.safety import SafetyEvents, VelocityLimits
-from . import kobuki_msgs_compat as kobuki
-from .common import subscribe, twist
+from . import kobuki_msgs_compat as kobuki, wiring
+from .common import subscribe_checked, twist
 
 #: kind -> (message class, field naming the sensor)
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
@@ -44,7 +45,7 @@ class SafetyMonitor(object):
         self._callbacks = []
         for kind, topic in names.SAFETY_EVENTS.items():
             msg_type, index_field = EVENT_TYPES[kind]
-            subscribe(topic, msg_type, self._on_event, (kind, index_field), queue_size=10)
+            subscribe_checked(topic, msg_type, self._on_event, (kind, index_field), queue_size=10)
 
     def on_trip(self, callback):
         self._callbacks.append(callback)
@@ -83,6 +84,7 @@ class MotionOutput(object):
             safety.on_trip(lambda reason: self.halt('safety: ' + reason))
         if mission is not None:
             mission.on_change(self._on_state)
+        wiring.on_fault(self.halt)
         rospy.on_shutdown(lambda: self.halt('node shutdown'))
 
     @property
@@ -102,7 +104,7 @@ class MotionOutput(object):
 
     def publish(self, v, w):
         with self._lock:
-            moving = self.halted is None and self.allowed
+            moving = self.halted is None and self.allowed and not wiring.faulty()
             self._send(*(self.limits.clamp(v, w) if moving else (0.0, 0.0)))
 
     def stop(self):

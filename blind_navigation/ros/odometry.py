@@ -2,52 +2,27 @@
 
 :class:`OdometryFeed` subscribes to a nav_msgs/Odometry topic as raw bytes
 (rospy.AnyMsg) and reads the few fields the layer uses with
-core/odometry_wire.py, so the 50 Hz stream costs little. It subscribes only
-while some role holds it (:meth:`~OdometryFeed.acquire` /
-:meth:`~OdometryFeed.release`): an idle role does not listen to 50 Hz streams.
-
-For wheel odometry (``checked``) every message is checked before it is used:
-non-finite values and a null quaternion are dropped, and the plausibility gate
-(core/plausibility.OdometryGate) refuses what no Kobuki can do (a jump, an
-impossible twist); refused odometry never refreshes the feed, so whoever drives
-on it holds as for stale odometry. When the refused stream turns out to be a
-genuine discontinuity (an odometry reset: consistent with itself for a
-second), the gate re-anchors on it (core/odometry_reset.ResetCarrier): a
-trusted reset is carried across, every state from then on in the old frame
-(the chain refused meanwhile too), so every role goes on as if nothing
-happened; an untrusted one is heard of (:meth:`~OdometryFeed.on_reanchor`: the
-recorder notes a gap, the mission owner aborts a turn or return) and the feed
-is never fresh again while subscribed (:meth:`~OdometryFeed.fresh`: None).
-In the paper's layout each node has its own feed: one that carried a reset
-across publishes its frame (latched, ``frame_topic``), and a feed that was not
-listening then takes it.
-The accepted states of the last ``history`` seconds are kept
-(:meth:`~OdometryFeed.state_at`: the state at a sampling tick's stamp).
-
-While every holder only reads back (``acquire(holder, batched=True)``: the
-recorder, and the mission owner before vision loss), messages are taken
-``BATCH`` at a time: a message's read, check and history update cost about
-eight times more alone than right after another (docs/cost.md, "Where the
-recording part's CPU goes"). Listeners then hear of a batch at once, and the
-newest state lags up to ``BATCH - 1`` messages: a reader that needs the newest
-waits until what was received is taken (:meth:`~OdometryFeed.catch_up`) or for
-its stamp (:meth:`~OdometryFeed.wait_for_stamp`); while anyone waits, every
-message is taken as it arrives, so the wait is one odometry period at most. All
-taking happens on the receive thread (a re-anchor's callbacks take the
-recorder's lock). A holder that drives (the pi turn, the return) holds
-unbatched: every message is taken as it arrives.
-
-Once the heading correction is known (:meth:`~OdometryFeed.set_correction`),
-:meth:`~OdometryFeed.fresh` returns odometry in the corrected frame
-(core/heading_correction.CorrectedOdometry), updated with every message from
-then on: the pi turn and the return drive on it. Visual odometry is fed
-unchecked to raw listeners (a lost message is information there).
+core/odometry_wire.py. It subscribes only while some role holds it
+(:meth:`~OdometryFeed.acquire` / :meth:`~OdometryFeed.release`). Wheel odometry (``checked``) passes the plausibility gate
+(core/plausibility.OdometryGate) first: refused odometry never refreshes
+the feed. An odometry reset is carried across in the old frame, or the frame is
+lost (core/odometry_reset.ResetCarrier, :meth:`~OdometryFeed.on_reanchor`,
+``lost``; docs/safety.md, "Odometry resets"). The accepted states of the last
+``history`` s are kept (:meth:`~OdometryFeed.state_at`). While every holder
+only reads back (``acquire(holder, batched=True)``) messages are taken
+``BATCH`` at a time; a reader of the newest state waits for it
+(:meth:`~OdometryFeed.catch_up`, :meth:`~OdometryFeed.wait_for_stamp`). Once
+the heading correction is known (:meth:`~OdometryFeed.set_correction`),
+:meth:`~OdometryFeed.fresh` gives the corrected frame. Batching: docs/cost.md,
+"The batched feed"; the rest: docs/recording.md, "Saving". A connection of
+another type than nav_msgs/Odometry is refused (ros/wiring.py).
 """
 import threading
 import time
 
 import rospy
 from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Odometry
 from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
@@ -57,6 +32,7 @@ from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
 from .common import set_pose, subscribe
+from .wiring import Expected
 
 #: No receive queue limit. rospy reads a subscription's socket in chunks of up to
 #: 64 KiB (about 90 odometry messages) and, with a queue size, keeps only the newest
@@ -88,6 +64,7 @@ class OdometryFeed(object):
         self.history = float(history)
         self.gate = OdometryGate() if checked else None
         self.carrier = ResetCarrier(self.gate) if checked else None
+        self.expected = Expected.of(Odometry)
         self._reanchor_listeners = []
         self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
@@ -124,7 +101,8 @@ class OdometryFeed(object):
                 # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
                 # in the history state_at reads the sampling ticks' odometry from
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
-                                             queue_size=RECEIVE_QUEUE, tcp_nodelay=True)
+                                             expected=self.expected, queue_size=RECEIVE_QUEUE,
+                                             tcp_nodelay=True)
                 self._subscribed_at = ros_time()
                 self._new_subscription = True   # what happened unheard is no jump to check
 
@@ -148,10 +126,6 @@ class OdometryFeed(object):
                           'taken %d messages at a time (every holder reads back)' % batch
                           if batch > 1 else 'every message taken as it arrives')
         self._batch = batch
-
-    @property
-    def subscribed(self):
-        return self._subscriber is not None
 
     @property
     def batched(self):
@@ -211,6 +185,8 @@ class OdometryFeed(object):
 
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
+        if not self.expected.accepts(self.topic, msg._connection_header):
+            return      # another type on this connection: refused (ros/wiring.py)
         with self._take_lock:
             self._pending.append(msg._buff)
             self._arrived += 1

@@ -26,7 +26,7 @@ class RecordClient(object):
     def __init__(self, layer):
         self.params = layer.params(self.ROLE, self.DEFAULTS)
         self.log = layer.logger(self.ROLE)
-        self.calls = self.failures = 0
+        self.calls = 0
         self.service = rospy.resolve_name(names.RECORD_LANDMARK)
         self.record = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark, persistent=False)
         self.sample_sub = None
@@ -50,9 +50,7 @@ class RecordClient(object):
             response = self.record(header=msg.header, command=msg.command, yaw=msg.yaw,
                                    period=msg.period)
         except (rospy.ServiceException, rospy.ROSException) as error:
-            self.failures += 1
             self.log.error('%s call %d failed: %s', self.service, self.calls, error)
             return
         if not response.saved:
-            self.failures += 1
             self.log.warn('server did not save the %s sample: %s', msg.command, response.message)

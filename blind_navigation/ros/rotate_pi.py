@@ -9,28 +9,12 @@ false when the turn failed (time allowance, odometry gone for longer than
 ``odom_grace``, a Kobuki bumper/cliff/wheel-drop event). When the mission
 leaves ``rotating`` for any reason the output is halted at once.
 
-Before turning it waits for the recorder's ``final`` sample (at most
-``recording_end_timeout``), so the last landmark is taken before the robot
-turns, and with ``wait_for_heading_correction`` for the heading correction
-(ros/layer.CorrectionReceiver: the gyro bias is measured standing still), at
-most ``correction_timeout`` s (core/gyro_bias.standstill_timeout of
-``standstill_time`` plus a margin); none by then: no turn, rotation_done false.
-The turn then runs on the corrected odometry.
-
-Odometry hiccups (core/allowance.OdomGrace, as the back travel): odometry older
-than ``odom_timeout`` (or refused as implausible) commands zero at once and
-holds the turn (the hold does not count against the time allowance); the turn
-continues when odometry comes back within ``odom_grace`` s and fails otherwise.
-Every hold is logged with its length.
-
-A rotate_pi (re)started while the mission is already ``rotating`` does not know
-how far the robot turned: it reports rotation_done false at once, so the
-mission ends ``aborted`` with that reason instead of hanging.
-
-Params (``layer.params``): core/rotation's ROTATION_DEFAULTS, ``control_rate``
-(Hz), ``odom_timeout``, ``odom_grace``, ``recording_end_timeout`` (s),
-``wait_for_heading_correction``, ``standstill_time`` (shared with
-heading_correction) and ``correction_margin`` (s added to its standstill timeout).
+Before turning it waits for the recorder's ``final`` sample and, with
+``wait_for_heading_correction``, for the heading correction (then turns on the
+corrected odometry; none in time: no turn, rotation_done false). Stale or
+refused odometry holds the turn (core/allowance.OdomGrace). A rotate_pi
+(re)started while the mission is already ``rotating`` reports rotation_done
+false at once. Details and reasons: docs/back_travel.md, docs/safety.md.
 """
 import threading
 

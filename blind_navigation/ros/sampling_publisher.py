@@ -3,50 +3,17 @@
 
 Reads the yaw from odometry (the shared feed of ``odom``; or, with
 ``yaw_source`` ``pose2d``, from geometry_msgs/Pose2D on ``pose2d`` as the paper
-did) and runs a ``rospy.Rate`` loop whose rate switches between the
-straight-segment and the curved-segment rate by the paper's classifier over
-the last four yaws (core/segment.SamplingSchedule); a switch takes effect at
-the next cycle. Each cycle it publishes blind_navigation/PathSample (command
-``sample``, the yaw, the period of the cycle that just ended) on
-``blind_navigation/sample``.
-
-With ``event_sampling`` (blind_navigation.launch; launch/paper.launch keeps the
-paper's sampling) it also takes a sample at each motion event
-(core/motion_events.EventSampler: the robot starts or stops translating,
-reverses, starts or stops turning in place), stamped where the change began,
-with the time since the previous sample as its period: the periods alone
-cannot tell when within a period the robot reversed or turned in place. The
-periodic ticks keep their times but are published ``event_latency`` s late
-(stamped at their tick, with the yaw of the odometry there: the saver reads the
-odometry at a sample's stamp), so an event dated back before a tick comes first.
-The event sampler is fed every odometry state in order, in a batch before each
-sample is taken (the shared feed keeps the last seconds:
-OdometryFeed.states_after), not by a call for each 50 Hz message: a
-per-message listener cost a quarter of the recording's CPU (docs/cost.md).
-
-Recording starts with the first valid yaw, once the recorder (and rotate_pi,
-``min_subscribers``) listen (launch this role last, section 3.4.2). It ends
-when the mission leaves recording (core/mission_state.records: the owner
-moved it to rotating on vision loss, or ended it): one last sample with
-command ``final`` covers the partial cycle since the last tick (period =
-elapsed time), then it stops. A ``vision_lost`` itself does not stop it: only
-the mission's owner decides that vision loss ends the recording, so a stray
-trigger while idle changes nothing.
-
-Each sample carries the recording's id (the time it started) and its number
-(``recording``, ``seq``), and the publisher logs what a landmark needs of it,
-with the odometry it read at the stamp (core/sample_log.SampleLog; with
-``yaw_source`` ``odom``). A saver restarted mid-recording asks for what it
-missed on the ``blind_navigation/recorded_samples`` service
-(srv/RecordedSamples.srv), so its file goes on without a gap. Each recorder's
-``blind_navigation/storage`` says which sample its file holds last; the log
-drops the samples before the oldest of those, so it stays a few entries long.
-
-Params (``layer.params``): ``straight_rate``, ``curved_rate`` (Hz) and
-``deadband`` (rad per yaw difference) of core/segment.SAMPLING_DEFAULTS,
-``yaw_source`` (``odom`` or ``pose2d``), ``min_subscribers`` (recording starts
-once this many nodes subscribe to the samples), ``event_sampling`` (set by the
-launch files) and core/motion_events.EVENT_DEFAULTS.
+did) and runs a ``rospy.Rate`` loop whose rate switches between the straight
+and the curved rate by the paper's classifier (core/segment.SamplingSchedule).
+Each cycle it publishes blind_navigation/PathSample (command ``sample``, the
+yaw, the period of the cycle that just ended, the recording's id and the
+sample's number) on ``blind_navigation/sample``; with ``event_sampling`` also
+one at each motion event (core/motion_events.EventSampler). Recording starts
+with the first valid yaw once ``min_subscribers`` listen, and ends when the
+mission leaves recording, with one ``final`` sample for the partial cycle.
+It logs what each sample's landmark needs (core/sample_log.SampleLog) and
+serves it on ``blind_navigation/recorded_samples`` to a restarted saver.
+Details and reasons: docs/recording.md ("Roles"), docs/cost.md.
 """
 import math
 import threading

@@ -12,8 +12,10 @@ shortly afterwards (:data:`CHECK_AFTER` s of wall time): it asks the master
 which nodes publish the topic and hands the URIs of publishers it has no
 connection to, to rospy's own publisher-update path, which connects them.
 Between checks its thread sleeps; with nothing to check it costs nothing.
-Uses rospy 1.15's registration internals (the Noetic line); does nothing if
-they are not there.
+A subscription with an expected type (ros/wiring.Expected) also has its
+topic's type checked at the master in those checks (a wrongly typed topic is
+refused there even before its first message). Uses rospy 1.15's registration
+internals (the Noetic line); does nothing if they are not there.
 """
 import heapq
 import threading
@@ -23,11 +25,14 @@ import rosgraph
 import rospy
 from rospy.impl.registration import RegManager, get_registration_listeners, get_topic_manager
 
+from . import wiring
+
 #: Wall seconds after a subscription at which it is checked.
 CHECK_AFTER = (1.0, 3.0, 10.0)
 
 _lock = threading.Condition()
 _due = []          # heap of (wall time, topic)
+_expected = {}     # topic -> ros/wiring.Expected, for the master's type check
 _thread = None
 
 
@@ -58,12 +63,15 @@ def heal_once(master, reg_manager, topics=None):
     return missing
 
 
-def watch(subscriber):
+def watch(subscriber, expected=None):
     """Check ``subscriber``'s topic (a rospy.Subscriber) at :data:`CHECK_AFTER`
-    s from now; starts the watchdog thread at the first call."""
+    s from now (its type too, with ``expected``); starts the watchdog thread at the
+    first call."""
     global _thread
     now = time.monotonic()
     with _lock:
+        if expected is not None:
+            _expected[subscriber.resolved_name] = expected
         for delay in CHECK_AFTER:
             heapq.heappush(_due, (now + delay, subscriber.resolved_name))
         if _thread is None:
@@ -92,6 +100,9 @@ def _run():
                 topics.add(heapq.heappop(_due)[1])
         try:
             missing = heal_once(master, reg_manager, topics)
+            expected = dict((topic, _expected[topic]) for topic in topics if topic in _expected)
+            if expected:
+                wiring.check_types(master.getTopicTypes(), expected)
         except Exception as error:      # master busy or gone: the next check tries again
             rospy.logdebug('subscription watchdog: %s', error)
             continue

@@ -3,43 +3,18 @@
 
 Watches, through the debounced detectors of core/vision.py:
 
-- the camera: a stall (no message for ``image_timeout``) of its
-  sensor_msgs/CameraInfo (``camera/rgb/camera_info``: published with every frame
-  by the TurtleBot's camera drivers and a few hundred bytes), read only until
-  visual odometry arrives: RTAB-Map publishes nothing without camera frames, so
-  from then on the visual-odometry stall detector sees a camera stall as soon
-  (``vo_timeout`` is ``image_timeout``) and reading camera_info would only cost
-  CPU (with ``detect_vo_stall`` false it is read all along); or, with
-  ``detect_dark``, the images themselves (``camera/rgb/image_rect_color``:
-  stall and dark images, all along; this pulls every frame into Python);
+- the camera: a stall of its sensor_msgs/CameraInfo (``camera/rgb/camera_info``,
+  read only until visual odometry arrives), or, with ``detect_dark``, the
+  images themselves (``camera/rgb/image_rect_color``: stall and dark images);
 - RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
-  lost (RTAB-Map's null pose convention; dark or featureless images end up
-  here too) and stalled;
+  lost and stalled;
 - optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
 
 It fires once, while the mission records, and publishes a latched
 std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
-(std_msgs/String). Once the mission left recording it stops watching. The
-stall detectors are checked when one of them could fire next (the last
-message + timeout + debounce), not on a periodic timer: while the streams
-flow that is one check per ``image_timeout + debounce``, and a stall fires
-at its exact latency. A stall counts only while the wheel odometry (the
-shared feed's arrivals) flows: when it is silent too for ``host_stall_gap``
-s, the whole host or transport stalled (the soak saw a 1.8 s stall of the
-machine) and the silence counts again only from when the wheel odometry
-resumed (core/vision.HostFlow). A robot whose wheel odometry stopped for good
-cannot drive back anyway; its stall detectors wait for it.
-Whether the loss ends the recording is the mission owner's decision
-(back_travel_client): a loss reported while idle changes nothing. A detector
-with nothing to watch says so once (no camera, no visual odometry after
-``no_input_warning`` s) and in diagnostics.
-
-Params (``layer.params``): ``detect_stall``, ``detect_dark``,
-``detect_vo_lost``, ``detect_vo_stall``, ``detect_odom_info``,
-``detect_manual`` (per-detector enables), ``image_timeout``, ``vo_timeout``,
-``debounce`` (s), ``dark_threshold`` (mean intensity 0..255),
-``dark_frames`` (consecutive dark images), ``no_input_warning`` (s),
-``host_stall_gap`` (s).
+(std_msgs/String). A stall counts only while the wheel odometry flows
+(core/vision.HostFlow). Whether the loss ends the recording is the mission
+owner's decision. Details and reasons: docs/detection.md.
 """
 import threading
 
@@ -54,7 +29,11 @@ from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensit
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.odometry import ros_time
+from blind_navigation.ros.wiring import Expected
 
+#: RTAB-Map's OdomInfo: rtabmap_msgs from 0.21 on, rtabmap_ros before (its MD5 sum changes
+#: between releases; the lost flag's place does not)
+ODOM_INFO = Expected(('rtabmap_msgs/OdomInfo', 'rtabmap_ros/OdomInfo'))
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 #: s: the stall checks never come closer together than this (a stall about to fire)
 MIN_CHECK_WAIT = 0.01
@@ -120,7 +99,7 @@ class VisionMonitor(object):
         layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg, self.on_odom_info,
-                                              queue_size=5))
+                                              expected=ODOM_INFO, queue_size=5))
         layer.mission.on_change(self.on_state)
         layer.diagnostics.add('vision monitor', self.status)
         threading.Thread(target=self.watch_stalls, name='vision_monitor_stalls', daemon=True).start()
@@ -168,11 +147,8 @@ class VisionMonitor(object):
                       rospy.resolve_name(names.CAMERA_INFO))
 
     def on_odom_info(self, msg):
-        msg_type = msg._connection_header.get('type', '')
-        if not msg_type.endswith('/OdomInfo'):
-            self.warn_once('odom_info_type', '%s carries %s, not rtabmap OdomInfo: ignored'
-                           % (rospy.resolve_name(names.VO_ODOM_INFO), msg_type))
-            return
+        if not ODOM_INFO.accepts(names.VO_ODOM_INFO, msg._connection_header):
+            return      # refused (ros/wiring.py)
         try:
             lost = odom_info_lost(msg._buff)
         except ValueError as error:

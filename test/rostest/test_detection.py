@@ -24,7 +24,6 @@ import threading
 import time
 import unittest
 
-import genpy.dynamic
 import numpy
 import rosgraph
 import rospy
@@ -36,22 +35,13 @@ from std_msgs.msg import Empty, String
 from std_srvs.srv import SetBool
 
 from blind_navigation.ros.vision_monitor import VisionMonitor
+from blind_navigation.sim.odom_info import OdomInfo
 
 TICK = 0.01             # sim seconds per /clock message
 SENSOR_EVERY = 5        # ticks between sensor messages: 20 Hz
 LATENCY_MARGIN = 0.2    # issue 6: within the detector's timeout + debounce + 0.2 s
 WALL_TIMEOUT = 30.0     # s, any wait in this test
 QUIET_AFTER = 1.5       # sim s watched after the loss for a second message
-ODOM_INFO = genpy.dynamic.generate_dynamic('rtabmap_msgs/OdomInfo', """std_msgs/Header header
-bool lost
-int32 matches
-int32 inliers
-================================================================================
-MSG: std_msgs/Header
-uint32 seq
-time stamp
-string frame_id
-""")['rtabmap_msgs/OdomInfo']
 FAILS = {  # mode: (camera, vo) in failure: 'ok' | 'dark' | 'lost' | None (silent)
     'dark': ('dark', 'lost'),
     'stall': (None, None),
@@ -92,7 +82,7 @@ class OwnSensors(SensorRig):
         self.image_pub = rospy.Publisher('/camera/rgb/image_rect_color', Image, queue_size=5)
         self.camera_info_pub = rospy.Publisher('/camera/rgb/camera_info', CameraInfo, queue_size=5)
         self.vo_pub = rospy.Publisher('/rtabmap/odom', Odometry, queue_size=5)
-        self.info_pub = rospy.Publisher('/rtabmap/odom_info', ODOM_INFO, queue_size=5)
+        self.info_pub = rospy.Publisher('/rtabmap/odom_info_lite', OdomInfo, queue_size=5)
         self.sensor_topics = {pub.resolved_name
                               for pub in (self.image_pub, self.camera_info_pub, self.vo_pub,
                                           self.info_pub)}
@@ -146,7 +136,7 @@ class OwnSensors(SensorRig):
                 odom.pose.pose.position.x = 0.1 * stamp.to_sec()
                 odom.pose.pose.orientation.w = 1.0
                 odom.pose.covariance = [0.001 if i % 7 == 0 else 0.0 for i in range(36)]
-            info = ODOM_INFO(lost=(vo == 'lost'), matches=0 if vo == 'lost' else 150)
+            info = OdomInfo(lost=(vo == 'lost'), matches=0 if vo == 'lost' else 150)
             info.header.stamp = stamp
             self.vo_pub.publish(odom)
             self.info_pub.publish(info)

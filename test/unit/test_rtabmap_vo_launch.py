@@ -27,7 +27,7 @@ def test_the_node_publishes_the_layers_default_vo_topics():
     node, _ = load()
     assert (node.package, node.type) == ('rtabmap_odom', 'rgbd_odometry')
     assert node.namespace + 'odom' == '/' + names.VO_ODOM
-    assert node.namespace + 'odom_info' == '/' + names.VO_ODOM_INFO
+    assert node.namespace + 'odom_info_lite' == '/' + names.VO_ODOM_INFO
 
 
 def test_no_tf_and_a_frame_of_its_own():
@@ -57,3 +57,12 @@ def test_every_argument_a_user_can_set_is_documented(launch_file):
     undocumented = [arg.get('name') for arg in root.iter('arg')
                     if arg.get('value') is None and not (arg.get('doc') or '').strip()]
     assert not undocumented, '%s: args without doc=: %s' % (launch_file, undocumented)
+
+
+def test_the_sync_queue_under_its_new_name_and_the_old_one_only_for_old_releases():
+    _, params = load()
+    assert params['sync_queue_size'] == 10 and 'queue_size' not in params
+    _, params = load('odom_pkg:=rtabmap_ros')
+    assert params['sync_queue_size'] == params['queue_size'] == 10
+    _, params = load('legacy_queue_size:=true', 'queue_size:=5')
+    assert params['sync_queue_size'] == params['queue_size'] == 5

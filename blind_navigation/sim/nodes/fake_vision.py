@@ -3,9 +3,10 @@
 
 Publishes ``camera/rgb/image_rect_color`` (small rgb8 images of a panorama that
 turns with the robot's true heading; ``width`` x ``height``, 640 x 480 for a
-Kinect-sized stream), with each frame its ``camera/rgb/camera_info``, and ``rtabmap/odom`` (true pose from
+Kinect-sized stream), with each frame its ``camera/rgb/camera_info``, ``rtabmap/odom`` (true pose from
 ``ground_truth/odom`` plus sim/visual_odometry drift, TF ``vo_odom`` ->
-``vo_base_footprint``) at ``rate`` Hz of sim time (clocked by the true pose stamps). Vision fails at
+``vo_base_footprint``) and, while anyone subscribes, ``rtabmap/odom_info_lite``
+(sim/odom_info.OdomInfo: its ``lost`` flag) at ``rate`` Hz of sim time (clocked by the true pose stamps). Vision fails at
 ``vision_fail_at`` (sim s), ``vision_fail_after_mission`` s of sim time after the
 scripted operator is done (``mission_driver/done``: a loaded machine cannot make
 an operator finish by a fixed time), or on ``fake_turtlebot/set_vision``
@@ -31,6 +32,7 @@ from std_srvs.srv import SetBool, SetBoolResponse
 
 from blind_navigation import names
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
+from blind_navigation.sim.odom_info import OdomInfo
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 from blind_navigation.ros.common import load_params, set_pose, subscribe
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
@@ -74,6 +76,7 @@ class FakeVision(object):
         self.image_pub = rospy.Publisher('camera/rgb/image_rect_color', Image, queue_size=5)
         self.info_pub = rospy.Publisher('camera/rgb/camera_info', CameraInfo, queue_size=5)
         self.odom_pub = rospy.Publisher('rtabmap/odom', Odometry, queue_size=10)
+        self.odom_info_pub = rospy.Publisher(names.VO_ODOM_INFO, OdomInfo, queue_size=10)
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
         rospy.Service(names.SET_VISION, SetBool, self.on_set_vision)
         self.period = 1.0 / p.rate
@@ -123,6 +126,10 @@ class FakeVision(object):
         self.image_pub.publish(image)
         self.info_pub.publish(CameraInfo(header=image.header, height=image.height, width=image.width))
         self.odom_pub.publish(self.lost_odometry(stamp) if mode else self.tracked_odometry(stamp))
+        if self.odom_info_pub.get_num_connections():
+            info = OdomInfo(lost=bool(mode), matches=0 if mode else 150, inliers=0 if mode else 100)
+            info.header.stamp, info.header.frame_id = stamp, self.params.odom_frame
+            self.odom_info_pub.publish(info)
 
     def image(self, stamp, dark):
         p = self.params

@@ -1,0 +1,116 @@
+"""Refuses wrong wiring: a subscribed topic that carries another message type.
+
+:class:`Expected` is what a topic must carry (type names, MD5 sum where fixed);
+the one comparison is :meth:`Expected.mismatch`. It is checked on the first
+message of each connection (the TCPROS header's ``type`` and ``md5sum``;
+afterwards an identity test of that header, :meth:`Expected.accepts`) and in
+the master's topic types a few seconds after subscribing
+(ros/subscription_watchdog.py). A typed rospy subscription to a topic of
+another type silently never connects, so a checked typed subscription (the
+Kobuki events) takes raw bytes and deserialises them
+(ros/common.subscribe_checked).
+
+A mismatch is refused (:func:`refuse`): one FATAL line per topic and process
+naming the topic, the expected type and the type found; that connection's
+messages are dropped; every :func:`on_fault` listener is called: the process's
+velocity outputs stay at zero for good (ros/motion.py) and the mission owner
+ends the mission ``aborted`` naming the fault (docs/safety.md).
+"""
+import threading
+
+import rospy
+
+_lock = threading.Lock()
+_faults = {}          # resolved topic -> the fault's text
+_listeners = []       # f(fault)
+
+
+class Expected(object):
+    """A topic must carry one of ``types`` (``pkg/Name``), with ``md5sum`` if given."""
+
+    def __init__(self, types, md5sum=None):
+        self.types = tuple(types)
+        self.md5sum = md5sum
+        self._accepted = None       # the last connection header accepted (identity)
+
+    @classmethod
+    def of(cls, data_class):
+        """The type and MD5 sum of a message class."""
+        return cls((data_class._type,), data_class._md5sum)
+
+    def __str__(self):
+        return ' or '.join(self.types)
+
+    def mismatch(self, found_type, found_md5=None):
+        """None when ``found_type`` (and ``found_md5``, unless None or ``*``) is expected,
+        else what was found, for the fault's text."""
+        if found_type not in self.types:
+            return found_type or 'a message without a type'
+        if self.md5sum and found_md5 not in (None, '*', self.md5sum):
+            return '%s with MD5 sum %s (another version: %s expected)' % (found_type, found_md5,
+                                                                           self.md5sum)
+        return None
+
+    def accepts(self, topic, header):
+        """True if the connection ``header`` (a message's ``_connection_header``) carries
+        this type; else the wiring is refused (:func:`refuse`) and False."""
+        if header is self._accepted:
+            return True
+        found = self.mismatch(header.get('type'), header.get('md5sum'))
+        if found is None:
+            self._accepted = header
+            return True
+        refuse(topic, self, found)
+        return False
+
+
+def refuse(topic, expected, found):
+    """``topic`` carries ``found``, not ``expected``: one FATAL line (per topic and
+    process), then every :func:`on_fault` listener."""
+    topic = rospy.resolve_name(topic)
+    fault = 'wrong wiring: %s carries %s, expected %s' % (topic, found, expected)
+    with _lock:
+        if topic in _faults:
+            return
+        _faults[topic] = fault
+        listeners = list(_listeners)
+    rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
+                   rospy.get_name(), fault)
+    for listener in listeners:      # each one: a failing listener must not keep an output moving
+        try:
+            listener(fault)
+        except Exception as error:
+            rospy.logerr('%s: while refusing %s: %s: %s', rospy.get_name(), topic,
+                         type(error).__name__, error)
+
+
+def on_fault(callback):
+    """Call ``callback(fault)`` on every refused topic, at once for those refused already."""
+    with _lock:
+        _listeners.append(callback)
+        faults = list(_faults.values())
+    for fault in faults:
+        callback(fault)
+
+
+def fault():
+    """The first refused topic's fault, None while the wiring is right."""
+    with _lock:
+        return next(iter(_faults.values()), None)
+
+
+def faulty():
+    """True once a topic was refused (read without the lock: a velocity output asks it
+    at every command)."""
+    return bool(_faults)
+
+
+def check_types(topic_types, expected_by_topic):
+    """Refuse each topic of ``expected_by_topic`` (resolved name -> Expected) whose
+    type in ``topic_types`` (the master's [(topic, type)]) is another one."""
+    types = dict(topic_types)
+    for topic, expected in expected_by_topic.items():
+        found = types.get(topic)
+        if found is not None and expected.mismatch(found) is not None:
+            refuse(topic, expected, expected.mismatch(found))
+

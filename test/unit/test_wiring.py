@@ -1,0 +1,101 @@
+"""ros/wiring.py without a master: the one type comparison, the connection-header
+check (accepted once per connection, refused with one FATAL line per topic, every
+fault listener told), the master's topic types; ros/kobuki_msgs_compat with a
+kobuki_msgs on the path that has no generated classes."""
+import importlib
+import sys
+import types
+
+import pytest
+import rospy
+from nav_msgs.msg import Odometry
+
+from blind_navigation.ros import kobuki_msgs_compat, wiring
+from blind_navigation.ros.vision_monitor import ODOM_INFO
+
+ODOMETRY = 'nav_msgs/Odometry'
+
+
+@pytest.fixture
+def fatal(monkeypatch):
+    """A fresh process state of ros/wiring; the FATAL lines logged."""
+    monkeypatch.setattr(wiring, '_faults', {})
+    monkeypatch.setattr(wiring, '_listeners', [])
+    lines = []
+    monkeypatch.setattr(rospy, 'logfatal', lambda text, *args: lines.append(text % args))
+    return lines
+
+
+def header(msg_type, md5sum):
+    return {'type': msg_type, 'md5sum': md5sum, 'callerid': '/publisher'}
+
+
+def test_the_type_and_its_md5_sum_must_match():
+    expected = wiring.Expected.of(Odometry)
+    assert expected.mismatch(ODOMETRY, Odometry._md5sum) is None
+    assert expected.mismatch(ODOMETRY) is None               # the master knows no MD5 sum
+    assert expected.mismatch('geometry_msgs/Twist', 'x') == 'geometry_msgs/Twist'
+    assert 'another version' in expected.mismatch(ODOMETRY, '0' * 32)
+    assert expected.mismatch('', None) == 'a message without a type'
+
+
+def test_odom_info_of_either_rtabmap_package_any_version():
+    assert ODOM_INFO.mismatch('rtabmap_msgs/OdomInfo', 'a' * 32) is None
+    assert ODOM_INFO.mismatch('rtabmap_ros/OdomInfo', 'b' * 32) is None
+    assert ODOM_INFO.mismatch('nav_msgs/Odometry', Odometry._md5sum) == ODOMETRY
+
+
+def test_a_wrong_connection_is_refused_with_one_fatal_line_per_topic(fatal):
+    faults = []
+    wiring.on_fault(faults.append)
+    expected = wiring.Expected.of(Odometry)
+    right = header(ODOMETRY, Odometry._md5sum)
+    assert expected.accepts('/odom', right) and expected.accepts('/odom', right)
+    assert fatal == [] and not wiring.faulty() and wiring.fault() is None
+    wrong = header('geometry_msgs/Twist', '9f195f881246fdfa2798d1d3eebca84a')
+    for _ in range(3):
+        assert not expected.accepts('/odom', wrong)
+    assert len(fatal) == 1
+    assert all(text in fatal[0] for text in ('/odom', ODOMETRY, 'geometry_msgs/Twist', 'nothing moves'))
+    assert wiring.faulty() and faults == [wiring.fault()]
+    assert '/odom carries geometry_msgs/Twist, expected nav_msgs/Odometry' in faults[0]
+    late = []
+    wiring.on_fault(late.append)                # a listener registered later hears of it at once
+    assert late == faults
+
+
+def test_the_masters_topic_types(fatal):
+    expected = {'/odom': wiring.Expected.of(Odometry), '/rtabmap/odom_info_lite': ODOM_INFO}
+    wiring.check_types([['/odom', ODOMETRY], ['/rtabmap/odom_info_lite', 'rtabmap_msgs/OdomInfo'],
+                        ['/other', 'std_msgs/String']], expected)
+    assert fatal == []
+    wiring.check_types([['/odom', ODOMETRY], ['/rtabmap/odom_info_lite', 'std_msgs/String']], expected)
+    wiring.check_types([['/rtabmap/odom_info_lite', 'std_msgs/String']], expected)
+    assert len(fatal) == 1 and 'rtabmap_msgs/OdomInfo or rtabmap_ros/OdomInfo' in fatal[0]
+
+
+def test_a_kobuki_msgs_without_its_classes_counts_as_absent(monkeypatch):
+    package = types.ModuleType('kobuki_msgs')
+    package.msg = types.ModuleType('kobuki_msgs.msg')      # a source checkout, nothing generated
+    monkeypatch.setitem(sys.modules, 'kobuki_msgs', package)
+    monkeypatch.setitem(sys.modules, 'kobuki_msgs.msg', package.msg)
+    try:
+        compat = importlib.reload(kobuki_msgs_compat)
+        assert compat.BumperEvent._type == 'kobuki_msgs/BumperEvent'
+        assert compat.BumperEvent._md5sum == 'ffe360cd50f14f9251d9844083e72ac5'
+    finally:
+        monkeypatch.undo()
+        importlib.reload(kobuki_msgs_compat)
+
+
+def test_a_failing_listener_does_not_keep_the_others_from_hearing(fatal, monkeypatch):
+    errors, heard = [], []
+    monkeypatch.setattr(rospy, 'logerr', lambda text, *args: errors.append(text % args))
+
+    def broken(_fault):
+        raise RuntimeError('broken listener')
+    wiring.on_fault(broken)
+    wiring.on_fault(heard.append)
+    wiring.refuse('/mobile_base/events/cliff', wiring.Expected(('kobuki_msgs/CliffEvent',)), 'std_msgs/String')
+    assert len(fatal) == 1 and len(heard) == 1
+    assert errors and 'RuntimeError: broken listener' in errors[0]
