@@ -3,9 +3,10 @@
 :class:`OdometryFeed` subscribes to a nav_msgs/Odometry topic as raw bytes
 (rospy.AnyMsg) and reads the few fields the layer uses with
 core/odometry_wire.py. It subscribes only while some role holds it
-(:meth:`~OdometryFeed.acquire` / :meth:`~OdometryFeed.release`). Wheel odometry (``checked``) passes the plausibility gate
-(core/plausibility.OdometryGate) first: refused odometry never refreshes
-the feed. An odometry reset is carried across in the old frame, or the frame is
+(:meth:`~OdometryFeed.acquire` / :meth:`~OdometryFeed.release`). Wheel
+odometry (``checked``) passes the plausibility gate
+(core/plausibility.OdometryGate) first: refused odometry never refreshes the
+feed. An odometry reset is carried across in the old frame, or the frame is
 lost (core/odometry_reset.ResetCarrier, :meth:`~OdometryFeed.on_reanchor`,
 ``lost``; docs/safety.md, "Odometry resets"). The accepted states of the last
 ``history`` s are kept (:meth:`~OdometryFeed.state_at`). While every holder
