@@ -12,6 +12,8 @@ to hold within ``reset_position_tolerance`` / ``reset_yaw_tolerance``, a
 chain whose poses do not follow its own twist, or no confirmed ``before``.
 A reset that is not re-anchored is named by :data:`UNTRUSTED` (the gap entry
 a recorder writes starts with it: :func:`is_untrusted_reset`).
+:class:`ResetCarrier` applies the Frame behind the gate, flags a silence after
+which odometry is not where its twist says, and adopts another process's Frame.
 """
 import math
 from collections import namedtuple
