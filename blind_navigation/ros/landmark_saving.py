@@ -12,7 +12,8 @@ and appends it durably with core/store.LandmarkWriter to the mission's file
 behind the ``landmark_file`` symlink (core/store.open_mission_file). After each
 landmark it publishes the storage used (``blind_navigation/storage``) and, when
 someone listens, the recorded path (``blind_navigation/recorded_path``). A
-write failure is an ERROR and a lost landmark; an odometry re-anchor is a gap.
+write failure is an ERROR and a lost landmark; an odometry reset the feed
+could not carry across is a gap (one it carried across changes nothing).
 A saver restarted within the mission catches up on the samples it missed from
 the sampling publisher (:meth:`LandmarkSaving.start_catch_up`). Details and
 reasons: docs/recording.md ("Saving", "File").
@@ -125,7 +126,7 @@ class LandmarkSaving(object):
                 return self._refuse('no valid odometry received on %s yet'
                                     % rospy.resolve_name(names.ODOM))
             age = self.odometry.age()
-            if age > self.params.odom_timeout:
+            if age > self.params.odom_timeout and self.odometry.lost is None:
                 self.log.warn_throttle(5.0, 'odometry on %s is %.1f s old',
                                        rospy.resolve_name(names.ODOM), age)
             if stamp > 0:
@@ -240,8 +241,12 @@ class LandmarkSaving(object):
         self._publish_storage(rospy.Time.now())
         return '', self.error
 
-    def _on_reanchor(self, reason):
-        """The odometry jumped and the gate took the new stream: the d chain breaks here."""
+    def _on_reanchor(self, reason, trusted):
+        """The odometry jumped and the gate took the new stream: carried across in the old
+        frame (``trusted``: the chain goes on), or the d chain breaks here (a gap whose reason
+        names the reset: the return refuses such a file, core/odometry_reset.is_untrusted_reset)."""
+        if trusted:
+            return
         with self._lock:
             if self.finished or not self.recorder.started:
                 return

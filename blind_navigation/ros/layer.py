@@ -79,7 +79,9 @@ class Layer(object):
         wiring.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
         # what the roles share fails like a role, under its own name
         self.diagnostics.guard = self.guard('diagnostics')
-        self.odometry = OdometryFeed(names.ODOM, guard=self.guard('odometry feed'))
+        # one process: one feed; the paper's layout: the nodes share a reset's frame
+        self.odometry = OdometryFeed(names.ODOM, guard=self.guard('odometry feed'),
+                                     frame_topic=None if compact else names.ODOMETRY_FRAME)
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))

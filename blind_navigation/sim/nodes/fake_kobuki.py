@@ -2,7 +2,8 @@
 """Fake Kobuki base node: runs sim/kobuki.SimulatedKobuki and owns the sim clock.
 
 Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
-(Twist), ``commands/motor_power``, ``commands/reset_odometry``; publishes at
+(Twist), ``commands/motor_power``, ``commands/reset_odometry`` (as kobuki_node: pose,
+gyro heading and wheel angles from zero, twist continuous); publishes at
 50 Hz ``odom`` (+ TF ``odom`` -> ``base_footprint``), ``mobile_base/sensors/imu_data``,
 ``joint_states``, ``ground_truth/odom`` (frame ``world``), Kobuki safety events on
 ``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and
