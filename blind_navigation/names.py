@@ -57,8 +57,14 @@ STORAGE = 'blind_navigation/storage'
 ROTATION_DONE = 'blind_navigation/rotation_done'
 #: service blind_navigation/SetReturnRoute: back_travel_client -> back_travel_server
 SET_RETURN_ROUTE = 'blind_navigation/set_return_route'
+#: std_msgs/String, latched: a role of some process failed (ros/faults.py) -> the mission's owner
+ROLE_FAILURE = 'blind_navigation/role_failure'
 #: blind_navigation/HeadingCorrection, latched: the gyro correction of the return
 HEADING_CORRECTION = 'blind_navigation/heading_correction'
+#: geometry_msgs/PoseStamped, latched, paper layout only: the frame (pose = the transform
+#: from the odometry's frame to the layer's, stamp = the reset's) a node carried an
+#: odometry reset across with, for the nodes not listening then (ros/odometry.py)
+ODOMETRY_FRAME = 'blind_navigation/odometry_frame'
 
 # --- the fake TurtleBot's evaluation names (sim/ and evaluation/ only, INTERFACE.md)
 #: nav_msgs/Odometry, the true pose (frame world)

@@ -39,6 +39,10 @@ PLAUSIBILITY_DEFAULTS = {
 }
 
 
+#: Most refused states a chain keeps (only its ends beyond: its stamps do not advance).
+CHAIN_CAP = 2000
+
+
 def _param(params, name):
     if isinstance(params, dict):
         value = params.get(name, PLAUSIBILITY_DEFAULTS[name])
@@ -141,11 +145,12 @@ class OdometryGate(object):
     ``on_reanchor(reason)`` is called first. Garbage that alternates with the
     real stream, is not self-consistent, or whose stamps do not advance
     (``rostopic pub`` without a header stamp) never re-anchors; a refused
-    chain with a gap longer than ``reanchor_time`` is forgotten. The callback
-    must treat it as a discontinuity: while recording, the next landmark
-    cannot measure ``d`` from the previous one (a gap:
-    core/store.LandmarkWriter.note_gap, and a restarted recorder); while
-    returning, the anchor's frame is gone (abort).
+    chain with a gap longer than ``reanchor_time`` is forgotten. At a
+    re-anchor, :attr:`reanchored_from` (the old reference, None if no second
+    state ever confirmed it) and :attr:`reanchor_chain` (the chain's states)
+    let core/odometry_reset.ResetCarrier carry the old frame across, or say
+    why it cannot (then the callback's owner treats it as a discontinuity: a
+    gap in the recording, an aborted return).
     """
 
     def __init__(self, params=None, on_reanchor=None):
@@ -161,15 +166,27 @@ class OdometryGate(object):
         self.reanchors = 0          # re-anchors since the gate was made
         self.refusing = False       # the newest state was refused (the reference is older)
         self.last_refusal = ''
-        self._chain_start = None
-        self._chain_last = None
+        self._chain = []            # the refused chain's states, oldest first
+        self.confirmed = False      # the reference followed an accepted state (or a chain)
+        self.reanchored_from = None     # at a re-anchor: the old reference if confirmed, else None
+        self.reanchor_chain = ()        # at a re-anchor: the chain re-anchored on, oldest first
 
-    def reset(self, state=None):
+    @property
+    def _chain_start(self):
+        return self._chain[0] if self._chain else None
+
+    @property
+    def _chain_last(self):
+        return self._chain[-1] if self._chain else None
+
+    def reset(self, state=None, confirmed=False):
         """Forget the reference (and any refused chain); ``state``, if given,
-        becomes the new reference without checks."""
+        becomes the new reference without checks (``confirmed``: it follows a
+        state that was accepted)."""
         self.reference = state
+        self.confirmed = confirmed
         self.refusing = False
-        self._chain_start = self._chain_last = None
+        self._chain = []
 
     def check(self, state):
         """None if ``state`` (an OdomState-like object) is accepted, else why not."""
@@ -182,21 +199,25 @@ class OdometryGate(object):
         problem = self.step_problem(self.reference, state)
         chain = self._chain_last
         if chain is not None and not 0.0 <= state.stamp - chain.stamp <= self.reanchor_time:
-            chain = self._chain_start = self._chain_last = None     # a stale chain is forgotten
+            chain, self._chain = None, []       # a stale chain is forgotten
         continues_chain = chain is not None and self.step_problem(chain, state) is None
         if problem is None and not continues_chain:
-            self.reset(state)
+            self.reset(state, confirmed=True)
             return None
         if continues_chain:
-            self._chain_last = state
+            self._chain.append(state)
+            if self.on_reanchor is None or len(self._chain) > CHAIN_CAP:
+                del self._chain[1:-1]       # bounded: stamps that do not advance, no re-anchor
             problem = problem or ('continues the odometry refused since %.3f s, not the last '
                                   'accepted state (a discontinuity)' % self._chain_start.stamp)
         else:
-            self._chain_start = self._chain_last = state
+            self._chain = [state]
         span = self._chain_last.stamp - self._chain_start.stamp
         if self.on_reanchor is not None and span >= self.reanchor_time:
             old = self.reference
-            self.reset(state)
+            self.reanchored_from = old if self.confirmed else None
+            self.reanchor_chain = tuple(self._chain)
+            self.reset(state, confirmed=True)
             self.reanchors += 1
             self.on_reanchor('odometry re-anchored: it jumped from (%.3f, %.3f) at %.3f s to '
                              '(%.3f, %.3f) and stayed consistent for %.2f s (an odometry reset?); '

@@ -13,9 +13,10 @@ reverse order, one goal at a time, within the whole return's allowance; then
 ``home`` or ``aborted`` with the reason. It publishes the return's poses on
 ``blind_navigation/return_path``. The progress (core/progress) is written next
 to ``landmark_file`` at vision loss and after each goal: a restarted client
-resumes or aborts. The landmark file is only read. A topic of this process
-refused for its type (ros/wiring.py) ends the mission ``aborted``. The
-transitions and their reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
+resumes or aborts. The landmark file is only read. A fault of this process
+(ros/wiring.py: a refused topic, a role's exception) or one another process
+reports on ``blind_navigation/role_failure`` ends the mission ``aborted``.
+Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
 import json
 import math
@@ -35,6 +36,7 @@ from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
+from blind_navigation.core.odometry_reset import is_untrusted_reset
 from blind_navigation.core.plausibility import RouteBudget
 from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params, prune_route
 from blind_navigation.core.route import ROUTE_DEFAULTS, Route, build_route
@@ -107,6 +109,7 @@ class BackTravelClient(object):
         self._lock = threading.Lock()
         self._return = threading.Event()
         self._trip = None
+        self._lost = None           # an untrusted odometry reset during the turn or the return
         self._turn_start = None          # raw odometry yaw where recording stopped
         self.correction = layer.heading_correction() if p.heading_correction else None
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
@@ -118,12 +121,15 @@ class BackTravelClient(object):
         # arrives while registerSubscriber is in flight, so subscribing at start-up,
         # while the server registers, can leave feedback/result unconnected for good.
         self.client = None
+        guard = self.guard = layer.guard(self.ROLE)
         self._start_from_progress()
-        layer.safety.on_trip(self._on_trip)
-        wiring.on_fault(self._on_wiring_fault)
-        subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=5)
-        subscribe(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
-        subscribe(names.ROTATION_DONE, Bool, self._on_rotation_done, queue_size=1)
+        layer.safety.on_trip(guard(self._on_trip))
+        wiring.on_fault(self._on_fault)
+        self.odometry.on_reanchor(guard(self._on_reset))
+        subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
+        subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
+        subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
+        subscribe(names.ROTATION_DONE, Bool, guard(self._on_rotation_done), queue_size=1)
         layer.diagnostics.add('mission', self._mission_status)
         layer.diagnostics.add('odometry', self._odometry_status)
         layer.diagnostics.add('landmark file', self._file_status)
@@ -229,6 +235,10 @@ class BackTravelClient(object):
             if current not in (state.ROTATING, state.RETURNING):   # repeats are simply idempotent
                 self.log.warn('vision_lost from %s ignored in state %s', sender, current)
             return
+        if self.odometry.lost:
+            self.set_state(state.ABORTED, 'vision lost (%s), but %s: the way back is unknown; '
+                           'not travelling back' % (sender, self.odometry.lost))
+            return
         self.odometry.catch_up()
         latest = self.odometry.latest()
         anchor = [latest.x, latest.y] if latest is not None else None
@@ -236,7 +246,8 @@ class BackTravelClient(object):
         self._save_progress(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
                                                  time.time(), self.layer.mission_id))
         self.set_state(state.ROTATING, 'vision lost (%s)' % sender)
-        rospy.Timer(rospy.Duration(self.rotation_timeout), self._check_rotation, oneshot=True)
+        rospy.Timer(rospy.Duration(self.rotation_timeout), self.guard(self._check_rotation),
+                    oneshot=True)
 
     def _check_rotation(self, _event):
         if self.state == state.ROTATING:
@@ -247,6 +258,10 @@ class BackTravelClient(object):
         with self._lock:
             rotating = self.state == state.ROTATING
         if not rotating:
+            return
+        lost = self._lost or self.odometry.lost
+        if lost:
+            self.set_state(state.ABORTED, 'the pi rotation: %s; not travelling back' % lost)
             return
         if not msg.data:
             safety = self._trip or ', '.join(self.layer.safety.active)
@@ -270,13 +285,31 @@ class BackTravelClient(object):
             return 'the robot turned %.2f rad since vision loss, not pi' % turned
         return None
 
+    def _on_fault(self, reason):
+        """A fault of this process (ros/wiring.py: a refused topic, a role's exception,
+        ros/faults.py) or of another (``blind_navigation/role_failure``): the mission
+        ends ``aborted`` with ``reason``."""
+        with self._lock:
+            current = self.state
+        if current in state.TERMINAL:
+            self.log.error('%s (the mission had ended %s)', reason, current)
+            return
+        self.set_state(state.ABORTED, reason)
+
+    def _on_failure_report(self, msg):
+        sender = msg._connection_header.get('callerid', '?')
+        if sender != rospy.get_name():          # this process's roles report at once
+            self._on_fault('%s (%s)' % (msg.data, sender))
+
     def _on_trip(self, reason):
         if self.state in (state.ROTATING, state.RETURNING):
             self._trip = reason
 
-    def _on_wiring_fault(self, fault):
-        if self.state not in state.TERMINAL:
-            self.set_state(state.ABORTED, fault)
+    def _on_reset(self, reason, trusted):
+        """An untrusted odometry reset: the frame of the turn and the route is lost
+        (the feed is never fresh again: the server and rotate_pi hold)."""
+        if not trusted and self.state in (state.ROTATING, state.RETURNING):
+            self._lost = reason
 
     def _on_odom(self, raw):
         if self.state != state.RETURNING:
@@ -305,7 +338,7 @@ class BackTravelClient(object):
     # --- the return ----------------------------------------------------------------------------
     def run(self):
         """Drive returns when the state says so (blocks until shutdown)."""
-        self.odometry.add_listener(self._on_odom)
+        self.odometry.add_listener(self.guard(self._on_odom))
         rospy.on_shutdown(self._return.set)
         while True:
             self._return.wait()         # a return to drive, or shutdown
@@ -343,6 +376,11 @@ class BackTravelClient(object):
                 self.correction.install_plain(kept)   # the whole layer restarted mid-return
             except ValueError as error:
                 return False, 'cannot resume: %s' % error
+        resets = [gap for gap in loaded.gaps if is_untrusted_reset(gap.reason)]
+        if resets:
+            return False, ('the recording crossed an odometry reset it could not carry across '
+                           '(%s, before %s): the way back across it is unknown; not travelling '
+                           'back' % (resets[-1].reason, resets[-1].before))
         landmarks, problem = self._in_corrected_frame(loaded.landmarks)
         if problem:
             return False, problem
@@ -495,6 +533,8 @@ class BackTravelClient(object):
             now = rospy.get_time()
             if self._trip:
                 problem = '%s: safety stop: %s' % (where, self._trip)
+            elif self._lost:
+                problem = '%s: %s' % (where, self._lost)
             elif now > self.client.heard + goal_allowance:
                 problem = '%s: no result and no feedback for %.0f s' % (where, goal_allowance)
             elif now > deadline:

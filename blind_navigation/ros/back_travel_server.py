@@ -37,6 +37,7 @@ from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED, shutting_down
+from blind_navigation.ros.faults import describe
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
 
@@ -84,16 +85,18 @@ class BackTravelServer(object):
         self.landmarks = []              # its goals' landmarks, return order
         self.next_goal = 0               # index of the goal the route expects next
         self.follower = None             # closed_loop: the RouteFollower of the return
-        layer.safety.on_trip(self._on_trip)
-        layer.mission.on_change(self._on_state)
-        rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, self._on_set_route)
-        self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction, self._on_goal,
-                                             self._on_cancel, auto_start=False)
+        guard = self.guard = layer.guard(self.ROLE)
+        layer.safety.on_trip(guard(self._on_trip))
+        layer.mission.on_change(guard(self._on_state))
+        rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, guard(self._on_set_route))
+        self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction,
+                                             guard(self._on_goal), guard(self._on_cancel),
+                                             auto_start=False)
         # actionlib reads it in start(), searching from the node's private namespace first
         rospy.set_param('~actionlib_status_frequency', p.status_frequency)
         self.server.start()
         rospy.on_shutdown(self._wake.set)
-        threading.Thread(target=self._work, name='back_travel_goals', daemon=True).start()
+        threading.Thread(target=guard(self._work), name='back_travel_goals', daemon=True).start()
         self.last_abort = ''
         layer.diagnostics.add('back travel', self._diagnose)
         self.log.info('serving %s in %s mode on %s', rospy.resolve_name(names.BACK_TRAVEL),
@@ -227,7 +230,8 @@ class BackTravelServer(object):
         """Zero velocity once the last command no longer holds (core/goal.CommandHold)."""
         remaining = self.hold.remaining(rospy.get_time())
         if remaining > 0:
-            rospy.Timer(rospy.Duration(remaining), self._on_handover_timeout, oneshot=True)
+            rospy.Timer(rospy.Duration(remaining), self.guard(self._on_handover_timeout),
+                        oneshot=True)
         else:
             self._on_handover_timeout(None)
 
@@ -255,9 +259,8 @@ class BackTravelServer(object):
         try:
             kind, result, text = self._run(handle)
         except Exception as error:  # never leave the robot moving or the goal hanging
-            self.log.error('goal failed: %s', error)
-            self.output.halt('error')
-            kind, result, text = 'aborted', BackTravelResult(), 'internal error: %s' % error
+            self.layer.faults.fail(self.ROLE, error, 'BackTravelServer._run')
+            kind, result, text = 'aborted', BackTravelResult(), describe(self.ROLE, error)
         if kind == 'aborted':
             self.log.error('goal aborted: %s', text)
             self.last_abort = text

@@ -57,9 +57,10 @@ class CalibrateGyro(object):
         self._tripped = None
         self._vo_valid = False
         self.output = MotionOutput(self.ROLE, 0.0, self.spin.max_w, None, layer.safety)
-        layer.safety.on_trip(self._on_trip)
-        self.odom.add_listener(self._on_odom)
-        layer.visual_odometry.add_listener(self._on_vo, raw=True)
+        guard = layer.guard(self.ROLE)
+        layer.safety.on_trip(guard(self._on_trip))
+        self.odom.add_listener(guard(self._on_odom))
+        layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)
         layer.visual_odometry.acquire(self.ROLE)
 

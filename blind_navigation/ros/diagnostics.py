@@ -3,7 +3,9 @@ status line per thing a user must see (odometry age, visual odometry,
 calibration, landmark file, mission state and the return's progress).
 
 Each role adds its own checks with :meth:`Diagnostics.add`; a check function
-fills a DiagnosticStatusWrapper and returns nothing. A condition that blocks
+fills a DiagnosticStatusWrapper and returns nothing; it runs through ``guard``
+(set by ros/layer.Layer: an exception in a check fails like a role's,
+ros/faults.py). A condition that blocks
 the return is an ERROR, one that only degrades it a WARN. The statuses are
 published every ``~diagnostic_period`` s of ROS time (read once at start),
 and :meth:`Diagnostics.now` publishes at once after a significant event (a
@@ -31,6 +33,7 @@ class Diagnostics(object):
     """``hardware_id``: what the statuses are about (the robot's namespace, or 'none')."""
 
     def __init__(self, hardware_id):
+        self.guard = lambda check: check
         self.updater = diagnostic_updater.Updater()
         self.updater.setHardwareID(hardware_id or 'none')
         period = rospy.get_param('~diagnostic_period', DEFAULT_PERIOD)
@@ -42,7 +45,7 @@ class Diagnostics(object):
     def add(self, name, check):
         """Publish the status ``name`` filled by ``check(stat)`` at every update."""
         def task(stat):
-            check(stat)
+            self.guard(check)(stat)
             return stat
         self.updater.add(name, task)
 

@@ -81,14 +81,17 @@ class HeadingCorrectionRole(object):
         self._lock = threading.Lock()
         self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
                                               queue_size=1, latch=True)
-        layer.odometry.add_listener(self._on_odom)
-        layer.visual_odometry.add_listener(self._on_vo, raw=True)
+        guard = layer.guard(self.ROLE)
+        self._odom_listener = guard(self._on_odom)    # removed at the standstill's end
+        layer.odometry.add_listener(self._odom_listener)
+        layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         layer.odometry.acquire(self.ROLE)
         layer.visual_odometry.acquire(self.ROLE)
-        layer.mission.on_change(self._on_state)
+        layer.mission.on_change(guard(self._on_state))
         layer.diagnostics.add('heading correction: visual odometry', self._vo_status)
         layer.diagnostics.add('heading correction: gyro calibration', self._calibration_status)
-        self._vo_timer = rospy.Timer(rospy.Duration(p.vo_timeout), self._check_vo, oneshot=True)
+        self._vo_timer = rospy.Timer(rospy.Duration(p.vo_timeout), guard(self._check_vo),
+                                    oneshot=True)
         self.log.info('calibrating the gyro against %s until vision is lost, then standing still '
                       'up to %.0f s to measure its bias', rospy.resolve_name(names.VO_ODOM),
                       self.standstill_time)
@@ -205,7 +208,7 @@ class HeadingCorrectionRole(object):
         self.layer.diagnostics.now()
 
     def _stop_listening(self):
-        self.layer.odometry.remove_listener(self._on_odom)
+        self.layer.odometry.remove_listener(self._odom_listener)
         self.layer.odometry.release(self.ROLE)
         self.layer.visual_odometry.release(self.ROLE)
 

@@ -24,7 +24,8 @@ class LandmarkSaver(object):
         self.saving = LandmarkSaving(layer, self.ROLE, 'topic')
         if self.saving.resuming:
             self.saving.start_catch_up()
-        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.on_sample, queue_size=20)
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.saving.guard(self.on_sample),
+                                    queue_size=20)
 
     def on_sample(self, msg):
         self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec(),

@@ -12,7 +12,8 @@ and appends it durably with core/store.LandmarkWriter to the mission's file
 behind the ``landmark_file`` symlink (core/store.open_mission_file). After each
 landmark it publishes the storage used (``blind_navigation/storage``) and, when
 someone listens, the recorded path (``blind_navigation/recorded_path``). A
-write failure is an ERROR and a lost landmark; an odometry re-anchor is a gap.
+write failure is an ERROR and a lost landmark; an odometry reset the feed
+could not carry across is a gap (one it carried across changes nothing).
 A saver restarted within the mission catches up on the samples it missed from
 the sampling publisher (:meth:`LandmarkSaving.start_catch_up`). Details and
 reasons: docs/recording.md ("Saving", "File").
@@ -64,11 +65,12 @@ class LandmarkSaving(object):
     def __init__(self, layer, role, variant):
         p = self.params = layer.params(role, self.DEFAULTS)
         self.log = layer.logger(role)
+        self.guard = layer.guard(role)      # the recorder's callbacks and threads
         if not isinstance(p.fsync, bool):
             raise ValueError('~fsync must be true or false, got %r' % (p.fsync,))
         self.odometry = layer.odometry
         self.odometry.acquire(role, batched=True)   # reads back: at a stamp, waiting for it
-        self.odometry.on_reanchor(self._on_reanchor)
+        self.odometry.on_reanchor(self.guard(self._on_reanchor))
         self._lock = threading.Lock()
         self._start = None
         self._poses = array('d')       # x, y, yaw of every landmark (and the start)
@@ -124,7 +126,7 @@ class LandmarkSaving(object):
                 return self._refuse('no valid odometry received on %s yet'
                                     % rospy.resolve_name(names.ODOM))
             age = self.odometry.age()
-            if age > self.params.odom_timeout:
+            if age > self.params.odom_timeout and self.odometry.lost is None:
                 self.log.warn_throttle(5.0, 'odometry on %s is %.1f s old',
                                        rospy.resolve_name(names.ODOM), age)
             if stamp > 0:
@@ -183,7 +185,7 @@ class LandmarkSaving(object):
                 self._catch_up()
             finally:
                 self._lock.release()
-        thread = threading.Thread(target=run, name='catch_up')
+        thread = threading.Thread(target=self.guard(run), name='catch_up')
         thread.daemon = True
         thread.start()
         return thread
@@ -239,8 +241,12 @@ class LandmarkSaving(object):
         self._publish_storage(rospy.Time.now())
         return '', self.error
 
-    def _on_reanchor(self, reason):
-        """The odometry jumped and the gate took the new stream: the d chain breaks here."""
+    def _on_reanchor(self, reason, trusted):
+        """The odometry jumped and the gate took the new stream: carried across in the old
+        frame (``trusted``: the chain goes on), or the d chain breaks here (a gap whose reason
+        names the reset: the return refuses such a file, core/odometry_reset.is_untrusted_reset)."""
+        if trusted:
+            return
         with self._lock:
             if self.finished or not self.recorder.started:
                 return

@@ -1,8 +1,4 @@
-"""What the roles hosted in one process share: params, logs, odometry, the
-mission state, the Kobuki's safety events, the heading correction and
-/diagnostics.
-
-A *role* is one of the layer's node classes, built as ``Role(layer)``, alone in
+"""What the roles hosted in one process share. A *role* is one of the layer's node classes, built as ``Role(layer)``, alone in
 its own node (launch/paper.launch) or with the others in one process
 (nodes/blind_navigation_node.py, the default). It finds here:
 
@@ -16,7 +12,8 @@ its own node (launch/paper.launch) or with the others in one process
 - :attr:`Layer.safety`: the Kobuki's bumper, cliff and wheel-drop events;
 - :meth:`Layer.heading_correction`: the latched gyro correction, installed into
   the shared odometry as soon as it arrives;
-- :attr:`Layer.diagnostics`: the process's /diagnostics.
+- :attr:`Layer.diagnostics`: the process's /diagnostics;
+- :meth:`Layer.guard`: every callback and thread target of a role (ros/faults.py).
 """
 import math
 import threading
@@ -28,8 +25,11 @@ from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
+from std_msgs.msg import String
 from .common import cache_rosout_flag, load_params, subscribe
 from .diagnostics import Diagnostics
+from . import wiring
+from .faults import Faults
 from .mission import MissionStateView
 from .motion import SafetyMonitor
 from .odometry import OdometryFeed
@@ -72,12 +72,20 @@ class Layer(object):
         #: This mission's id: the same for every restart of a node within one launch of the
         #: layer, new for each launch (the recorder continues its file, the client its return).
         self.mission_id = rospy.get_param(MISSION_ID, None)
-        self.odometry = OdometryFeed(names.ODOM)
-        self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False)
-        self.mission = MissionStateView(self.mission_owner)
-        self.safety = SafetyMonitor()
         namespace = rospy.get_namespace().strip('/')
         self.diagnostics = Diagnostics(namespace or 'none')
+        self.faults = Faults(self.diagnostics)
+        failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
+        wiring.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
+        # what the roles share fails like a role, under its own name
+        self.diagnostics.guard = self.guard('diagnostics')
+        # one process: one feed; the paper's layout: the nodes share a reset's frame
+        self.odometry = OdometryFeed(names.ODOM, guard=self.guard('odometry feed'),
+                                     frame_topic=None if compact else names.ODOMETRY_FRAME)
+        self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
+                                            guard=self.guard('visual odometry feed'))
+        self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
+        self.safety = SafetyMonitor(self.guard('safety monitor'))
         self._correction = None
         self._correction_lock = threading.Lock()
 
@@ -92,6 +100,12 @@ class Layer(object):
             setattr(own, name, rospy.get_param('~' + name, defaults[name]))
         return own
 
+    def guard(self, role):
+        """``guard(fn)``: ``fn`` whose unexpected exception fails ``role``: zero velocity,
+        the mission ``aborted`` naming it, diagnostics ERROR (ros/faults.py). Every thread
+        target and callback a role registers goes through it."""
+        return self.faults.guard(role)
+
     def logger(self, role):
         """A RoleLog naming the node, and the role when it shares the node."""
         return RoleLog('%s/%s' % (self.node, role) if self.compact else self.node)
@@ -101,7 +115,8 @@ class Layer(object):
         first call: only the roles that drive on it subscribe)."""
         with self._correction_lock:
             if self._correction is None:
-                self._correction = CorrectionReceiver(self.odometry)
+                self._correction = CorrectionReceiver(self.odometry,
+                                                      self.guard('heading correction receiver'))
             return self._correction
 
 
@@ -118,9 +133,11 @@ def start_roles(role_classes, compact=False):
     """Build the roles (classes taking the Layer) of this process, in order, after
     ``rospy.init_node``; a bad param (ValueError) or a file a role cannot use (e.g. a
     ``landmark_file`` that is a directory: core/files.FileContentError, OSError) is logged
-    as fatal, naming it, and exits with status 1. Returns the roles; :func:`run_roles` runs them."""
+    as fatal, naming it, and exits with status 1. Returns the roles (a list with the
+    ``layer`` they share); :func:`run_roles` runs them."""
     layer = Layer(compact)
-    roles = []
+    roles = Roles()
+    roles.layer = layer
     for role_class in role_classes:
         try:
             roles.append(role_class(layer))
@@ -130,12 +147,17 @@ def start_roles(role_classes, compact=False):
     return roles
 
 
+class Roles(list):
+    """The roles of a process (start_roles), with ``layer``, the Layer they share."""
+
+
 def run_roles(roles):
-    """Run each role's blocking ``run()`` loop (if it has one) in its own thread, and
-    spin until shutdown."""
+    """Run each role's blocking ``run()`` loop (if it has one) in its own guarded thread
+    (:meth:`Layer.guard`), and spin until shutdown."""
     for role in roles:
         if hasattr(role, 'run'):
-            threading.Thread(target=role.run, name=role.ROLE, daemon=True).start()
+            threading.Thread(target=roles.layer.guard(role.ROLE)(role.run), name=role.ROLE,
+                             daemon=True).start()
     rospy.spin()
 
 
@@ -146,12 +168,13 @@ class CorrectionReceiver(object):
     frame starts. A return resumed after the whole layer restarted installs the
     correction it kept in its progress (:meth:`install_plain`)."""
 
-    def __init__(self, odometry):
+    def __init__(self, odometry, guard=None):
         self.odometry = odometry
         self.correction = self.reference = None
         self._lock = threading.Lock()
         self._received = threading.Event()
-        subscribe(names.HEADING_CORRECTION, HeadingCorrection, self._on_correction, queue_size=1)
+        subscribe(names.HEADING_CORRECTION, HeadingCorrection,
+                  guard(self._on_correction) if guard else self._on_correction, queue_size=1)
 
     @property
     def received(self):

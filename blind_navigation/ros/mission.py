@@ -22,13 +22,15 @@ class MissionStateView(object):
     """Current mission state (None before any) of the owner node ``owner``
     (a node name, resolved in this node's namespace)."""
 
-    def __init__(self, owner):
+    def __init__(self, owner, guard=None):
         self.owner = rospy.resolve_name(owner)
         self.state = None
         self._lock = threading.Lock()
         self._delivery = threading.RLock()      # one change delivered at a time, in order
         self._callbacks = []
-        self._subscriber = subscribe(names.STATE, String, self._on_state, queue_size=10)
+        self._subscriber = subscribe(names.STATE, String,
+                                     guard(self._on_state) if guard else self._on_state,
+                                     queue_size=10)
 
     def on_change(self, callback):
         """Call ``callback(old, new)`` on every change of state, from the thread that saw it,

@@ -39,13 +39,14 @@ class SafetyMonitor(object):
     ``active`` lists the conditions active now; :meth:`on_trip` registers
     ``callback(reason)``, called from the event's thread when a sensor becomes active."""
 
-    def __init__(self):
+    def __init__(self, guard=None):
         self._events = SafetyEvents()
         self._lock = threading.Lock()
         self._callbacks = []
         for kind, topic in names.SAFETY_EVENTS.items():
             msg_type, index_field = EVENT_TYPES[kind]
-            subscribe_checked(topic, msg_type, self._on_event, (kind, index_field), queue_size=10)
+            subscribe_checked(topic, msg_type, guard(self._on_event) if guard else self._on_event,
+                              (kind, index_field), queue_size=10)
 
     def on_trip(self, callback):
         self._callbacks.append(callback)

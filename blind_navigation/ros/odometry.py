@@ -3,33 +3,36 @@
 :class:`OdometryFeed` subscribes to a nav_msgs/Odometry topic as raw bytes
 (rospy.AnyMsg) and reads the few fields the layer uses with
 core/odometry_wire.py. It subscribes only while some role holds it
-(:meth:`~OdometryFeed.acquire` / :meth:`~OdometryFeed.release`).
-
-Wheel odometry (``checked``) passes the plausibility gate
+(:meth:`~OdometryFeed.acquire` / :meth:`~OdometryFeed.release`). Wheel
+odometry (``checked``) passes the plausibility gate
 (core/plausibility.OdometryGate) first: refused odometry never refreshes the
-feed, and a genuine discontinuity re-anchors it (:meth:`~OdometryFeed.on_reanchor`).
-The accepted states of the last ``history`` s are kept
-(:meth:`~OdometryFeed.state_at`). While every holder only reads back
-(``acquire(holder, batched=True)``) messages are taken ``BATCH`` at a time; a
-reader of the newest state waits for it (:meth:`~OdometryFeed.catch_up`,
-:meth:`~OdometryFeed.wait_for_stamp`). Once the heading correction is known
-(:meth:`~OdometryFeed.set_correction`), :meth:`~OdometryFeed.fresh` gives the
-corrected frame. Why batching, and what it costs: docs/cost.md, "The batched
-feed"; the rest: docs/recording.md, "Saving". A connection that carries
+feed. An odometry reset is carried across in the old frame, or the frame is
+lost (core/odometry_reset.ResetCarrier, :meth:`~OdometryFeed.on_reanchor`,
+``lost``; docs/safety.md, "Odometry resets"). The accepted states of the last
+``history`` s are kept (:meth:`~OdometryFeed.state_at`). While every holder
+only reads back (``acquire(holder, batched=True)``) messages are taken
+``BATCH`` at a time; a reader of the newest state waits for it
+(:meth:`~OdometryFeed.catch_up`, :meth:`~OdometryFeed.wait_for_stamp`). Once
+the heading correction is known (:meth:`~OdometryFeed.set_correction`),
+:meth:`~OdometryFeed.fresh` gives the corrected frame. Batching: docs/cost.md,
+"The batched feed"; the rest: docs/recording.md, "Saving". A connection of
 another type than nav_msgs/Odometry is refused (ros/wiring.py).
 """
 import threading
 import time
 
 import rospy
+from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry
 from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
+from ..core.geometry import yaw_from_quaternion
+from ..core.odometry_reset import Frame, ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
-from .common import subscribe
+from .common import set_pose, subscribe
 from .wiring import Expected
 
 #: No receive queue limit. rospy reads a subscription's socket in chunks of up to
@@ -56,13 +59,16 @@ def ros_time():
 class OdometryFeed(object):
     """Shared odometry of ``topic`` (see module docstring)."""
 
-    def __init__(self, topic, checked=True, history=10.0):
+    def __init__(self, topic, checked=True, history=10.0, guard=None, frame_topic=None):
         self.topic = topic
+        self._on_message_guarded = guard(self._on_message) if guard else self._on_message
         self.checked = checked
         self.history = float(history)
-        self.gate = OdometryGate(on_reanchor=self._on_reanchor) if checked else None
+        self.gate = OdometryGate() if checked else None
+        self.carrier = ResetCarrier(self.gate) if checked else None
         self.expected = Expected.of(Odometry)
         self._reanchor_listeners = []
+        self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
         self._lock = threading.Condition()
         self._holders = {}          # holder -> batched
@@ -80,6 +86,12 @@ class OdometryFeed(object):
         self._waiting = 0           # threads in wait_for_stamp or catch_up
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
+        self._new_subscription = False
+        self._frame_pub = None
+        if checked and frame_topic:     # share a reset's frame with the other nodes' feeds
+            self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
+            subscribe(frame_topic, PoseStamped,
+                      guard(self._on_shared_frame) if guard else self._on_shared_frame)
 
     # --- subscription --------------------------------------------------------------------------
     def acquire(self, holder, batched=False):
@@ -91,10 +103,11 @@ class OdometryFeed(object):
             if self._subscriber is None:
                 # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
                 # in the history state_at reads the sampling ticks' odometry from
-                self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message,
+                self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message_guarded,
                                              expected=self.expected, queue_size=RECEIVE_QUEUE,
                                              tcp_nodelay=True)
                 self._subscribed_at = ros_time()
+                self._new_subscription = True   # what happened unheard is no jump to check
 
     def release(self, holder):
         """``holder`` no longer needs it: unsubscribe when nobody does."""
@@ -104,6 +117,7 @@ class OdometryFeed(object):
             subscriber = self._subscriber if not self._holders else None
             if subscriber is not None:
                 self._subscriber = None
+                self.lost = None    # the next holder starts on the frame it finds
         if subscriber is not None:
             subscriber.unregister()
 
@@ -135,15 +149,37 @@ class OdometryFeed(object):
                 self._listeners += (callback,)
 
     def on_reanchor(self, callback):
-        """Call ``callback(reason)`` when the gate re-anchored on a discontinuity."""
+        """Call ``callback(reason, trusted)`` when the gate re-anchored on a discontinuity
+        (``trusted``: carried across in the old frame; else the frame is lost)."""
         self._reanchor_listeners.append(callback)
 
-    def _on_reanchor(self, reason):
-        rospy.logwarn('%s: %s', rospy.get_name(), reason)
-        with self._lock:
-            self._states.clear()            # the history before the jump is another frame
+    def _on_reset(self, reset):
+        """(receive thread) Log a re-anchor (core ResetEstimate), share a trusted one's
+        frame, tell the listeners."""
+        trusted = reset.frame is not None
+        (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
+        if trusted and self._frame_pub is not None:
+            msg = PoseStamped()
+            msg.header.stamp, msg.header.frame_id = rospy.Time.from_sec(self.carrier.reset_stamp), self.frame_id
+            set_pose(msg.pose, *self.carrier.frame)
+            self._frame_pub.publish(msg)
         for callback in list(self._reanchor_listeners):
-            callback(reason)
+            callback(reset.reason, trusted)
+
+    def _on_shared_frame(self, msg):
+        """Another node's feed carried a reset across: take its frame unless this one did."""
+        q = msg.pose.orientation
+        frame = Frame(msg.pose.position.x, msg.pose.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
+        with self._take_lock:
+            taken = self.carrier.adopt(frame, msg.header.stamp.to_sec())
+            if taken == 'restart':
+                with self._lock:
+                    self._states.clear()    # taken in the odometry's new frame as it came
+        if taken:
+            rospy.logwarn('%s: odometry on %s: the frame %s carried a reset at %.3f s across with: '
+                          '(%.3f, %.3f, %.3f)', rospy.get_name(), rospy.resolve_name(self.topic),
+                          msg._connection_header.get('callerid', '?'), msg.header.stamp.to_sec(),
+                          *frame)
 
     def remove_listener(self, callback):
         with self._lock:
@@ -202,20 +238,32 @@ class OdometryFeed(object):
         except ValueError as error:
             self._refuse(str(error))
             return
-        problem = self.gate.check(state)
-        if problem:
-            self._refuse(problem)
+        if self._new_subscription:
+            self._new_subscription = False
+            self.gate.reset()               # the first state heard now is the reference
+        taken = self.carrier.take(state)
+        if taken.problem:
+            self._refuse(taken.problem)
             return
+        reset = taken.reset
         now = ros_time()
         with self._lock:
-            self._states.append(state)      # (a stamp going back: sim time reset, a new history)
-            self._received = now
+            if reset is not None and reset.frame is None:
+                self._states.clear()        # the history before it is another frame
+                self.lost = reset.reason
+            for state in taken.states:      # (a stamp going back: sim time reset, a new history)
+                self._states.append(state)
+                if self._corrector is not None:
+                    self._corrector.update(state)
+            if self.lost is None:
+                self._received = now
             self.frame_id = wire.frame_id or self.frame_id
-            if self._corrector is not None:
-                self._corrector.update(state)
             listeners = self._listeners
-        for listener in listeners:
-            listener(state)
+        for state in taken.states:
+            for listener in listeners:
+                listener(state)
+        if reset is not None:
+            self._on_reset(reset)
 
     def _refuse(self, reason):
         self.refused += 1
@@ -249,7 +297,8 @@ class OdometryFeed(object):
             lambda: self._states.latest is not None and self._states.latest.stamp >= stamp, timeout)
 
     def age(self):
-        """Seconds since the newest accepted state arrived, None before any."""
+        """Seconds since the newest accepted state arrived, None before any; once the frame
+        is lost (:attr:`lost`), since the last state before."""
         with self._lock:
             received = self._received
         return None if received is None else ros_time() - received
@@ -263,10 +312,11 @@ class OdometryFeed(object):
 
     def fresh(self, timeout):
         """The newest state (in the corrected frame once a correction is set) if it
-        arrived within ``timeout`` s, stamped now; else None."""
+        arrived within ``timeout`` s, stamped now; else None (always once the frame
+        is lost: :attr:`lost`)."""
         now = ros_time()
         with self._lock:
-            if self._received is None or now - self._received > timeout:
+            if self.lost is not None or self._received is None or now - self._received > timeout:
                 return None
             state = self._corrector.state if self._corrector is not None else self._states.latest
         return state._replace(stamp=now)
@@ -274,6 +324,8 @@ class OdometryFeed(object):
     def describe_missing(self, timeout):
         """Why :meth:`fresh` returned None, for logs and results."""
         topic = rospy.resolve_name(self.topic)
+        if self.lost is not None:
+            return 'the odometry on %s cannot be used: %s' % (topic, self.lost)
         if self._received is None:
             return 'no valid odometry received on %s' % topic
         return 'odometry on %s is older than %.2f s' % (topic, timeout)

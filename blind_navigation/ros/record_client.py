@@ -26,6 +26,7 @@ class RecordClient(object):
     def __init__(self, layer):
         self.params = layer.params(self.ROLE, self.DEFAULTS)
         self.log = layer.logger(self.ROLE)
+        self.guard = layer.guard(self.ROLE)
         self.calls = 0
         self.service = rospy.resolve_name(names.RECORD_LANDMARK)
         self.record = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark, persistent=False)
@@ -42,7 +43,8 @@ class RecordClient(object):
         else:
             return
         self.log.info('%s is up; forwarding %s', self.service, rospy.resolve_name(names.SAMPLE))
-        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.on_sample, queue_size=20)
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample),
+                                    queue_size=20)
 
     def on_sample(self, msg):
         self.calls += 1

@@ -21,7 +21,8 @@ class RecordServer(object):
 
     def __init__(self, layer):
         self.saving = LandmarkSaving(layer, self.ROLE, 'service')
-        self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark, self.on_request)
+        self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
+                                     self.saving.guard(self.on_request))
 
     def on_request(self, request):
         label, why_not = self.saving.save(request.command, request.yaw, request.period,

@@ -63,10 +63,11 @@ class RotatePi(object):
         self._tripped = None
         self._recording_ended = threading.Event()
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
-        subscribe(names.SAMPLE, PathSample, self._on_sample, queue_size=10)
+        guard = layer.guard(self.ROLE)
+        subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
         self.status = 'waiting for vision loss'
-        layer.safety.on_trip(self._on_trip)
-        layer.mission.on_change(self._on_state)
+        layer.safety.on_trip(guard(self._on_trip))
+        layer.mission.on_change(guard(self._on_state))
         layer.diagnostics.add('pi turn', self._diagnose)
 
     def _diagnose(self, stat):

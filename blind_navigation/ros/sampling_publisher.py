@@ -74,18 +74,19 @@ class SamplingPublisher(object):
         self.seq = 0                # the number of the last sample published
         self.samples = None         # SampleLog of the recording (yaw_source odom)
         self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
+        guard = layer.guard(self.ROLE)
         self.samples_service = rospy.Service(names.RECORDED_SAMPLES, RecordedSamples,
-                                             self._recorded_samples)
+                                             guard(self._recorded_samples))
         if p.yaw_source == 'pose2d':
             self.source = rospy.resolve_name(names.POSE2D)
-            subscribe(names.POSE2D, Pose2D, self._on_pose2d, queue_size=10)
+            subscribe(names.POSE2D, Pose2D, guard(self._on_pose2d), queue_size=10)
         else:
             self.source = rospy.resolve_name(names.ODOM)
             # event sampling reads back (the ticks 0.5 s late, the rest after catch_up): the
             # feed may batch; the paper's ticks read the newest yaw at once
             layer.odometry.acquire(self.ROLE, batched=self.events is not None)
-            subscribe(names.STORAGE, StorageUsage, self._on_storage, queue_size=10)
-        layer.mission.on_change(self._on_state)
+            subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=10)
+        layer.mission.on_change(guard(self._on_state))
         layer.diagnostics.add('sampling', self._diagnose)
 
     def _diagnose(self, stat):

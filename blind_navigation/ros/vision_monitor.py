@@ -75,34 +75,37 @@ class VisionMonitor(object):
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
-        self.subscribers = [subscribe(names.VISION_LOST, Empty, self.on_vision_lost)]
+        guard = layer.guard(self.ROLE)
+        self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
+        self.subscribers = [subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))]
         self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
         if 'dark' in enabled:
             numpy_module()      # loaded now, not with the first frame (lifts the one-process block)
             self.camera_topic = names.CAMERA
-            self.subscribers.append(subscribe(names.CAMERA, Image, self.on_image, queue_size=1,
+            self.subscribers.append(subscribe(names.CAMERA, Image, guard(self.on_image), queue_size=1,
                                               buff_size=IMAGE_BUFFER))
         elif 'stall' in enabled:
             self.camera_topic = names.CAMERA_INFO
-            self.camera_info_sub = subscribe(names.CAMERA_INFO, CameraInfo, self.on_camera_info,
-                                             queue_size=1)
+            self.camera_info_sub = subscribe(names.CAMERA_INFO, CameraInfo,
+                                             guard(self.on_camera_info), queue_size=1)
         else:
             self.camera_topic = None
         self.camera_info_until_vo = self.camera_info_sub is not None and 'vo_stall' in enabled
         self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
         if self.watching_vo:
-            layer.visual_odometry.add_listener(self.on_vo, raw=True)
+            layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
             layer.visual_odometry.acquire(self.ROLE)
         # the wheel odometry's arrivals tell a host stall from a vision fault (one process:
         # the recorder's subscription already; the paper's layout: one more)
-        layer.odometry.add_listener(self.on_wheel_odometry, raw=True)
+        layer.odometry.add_listener(self.listeners['wheel'], raw=True)
         layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
-            self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg, self.on_odom_info,
-                                              expected=ODOM_INFO, queue_size=5))
-        layer.mission.on_change(self.on_state)
+            self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg,
+                                              guard(self.on_odom_info), expected=ODOM_INFO,
+                                              queue_size=5))
+        layer.mission.on_change(guard(self.on_state))
         layer.diagnostics.add('vision monitor', self.status)
-        threading.Thread(target=self.watch_stalls, name='vision_monitor_stalls', daemon=True).start()
+        threading.Thread(target=guard(self.watch_stalls), name='vision_monitor_stalls', daemon=True).start()
         self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
 
     # --- inputs ---------------------------------------------------------------------------------
@@ -238,9 +241,9 @@ class VisionMonitor(object):
         for subscriber in self.subscribers + ([camera_info] if camera_info else []):
             subscriber.unregister()
         if self.watching_vo:
-            self.layer.visual_odometry.remove_listener(self.on_vo)
+            self.layer.visual_odometry.remove_listener(self.listeners['vo'])
             self.layer.visual_odometry.release(self.ROLE)
-        self.layer.odometry.remove_listener(self.on_wheel_odometry)
+        self.layer.odometry.remove_listener(self.listeners['wheel'])
         self.layer.odometry.release(self.ROLE)
 
     def warn_once(self, key, text):

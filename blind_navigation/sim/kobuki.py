@@ -176,6 +176,7 @@ class SimulatedKobuki(object):
         self._last_ticks = (self._left.ticks(), self._right.ticks())
         self._odom = [0.0, 0.0, 0.0]
         self._heading_offset = 0.0
+        self._wheel_zero = (0, 0)
         self.odom = OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         self.contacts = arena.contacts(start) if arena else None
         self.fallen = False
@@ -205,10 +206,12 @@ class SimulatedKobuki(object):
             self._drop_command()
 
     def reset_odometry(self):
-        """Zero the odometry pose and heading, as commands/reset_odometry does."""
+        """Zero the odometry pose, the gyro heading and the wheel angles, as kobuki_node's
+        commands/reset_odometry does; the twist goes on (it is measured, not integrated)."""
         self._odom = [0.0, 0.0, 0.0]
         self._heading_offset = self.gyro_heading
         self.odom = self.odom._replace(x=0.0, y=0.0, yaw=0.0)
+        self._wheel_zero = (self._left.ticks(), self._right.ticks())    # joint states from 0 too
 
     def place(self, pose):
         """Put the robot down at ``pose`` (Pose2D, world), as a person carrying it
@@ -325,7 +328,8 @@ class SimulatedKobuki(object):
     def wheel_angles(self):
         """(left, right) wheel angles, rad, as the encoders count them."""
         per_tick = 2.0 * math.pi / TICKS_PER_REV
-        return (self._left.ticks() * per_tick, self._right.ticks() * per_tick)
+        return ((self._left.ticks() - self._wheel_zero[0]) * per_tick,
+                (self._right.ticks() - self._wheel_zero[1]) * per_tick)
 
     @property
     def wheel_speeds(self):

@@ -18,6 +18,7 @@ from collections import namedtuple
 import roslib.packages
 import rospy
 from actionlib_msgs.msg import GoalID, GoalStatus
+from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, Empty, String
 
@@ -75,6 +76,22 @@ class GroundTruth(object):
 
     def speed(self):
         return self.latest()[2]
+
+
+class TimedTwists(object):
+    """(sim time of receipt, v, w) of every Twist on a topic."""
+
+    def __init__(self, topic):
+        self._lock, self.items = threading.Lock(), []
+        self.sub = rospy.Subscriber(topic, Twist, self._on_msg, queue_size=100)
+
+    def _on_msg(self, msg):
+        with self._lock:
+            self.items.append((rospy.Time.now().to_sec(), msg.linear.x, msg.angular.z))
+
+    def after(self, t):
+        with self._lock:
+            return [item for item in self.items if item[0] >= t]
 
 
 class PathByState(object):

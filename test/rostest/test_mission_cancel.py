@@ -11,15 +11,13 @@ client sends no further goal and the state ends ``aborted``.
 """
 import os
 import sys
-import threading
 import unittest
 
 import rospy
 import rostest
-from geometry_msgs.msg import Twist
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import STOPPED_SPEED, TELEOP_TOPIC, MissionRun  # noqa: E402
+from mission_tools import STOPPED_SPEED, TELEOP_TOPIC, MissionRun, TimedTwists  # noqa: E402
 
 #: m/s on ground truth: the robot is really driving back when the cancel is sent
 #: (the return replays about 0.1 m/s).
@@ -33,22 +31,6 @@ ZERO_WITHIN = 0.5
 #: s of sim time for the base to stop after the cancel (ideal profile: at once),
 #: then how long it must stay put, and how little it may move meanwhile (m).
 STOP_WITHIN, STAY_FOR, STAY_WITHIN = 1.0, 2.0, 0.002
-
-
-class TimedTwists(object):
-    """(sim time of receipt, v, w) of every Twist on a topic."""
-
-    def __init__(self, topic):
-        self._lock, self.items = threading.Lock(), []
-        self.sub = rospy.Subscriber(topic, Twist, self._on_msg, queue_size=100)
-
-    def _on_msg(self, msg):
-        with self._lock:
-            self.items.append((rospy.Time.now().to_sec(), msg.linear.x, msg.angular.z))
-
-    def after(self, t):
-        with self._lock:
-            return [item for item in self.items if item[0] >= t]
 
 
 class CancelTest(unittest.TestCase):

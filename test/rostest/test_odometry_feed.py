@@ -8,7 +8,9 @@ size, keeps only the newest that many messages of a chunk. Here a listener holds
 the feed's receive thread while BURST odometry messages 0.02 s apart are published
 (they wait in the socket), then lets it go: the feed's history must hold every
 stamp, with no hole for state_at (the odometry at a sampling tick) to fall into.
+An odometry reset is carried across in the old frame, or loses the frame.
 """
+import math
 import threading
 import time
 import unittest
@@ -160,6 +162,69 @@ class OdometryFeedBatchTest(unittest.TestCase):
         self.assertEqual(self.feed.refused, 0)
 
 
+def moving(stamp, x, y, yaw, v):
+    """An odometry message at ``stamp`` of a robot at (x, y, yaw) driving straight at ``v``."""
+    msg = odometry(stamp)
+    msg.pose.pose.position.x, msg.pose.pose.position.y = x, y
+    msg.pose.pose.orientation.z, msg.pose.pose.orientation.w = math.sin(yaw / 2), math.cos(yaw / 2)
+    msg.twist.twist.linear.x = v
+    return msg
+
+
+class OdometryFeedResetTest(unittest.TestCase):
+    """An odometry reset (kobuki_node's: pose and heading from zero, twist going on) while
+    a robot drives straight at V: carried across in the old frame when odometry went on
+    at 50 Hz; the frame lost (never fresh again while held) after a 2 s silence."""
+
+    V, YAW = 0.3, 0.5
+
+    def drive(self, topic, silence):
+        feed = OdometryFeed(topic)
+        resets, stamps = [], []
+        feed.on_reanchor(lambda reason, trusted: resets.append((reason, trusted)))
+        feed.add_listener(lambda state: stamps.append(state.stamp))
+        feed.acquire('driver')
+        publisher = rospy.Publisher(topic, Odometry, queue_size=None)
+        waiting.wait_for(lambda: publisher.get_num_connections() == 1, 'the feed never connected', WAIT)
+        start, c, s = 3000.0, math.cos(self.YAW), math.sin(self.YAW)
+        for i in range(150):                            # 3 s from (1, 1) along YAW
+            t = i * PERIOD
+            publisher.publish(moving(start + t, 1.0 + c * self.V * t, 1.0 + s * self.V * t,
+                                     self.YAW, self.V))
+        reset_at = start + 150 * PERIOD + silence
+        for i in range(100):                            # 2 s from the origin along 0
+            t = i * PERIOD
+            publisher.publish(moving(reset_at + t, self.V * t, 0.0, 0.0, self.V))
+        last = reset_at + 99 * PERIOD
+        waiting.wait_for(lambda: feed._arrived >= 250, 'the feed never received the stream', WAIT)
+        return feed, resets, stamps, last
+
+    def test_a_reset_while_driving_is_carried_across_in_the_old_frame(self):
+        feed, resets, stamps, last = self.drive(TOPIC + '_reset', 0.0)
+        waiting.wait_for(lambda: feed.latest() is not None and feed.latest().stamp >= last - 1e-6,
+                         'the feed never took the stream after the reset', WAIT)
+        self.assertEqual([trusted for _, trusted in resets], [True], resets)
+        self.assertIn('odometry reset re-anchored', resets[0][0])
+        latest, t = feed.latest(), last - 3000.0
+        self.assertAlmostEqual(latest.x, 1.0 + math.cos(self.YAW) * self.V * t, delta=0.01)
+        self.assertAlmostEqual(latest.y, 1.0 + math.sin(self.YAW) * self.V * t, delta=0.01)
+        self.assertAlmostEqual(latest.yaw, self.YAW, delta=0.01)
+        self.assertEqual(len(stamps), 250, 'every state once, the confirming second too')
+        self.assertIsNotNone(feed.fresh(5.0))
+        self.assertIsNone(feed.lost)
+        feed.release('driver')
+
+    def test_a_reset_after_a_silence_loses_the_frame(self):
+        feed, resets, _, _ = self.drive(TOPIC + '_reset_silent', 2.0)
+        waiting.wait_for(lambda: resets, 'the feed never reported the reset', WAIT)
+        self.assertEqual([trusted for _, trusted in resets], [False], resets)
+        self.assertTrue(feed.lost.startswith('odometry reset not re-anchored'), feed.lost)
+        self.assertIsNone(feed.fresh(5.0), 'never fresh once the frame is lost')
+        self.assertIn('odometry reset not re-anchored', feed.describe_missing(5.0))
+        feed.release('driver')
+        self.assertIsNone(feed.lost, 'the next holder starts on the frame it finds')
+
+
 if __name__ == '__main__':
     rospy.init_node('test_odometry_feed')
-    rostest.rosrun('blind_navigation', 'odometry_feed', '__main__')   # both test classes
+    rostest.rosrun('blind_navigation', 'odometry_feed', '__main__')   # every test class

@@ -6,7 +6,8 @@ physics base, sim/mujoco_kobuki.py, on the floor ``~physics_world`` with an opti
 payload); it logs one line naming MuJoCo and its version at start.
 
 Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
-(Twist), ``commands/motor_power``, ``commands/reset_odometry``; publishes at
+(Twist), ``commands/motor_power``, ``commands/reset_odometry`` (as kobuki_node: pose,
+gyro heading and wheel angles from zero, twist continuous); publishes at
 50 Hz ``odom`` (+ TF ``odom`` -> ``base_footprint``), ``mobile_base/sensors/imu_data``,
 ``joint_states``, ``ground_truth/odom`` (frame ``world``), Kobuki safety events on
 ``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and

@@ -1,0 +1,220 @@
+"""An odometry reset carried across: the transform from the new frame to the old one.
+
+When core/plausibility.OdometryGate re-anchors on a discontinuity, it hands
+over the last state it accepted (``before``, old frame) and the refused chain
+(the new frame's states while the discontinuity was being confirmed).
+:func:`estimate_reset` predicts where the robot was, in the old frame, at the
+chain's first state (``before`` moved on by the mean of the two twists over
+the gap) and returns the :class:`Frame` that maps the new frame onto the old
+one, or why it cannot be trusted: a gap longer than ``reset_max_gap``, stamps
+going back, a twist that changed too much across the gap for the prediction
+to hold within ``reset_position_tolerance`` / ``reset_yaw_tolerance``, a
+chain whose poses do not follow its own twist, or no confirmed ``before``.
+A reset that is not re-anchored is named by :data:`UNTRUSTED` (the gap entry
+a recorder writes starts with it: :func:`is_untrusted_reset`).
+:class:`ResetCarrier` applies the Frame behind the gate, flags a silence after
+which odometry is not where its twist says, and adopts another process's Frame.
+"""
+import math
+from collections import namedtuple
+
+from .geometry import wrap_angle
+
+#: Defaults; docs/safety.md, "Odometry resets", says why.
+RESET_DEFAULTS = {
+    'reset_max_gap': 0.25,              # s between the last old-frame and the first new-frame state
+    'reset_position_tolerance': 0.02,   # m the predicted position may be off
+    'reset_yaw_tolerance': 0.02,        # rad the predicted yaw may be off
+    'reset_twist_margin': 0.1,          # fraction of the chain's motion its twist may miss by
+}
+
+#: How every untrusted reset's reason begins (a recorder's gap entry, an abort).
+UNTRUSTED = 'odometry reset not re-anchored'
+
+
+def is_untrusted_reset(reason):
+    """True if ``reason`` (a gap entry's, an abort's) names an untrusted odometry reset."""
+    return str(reason).startswith(UNTRUSTED)
+
+
+class Frame(namedtuple('Frame', 'x y yaw')):
+    """A planar rigid transform: a state's pose ``p`` becomes ``R(yaw) p + (x, y)``,
+    its yaw ``yaw`` more; the twist (body frame) and stamp stay."""
+
+    __slots__ = ()
+
+    def apply(self, state):
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return state._replace(x=self.x + c * state.x - s * state.y,
+                              y=self.y + s * state.x + c * state.y,
+                              yaw=wrap_angle(state.yaw + self.yaw))
+
+    def after(self, first):
+        """The Frame that applies ``first``, then this one."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return Frame(self.x + c * first.x - s * first.y, self.y + s * first.x + c * first.y,
+                     wrap_angle(self.yaw + first.yaw))
+
+
+IDENTITY = Frame(0.0, 0.0, 0.0)
+
+ResetEstimate = namedtuple('ResetEstimate', 'frame reason')
+ResetEstimate.__doc__ = ('frame: the Frame from the new odometry frame to the old one, None when '
+                         'untrusted; reason: what happened, for logs and gap entries.')
+
+
+def advance(x, y, yaw, v, w, dt):
+    """Pose (x, y, yaw) after driving at (v, w) for dt s (an arc)."""
+    if abs(w * dt) < 1e-9:
+        return x + v * dt * math.cos(yaw), y + v * dt * math.sin(yaw), yaw
+    radius = v / w
+    end = yaw + w * dt
+    return (x + radius * (math.sin(end) - math.sin(yaw)),
+            y - radius * (math.cos(end) - math.cos(yaw)), end)
+
+
+def _param(params, name):
+    value = float((params or {}).get(name, RESET_DEFAULTS[name]))
+    if not (math.isfinite(value) and value >= 0.0):
+        raise ValueError('odometry reset parameter %s must be a finite number >= 0, got %r'
+                         % (name, value))
+    return value
+
+
+def estimate_reset(before, chain, params=None):
+    """The :class:`ResetEstimate` for a discontinuity after ``before`` (the last
+    accepted state, old frame; None if it was never confirmed by a successor)
+    whose new frame's states are ``chain`` (oldest first, self-consistent)."""
+    p = {name: _param(params, name) for name in RESET_DEFAULTS}
+    first, last = chain[0], chain[-1]
+    where = 'at %.3f s (from (%.3f, %.3f, %.3f) to (%.3f, %.3f, %.3f))' % (
+        first.stamp, before.x if before else math.nan, before.y if before else math.nan,
+        before.yaw if before else math.nan, first.x, first.y, first.yaw)
+
+    def untrusted(why):
+        return ResetEstimate(None, '%s %s: %s' % (UNTRUSTED, where, why))
+
+    if before is None:
+        return untrusted('nothing before it was confirmed by a second state')
+    gap = first.stamp - before.stamp
+    if gap < 0.0:
+        return untrusted('the stamps went back %.3f s (sim time reset?)' % -gap)
+    if gap > p['reset_max_gap']:
+        return untrusted('no odometry for %.3f s (more than %g s) while the robot may have moved'
+                         ' (a restarted driver?)' % (gap, p['reset_max_gap']))
+    position_doubt = 0.5 * abs(before.v - first.v) * gap
+    yaw_doubt = 0.5 * abs(before.w - first.w) * gap
+    if position_doubt > p['reset_position_tolerance'] or yaw_doubt > p['reset_yaw_tolerance']:
+        return untrusted('the twist changed from (%.3f, %.3f) to (%.3f, %.3f) across the %.3f s '
+                         'gap: the motion meanwhile is unknown' % (before.v, before.w, first.v,
+                                                                  first.w, gap))
+    problem = _chain_problem(chain, p)
+    if problem:
+        return untrusted(problem)
+    x, y, yaw = advance(before.x, before.y, before.yaw, 0.5 * (before.v + first.v),
+                        0.5 * (before.w + first.w), gap)
+    turn = wrap_angle(yaw - first.yaw)
+    c, s = math.cos(turn), math.sin(turn)
+    frame = Frame(x - (c * first.x - s * first.y), y - (s * first.x + c * first.y), turn)
+    return ResetEstimate(frame, 'odometry reset re-anchored %s: carried on in the old frame, the '
+                         '%.3f s gap bridged with the twist (within %.3f m, %.3f rad; the new '
+                         'stream followed its twist for %.2f s)' % (
+                             where, gap, position_doubt, yaw_doubt, last.stamp - first.stamp))
+
+
+def _chain_problem(chain, p):
+    """None if the chain's poses follow its own twist, else why not."""
+    x, y, yaw = chain[0].x, chain[0].y, chain[0].yaw
+    path = turned = 0.0
+    for a, b in zip(chain, chain[1:]):
+        dt = b.stamp - a.stamp
+        x, y, yaw = advance(x, y, yaw, 0.5 * (a.v + b.v), 0.5 * (a.w + b.w), dt)
+        path += math.hypot(b.x - a.x, b.y - a.y)
+        turned += abs(wrap_angle(b.yaw - a.yaw))
+    last = chain[-1]
+    off = math.hypot(last.x - x, last.y - y)
+    off_yaw = abs(wrap_angle(last.yaw - yaw))
+    if (off > p['reset_position_tolerance'] + p['reset_twist_margin'] * path
+            or off_yaw > p['reset_yaw_tolerance'] + p['reset_twist_margin'] * turned):
+        return ('the new odometry does not follow its own twist (%.3f m, %.3f rad off over '
+                '%.3f m, %.3f rad)' % (off, off_yaw, path, turned))
+    return None
+
+
+Taken = namedtuple('Taken', 'states problem reset')
+Taken.__doc__ = ('states: the states to use, oldest first (a trusted re-anchor gives the whole '
+                 'chain in the old frame); problem: why the state was refused, or None; reset: '
+                 'the ResetEstimate of a re-anchor this state completed, or None.')
+
+
+class ResetCarrier(object):
+    """An OdometryGate (core/plausibility) whose re-anchors carry the old frame on:
+    :meth:`take` each raw state in arrival order. ``frame`` maps the raw frame onto
+    the one every accepted state is in (the first frame, across trusted resets)."""
+
+    def __init__(self, gate, params=None):
+        self.gate = gate
+        self.params = params
+        self.frame = IDENTITY
+        self.reset_stamp = None     # stamp (s) of the newest reset carried across, or None
+        gate.on_reanchor = self._notice
+
+    @staticmethod
+    def _notice(_reason):
+        """The gate re-anchors only with a callback; the estimate names the jump."""
+
+    def _after_silence(self, before, state):
+        """None, or the untrusted ResetEstimate of a state the gate accepted after more
+        than ``reset_max_gap`` of silence that is not where the twists say (a driver
+        restarted within what the base could have driven meanwhile)."""
+        if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
+            return None
+        p = {name: _param(self.params, name) for name in RESET_DEFAULTS}
+        dt = state.stamp - before.stamp
+        x, y, yaw = advance(before.x, before.y, before.yaw, 0.5 * (before.v + state.v),
+                            0.5 * (before.w + state.w), dt)
+        off, off_yaw = math.hypot(state.x - x, state.y - y), abs(wrap_angle(state.yaw - yaw))
+        mean_v, mean_w = 0.5 * abs(before.v + state.v), 0.5 * abs(before.w + state.w)
+        if (off <= p['reset_position_tolerance'] + (0.5 * abs(before.v - state.v)
+                                                     + p['reset_twist_margin'] * mean_v) * dt
+                and off_yaw <= p['reset_yaw_tolerance'] + (0.5 * abs(before.w - state.w)
+                                                           + p['reset_twist_margin'] * mean_w) * dt):
+            return None
+        return ResetEstimate(None, '%s at %.3f s: after %.3f s without odometry it is at (%.3f, '
+                             '%.3f, %.3f), %.3f m and %.3f rad from where its twist says (a '
+                             'restarted driver?)' % (UNTRUSTED, state.stamp, dt, state.x, state.y,
+                                                     state.yaw, off, off_yaw))
+
+    def take(self, raw):
+        """The :class:`Taken` for the raw OdomState ``raw``."""
+        state = self.frame.apply(raw) if self.frame != IDENTITY else raw
+        reanchors, before = self.gate.reanchors, self.gate.reference
+        problem = self.gate.check(state)
+        if problem:
+            return Taken((), problem, None)
+        if self.gate.reanchors == reanchors:
+            return Taken((state,), None, self._after_silence(before, state))
+        estimate = estimate_reset(self.gate.reanchored_from, self.gate.reanchor_chain, self.params)
+        if estimate.frame is None:
+            return Taken((state,), None, estimate)      # the new frame, as it comes
+        self.frame = estimate.frame.after(self.frame)
+        self.reset_stamp = self.gate.reanchor_chain[0].stamp
+        states = tuple(estimate.frame.apply(s) for s in self.gate.reanchor_chain)
+        self.gate.reset(states[-1], confirmed=True)
+        return Taken(states, None, estimate)
+
+    def adopt(self, frame, stamp):
+        """Take ``frame`` (a whole Frame) that another carrier of the same odometry made
+        for the reset at ``stamp`` (s), unless this one carried it (or a later one) itself.
+        Returns None (not taken), 'taken', or 'restart': states at or after ``stamp`` were
+        accepted in the old frame (the gate starts again; the caller drops them)."""
+        reference = self.gate.reference
+        if self.reset_stamp is not None and stamp <= self.reset_stamp + 1e-9:
+            return None
+        if self.gate.refusing and (reference is None or reference.stamp < stamp):
+            return None     # confirming that reset itself: it carries it across alike
+        self.frame, self.reset_stamp = frame, stamp
+        if reference is not None and reference.stamp >= stamp:
+            self.gate.reset()
+            return 'restart'
+        return 'taken'

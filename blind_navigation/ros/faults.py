@@ -1,0 +1,96 @@
+"""A role that fails ends the mission safely: the one wrapper of every thread
+target and callback a role registers (docs/safety.md, "A role that fails").
+
+``guard = layer.guard(role)``; ``guard(fn)`` is ``fn`` that, on an unexpected
+exception (any ``Exception`` not raised while the node shuts down), calls
+:meth:`Faults.fail` and returns None instead of raising. ``fail(role, error)``
+declares ``<role> failed: <Type>: <message>`` in the process's fault registry
+(ros/wiring.declare, as a refused topic is): every velocity output of the
+process publishes zero at once and for good, the mission's owner ends the
+mission ``aborted`` with it (in its process; ros/layer.Layer publishes each
+fault on ``blind_navigation/role_failure`` for an owner in another process).
+It logs the traceback first (rospy.logfatal) and turns the process's ``role
+failures`` diagnostics status to ERROR. All that once per role and place; a
+repeat is counted and logged in one line at most every
+:data:`REPEAT_LOG_PERIOD` s (wall).
+"""
+import functools
+import threading
+import time
+import traceback
+
+import rospy
+
+from . import diagnostics as diag, wiring
+from .common import shutting_down
+
+#: s (wall) between two log lines of a failure repeating at one place
+REPEAT_LOG_PERIOD = 5.0
+
+
+def describe(role, error):
+    """The reason a failure of ``role`` gives, naming the exception's type and message."""
+    return '%s failed: %s: %s' % (role, type(error).__name__, error)
+
+
+class Faults(object):
+    """The failures of this process's roles; ``diagnostics``: ros/diagnostics.Diagnostics
+    (``add``, ``now``)."""
+
+    def __init__(self, diagnostics):
+        self._diagnostics = diagnostics
+        self._lock = threading.Lock()
+        self._logged = {}           # (role, place) -> when (wall) it was last logged
+        self.failures = []          # the reasons, in order (one per role and place)
+        self.repeats = 0            # failures at a place that had failed already
+        diagnostics.add('role failures', self._status)
+
+    def guard(self, role):
+        """A decorator-like function: ``guard(fn)`` runs ``fn`` and fails ``role`` on an
+        exception (module docstring)."""
+        def wrap(fn):
+            @functools.wraps(fn)
+            def guarded(*args, **kwargs):
+                try:
+                    return fn(*args, **kwargs)
+                except Exception as error:  # noqa: B902 -- what this module is for
+                    if shutting_down():
+                        rospy.logdebug('%s: %s while shutting down', role, error)
+                        return None
+                    self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))
+                    return None
+            return guarded
+        return wrap
+
+    def fail(self, role, error, place=''):
+        """``role`` failed with ``error`` (an exception, in its ``except`` block: its
+        traceback is logged) at ``place`` (where, e.g. a method's name): declare it,
+        log it, diagnose it (module docstring)."""
+        reason = describe(role, error)
+        now = time.monotonic()
+        with self._lock:
+            last = self._logged.get((role, place))
+            if last is None or now - last >= REPEAT_LOG_PERIOD:
+                self._logged[(role, place)] = now
+            self.repeats += last is not None
+            if last is None:
+                self.failures.append(reason)
+        if last is not None:
+            if now - last >= REPEAT_LOG_PERIOD:
+                rospy.logerr('%s: %s again in %s', rospy.get_name(), reason, place)
+            return
+        rospy.logfatal('%s: %s in %s; stopping the robot, ending the mission:\n%s',
+                       rospy.get_name(), reason, place or '?', traceback.format_exc())
+        wiring.declare('%s in %s' % (role, place), reason)   # zero velocity, the owner aborts
+        self._diagnostics.now()
+
+    def _status(self, stat):
+        with self._lock:
+            failures = list(self.failures)
+        stat.add('failures', len(failures))
+        stat.add('repeats', self.repeats)
+        if failures:
+            stat.summary(diag.ERROR, failures[-1] if len(failures) == 1 else
+                         '%s (and %d more)' % (failures[0], len(failures) - 1))
+        else:
+            stat.summary(diag.OK, 'no role failed')

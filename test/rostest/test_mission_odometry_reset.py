@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""rostest: the Kobuki driver's odometry reset during a mission (issue 21 item 6)
+on the fake TurtleBot, blind_navigation.launch as a user starts it.
+
+Once the mission is in ``~reset_state`` (recording or returning) and the robot
+(ground truth) has driven ``~reset_after`` m in it, this node sends
+``/mobile_base/commands/reset_odometry`` (kobuki_node's: the fake zeroes pose,
+gyro heading and wheel angles; the twist goes on), after asking for
+``~silence`` s without odometry first if > 0 (a restarted driver: silent, then
+from the origin). Asserted: /odom really restarted near the origin; the
+mission ends ``~expect``: ``home`` within ``~max_error_share`` of the path
+driven while recording (ground truth), or ``aborted`` with a reason naming the
+reset; never ``home`` farther off; the robot stands still at the end; the
+layer logged the reset as re-anchored (home) or not (aborted); the file has
+a gap, naming the reset, only where a reset during the recording was not
+carried across.
+"""
+import math
+import os
+import sys
+import threading
+import unittest
+
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from rosgraph_msgs.msg import Log
+from std_msgs.msg import Empty, Float64
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mission_tools import STOPPED_SPEED, MissionRun, PathByState  # noqa: E402
+from recording_tools import Collector  # noqa: E402
+
+from blind_navigation import names  # noqa: E402
+from blind_navigation.core.odometry_reset import is_untrusted_reset  # noqa: E402
+from blind_navigation.msg import MissionStatus  # noqa: E402
+
+RESET_TOPIC = '/mobile_base/commands/reset_odometry'
+GAP_TOPIC = '/mobile_base/odometry_gap'
+#: m: /odom this close to the origin right after the reset restarted from it
+NEAR_ORIGIN = 0.1
+#: m/s: the S-curve mission's speed (config/missions/test_s_curve.yaml); m: a reset's jump
+MISSION_MAX_V, JUMP = 0.1, 0.5
+
+
+class ResetTrigger(object):
+    """Sends the reset once the mission is in ``state`` and the robot drove ``after`` m
+    there (ground truth); records the /odom positions after it."""
+
+    def __init__(self, mission_run, state, after, silence):
+        self.mission_run, self.state, self.after, self.silence = mission_run, state, after, silence
+        self._lock = threading.Lock()
+        self._last = None
+        self._driven = 0.0
+        self.sent_at = None
+        self.before = None              # the /odom position when the reset was sent
+        self.after_reset = []           # /odom positions after it
+        self.reset_pub = rospy.Publisher(RESET_TOPIC, Empty, queue_size=1)
+        self.gap_pub = rospy.Publisher(GAP_TOPIC, Float64, queue_size=1)
+        rospy.Subscriber('/odom', Odometry, self._on_odom, queue_size=500)
+        rospy.Subscriber('/ground_truth/odom', Odometry, self._on_truth, queue_size=50)
+        self._odom = None
+
+    def wait_for_base(self):
+        self.mission_run.wait(lambda: self.reset_pub.get_num_connections() >= 1
+                              and self.gap_pub.get_num_connections() >= 1,
+                              'the fake base does not subscribe %s and %s' % (RESET_TOPIC, GAP_TOPIC))
+
+    def _on_odom(self, msg):
+        p = msg.pose.pose.position
+        with self._lock:
+            self._odom = (p.x, p.y)
+            if self.sent_at is not None:
+                self.after_reset.append((msg.header.stamp.to_sec(), p.x, p.y))
+
+    def _on_truth(self, msg):
+        p = msg.pose.pose.position
+        names_seen = self.mission_run.state_names()
+        with self._lock:
+            if self.sent_at is not None or names_seen[-1:] != [self.state]:
+                return
+            if self._last is not None:
+                self._driven += math.hypot(p.x - self._last[0], p.y - self._last[1])
+            self._last = (p.x, p.y)
+            if self._driven < self.after:
+                return
+            self.sent_at, self.before = msg.header.stamp.to_sec(), self._odom
+        rospy.loginfo('RESET: %s at sim t %.2f (%s, %.2f m driven, odom at %s)',
+                      'silence %.1f s, then reset_odometry' % self.silence if self.silence
+                      else 'reset_odometry', self.sent_at, self.state, self._driven, self.before)
+        if self.silence > 0:
+            self.gap_pub.publish(Float64(self.silence))
+        self.reset_pub.publish(Empty())
+
+
+class OdometryResetMissionTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.mission = rospy.get_param('~mission')
+        cls.max_share = float(rospy.get_param('~max_error_share'))
+        cls.expect = rospy.get_param('~expect')
+        cls.mission_run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
+        cls.paths = PathByState()
+        cls.log = Collector('/rosout', Log)
+        cls.status = Collector(names.STATUS, MissionStatus)
+        cls.trigger = ResetTrigger(cls.mission_run, rospy.get_param('~reset_state'),
+                                   float(rospy.get_param('~reset_after')),
+                                   float(rospy.get_param('~silence', 0.0)))
+        try:
+            cls.mission_run.wait_for_layer()
+            cls.trigger.wait_for_base()
+            cls.mission_run.start_operator(cls.mission)
+            cls.mission_run.wait_for_operator(cls.mission)
+            cls.mission_run.trigger_by_publisher()
+            cls.mission_run.wait_until_final()
+            cls.error, cls.speed = cls.mission_run.error(), cls.mission_run.truth.speed()
+            cls.loaded = cls.mission_run.recorded()
+        finally:
+            cls.mission_run.stop_operator()
+        cls.final = cls.mission_run.state_names()[-1]
+        statuses = [s for s in cls.status.snapshot() if s.state == cls.final]
+        cls.reason = statuses[-1].reason if statuses else ''
+        cls.forward = cls.paths.of('recording')
+        rospy.loginfo('ODOMETRY RESET %s in %s: state %s (%s), %.3f m from the start = %.2f %% of '
+                      'the %.2f m driven, %d landmarks, %d gap(s)', cls.mission, cls.trigger.state,
+                      cls.final, cls.reason, cls.error, 100.0 * cls.error / max(cls.forward, 1e-9),
+                      cls.forward, len(cls.loaded.landmarks), len(cls.loaded.gaps))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.mission_run.remove_recording()
+
+    def test_the_odometry_restarted_from_the_origin_in_its_state(self):
+        self.assertIsNotNone(self.trigger.sent_at, 'the reset was never sent (%s never reached %.2f m)'
+                             % (self.trigger.state, self.trigger.after))
+        bx, by = self.trigger.before
+        self.assertGreater(math.hypot(bx, by), 3 * NEAR_ORIGIN, 'odometry was near its origin already')
+        # a jump of /odom (> JUMP) to near the origin (what the mission's top speed drives
+        # in the silence farther), within a second of sim time of the command
+        near = NEAR_ORIGIN + MISSION_MAX_V * self.trigger.silence
+        soon = [self.trigger.before] + [(x, y) for stamp, x, y in self.trigger.after_reset
+                                        if stamp <= self.trigger.sent_at + self.trigger.silence + 1.0]
+        jumps = [b for a, b in zip(soon, soon[1:])
+                 if math.hypot(b[0] - a[0], b[1] - a[1]) > JUMP and math.hypot(*b) < near]
+        self.assertTrue(jumps, '/odom did not restart from the origin after the reset: %s' % soon[:10])
+
+    def test_the_mission_ends_as_expected_never_home_farther_off(self):
+        if self.final == 'home':
+            self.assertLessEqual(self.error, self.max_share * self.forward,
+                                 'home %.3f m from its start, %.2f %% of the %.2f m path (limit %.1f %%)'
+                                 % (self.error, 100.0 * self.error / self.forward, self.forward,
+                                    100.0 * self.max_share))
+        else:
+            self.assertEqual(self.final, 'aborted')
+            self.assertIn('odometry reset', self.reason)
+        self.assertEqual(self.final, self.expect, 'ended %s (%s)' % (self.final, self.reason))
+
+    def test_robot_stands_still_at_the_end(self):
+        self.assertLess(self.speed, STOPPED_SPEED)
+
+    def test_the_layer_logged_the_reset(self):
+        wanted = 'odometry reset re-anchored' if self.expect == 'home' else 'odometry reset not re-anchored'
+        lines = [m.msg for m in self.log.snapshot() if wanted in m.msg]
+        self.assertTrue(lines, 'no "%s" on /rosout' % wanted)
+
+    def test_the_recording_has_a_gap_only_where_the_reset_was_not_carried_across(self):
+        if self.trigger.state != 'recording':
+            self.assertEqual(self.loaded.gaps, [])
+        elif self.expect == 'home':
+            self.assertEqual(self.loaded.gaps, [], 'the reset was carried across: no gap')
+        else:
+            self.assertEqual([is_untrusted_reset(gap.reason) for gap in self.loaded.gaps], [True],
+                             'one gap naming the reset: %s' % (self.loaded.gaps,))
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_mission_odometry_reset')
+    rostest.rosrun('blind_navigation', 'mission_odometry_reset', OdometryResetMissionTest)

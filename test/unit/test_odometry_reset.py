@@ -1,0 +1,162 @@
+"""Unit tests of core/odometry_reset.py: a Kobuki odometry reset (the simulated
+base's, as kobuki_node's: pose and gyro heading zeroed, twist continuous) is
+carried across in the old frame while the robot drives straight, turns or stands;
+a long gap, stamps going back, a twist jump or a chain that does not follow its
+twist are not trusted."""
+import math
+
+import pytest
+
+from blind_navigation.core.geometry import OdomState
+from blind_navigation.core.odometry_reset import (IDENTITY, Frame, ResetCarrier, UNTRUSTED,
+                                                  estimate_reset, is_untrusted_reset)
+from blind_navigation.core.plausibility import OdometryGate
+from blind_navigation.sim.kobuki import SENSOR_PERIOD, SimulatedKobuki, load_profile
+
+
+def drive(command, duration=8.0, reset_at=4.0, silent=None, profile='paper', seed=3):
+    """(states published, odometry without the reset) of a base driven at (0.3, 0.4)
+    for 2 s, then at ``command`` (v, w), its odometry reset at ``reset_at`` s; no
+    odometry during ``silent`` (start, end) s."""
+    bases = [SimulatedKobuki(load_profile(profile), seed=seed) for _ in range(2)]
+    published, unreset = [], []
+    while bases[0].t < duration:
+        for base in bases:
+            base.command(*(command if base.t >= 2.0 else (0.3, 0.4)))
+        if reset_at is not None and abs(bases[0].t - reset_at) < 1e-9:
+            bases[0].reset_odometry()
+        for base in bases:
+            base.step(SENSOR_PERIOD)
+        if silent is None or not silent[0] <= bases[0].t < silent[1]:
+            published.append(bases[0].odom)
+            unreset.append(bases[1].odom)
+    return published, unreset
+
+
+def carry(states):
+    carrier = ResetCarrier(OdometryGate())
+    taken, resets = [], []
+    for state in states:
+        result = carrier.take(state)
+        taken.extend(result.states)
+        if result.reset is not None:
+            resets.append(result.reset)
+    return taken, resets, carrier
+
+
+@pytest.mark.parametrize('command', [(0.3, 0.0), (0.2, 0.8), (0.0, 1.5), (0.0, 0.0), (-0.2, -0.5)],
+                         ids=['straight', 'arc', 'turning', 'standing', 'backwards'])
+def test_a_reset_is_carried_across_in_the_old_frame(command):
+    published, unreset = drive(command)
+    taken, resets, carrier = carry(published)
+    assert len(resets) == 1 and resets[0].frame is not None, resets
+    assert 're-anchored' in resets[0].reason
+    # every state comes out once, in order, in the frame of the odometry never reset
+    assert [s.stamp for s in taken] == [s.stamp for s in unreset]
+    for got, truth in zip(taken, unreset):
+        assert math.hypot(got.x - truth.x, got.y - truth.y) < 0.01, (got, truth)
+        assert abs(math.remainder(got.yaw - truth.yaw, 2 * math.pi)) < 0.01, (got, truth)
+    assert carrier.frame != IDENTITY
+
+
+def test_two_resets_compose():
+    base = SimulatedKobuki(load_profile('ideal'))
+    states = []
+    while base.t < 9.0:
+        base.command(0.25, 0.3)
+        if any(abs(base.t - at) < 1e-9 for at in (3.0, 6.0)):
+            base.reset_odometry()
+        base.step(SENSOR_PERIOD)
+        states.append(base.odom)
+    taken, resets, _ = carry(states)
+    assert [r.frame is not None for r in resets] == [True, True]
+    truth = base.true_pose
+    assert math.hypot(taken[-1].x - truth.x, taken[-1].y - truth.y) < 0.01
+
+
+def test_a_long_silence_before_the_reset_is_not_trusted():
+    # a restarted driver: 2 s without odometry while driving, then from the origin
+    published, _ = drive((0.3, 0.0), reset_at=4.0, silent=(3.99, 6.0))
+    taken, resets, carrier = carry(published)
+    assert len(resets) == 1 and resets[0].frame is None
+    assert is_untrusted_reset(resets[0].reason) and 'after 2.020 s without odometry' in resets[0].reason
+    assert carrier.frame == IDENTITY
+    assert math.hypot(taken[-1].x, taken[-1].y) < 0.3 * 4.0 + 0.05    # the new frame, as it comes
+
+
+def test_untrusted_twist_jump_stamps_back_chain_and_unconfirmed_before():
+    chain = [OdomState(0.3 * 0.02 * i, 0.0, 0.0, 0.3, 0.0, 10.02 + 0.02 * i) for i in range(60)]
+    moving = OdomState(1.0, 1.0, 0.5, 0.3, 0.0, 10.0)
+    assert estimate_reset(moving, chain).frame is not None
+    # the twist jumped across a 0.2 s gap: 0.5 x 0.7 m/s x 0.2 s = 7 cm unknown
+    jump = OdomState(1.0, 1.0, 0.5, -0.4, 0.0, 9.82)
+    assert 'twist changed' in estimate_reset(jump, chain).reason
+    assert 'went back' in estimate_reset(moving._replace(stamp=20.0), chain).reason
+    assert 'confirmed' in estimate_reset(None, chain).reason
+    # poses that do not follow the twist (a twist of zero while the pose moves)
+    frozen = [s._replace(v=0.0) for s in chain]
+    assert 'follow its own twist' in estimate_reset(moving._replace(v=0.0), frozen).reason
+    assert all(estimate_reset(b, c).reason.startswith(UNTRUSTED) for b, c in
+               ((jump, chain), (None, chain), (moving._replace(v=0.0), frozen)))
+
+
+def test_the_estimate_puts_the_new_origin_where_the_robot_was():
+    before = OdomState(2.0, -1.0, math.pi / 2, 0.0, 0.0, 5.0)
+    chain = [OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 5.02 + 0.02 * i) for i in range(60)]
+    frame = estimate_reset(before, chain).frame
+    assert frame == pytest.approx(Frame(2.0, -1.0, math.pi / 2))
+    moved = frame.apply(OdomState(1.0, 0.0, 0.0, 0.0, 0.0, 6.0))    # 1 m ahead in the new frame
+    assert (moved.x, moved.y, moved.yaw) == pytest.approx((2.0, 0.0, math.pi / 2))
+    assert frame.after(IDENTITY) == frame and IDENTITY.after(frame) == frame
+
+
+def test_a_far_jump_after_a_long_silence_re_anchors_untrusted():
+    # the gate refuses a jump farther than the base can go; the chain re-anchors, untrusted
+    published, _ = drive((0.5, 0.0), duration=9.0, reset_at=6.0, silent=(5.59, 6.03))
+    _, resets, carrier = carry(published)
+    assert len(resets) == 1 and resets[0].frame is None and carrier.frame == IDENTITY
+    assert 'no odometry for 0.4' in resets[0].reason, resets[0].reason
+
+
+@pytest.mark.parametrize('command, stop', [((0.3, 0.4), False), ((0.3, 0.0), True)],
+                         ids=['driving on', 'stopping'])
+def test_a_silence_without_a_reset_is_not_a_reset(command, stop):
+    base = SimulatedKobuki(load_profile('paper'), seed=5)
+    states = []
+    while base.t < 8.0:
+        base.command(*((0.0, 0.0) if stop and base.t >= 4.0 else command))
+        base.step(SENSOR_PERIOD)
+        if not 3.5 <= base.t < 6.5:         # a 3 s host stall: the base goes on counting
+            states.append(base.odom)
+    taken, resets, _ = carry(states)
+    assert resets == [] and len(taken) == len(states)
+
+
+def test_a_carrier_not_listening_at_the_reset_adopts_the_frame_another_made():
+    published, unreset = drive((0.3, 0.0))
+    _, resets, first = carry(published)
+    reset_stamp = first.reset_stamp
+    assert resets[0].frame is not None and reset_stamp == pytest.approx(4.02)
+    # listening before and after, not at the reset: takes the frame, goes on in it
+    late = ResetCarrier(OdometryGate())
+    before = [s for s in published if s.stamp < 3.0]
+    after = [s for s in published if s.stamp > 5.0]
+    taken = [t for s in before for t in late.take(s).states]
+    assert late.adopt(first.frame, reset_stamp) == 'taken'
+    for state in after:
+        result = late.take(state)
+        assert result.problem is None and result.reset is None
+        taken.extend(result.states)
+    truth = {s.stamp: s for s in unreset}
+    assert all(math.hypot(t.x - truth[t.stamp].x, t.y - truth[t.stamp].y) < 0.01 for t in taken)
+    # the carrier that made it, or one confirming it itself, does not take it again
+    assert first.adopt(first.frame, reset_stamp) is None
+    confirming = ResetCarrier(OdometryGate())
+    for state in [s for s in published if s.stamp < 4.5]:
+        confirming.take(state)
+    assert confirming.gate.refusing and confirming.adopt(first.frame, reset_stamp) is None
+    # one that took the new frame as it came (listening only after it) starts again in it
+    fresh = ResetCarrier(OdometryGate())
+    fresh.take(after[0])
+    assert fresh.adopt(first.frame, reset_stamp) == 'restart' and fresh.gate.reference is None
+    assert fresh.take(after[1]).states[0] == pytest.approx(first.frame.apply(after[1]))
