@@ -309,7 +309,7 @@ class _Goal(drive.Behaviour):
     """One back-travel goal as a drive-loop behaviour: its core/goal, feedback, the hold."""
 
     def __init__(self, goal, handle, hold, feedback_rate):
-        self.goal, self.handle, self.hold = goal, handle, hold
+        self.goal, self.handle, self.command_hold = goal, handle, hold
         self.period = 1.0 / feedback_rate
         self.started = self.next_feedback = None
 
@@ -326,7 +326,7 @@ class _Goal(drive.Behaviour):
             return drive.Outcome(drive.FAILED, self.goal.reason)
         if self.goal.done:
             return drive.Outcome(drive.SUCCEEDED, '')
-        self.hold.published(now)
+        self.command_hold.published(now)
         if odom.stamp >= self.next_feedback:
             self.handle.publish_feedback(BackTravelFeedback(distance=self.goal.travelled))
             self.next_feedback = odom.stamp + self.period
