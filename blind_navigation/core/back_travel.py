@@ -10,8 +10,7 @@ Three modes (docs/back_travel.md, "Control modes"):
   (core/route.build_route): pure pursuit between corners, a turn in place at
   each corner, at the recorded speed and never faster (:func:`section_limits`).
 
-Both kinds of goal share one interface (core/goal.make_goal); the controllers'
-and the follower's API: docs/back_travel.md, "The route follower".
+One goal interface for both kinds (core/goal.make_goal); docs/back_travel.md.
 """
 import math
 

@@ -259,11 +259,6 @@ class BackTravelServer(object):
         end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
         end.get(outcome.kind, handle.set_aborted)(result, outcome.reason)
 
-    @staticmethod
-    def _cancelled(handle):
-        return handle.get_goal_status().status in (actionlib.GoalStatus.PREEMPTING,
-                                                   actionlib.GoalStatus.RECALLING)
-
     def _run(self, handle):
         """Drive one goal; returns (core/drive.Outcome with the result's text, result)."""
         p = self.params
@@ -276,33 +271,22 @@ class BackTravelServer(object):
         goal = _Goal(make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal),
                      handle, self.hold, p.feedback_rate)
         outcome = self.drive.run(goal, 'goal %d' % (self.next_goal + 1), wait=p.odom_grace,
-                                 cancelled=lambda: self._cancelled(handle), inactive=self._inactive)
-        if outcome.kind == drive.SAFETY_STOP:
-            outcome = outcome._replace(reason='safety stop: ' + outcome.reason)
-        if goal.started is None:
-            return outcome, BackTravelResult()
-        travelled = goal.goal.travelled
-        result = BackTravelResult(distance=travelled, duration=rospy.get_time() - goal.started)
-        if outcome.kind == drive.SAFETY_STOP:
-            outcome = outcome._replace(reason='%s after %.3f m' % (outcome.reason, travelled))
-        elif outcome.kind == drive.CANCELLED:
-            outcome = outcome._replace(reason='canceled after %.3f m' % travelled)
-        elif outcome.ok:
-            self._report_late()
-        return outcome, result
+                                 cancelled=goal.cancelled, inactive=self._inactive)
+        if outcome.ok:
+            _report_late(self.follower, self.log)
+        return goal.ended(outcome)
 
     def _inactive(self):
         state = self.layer.mission.state
         return None if state == mission_state.RETURNING else 'the mission is %s' % state
 
-    def _report_late(self):
-        """Log the sections that took longer than their nominal time (not a failure)."""
-        if self.follower is not None:
-            while self.follower.late:
-                index, taken, nominal = self.follower.late.pop(0)
-                self.log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the '
-                              'return stops only when it stops making progress)',
-                              index + 1, taken, nominal)
+
+def _report_late(follower, log):
+    """Log the sections that took longer than their nominal time (not a failure)."""
+    while follower is not None and follower.late:
+        index, taken, nominal = follower.late.pop(0)
+        log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
+                 'only when it stops making progress)', index + 1, taken, nominal)
 
 
 class _Goal(drive.Behaviour):
@@ -331,3 +315,21 @@ class _Goal(drive.Behaviour):
             self.handle.publish_feedback(BackTravelFeedback(distance=self.goal.travelled))
             self.next_feedback = odom.stamp + self.period
         return v, w
+
+    def cancelled(self):
+        return self.handle.get_goal_status().status in (actionlib.GoalStatus.PREEMPTING,
+                                                        actionlib.GoalStatus.RECALLING)
+
+    def ended(self, outcome):
+        """``(outcome with the result's text, result)`` of the goal's ``outcome``."""
+        if outcome.kind == drive.SAFETY_STOP:
+            outcome = outcome._replace(reason='safety stop: ' + outcome.reason)
+        if self.started is None:
+            return outcome, BackTravelResult()
+        travelled = self.goal.travelled
+        result = BackTravelResult(distance=travelled, duration=rospy.get_time() - self.started)
+        if outcome.kind == drive.SAFETY_STOP:
+            outcome = outcome._replace(reason='%s after %.3f m' % (outcome.reason, travelled))
+        elif outcome.kind == drive.CANCELLED:
+            outcome = outcome._replace(reason='canceled after %.3f m' % travelled)
+        return outcome, result
