@@ -10,11 +10,7 @@ Three modes (docs/back_travel.md, "Control modes"):
   (core/route.build_route): pure pursuit between corners, a turn in place at
   each corner, at the recorded speed and never faster (:func:`section_limits`).
 
-The per-goal controllers (:func:`make_controller`): ``start(odom_state)``,
-``step(odom_state) -> (v, w)`` until ``done`` or ``failed``, ``travelled``;
-times come from ``odom_state.stamp``; every command is clamped to
-``max_v``/``max_w``. The follower's API: docs/back_travel.md, "The route
-follower"; core/goal.make_goal gives both kinds of goal one interface.
+One goal interface for both kinds (core/goal.make_goal); docs/back_travel.md.
 """
 import math
 

@@ -202,7 +202,7 @@ class BackTravelClient(object):
         self._return.set()
 
     def _position(self):
-        odom = self.odometry.fresh(self.params.odom_timeout)
+        odom = self.odometry.wait_fresh(self.params.odom_timeout)
         return [odom.x, odom.y] if odom is not None else None
 
     def _save_progress(self, progress):

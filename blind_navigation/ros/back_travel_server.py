@@ -25,8 +25,8 @@ import actionlib
 import rospy
 
 from blind_navigation import names
-from blind_navigation.core import mission_state
-from blind_navigation.core.allowance import ABORT, ALLOWANCE_DEFAULTS, HOLD, OdomGrace
+from blind_navigation.core import drive, mission_state
+from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES, RouteFollower
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.goal import CommandHold, make_goal
@@ -37,6 +37,7 @@ from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED, shutting_down
+from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.faults import describe
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
@@ -80,13 +81,12 @@ class BackTravelServer(object):
         self._pending = None             # the accepted goal handle waiting for the worker
         self._wake = threading.Event()
         self.hold = CommandHold(p.handover_timeout)   # the output between goals
-        self._tripped = None             # safety reason that stopped the current goal
         self.route = None                # core Route of the return
         self.landmarks = []              # its goals' landmarks, return order
         self.next_goal = 0               # index of the goal the route expects next
         self.follower = None             # closed_loop: the RouteFollower of the return
         guard = self.guard = layer.guard(self.ROLE)
-        layer.safety.on_trip(guard(self._on_trip))
+        self.drive = DriveLoop(self.output, self.odometry, layer.safety, p, self.log, guard)
         layer.mission.on_change(guard(self._on_state))
         rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, guard(self._on_set_route))
         self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction,
@@ -138,7 +138,8 @@ class BackTravelServer(object):
                              % (len(landmarks), len(route.sections)))
         if request.completed > len(landmarks):
             raise ValueError('completed %d of only %d landmarks' % (request.completed, len(landmarks)))
-        odom = self.odometry.fresh(self.params.odom_timeout) or self._wait_for_odometry()
+        self.odometry.acquire(self.ROLE)
+        odom = self.odometry.wait_fresh(self.params.odom_timeout, self.params.odom_grace)
         if odom is None:
             raise ValueError('no odometry to check where the robot is')
         vertex = route.sections[request.completed - 1].end_vertex if request.completed else 0
@@ -149,15 +150,6 @@ class BackTravelServer(object):
                              '%d landmarks (route_max_offset %.2f m)'
                              % (offset, x, y, request.completed, self.params.route_max_offset))
         return route, landmarks
-
-    def _wait_for_odometry(self):
-        self.odometry.acquire(self.ROLE)
-        deadline = rospy.get_time() + self.params.odom_grace
-        odom = None
-        while odom is None and rospy.get_time() < deadline and not rospy.is_shutdown():
-            rospy.sleep(0.02)
-            odom = self.odometry.fresh(self.params.odom_timeout)
-        return odom
 
     def _on_goal(self, handle):
         problem = self._goal_problem(handle)
@@ -203,11 +195,6 @@ class BackTravelServer(object):
         if ours:
             self.output.halt('cancel')  # at once, not at the next control cycle
 
-    def _on_trip(self, reason):
-        with self._lock:
-            if self._active is not None:
-                self._tripped = reason
-
     def _on_state(self, _old, new):
         if new == mission_state.RETURNING:
             self.odometry.acquire(self.ROLE)
@@ -252,106 +239,97 @@ class BackTravelServer(object):
                 if handle is None:
                     continue
                 self._active = handle
-                self._tripped = None
             self.execute(handle)
 
     def execute(self, handle):
         try:
-            kind, result, text = self._run(handle)
+            outcome, result = self._run(handle)
         except Exception as error:  # never leave the robot moving or the goal hanging
             self.layer.faults.fail(self.ROLE, error, 'BackTravelServer._run')
-            kind, result, text = 'aborted', BackTravelResult(), describe(self.ROLE, error)
-        if kind == 'aborted':
-            self.log.error('goal aborted: %s', text)
-            self.last_abort = text
+            outcome, result = drive.Outcome(drive.FAILED, describe(self.ROLE, error)), BackTravelResult()
+        if outcome.kind not in (drive.SUCCEEDED, drive.CANCELLED):
+            self.log.error('goal aborted: %s', outcome.reason)
+            self.last_abort = outcome.reason
         with self._lock:
             self._active = None
-            if kind == 'succeeded':
+            if outcome.ok:
                 self.next_goal += 1
-        if kind == 'succeeded':
+        if outcome.ok:
             self._schedule_handover()
-        getattr(handle, {'succeeded': 'set_succeeded', 'aborted': 'set_aborted',
-                         'canceled': 'set_canceled'}[kind])(result, text)
-
-    @staticmethod
-    def _cancelled(handle):
-        return handle.get_goal_status().status in (actionlib.GoalStatus.PREEMPTING,
-                                                   actionlib.GoalStatus.RECALLING)
+        end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
+        end.get(outcome.kind, handle.set_aborted)(result, outcome.reason)
 
     def _run(self, handle):
-        """Drive one goal; returns (succeeded|canceled|aborted, result, text)."""
+        """Drive one goal; returns (core/drive.Outcome with the result's text, result)."""
         p = self.params
         goal_message = handle.get_goal()
         landmark = landmark_from_values([goal_message.v, goal_message.w, goal_message.d,
                                          goal_message.T, goal_message.psi])
-        if self.layer.safety.active:
-            self.output.halt('safety')
-            return 'aborted', BackTravelResult(), 'safety stop: %s' % ', '.join(self.layer.safety.active)
-        odom = self.odometry.fresh(p.odom_timeout) or self._wait_for_odometry()
-        if odom is None:
-            self.output.halt('odometry')
-            return 'aborted', BackTravelResult(), self.odometry.describe_missing(p.odom_timeout)
         self.output.limit(self.follower.limits[self.next_goal] if self.follower is not None
                           else goal_limits(landmark, p.max_v, p.max_w, p.correction_w))
-        self.output.release()
-        goal = make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal)
-        goal.start(odom)
-        started = odom.stamp
-        result = lambda: BackTravelResult(distance=goal.travelled, duration=rospy.get_time() - started)
-        grace = OdomGrace(p)
-        rate = rospy.Rate(p.control_rate)
-        next_feedback = started
-        while not goal.done:
-            if self._tripped:
-                self.output.halt('safety')
-                return 'aborted', result(), 'safety stop: %s after %.3f m' % (self._tripped,
-                                                                              goal.travelled)
-            if self._cancelled(handle) or rospy.is_shutdown():
-                self.output.halt('cancel')
-                return 'canceled', result(), 'canceled after %.3f m' % goal.travelled
-            if self.layer.mission.state != mission_state.RETURNING:
-                return 'aborted', result(), 'the mission is %s' % self.layer.mission.state
-            now, age = rospy.get_time(), self.odometry.age()
-            decision, message = grace.check(now, None if age is None else now - age)
-            if message:
-                (self.log.error if decision == ABORT else self.log.warn)('goal %d: %s',
-                                                                        self.next_goal + 1, message)
-            if decision == ABORT:
-                self.output.halt('odometry')
-                return 'aborted', result(), '%s (%s)' % (
-                    message, self.odometry.describe_missing(p.odom_timeout))
-            if decision == HOLD:
-                self.output.stop()
-                self._sleep(rate)
-                continue
-            odom = self.odometry.fresh(p.odom_timeout)
-            v, w = goal.step(odom)
-            if goal.failed:
-                self.output.halt('no progress')
-                return 'aborted', result(), goal.reason
-            if goal.done:
-                break
-            self.output.publish(v, w)
-            self.hold.published(now)
-            if odom.stamp >= next_feedback:
-                handle.publish_feedback(BackTravelFeedback(distance=goal.travelled))
-                next_feedback = odom.stamp + 1.0 / p.feedback_rate
-            self._sleep(rate)
-        self._report_late()
-        return 'succeeded', result(), ''
+        self.odometry.acquire(self.ROLE)
+        goal = _Goal(make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal),
+                     handle, self.hold, p.feedback_rate)
+        outcome = self.drive.run(goal, 'goal %d' % (self.next_goal + 1), wait=p.odom_grace,
+                                 cancelled=goal.cancelled, inactive=self._inactive)
+        if outcome.ok:
+            _report_late(self.follower, self.log)
+        return goal.ended(outcome)
 
-    def _report_late(self):
-        """Log the sections that took longer than their nominal time (not a failure)."""
-        if self.follower is not None:
-            while self.follower.late:
-                index, taken, nominal = self.follower.late.pop(0)
-                self.log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the '
-                              'return stops only when it stops making progress)',
-                              index + 1, taken, nominal)
+    def _inactive(self):
+        state = self.layer.mission.state
+        return None if state == mission_state.RETURNING else 'the mission is %s' % state
 
-    @staticmethod
-    def _sleep(rate):
-        try:
-            rate.sleep()
-        except rospy.ROSInterruptException:
-            pass
+
+def _report_late(follower, log):
+    """Log the sections that took longer than their nominal time (not a failure)."""
+    while follower is not None and follower.late:
+        index, taken, nominal = follower.late.pop(0)
+        log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
+                 'only when it stops making progress)', index + 1, taken, nominal)
+
+
+class _Goal(drive.Behaviour):
+    """One back-travel goal as a drive-loop behaviour: its core/goal, feedback, the hold."""
+
+    def __init__(self, goal, handle, hold, feedback_rate):
+        self.goal, self.handle, self.command_hold = goal, handle, hold
+        self.period = 1.0 / feedback_rate
+        self.started = self.next_feedback = None
+
+    def start(self, odom):
+        self.goal.start(odom)
+        self.started = self.next_feedback = odom.stamp
+
+    def end(self):
+        return drive.Outcome(drive.SUCCEEDED, '') if self.goal.done else None
+
+    def step(self, odom, now):
+        v, w = self.goal.step(odom)
+        if self.goal.failed:
+            return drive.Outcome(drive.FAILED, self.goal.reason)
+        if self.goal.done:
+            return drive.Outcome(drive.SUCCEEDED, '')
+        self.command_hold.published(now)
+        if odom.stamp >= self.next_feedback:
+            self.handle.publish_feedback(BackTravelFeedback(distance=self.goal.travelled))
+            self.next_feedback = odom.stamp + self.period
+        return v, w
+
+    def cancelled(self):
+        return self.handle.get_goal_status().status in (actionlib.GoalStatus.PREEMPTING,
+                                                        actionlib.GoalStatus.RECALLING)
+
+    def ended(self, outcome):
+        """``(outcome with the result's text, result)`` of the goal's ``outcome``."""
+        if outcome.kind == drive.SAFETY_STOP:
+            outcome = outcome._replace(reason='safety stop: ' + outcome.reason)
+        if self.started is None:
+            return outcome, BackTravelResult()
+        travelled = self.goal.travelled
+        result = BackTravelResult(distance=travelled, duration=rospy.get_time() - self.started)
+        if outcome.kind == drive.SAFETY_STOP:
+            outcome = outcome._replace(reason='%s after %.3f m' % (outcome.reason, travelled))
+        elif outcome.kind == drive.CANCELLED:
+            outcome = outcome._replace(reason='canceled after %.3f m' % travelled)
+        return outcome, result

@@ -23,13 +23,14 @@ import time
 import rospy
 
 from blind_navigation import names
-from blind_navigation.core import mission_state
+from blind_navigation.core import drive, mission_state
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import (SPIN_DEFAULTS, CalibrationError, SpinCalibration,
                                                     save_calibration)
 from blind_navigation.core.gyro_fit import GYRO_FIT_DEFAULTS
 from blind_navigation.core.heading_correction import CORRECTION_DEFAULTS
 from blind_navigation.core.vision import wire_lost_reason
+from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.heading_correction import calibration_file
 from blind_navigation.ros.motion import MotionOutput
 
@@ -54,11 +55,10 @@ class CalibrateGyro(object):
         self.layer = layer
         self.odom = layer.odometry
         self._lock = threading.Lock()
-        self._tripped = None
         self._vo_valid = False
         self.output = MotionOutput(self.ROLE, 0.0, self.spin.max_w, None, layer.safety)
         guard = layer.guard(self.ROLE)
-        layer.safety.on_trip(guard(self._on_trip))
+        self.drive = DriveLoop(self.output, self.odom, layer.safety, p, self.log, guard, grace=False)
         self.odom.add_listener(guard(self._on_odom))
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)
@@ -74,9 +74,6 @@ class CalibrateGyro(object):
         with self._lock:
             self._vo_valid = self._vo_valid or valid
             self.spin.fit.add_visual(wire.stamp, yaw)
-
-    def _on_trip(self, reason):
-        self._tripped = reason
 
     def run(self):
         """Spin, fit and save; True on success. Always ends with zero velocity."""
@@ -105,8 +102,7 @@ class CalibrateGyro(object):
         # Under use_sim_time, odometry can arrive before this node's first /clock
         # message (time 0): wait for the clock too, or the first check after the
         # clock jumps would find that odometry stale.
-        while rospy.Time.now().is_zero() or self.odom.fresh(p.odom_timeout) is None \
-                or not self._vo_valid:
+        while rospy.Time.now().is_zero() or not self._vo_valid:
             if rospy.is_shutdown() or time.monotonic() > deadline:
                 if not self._vo_valid:
                     return ('no valid visual odometry on %s within %.0f s: the calibration needs '
@@ -115,23 +111,16 @@ class CalibrateGyro(object):
                             % (rospy.resolve_name(names.VO_ODOM), p.start_timeout))
                 return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
             time.sleep(0.05)
+        if self.odom.wait_fresh(p.odom_timeout, max(0.0, deadline - time.monotonic())) is None:
+            return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
         self.log.info('spinning %.1f turns each way at %.2f rad/s against %s', self.spin.turns,
                       self.spin.max_w, rospy.resolve_name(names.VO_ODOM))
-        rate = rospy.Rate(p.control_rate)
-        while not self.spin.done:
-            if rospy.is_shutdown():
-                return 'node shutdown before the spins were done (%s)' % self.spin.progress
-            if self._tripped or self.layer.safety.active:
-                return 'safety stop: %s' % (self._tripped or ', '.join(self.layer.safety.active))
-            odom = self.odom.fresh(p.odom_timeout)
-            if odom is None:
-                return self.odom.describe_missing(p.odom_timeout)
-            v, w = self.spin.step(odom)
-            if self.spin.failed:
-                return self.spin.failed
-            self.output.publish(v, w)
-            rate.sleep()
-        return ''
+        outcome = self.drive.run(_Spins(self.spin), 'spin')
+        if outcome.kind == drive.CANCELLED:
+            return 'node shutdown before the spins were done (%s)' % self.spin.progress
+        if outcome.kind == drive.SAFETY_STOP:
+            return 'safety stop: %s' % outcome.reason
+        return outcome.reason
 
     def _save(self, calibration):
         """Keep an existing file as ``.previous``, then write the new one atomically."""
@@ -139,3 +128,17 @@ class CalibrateGyro(object):
             shutil.copy2(self.path, self.path + '.previous')
             self.log.info('previous calibration kept as %s.previous', self.path)
         save_calibration(self.path, calibration, self.spin.turns)
+
+
+class _Spins(drive.Behaviour):
+    """The calibration's spins as a drive-loop behaviour (core/gyro_calibration.SpinCalibration)."""
+
+    def __init__(self, spin):
+        self.spin = spin
+
+    def end(self):
+        return drive.Outcome(drive.SUCCEEDED, '') if self.spin.done else None
+
+    def step(self, odom, now):
+        command = self.spin.step(odom)
+        return drive.Outcome(drive.FAILED, self.spin.failed) if self.spin.failed else command

@@ -321,6 +321,19 @@ class OdometryFeed(object):
             state = self._corrector.state if self._corrector is not None else self._states.latest
         return state._replace(stamp=now)
 
+    def wait_fresh(self, timeout, wait=0.0):
+        """:meth:`fresh`, waiting at most ``wait`` s (ROS time) for it; None after
+        that or at shutdown."""
+        deadline = ros_time() + wait
+        state = self.fresh(timeout)
+        try:
+            while state is None and ros_time() < deadline and not rospy.is_shutdown():
+                rospy.sleep(0.02)
+                state = self.fresh(timeout)
+        except rospy.ROSInterruptException:
+            return None
+        return state
+
     def describe_missing(self, timeout):
         """Why :meth:`fresh` returned None, for logs and results."""
         topic = rospy.resolve_name(self.topic)

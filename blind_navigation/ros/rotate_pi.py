@@ -22,13 +22,14 @@ import rospy
 from std_msgs.msg import Bool
 
 from blind_navigation import names
-from blind_navigation.core import mission_state
-from blind_navigation.core.allowance import ABORT, ALLOWANCE_DEFAULTS, HOLD, OdomGrace
+from blind_navigation.core import drive, mission_state
+from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
+from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.sampling_publisher import FINAL
 
@@ -58,15 +59,15 @@ class RotatePi(object):
         self.correction_timeout = standstill_timeout(p) + p.correction_margin
         self.layer = layer
         self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety)
+        self.drive = DriveLoop(self.output, layer.odometry, layer.safety, p, self.log,
+                               layer.guard(self.ROLE))
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
         self._trigger = threading.Event()
-        self._tripped = None
         self._recording_ended = threading.Event()
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
         guard = layer.guard(self.ROLE)
         subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
         self.status = 'waiting for vision loss'
-        layer.safety.on_trip(guard(self._on_trip))
         layer.mission.on_change(guard(self._on_state))
         layer.diagnostics.add('pi turn', self._diagnose)
 
@@ -82,9 +83,6 @@ class RotatePi(object):
     def _on_sample(self, msg):
         if msg.command == FINAL:
             self._recording_ended.set()
-
-    def _on_trip(self, reason):
-        self._tripped = reason
 
     def _on_state(self, old, new):
         if new != mission_state.ROTATING:
@@ -162,61 +160,41 @@ class RotatePi(object):
 
     def rotate(self):
         """Run one rotation; True on success. Always ends with zero velocity."""
-        p = self.params
-        odometry = self.layer.odometry
-        rotation = Rotation(p)
-        self._tripped = None
-        if self.layer.safety.active:
-            self.log.error('cannot turn: safety stop: %s', ', '.join(self.layer.safety.active))
-            return False
-        odom = self._fresh_odometry(p.odom_grace)
-        if odom is None:
-            self.log.error('cannot turn: %s', odometry.describe_missing(p.odom_timeout))
-            return False
-        self.log.info('turning by %.3f rad from yaw %.3f', rotation.angle, odom.yaw)
-        rotation.start(odom)
-        rate = rospy.Rate(p.control_rate)
-        self.output.release()
-        grace = OdomGrace(p)
-        try:
-            while not rospy.is_shutdown() and self.rotating:
-                if self._tripped:
-                    self.log.error('turn stopped: safety stop: %s', self._tripped)
-                    return False
-                now, age = rospy.get_time(), odometry.age()
-                held = len(grace.holds)
-                decision, message = grace.check(now, None if age is None else now - age)
-                if message:
-                    (self.log.error if decision == ABORT else self.log.warn)('turn: %s', message)
-                if decision == ABORT:
-                    return False
-                if decision == HOLD:
-                    self.output.stop()
-                    rate.sleep()
-                    continue
-                if len(grace.holds) > held:
-                    rotation.hold(grace.holds[-1][1])   # held time is not turning time
-                odom = odometry.fresh(p.odom_timeout)
-                v, w = rotation.step(odom)
-                if rotation.done or rotation.failed:
-                    break
-                self.output.publish(v, w)
-                rate.sleep()
-        except rospy.ROSInterruptException:
-            return False
-        if rotation.failed:
-            self.log.error('turn failed: %.3f of %.3f rad after the %.0f s allowance',
-                           rotation.turned, rotation.angle, rotation.time_allowance)
-        elif rotation.done:
-            self.log.info('turned %.4f rad (tolerance %.3f)', rotation.turned, rotation.tolerance)
-        return rotation.done
+        turn = _Turn(Rotation(self.params), self.log)
+        outcome = self.drive.run(turn, 'turn', wait=self.params.odom_grace, inactive=self._inactive)
+        if outcome.kind == drive.SAFETY_STOP:
+            self.log.error('%s: safety stop: %s', 'turn stopped' if turn.started else 'cannot turn',
+                           outcome.reason)
+        elif outcome.kind == drive.ODOMETRY_LOST and not turn.started:
+            self.log.error('cannot turn: %s', outcome.reason)
+        return outcome.ok
 
-    def _fresh_odometry(self, wait):
-        """Fresh odometry, waiting at most ``wait`` s of sim time for the first message
-        (this role subscribes only now)."""
-        deadline = rospy.get_time() + wait
-        odom = self.layer.odometry.fresh(self.params.odom_timeout)
-        while odom is None and rospy.get_time() < deadline and not rospy.is_shutdown():
-            rospy.sleep(0.02)
-            odom = self.layer.odometry.fresh(self.params.odom_timeout)
-        return odom
+    def _inactive(self):
+        return None if self.rotating else 'the mission left rotating'
+
+
+class _Turn(drive.Behaviour):
+    """The pi turn as a drive-loop behaviour: core/rotation.Rotation until done or failed."""
+
+    def __init__(self, rotation, log):
+        self.rotation, self.log, self.started = rotation, log, False
+
+    def start(self, odom):
+        self.log.info('turning by %.3f rad from yaw %.3f', self.rotation.angle, odom.yaw)
+        self.rotation.start(odom)
+        self.started = True
+
+    def hold(self, seconds):
+        self.rotation.hold(seconds)
+
+    def step(self, odom, now):
+        r = self.rotation
+        command = r.step(odom)
+        if r.failed:
+            self.log.error('turn failed: %.3f of %.3f rad after the %.0f s allowance',
+                           r.turned, r.angle, r.time_allowance)
+            return drive.Outcome(drive.TIMED_OUT, 'time allowance spent')
+        if r.done:
+            self.log.info('turned %.4f rad (tolerance %.3f)', r.turned, r.tolerance)
+            return drive.Outcome(drive.SUCCEEDED, '')
+        return command
