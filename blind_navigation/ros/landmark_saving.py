@@ -131,10 +131,8 @@ class LandmarkSaving(object):
                 self.log.warn_throttle(5.0, 'odometry on %s is %.1f s old',
                                        rospy.resolve_name(names.ODOM), age)
             if stamp > 0:
-                self.odometry.wait_for_stamp(stamp, self.params.odom_wait)
-                odom = self.odometry.state_at(stamp)
+                odom = self.odometry.state_at(stamp, wait=self.params.odom_wait)
             else:                               # an unstamped request: the latest odometry
-                self.odometry.catch_up()
                 odom = self.odometry.latest()
             if not self.recorder.started:
                 valid = stamp > 0 and math.isfinite(period) and period > 0
