@@ -10,7 +10,7 @@ import os
 import subprocess
 import sys
 
-from junit_case import write_case
+from junit_case import report
 
 OPTIONS = ['--min-confidence', '60']
 CONTEXT = ('blind_navigation', 'test', 'scripts')
@@ -38,13 +38,8 @@ def main(argv):
     if len(argv) != 4:
         sys.exit(__doc__)
     vulture, repo, result = argv[1:]
-    status, problems, output = check(vulture, os.path.abspath(repo))
-    for line in problems:
-        print('vulture: %s' % line)
-    name = 'vulture %s' % ' '.join(OPTIONS)
-    print('%s, the product: %s' % (name, 'clean' if status == 0 else '%d line(s)' % len(problems)))
-    write_case(result, 'vulture', name, ' '.join(PRODUCT), status, problems, output)
-    return status
+    return report(result, 'vulture', 'vulture %s' % ' '.join(OPTIONS), ' '.join(PRODUCT),
+                  check(vulture, os.path.abspath(repo)))
 
 
 if __name__ == '__main__':

@@ -33,30 +33,35 @@ def inspect_landmark_file(landmark_file):
     (an old layout's file), ``'symlink'`` (to a regular file) or ``'dangling'``
     (a symlink to nothing). Anything else (a directory, a FIFO, a symlink to a
     directory or a loop) raises LandmarkFileError naming it."""
-    try:
-        mode = os.lstat(landmark_file).st_mode
-    except FileNotFoundError:
+    mode = _mode(os.lstat, landmark_file, 'cannot inspect: %s')
+    if mode is None:
         return 'missing'
-    except OSError as error:
-        raise LandmarkFileError(landmark_file, 'cannot inspect: %s' % (error.strerror or error))
     if stat.S_ISREG(mode):
         return 'regular'
     if not stat.S_ISLNK(mode):
         raise LandmarkFileError(landmark_file, 'is %s, not a regular file or a symlink to one; '
                                 'refusing to use it (move it away or set another landmark_file)'
                                 % describe_mode(mode))
-    try:
-        target_mode = os.stat(landmark_file).st_mode
-    except FileNotFoundError:
+    target_mode = _mode(os.stat, landmark_file,
+                        'is a symlink that cannot be followed: %s; refusing to use it')
+    if target_mode is None:
         return 'dangling'
-    except OSError as error:
-        raise LandmarkFileError(landmark_file, 'is a symlink that cannot be followed: %s; refusing '
-                                'to use it' % (error.strerror or error))
     if not stat.S_ISREG(target_mode):
         raise LandmarkFileError(landmark_file, 'is a symlink to %s (%s), not to a regular file; '
                                 'refusing to use it' % (describe_mode(target_mode),
                                                         os.path.realpath(landmark_file)))
     return 'symlink'
+
+
+def _mode(stat_call, landmark_file, problem):
+    """``stat_call(landmark_file).st_mode``, None if nothing is there; another error
+    raises LandmarkFileError with ``problem`` % its text."""
+    try:
+        return stat_call(landmark_file).st_mode
+    except FileNotFoundError:
+        return None
+    except OSError as error:
+        raise LandmarkFileError(landmark_file, problem % (error.strerror or error))
 
 
 def start_mission_file(landmark_file, when=None):
