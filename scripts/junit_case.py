@@ -19,3 +19,15 @@ def write_case(path, suite_name, command, target, status, problems, output):
     ET.SubElement(case, 'system-out').text = '%s %s\n%s' % (command, target, output)
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     ET.ElementTree(suite).write(path, encoding='utf-8', xml_declaration=True)
+
+
+def report(result, tool, name, target, checked):
+    """Print ``checked`` (status, problem lines, output of ``name``, a run of ``tool`` on
+    ``target``), one line each and a verdict, and write it as one case to ``result``;
+    return the status."""
+    status, problems, output = checked
+    for line in problems:
+        print('%s: %s' % (tool, line))
+    print('%s %s: %s' % (name, target, 'clean' if status == 0 else '%d line(s)' % len(problems)))
+    write_case(result, tool, name, target, status, problems, output)
+    return status

@@ -1,7 +1,7 @@
 #!/bin/bash
 # Run every unit test (pytest, no master) and every rostest suite through
 # `catkin_make run_tests`, lint the package (catkin_lint --strict -W2, one more
-# test case; vermin -t=3.8-, one more), run the Noetic lane (scripts/noetic_lane.sh:
+# test case; vermin -t=3.8-, one more; vulture at 60 %, one more), run the Noetic lane (scripts/noetic_lane.sh:
 # the unit tests, harness missions and mission rostests under Python 3.8), then
 # print one summary line `N passed, N failed`.
 # Exit status is non-zero on any failure or when no test ran.
@@ -23,6 +23,8 @@ status=$?
   "$results/lint-catkin_lint.xml"
 /usr/bin/python3 "$repo/scripts/vermin_junit.py" "$BN_WS/venvs/tools/bin/vermin" "$repo" \
   "$results/lint-vermin.xml"
+/usr/bin/python3 "$repo/scripts/vulture_junit.py" "$BN_WS/venvs/tools/bin/vulture" "$repo" \
+  "$results/lint-vulture.xml"
 bash "$repo/scripts/noetic_lane.sh"
 /usr/bin/python3 "$repo/scripts/test_summary.py" "$results"
 summary=$?

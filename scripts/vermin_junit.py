@@ -9,7 +9,7 @@ import os
 import subprocess
 import sys
 
-from junit_case import write_case
+from junit_case import report
 
 #: --eval-annotations: annotations count as evaluated (no `list[int]` anywhere);
 #: library members and keyword arguments (bisect's key=) are checked by default
@@ -37,13 +37,8 @@ def main(argv):
     if len(argv) != 4:
         sys.exit(__doc__)
     vermin, repo, result = argv[1:]
-    status, problems, output = check(vermin, repo)
-    for line in problems:
-        print('vermin: %s' % line)
-    name = 'vermin %s' % ' '.join(OPTIONS)
-    print('%s %s: %s' % (name, ' '.join(PATHS), 'clean' if status == 0 else '%d line(s)' % len(problems)))
-    write_case(result, 'vermin', name, ' '.join(PATHS), status, problems, output)
-    return status
+    return report(result, 'vermin', 'vermin %s' % ' '.join(OPTIONS), ' '.join(PATHS),
+                  check(vermin, repo))
 
 
 if __name__ == '__main__':

@@ -19,6 +19,7 @@ import math
 from collections import namedtuple
 
 from .geometry import wrap_angle
+from .plausibility import nonnegative_param
 
 #: Defaults; docs/safety.md, "Odometry resets", says why.
 RESET_DEFAULTS = {
@@ -74,11 +75,7 @@ def advance(x, y, yaw, v, w, dt):
 
 
 def _param(params, name):
-    value = float((params or {}).get(name, RESET_DEFAULTS[name]))
-    if not (math.isfinite(value) and value >= 0.0):
-        raise ValueError('odometry reset parameter %s must be a finite number >= 0, got %r'
-                         % (name, value))
-    return value
+    return nonnegative_param(params, name, RESET_DEFAULTS, 'odometry reset')
 
 
 def estimate_reset(before, chain, params=None):

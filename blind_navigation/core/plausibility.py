@@ -43,16 +43,31 @@ PLAUSIBILITY_DEFAULTS = {
 CHAIN_CAP = 2000
 
 
-def _param(params, name):
+def nonnegative_param(params, name, defaults, what):
+    """Param ``name`` of ``params`` (a dict, an object or None; ``defaults[name]`` if it
+    has none) as a float; ValueError naming ``what`` unless finite and >= 0."""
     if isinstance(params, dict):
-        value = params.get(name, PLAUSIBILITY_DEFAULTS[name])
+        value = params.get(name, defaults[name])
     else:
-        value = getattr(params, name, PLAUSIBILITY_DEFAULTS[name])
+        value = getattr(params, name, defaults[name])
     value = float(value)
     if not (math.isfinite(value) and value >= 0.0):
-        raise ValueError('plausibility parameter %s must be a finite number >= 0, got %r'
-                         % (name, value))
+        raise ValueError('%s parameter %s must be a finite number >= 0, got %r'
+                         % (what, name, value))
     return value
+
+
+def _param(params, name):
+    return nonnegative_param(params, name, PLAUSIBILITY_DEFAULTS, 'plausibility')
+
+
+def _jumped(what, amount, dt, rate, jitter, unit):
+    """Why ``amount`` (``unit``) in ``dt`` s is more than ``rate`` per s + ``jitter``, or None."""
+    most = rate * dt + jitter
+    if amount > most:
+        return ('odometry %s jumped %.3g %s in %.3f s (at most %.3g %s: %g %s/s x dt + %g %s)'
+                % (what, amount, unit, dt, most, unit, rate, unit, jitter, unit))
+    return None
 
 
 class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack')):
@@ -247,16 +262,9 @@ class OdometryGate(object):
             return 'odometry stamp went back %.3f s (from %.3f to %.3f)' % (
                 -dt, before.stamp, after.stamp)
         step = math.hypot(after.x - before.x, after.y - before.y)
-        longest = self.limits.top_v * dt + self.position_jitter
-        if step > longest:
-            return ('odometry position jumped %.3g m in %.3f s (at most %.3g m: %g m/s x dt + %g m)'
-                    % (step, dt, longest, self.limits.top_v, self.position_jitter))
         turn = abs(wrap_angle(after.yaw - before.yaw))
-        widest = self.limits.top_w * dt + self.yaw_jitter
-        if turn > widest:
-            return ('odometry yaw jumped %.3g rad in %.3f s (at most %.3g rad: %g rad/s x dt + %g rad)'
-                    % (turn, dt, widest, self.limits.top_w, self.yaw_jitter))
-        return None
+        return (_jumped('position', step, dt, self.limits.top_v, self.position_jitter, 'm')
+                or _jumped('yaw', turn, dt, self.limits.top_w, self.yaw_jitter, 'rad'))
 
 
 class RouteBudget(object):

@@ -6,7 +6,7 @@ meanwhile, and its history starts at its restart. The publisher (which did not
 restart) keeps, per sample, what a landmark needs: the command, stamp, yaw,
 period, and the odometry it read at the stamp (x, y, v, w). Entry 0 is where
 the recording started (command ``start``). A restarted saver asks for the
-samples after the last one its file holds (core/store.SampleMark,
+samples after the last one its file holds (core/landmark_format.SampleMark,
 srv/RecordedSamples.srv) and rebuilds the landmarks it missed exactly as it
 would have, so the return drives the whole path.
 
@@ -99,7 +99,7 @@ class SampleLog(object):
 def answer_problem(answer, mark):
     """Why ``answer`` (a RecordedSamples response: ``recording``, ``message``,
     ``samples`` with ``seq``, ``yaw``, ``period``, and columns ``x``, ``y``, ``v``,
-    ``w``) cannot continue a file whose last sample is ``mark`` (core/store.SampleMark,
+    ``w``) cannot continue a file whose last sample is ``mark`` (core/landmark_format.SampleMark,
     or None for none), or '': the right recording, the samples from ``mark`` on in
     order, one odometry row each, every number finite."""
     if not answer.samples:

@@ -9,7 +9,7 @@ meanwhile wait. Params: those of
 :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
 from blind_navigation import names
-from blind_navigation.core.store import SampleMark
+from blind_navigation.core.landmark_format import SampleMark
 from blind_navigation.msg import PathSample
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.landmark_saving import LandmarkSaving

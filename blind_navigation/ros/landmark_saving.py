@@ -8,8 +8,8 @@ the paper's recorder variants (section 3.3.3, Figure 4).
 
 Either way the saver reads odometry itself from the process's shared feed (the
 state at the tick's stamp), makes the landmark with core/recorder.PathRecorder
-and appends it durably with core/store.LandmarkWriter to the mission's file
-behind the ``landmark_file`` symlink (core/store.open_mission_file). After each
+and appends it durably with core/landmark_writer.LandmarkWriter to the mission's file
+behind the ``landmark_file`` symlink (core/mission_files.open_mission_file). After each
 landmark it publishes the storage used (``blind_navigation/storage``) and, when
 someone listens, the recorded path (``blind_navigation/recorded_path``). A
 write failure is an ERROR and a lost landmark; an odometry reset the feed
@@ -32,7 +32,8 @@ from blind_navigation.core.geometry import OdomState, quaternion_from_yaw
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder, storage_usage
 from blind_navigation.core.sample_log import START, answer_problem
-from blind_navigation.core.store import SampleMark, open_mission_file
+from blind_navigation.core.landmark_format import SampleMark
+from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.msg import StorageUsage
 from blind_navigation.srv import RecordedSamples
 from blind_navigation.ros import diagnostics
@@ -110,7 +111,7 @@ class LandmarkSaving(object):
 
     def save(self, command, yaw, period, stamp, sample=None):
         """Save the landmark of the tick at ``stamp`` (s), the publisher's ``sample``
-        (a core/store.SampleMark, if known); return ``(label, '')`` or ``('', why
+        (a core/landmark_format.SampleMark, if known); return ``(label, '')`` or ``('', why
         not)``. The first tick's start is the odometry at ``stamp - period`` (when the
         publisher started), or the first odometry seen if that is later. A sample
         the file holds already (caught up) is skipped."""
@@ -130,10 +131,8 @@ class LandmarkSaving(object):
                 self.log.warn_throttle(5.0, 'odometry on %s is %.1f s old',
                                        rospy.resolve_name(names.ODOM), age)
             if stamp > 0:
-                self.odometry.wait_for_stamp(stamp, self.params.odom_wait)
-                odom = self.odometry.state_at(stamp)
+                odom = self.odometry.state_at(stamp, wait=self.params.odom_wait)
             else:                               # an unstamped request: the latest odometry
-                self.odometry.catch_up()
                 odom = self.odometry.latest()
             if not self.recorder.started:
                 valid = stamp > 0 and math.isfinite(period) and period > 0

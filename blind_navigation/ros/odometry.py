@@ -11,8 +11,7 @@ lost (core/odometry_reset.ResetCarrier, :meth:`~OdometryFeed.on_reanchor`,
 ``lost``; docs/safety.md, "Odometry resets"). The accepted states of the last
 ``history`` s are kept (:meth:`~OdometryFeed.state_at`). While every holder
 only reads back (``acquire(holder, batched=True)``) messages are taken
-``BATCH`` at a time; a reader of the newest state waits for it
-(:meth:`~OdometryFeed.catch_up`, :meth:`~OdometryFeed.wait_for_stamp`). Once
+``BATCH`` at a time, invisibly to the readers (ros/odometry_batches.py). Once
 the heading correction is known (:meth:`~OdometryFeed.set_correction`),
 :meth:`~OdometryFeed.fresh` gives the corrected frame. Batching: docs/cost.md,
 "The batched feed"; the rest: docs/recording.md, "Saving". A connection of
@@ -22,17 +21,17 @@ import threading
 import time
 
 import rospy
-from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry
 from rospy.rostime import is_wallclock
 
 from ..core.heading_correction import CorrectedOdometry
-from ..core.geometry import yaw_from_quaternion
-from ..core.odometry_reset import Frame, ResetCarrier
+from ..core.odometry_reset import ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
-from .common import set_pose, subscribe
+from .common import subscribe
+from .odometry_batches import Batches
+from .shared_frame import SharedFrame
 from .wiring import Expected
 
 #: No receive queue limit. rospy reads a subscription's socket in chunks of up to
@@ -45,9 +44,6 @@ from .wiring import Expected
 RECEIVE_QUEUE = None
 #: Messages taken together while every holder is batched (0.1 s of Kobuki's 50 Hz).
 BATCH = 5
-#: Longest wait (s, wall) of :meth:`OdometryFeed.catch_up` for the next message; without
-#: one (odometry stopped) the reader goes on with the states taken.
-CATCH_UP_WAIT = 0.2
 
 
 def ros_time():
@@ -72,26 +68,18 @@ class OdometryFeed(object):
         self.frame_id = 'odom'
         self._lock = threading.Condition()
         self._holders = {}          # holder -> batched
-        self._batch = 1             # messages taken together (BATCH while every holder is batched)
-        self._take_lock = threading.Lock()   # one thread takes messages at a time, in order
-        self._pending = []          # raw messages received, not yet taken (while batched)
-        self._arrived = 0           # messages received
-        self._taken = 0             # messages taken (accepted or refused)
+        self.batches = Batches(self._lock, self._take)
         self._subscriber = None
         self._subscribed_at = None  # rospy time (s) the current subscription began
         self._states = OdometryHistory(self.history)   # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
         self._listeners = ()        # f(state) for every accepted state
         self._raw_listeners = ()    # f(wire) for every message
-        self._waiting = 0           # threads in wait_for_stamp or catch_up
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
         self._new_subscription = False
-        self._frame_pub = None
-        if checked and frame_topic:     # share a reset's frame with the other nodes' feeds
-            self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
-            subscribe(frame_topic, PoseStamped,
-                      guard(self._on_shared_frame) if guard else self._on_shared_frame)
+        # a reset's frame shared with the other nodes' feeds
+        self._shared = SharedFrame(self, frame_topic, guard) if checked and frame_topic else None
 
     # --- subscription --------------------------------------------------------------------------
     def acquire(self, holder, batched=False):
@@ -124,20 +112,11 @@ class OdometryFeed(object):
     def _update_batch(self):
         """(lock held) Batch only while every holder is batched; log a change while held."""
         batch = BATCH if self._holders and all(self._holders.values()) else 1
-        if batch != self._batch and self._holders:
+        if batch != self.batches.size and self._holders:
             rospy.loginfo('%s: odometry on %s: %s', rospy.get_name(), rospy.resolve_name(self.topic),
                           'taken %d messages at a time (every holder reads back)' % batch
                           if batch > 1 else 'every message taken as it arrives')
-        self._batch = batch
-
-    @property
-    def batched(self):
-        return self._batch > 1
-
-    @property
-    def pending(self):
-        """Messages received but not yet taken (only while batched)."""
-        return len(self._pending)
+        self.batches.size = batch
 
     def add_listener(self, callback, raw=False):
         """Call ``callback(state)`` for every accepted state, or with ``raw``
@@ -158,28 +137,20 @@ class OdometryFeed(object):
         frame, tell the listeners."""
         trusted = reset.frame is not None
         (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
-        if trusted and self._frame_pub is not None:
-            msg = PoseStamped()
-            msg.header.stamp, msg.header.frame_id = rospy.Time.from_sec(self.carrier.reset_stamp), self.frame_id
-            set_pose(msg.pose, *self.carrier.frame)
-            self._frame_pub.publish(msg)
+        if trusted and self._shared is not None:
+            self._shared.publish()
         for callback in list(self._reanchor_listeners):
             callback(reset.reason, trusted)
 
-    def _on_shared_frame(self, msg):
-        """Another node's feed carried a reset across: take its frame unless this one did."""
-        q = msg.pose.orientation
-        frame = Frame(msg.pose.position.x, msg.pose.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
-        with self._take_lock:
-            taken = self.carrier.adopt(frame, msg.header.stamp.to_sec())
-            if taken == 'restart':
-                with self._lock:
-                    self._states.clear()    # taken in the odometry's new frame as it came
-        if taken:
-            rospy.logwarn('%s: odometry on %s: the frame %s carried a reset at %.3f s across with: '
-                          '(%.3f, %.3f, %.3f)', rospy.get_name(), rospy.resolve_name(self.topic),
-                          msg._connection_header.get('callerid', '?'), msg.header.stamp.to_sec(),
-                          *frame)
+    def catch_up(self):
+        """Redundant: every reader catches up itself (ros/odometry_batches.py). Kept while
+        ros/back_travel_client.py, being split (issue 22 item 2), still calls it."""
+        return self.batches.catch_up()
+
+    def clear_history(self):
+        """Forget the states kept (they are in another frame)."""
+        with self._lock:
+            self._states.clear()
 
     def remove_listener(self, callback):
         with self._lock:
@@ -188,40 +159,9 @@ class OdometryFeed(object):
 
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
-        if not self.expected.accepts(self.topic, msg._connection_header):
-            return      # another type on this connection: refused (ros/wiring.py)
-        with self._take_lock:
-            self._pending.append(msg._buff)
-            self._arrived += 1
-            if len(self._pending) < self._batch and not self._waiting:
-                return
-            pending, self._pending = self._pending, []
-            try:
-                for buff in pending:
-                    self._take(buff)
-            finally:
-                with self._lock:
-                    self._taken += len(pending)
-                    if self._waiting:
-                        self._lock.notify_all()
-
-    def catch_up(self, timeout=CATCH_UP_WAIT):
-        """Wait at most ``timeout`` wall seconds until the messages received so far are
-        taken (while batched: at the next message), so that :meth:`latest`,
-        :meth:`state_at` and :meth:`states_after` hold them; True if they are."""
-        arrived = self._arrived
-        return self._wait_until(lambda: self._taken >= arrived, timeout)
-
-    def _wait_until(self, condition, timeout):
-        """Wait at most ``timeout`` wall seconds until ``condition()`` (checked with the
-        lock held) is true; True if it is. While anyone waits, every message is taken as
-        it arrives, with those pending before it."""
-        with self._lock:
-            self._waiting += 1
-            try:
-                return self._lock.wait_for(condition, timeout=timeout)
-            finally:
-                self._waiting -= 1
+        if self.expected.accepts(self.topic, msg._connection_header):
+            self.batches.receive(msg._buff)
+        # else another type on this connection: refused (ros/wiring.py)
 
     def _take(self, buff):
         try:
@@ -273,32 +213,37 @@ class OdometryFeed(object):
     # --- output --------------------------------------------------------------------------------
     def latest(self):
         """The newest accepted raw OdomState, or None."""
+        self.batches.catch_up()
         with self._lock:
             return self._states.latest
 
-    def state_at(self, stamp):
+    def state_at(self, stamp, wait=0.0):
         """The newest accepted raw state stamped at or before ``stamp`` (the oldest
-        kept if all are newer), None if there is none."""
+        kept if all are newer), None if there is none. With ``wait`` (s, wall) it
+        first waits at most that long for a state stamped at or after ``stamp``."""
+        if wait > 0:
+            self.batches.wait_until(lambda: self._newer_than(stamp), wait)
+        elif not self._newer_than(stamp):
+            self.batches.catch_up()
         with self._lock:
             return self._states.at(stamp)
+
+    def _newer_than(self, stamp):
+        latest = self._states.latest
+        return latest is not None and latest.stamp >= stamp
 
     def states_after(self, stamp):
         """The accepted raw states stamped after ``stamp`` (s), oldest first: those of the
         last ``history`` s (a consumer that needs every state reads them in batches so,
         instead of being called for each message)."""
+        self.batches.catch_up()
         with self._lock:
             return self._states.after(stamp)
-
-    def wait_for_stamp(self, stamp, timeout):
-        """Wait at most ``timeout`` wall seconds until a state stamped at or after
-        ``stamp`` was accepted; True if one was. While it waits, every message is taken
-        as it arrives (with those pending before it), batched or not."""
-        return self._wait_until(
-            lambda: self._states.latest is not None and self._states.latest.stamp >= stamp, timeout)
 
     def age(self):
         """Seconds since the newest accepted state arrived, None before any; once the frame
         is lost (:attr:`lost`), since the last state before."""
+        self.batches.catch_up()
         with self._lock:
             received = self._received
         return None if received is None else ros_time() - received
@@ -314,6 +259,7 @@ class OdometryFeed(object):
         """The newest state (in the corrected frame once a correction is set) if it
         arrived within ``timeout`` s, stamped now; else None (always once the frame
         is lost: :attr:`lost`)."""
+        self.batches.catch_up()
         now = ros_time()
         with self._lock:
             if self.lost is not None or self._received is None or now - self._received > timeout:

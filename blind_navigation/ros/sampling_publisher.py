@@ -82,8 +82,8 @@ class SamplingPublisher(object):
             subscribe(names.POSE2D, Pose2D, guard(self._on_pose2d), queue_size=10)
         else:
             self.source = rospy.resolve_name(names.ODOM)
-            # event sampling reads back (the ticks 0.5 s late, the rest after catch_up): the
-            # feed may batch; the paper's ticks read the newest yaw at once
+            # event sampling reads back (the ticks 0.5 s late): the feed may batch; the
+            # paper's ticks read the newest yaw at once
             layer.odometry.acquire(self.ROLE, batched=self.events is not None)
             subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=10)
         layer.mission.on_change(guard(self._on_state))
@@ -118,7 +118,6 @@ class SamplingPublisher(object):
         if self.params.yaw_source == 'pose2d':
             return self._pose2d_yaw
         odometry = self.layer.odometry
-        odometry.catch_up()
         state = odometry.latest() if at is None else odometry.state_at(at)
         return None if state is None else state.yaw
 
@@ -200,7 +199,6 @@ class SamplingPublisher(object):
         """Feed the event sampler the odometry states accepted since it was last fed,
         in order (lock held)."""
         odometry = self.layer.odometry
-        odometry.catch_up()
         latest = odometry.latest()
         if latest is not None and latest.stamp < self._events_fed:
             self._events_fed = float('-inf')     # the clock went back: every state kept is new

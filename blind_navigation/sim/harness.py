@@ -13,7 +13,7 @@ back_travel_server holds it: at most ``handover_timeout`` after a goal last
 published; ``handover_latency`` is the time a hand-over takes, 0 by default, an
 action round trip on ROS); after the last goal it is dropped after
 ``handover_timeout``. The landmark store is
-written for real (core/store.LandmarkWriter) to measure its size, and landmarks
+written for real (core/landmark_writer.LandmarkWriter) to measure its size, and landmarks
 are read back from it, so the return uses the stored (rounded) numbers.
 
 With ``heading_correction`` (blind_navigation.launch's ``heading_correction``,
@@ -81,7 +81,8 @@ from ..core.heading_correction import (CorrectedOdometry, correct_landmarks, est
 from ..core.recorder import OdometryHistory, PathRecorder
 from ..core.rotation import Rotation
 from ..core.segment import SamplingSchedule
-from ..core.store import LandmarkWriter, load_landmarks
+from ..core.landmark_writer import LandmarkWriter
+from ..core.store import load_landmarks
 from .kobuki import load_profile, make_profile
 from .mujoco_kobuki import make_base
 from .mission import load_mission

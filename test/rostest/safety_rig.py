@@ -20,7 +20,7 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.mission_state import TERMINAL
-from blind_navigation.core.store import LandmarkWriter
+from blind_navigation.core.landmark_writer import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
 from recording_tools import Collector  # noqa: F401 (the safety tests import it from here)

@@ -17,7 +17,7 @@ from std_msgs.msg import String
 
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.progress import progress_path
-from blind_navigation.core.store import LandmarkWriter
+from blind_navigation.core.landmark_writer import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
 from fake_base import FakeBase

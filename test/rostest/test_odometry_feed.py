@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest: ros/odometry.OdometryFeed loses no message when its receive thread falls
 behind (a loaded host; sim time at 10x), and takes messages in batches only while
-every holder reads back (batched), with readers catching up on the rest.
+every holder reads back (batched), the readers of the newest state catching up on
+the rest by themselves (no call of the caller's).
 
 rospy reads a subscription's socket in chunks of up to 64 KiB and, with a queue
 size, keeps only the newest that many messages of a chunk. Here a listener holds
@@ -21,6 +22,7 @@ from nav_msgs.msg import Odometry
 
 import waiting
 from blind_navigation.ros.odometry import BATCH, OdometryFeed
+from blind_navigation.ros.odometry_batches import CATCH_UP_WAIT
 
 TOPIC = '/odometry_feed_test/odom'
 BURST = 300          # messages (about 200 KiB: three of rospy's read chunks)
@@ -91,7 +93,7 @@ class OdometryFeedBatchTest(unittest.TestCase):
             self.publisher.publish(odometry(self.stamp))
         type(self).stamp = self.stamp
         type(self).received += count
-        waiting.wait_for(lambda: self.feed._arrived >= self.received,
+        waiting.wait_for(lambda: self.feed.batches.arrived >= self.received,
                          'the feed never received message %d' % self.received, WAIT)
         return self.stamp
 
@@ -99,66 +101,78 @@ class OdometryFeedBatchTest(unittest.TestCase):
         latest = self.feed.latest()
         return None if latest is None else round(latest.stamp, 6)
 
-    def test_1_fewer_than_a_batch_wait_and_a_reader_catches_up_at_the_next_message(self):
-        self.assertTrue(self.feed.batched)
+    def taken(self):
+        """The newest state taken, read without catching up (what a reader would wait for)."""
+        with self.feed._lock:
+            latest = self.feed._states.latest
+        return None if latest is None else round(latest.stamp, 6)
+
+    def test_1_fewer_than_a_batch_wait_and_a_reader_of_the_newest_gets_it_at_the_next_message(self):
+        self.assertEqual(self.feed.batches.size, BATCH)
         first = self.publish(1)
         self.publish(BATCH - 2)
-        self.assertEqual(self.feed.pending, BATCH - 1)
-        self.assertIsNone(self.feed.latest(), 'a message was taken before its batch was full')
+        self.assertEqual(self.feed.batches.pending, BATCH - 1)
+        self.assertIsNone(self.taken(), 'a message was taken before its batch was full')
         result = []
-        reader = threading.Thread(target=lambda: result.append(self.feed.catch_up(WAIT)))
+        reader = threading.Thread(target=lambda: result.append(self.feed.latest()))
         reader.start()
-        waiting.wait_for(lambda: self.feed._waiting == 1, 'the reader never waited', WAIT)
+        waiting.wait_for(lambda: self.feed.batches.waiting == 1, 'the reader never waited', WAIT)
         last = self.publish(1)
         reader.join(WAIT)
-        self.assertEqual(result, [True], 'catch_up did not return True at the next message')
-        self.assertEqual(self.newest(), round(last, 6))
-        self.assertEqual(self.feed.pending, 0)
+        self.assertFalse(reader.is_alive(), 'latest() did not return')
+        self.assertEqual([round(state.stamp, 6) for state in result], [round(last, 6)],
+                         'latest() did not return the newest state received')
+        self.assertEqual(self.feed.batches.pending, 0)
         stamps = [state.stamp for state in self.feed.states_after(first - 1.0)]
         self.assertEqual(len(stamps), BATCH)
         self.assertEqual(stamps, sorted(stamps), 'taken out of order')
 
     def test_2_a_full_batch_is_taken_without_a_reader(self):
         last = self.publish(BATCH)
-        waiting.wait_for(lambda: self.newest() == round(last, 6),
+        waiting.wait_for(lambda: self.taken() == round(last, 6),
                          'a full batch was not taken', WAIT)
-        self.assertEqual(self.feed.pending, 0)
+        self.assertEqual(self.feed.batches.pending, 0)
 
-    def test_3_catch_up_without_a_next_message_gives_up_and_keeps_what_was_taken(self):
+    def test_3_a_reader_without_a_next_message_gives_up_once_and_keeps_what_was_taken(self):
         before = self.newest()
         self.publish(1)
         started = time.monotonic()
-        self.assertFalse(self.feed.catch_up(0.3))
-        self.assertGreaterEqual(time.monotonic() - started, 0.3)
         self.assertEqual(self.newest(), before)
-        self.assertEqual(self.feed.pending, 1)
+        self.assertGreaterEqual(time.monotonic() - started, CATCH_UP_WAIT)
+        self.assertEqual(self.feed.batches.pending, 1)
+        started = time.monotonic()
+        self.assertEqual(self.newest(), before)
+        self.assertLess(time.monotonic() - started, CATCH_UP_WAIT,
+                        'a reader waited again with no new message')
 
     def test_4_a_stamp_waited_for_is_taken_as_it_arrives(self):
         self.publish(1)      # pending (test 3 left one too)
         result = []
         target = self.stamp + PERIOD / 2     # the next message's stamp, clear of rounding
-        reader = threading.Thread(target=lambda: result.append(self.feed.wait_for_stamp(target, WAIT)))
+        reader = threading.Thread(target=lambda: result.append(self.feed.state_at(target, WAIT)))
         reader.start()
-        waiting.wait_for(lambda: self.feed._waiting == 1, 'the reader never waited', WAIT)
+        waiting.wait_for(lambda: self.feed.batches.waiting == 1, 'the reader never waited', WAIT)
         last = self.publish(1)
         reader.join(WAIT)
-        self.assertEqual(result, [True])
-        self.assertEqual(self.newest(), round(last, 6))
-        self.assertEqual(self.feed.pending, 0)
+        self.assertFalse(reader.is_alive(), 'state_at(wait=) did not return')
+        self.assertEqual([round(state.stamp, 6) for state in result], [round(last - PERIOD, 6)],
+                         'state_at(stamp) is not the last state at or before the stamp')
+        self.assertEqual(self.taken(), round(last, 6))
+        self.assertEqual(self.feed.batches.pending, 0)
 
     def test_5_a_driving_holder_turns_batching_off_until_it_releases(self):
         self.feed.acquire('driver')
         try:
-            self.assertFalse(self.feed.batched)
+            self.assertEqual(self.feed.batches.size, 1)
             for _ in range(3):
                 last = self.publish(1)
-                waiting.wait_for(lambda: self.newest() == round(last, 6),
+                waiting.wait_for(lambda: self.taken() == round(last, 6),
                                  'a message was not taken at once with a driving holder', WAIT)
         finally:
             self.feed.release('driver')
-        self.assertTrue(self.feed.batched)
+        self.assertEqual(self.feed.batches.size, BATCH)
         self.publish(1)
-        self.assertEqual(self.feed.pending, 1)
+        self.assertEqual(self.feed.batches.pending, 1)
         self.assertEqual(self.feed.refused, 0)
 
 
@@ -196,7 +210,7 @@ class OdometryFeedResetTest(unittest.TestCase):
             t = i * PERIOD
             publisher.publish(moving(reset_at + t, self.V * t, 0.0, 0.0, self.V))
         last = reset_at + 99 * PERIOD
-        waiting.wait_for(lambda: feed._arrived >= 250, 'the feed never received the stream', WAIT)
+        waiting.wait_for(lambda: feed.batches.arrived >= 250, 'the feed never received the stream', WAIT)
         return feed, resets, stamps, last
 
     def test_a_reset_while_driving_is_carried_across_in_the_old_frame(self):

@@ -18,7 +18,7 @@ COMMANDS = ('rospack', 'rostopic', 'rosservice', 'rosnode', 'rosparam', 'roslaun
             'rosbag', 'rosrun', 'rosmsg', 'roscore', 'catkin_make', 'catkin_lint', 'cmake', 'make',
             'g++', 'mount', 'umount', 'sha1sum', 'dpkg-query', 'apt-get', 'apt-cache')
 #: commands from the venvs install_deps.sh makes: command -> (venv, requirements file)
-VENV_COMMANDS = {'vermin': ('tools', 'tools.txt')}
+VENV_COMMANDS = {'vermin': ('tools', 'tools.txt'), 'vulture': ('tools', 'tools.txt')}
 #: launch nodes of other packages that no test or make target starts: type -> why
 #: (a package given by an arg, rtabmap_vo.launch's $(arg odom_pkg), is not resolved)
 OPTIONAL_NODES = {'rviz': "rviz.launch, only with rviz:=true (default false): a desktop's choice",

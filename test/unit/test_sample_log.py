@@ -9,7 +9,7 @@ import pytest
 
 from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.sample_log import START, SampleLog, answer_problem
-from blind_navigation.core.store import SampleMark
+from blind_navigation.core.landmark_format import SampleMark
 
 
 def state(t):

@@ -11,9 +11,10 @@ import yaml
 
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
-from blind_navigation.core.store import (RESTART_GAP, Gap, LandmarkFileError, LandmarkWriter,
-                                         SampleMark, format_entry, load_landmarks,
-                                         open_mission_file, start_mission_file)
+from blind_navigation.core.landmark_format import Gap, LandmarkFileError, SampleMark, format_entry
+from blind_navigation.core.landmark_writer import LandmarkWriter
+from blind_navigation.core.mission_files import RESTART_GAP, open_mission_file, start_mission_file
+from blind_navigation.core.store import load_landmarks
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
         Landmark(0.0859, 0.0964, 0.0862, 1.0, 0.0610),
