@@ -209,6 +209,7 @@ class RouteFollower(object):
         self._mark = (0.0, 0.0)       # progress: (s along the route, phase of the corner turn)
         self._piece = 0
         self._segment = 0
+        self._target = None           # the last pursuit target: (x, y, segment) on the current piece
         self._rotation = None
         self._turn_angle = 0.0
         self._last = None
@@ -270,6 +271,7 @@ class RouteFollower(object):
             return
         self._piece = route.piece_of(vertex)
         self._segment = vertex
+        self._target = None
         if route.corner[vertex] and mark[1] < 1.0:
             self._start_turn(odom_state)
         else:
@@ -306,18 +308,22 @@ class RouteFollower(object):
 
     def _locate(self, x, y):
         """Along-route distance of the robot's projection on the current piece,
-        walking forward from the last segment (progress only moves forward)."""
+        walking forward from the last segment (progress only moves forward). A
+        robot nearer its last pursuit target than that projection cut across a
+        curl of the piece: it is on the nearest segment up to the target's."""
         route, last = self.route, self._piece_end() - 1
         segment = max(self._segment, self.route.corners[self._piece])
         while True:
-            ax, ay = route.x[segment], route.y[segment]
-            dx, dy = route.x[segment + 1] - ax, route.y[segment + 1] - ay
-            length_sq = dx * dx + dy * dy
-            t = ((x - ax) * dx + (y - ay) * dy) / length_sq if length_sq > 0 else 1.0
+            t, gap = _project(route, segment, x, y)
             if t >= 1.0 and segment < last:
                 segment += 1
                 continue
             break
+        if self._target is not None and distance(x, y, self._target[0], self._target[1]) ** 2 < gap:
+            for later in range(segment + 1, min(self._target[2], last) + 1):
+                t_later, gap_later = _project(route, later, x, y)
+                if gap_later < gap:
+                    segment, t, gap = later, t_later, gap_later
         self._segment = segment
         t = max(0.0, min(1.0, t))
         return route.s[segment] + t * (route.s[segment + 1] - route.s[segment])
@@ -340,7 +346,8 @@ class RouteFollower(object):
         speed = max(slowest, min(route.speed_at(along, self._segment), limit.max_v,
                                  math.sqrt(2.0 * self.brake_decel * remaining)))
         reach_ahead = max(self.lookahead, self.lookahead_time * speed)
-        tx, ty, _ = route.point_at(min(along + reach_ahead, route.s[end_vertex]), self._segment)
+        self._target = route.point_at(min(along + reach_ahead, route.s[end_vertex]), self._segment)
+        tx, ty, _ = self._target
         reach = distance(odom.x, odom.y, tx, ty)
         alpha = wrap_angle(math.atan2(ty - odom.y, tx - odom.x) - odom.yaw)
         if abs(alpha) > math.pi / 3.0:
@@ -353,6 +360,7 @@ class RouteFollower(object):
         if still or odom.stamp - self._stop_since >= self.stop_timeout:
             self._piece += 1
             self._segment = self.route.corners[self._piece]
+            self._target = None
             self._start_turn(odom)
         return 0.0, 0.0
 
@@ -392,6 +400,18 @@ class RouteFollower(object):
         if rotation.done:
             self.mode, self._rotation = DRIVING, None
         return command, abs(rotation.remaining)
+
+
+def _project(route, segment, x, y):
+    """(t, squared distance): the share along ``segment`` of the route of the
+    projection of (x, y) (unclamped; 1 on a zero-length segment) and the squared
+    distance from (x, y) to the segment."""
+    ax, ay = route.x[segment], route.y[segment]
+    dx, dy = route.x[segment + 1] - ax, route.y[segment + 1] - ay
+    length_sq = dx * dx + dy * dy
+    t = ((x - ax) * dx + (y - ay) * dy) / length_sq if length_sq > 0 else 1.0
+    share = max(0.0, min(1.0, t))
+    return t, (ax + share * dx - x) ** 2 + (ay + share * dy - y) ** 2
 
 
 def _rotation_param(params, name):

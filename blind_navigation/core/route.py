@@ -348,9 +348,12 @@ def _assemble(anchor, landmarks, chain, params):
             xs.append(final[0])
             ys.append(final[1])
             speeds.append(speeds[0])
-        for index, link in enumerate(chain):     # those recorded where the recording started
-            if link[3] == final:
-                end_vertex[index] = len(xs) - 1
+        # the last landmarks, recorded standing where the recording started, end on it (only
+        # the trailing run: an earlier return to that exact point is not the route's end)
+        for index in range(len(chain) - 1, -1, -1):
+            if chain[index][3] != final:
+                break
+            end_vertex[index] = len(xs) - 1
     corner = _corners(xs, ys, _param(params, 'corner_angle'))
     sections = _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params)
     return Route(xs, ys, speeds, corner, sections)

@@ -1,12 +1,18 @@
 """Make the repo's Python package importable for unit tests run without catkin;
-shared fixtures."""
+shared fixtures; with ``CI`` set, hypothesis runs derandomized (docs/testing.md)."""
 import os
 import subprocess
 import sys
 
 import pytest
+from hypothesis import settings
 
 sys.path.insert(0, os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..')))
+
+# CI: the same examples on every run (a clean clone has no example database to replay)
+settings.register_profile('ci', derandomize=True, database=None)
+if os.environ.get('CI'):
+    settings.load_profile('ci')
 
 
 @pytest.fixture

@@ -8,7 +8,7 @@ and a follower drives it home without aborting."""
 import math
 from types import SimpleNamespace
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from blind_navigation.core.geometry import distance
@@ -16,7 +16,7 @@ from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_route
 from blind_navigation.core.route import Route, build_route
 
 from test_pruning import on_route
-from test_route_properties import ANCHOR, LANDMARK
+from test_route_properties import ANCHOR, BACK_AT_THE_START, LANDMARK
 from unicycle import follow_route, record
 
 CUT_ANYWHERE = SimpleNamespace(wheel_error_per_m=0.0, gyro_noise_density=0.0, uncorrected_bias_std=0.0,
@@ -46,6 +46,7 @@ def test_pruned_paths_that_come_back_run_through_the_recorded_path_in_order(prof
 
 @settings(max_examples=120, deadline=None)
 @given(st.lists(LANDMARK, max_size=40), ANCHOR)
+@example(*BACK_AT_THE_START)
 def test_any_pruned_route_runs_through_the_recorded_path_in_order(landmarks, anchor):
     check_pruned(landmarks, anchor, CUT_ANYWHERE)
 

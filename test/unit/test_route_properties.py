@@ -6,7 +6,7 @@ survives its plain form, and a follower on an exact unicycle drives it home
 without aborting."""
 import math
 
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from blind_navigation.core.geometry import distance
@@ -28,6 +28,22 @@ LANDMARK = st.builds(
     T=st.one_of(st.just(2.0), st.just(1.0), st.floats(0.001, 2.5)),
     psi=st.floats(-math.pi, math.pi))
 ANCHOR = st.tuples(st.floats(-10, 10), st.floats(-10, 10))
+#: Found by hypothesis: mm steps that come back exactly to where the recording started
+#: (the first landmark's start, (-0.002, 1)) and leave it again; its landmarks once all
+#: ended on the route's last vertex, before the sections in between (route: section 1
+#: ends before section 0).
+BACK_AT_THE_START = ([Landmark(0.0, 0.0, 0.0, 2.0, 0.0)] * 7 + [
+    Landmark(0.0, 0.0, 0.001953125, 2.0, 0.0), Landmark(-0.00048828125, 0.0, 0.0, 2.0, 0.0),
+    Landmark(0.0, 0.0, 0.001953125, 2.0, 0.0), Landmark(0.0, 0.0, 0.001953125, 2.0, 0.0)], (0.0, 1.0))
+#: Found by hypothesis: curls tighter than the robot drives (11 cm turning 3 rad; a
+#: 38 cm teardrop turning 2 pi, its lookahead 0.24 m) within one piece; the robot,
+#: cutting across, reached its pursuit target while its projection stayed on an early
+#: segment, and turned in place there until the stall timeout.
+TIGHT_CURL = ([Landmark(0.0, 0.0, 0.0, 2.0, 0.0), Landmark(0.5009765625, 0.0, 0.0, 2.0, 0.0),
+               Landmark(0.0, 0.0, 0.10949707031250003, 1.0, 3.0)], (0.0, 0.0), 0.0)
+TEARDROP = ([Landmark(0.0, 0.0, 0.0, 2.0, 0.0), Landmark(0.0, 0.0, 0.0, 2.0, 0.0),
+             Landmark(-0.000999994575977328, 0.0, 0.125, 2.0, math.pi),
+             Landmark(-0.5107421875, 0.0, 0.12500000000000028, 2.0, 0.0)], (0.0, 0.0), 0.0)
 
 
 def reach(landmark, previous):
@@ -40,6 +56,7 @@ def reach(landmark, previous):
 
 @settings(max_examples=150, deadline=None)
 @given(st.lists(LANDMARK, max_size=25), ANCHOR)
+@example(*BACK_AT_THE_START)
 def test_any_landmarks_give_a_sane_route_within_the_recorded_reach(landmarks, anchor):
     route = build_route(landmarks, anchor)
     n = len(landmarks)
@@ -61,6 +78,8 @@ def test_any_landmarks_give_a_sane_route_within_the_recorded_reach(landmarks, an
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(LANDMARK, min_size=1, max_size=8), ANCHOR, st.floats(-math.pi, math.pi))
+@example(*TIGHT_CURL)
+@example(*TEARDROP)
 def test_no_landmark_makes_the_follower_abort(landmarks, anchor, yaw):
     route = build_route(landmarks, anchor)
     robot, follower = follow_route(route, (anchor[0], anchor[1], yaw), dt=0.05, limit=20000)
