@@ -1,4 +1,4 @@
-"""The persisted progress of a return, and whether a restarted layer may resume it.
+"""The persisted progress of a return: the record and its file.
 
 Life of a return (each step returns a new, validated :class:`ReturnProgress`;
 the caller persists it atomically with :func:`save_progress` next to the
@@ -8,14 +8,10 @@ loss (landmark file, anchor, odometry frame, mission id),
 and landmark count, the route as plain data), :meth:`~ReturnProgress.goal_done`
 after each goal, :meth:`~ReturnProgress.finish` with ``home`` or ``aborted``.
 
-A restarted layer asks :func:`resume_from_file` (or
-:meth:`~ReturnProgress.resume`) what to do: :data:`RESUME`, :data:`IGNORE`
-(nothing was under way) or :data:`ABORT` (a return was under way and cannot
-safely continue, or the file cannot be trusted: docs/safety.md, "Faults");
-:func:`settle_abort` then records the abort, so the next start is clean. The
-recorded landmark file itself is only ever read.
+:func:`load_progress` reads it back (a file of another ``format`` version is
+refused, naming the field); whether a restarted layer resumes is core/resume.py's.
+The recorded landmark file itself is only ever read.
 """
-import datetime
 import hashlib
 import math
 import os
@@ -26,8 +22,6 @@ import yaml
 
 from . import mission_state as state
 from .files import FileContentError, NotRegularFileError, read_regular_file, write_atomically
-from .plausibility import Limits
-from .store import LandmarkFileError, load_landmarks
 
 #: Defaults of the resume rule (the client exposes them as ~params).
 PROGRESS_DEFAULTS = {
@@ -46,11 +40,6 @@ MAX_PROGRESS_BYTES = 16 << 20
 #: Deepest nesting accepted in ``route``.
 MAX_ROUTE_DEPTH = 16
 
-RESUME, IGNORE, ABORT = 'resume', 'ignore', 'abort'
-ResumeDecision = namedtuple('ResumeDecision', 'action reason progress')
-ResumeDecision.__doc__ = ('What a restarted layer does: ``action`` (RESUME, IGNORE or ABORT), '
-                          '``reason`` (one line naming the file and, for a bad file, the field), '
-                          '``progress`` (the ReturnProgress read, None if none could be).')
 
 _HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
 
@@ -71,16 +60,16 @@ def _is_count(value):
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def _is_point(value):
+def _isas_point(value):
     return isinstance(value, list) and len(value) == 2 and all(_is_number(c) for c in value)
 
 
-def _point(value):
+def as_point(value):
     """``value`` as [x, y] floats (None stays None); ValueError if not a finite point."""
     if value is None:
         return None
     point = list(value) if isinstance(value, (list, tuple)) else value
-    if not _is_point(point):
+    if not _isas_point(point):
         raise ValueError('a point must be [x, y] (finite numbers), got %r' % (value,))
     return [float(c) for c in point]
 
@@ -112,7 +101,7 @@ def _route(value):
     if isinstance(value, dict):
         return _plain(value)
     if isinstance(value, (list, tuple)):
-        return [_point(point) for point in value]
+        return [as_point(point) for point in value]
     raise ValueError('route must be a list of [x, y] waypoints, a map of plain data or null, '
                      'got %s' % type(value).__name__)
 
@@ -142,7 +131,7 @@ def _field_problem(progress):
                                                                                p.completed)
     for name in ('anchor', 'position'):
         value = getattr(p, name)
-        if value is not None and not _is_point(value):
+        if value is not None and not _isas_point(value):
             return name, 'must be [x, y] (finite numbers) or null, got %r' % (value,)
     if returned and p.anchor is None:
         return 'anchor', 'a return needs its anchor, got null'
@@ -188,7 +177,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         """Vision was lost: a return over ``landmark_file`` (resolved to its real
         path) begins with the pi turn; ``anchor`` [x, y] or None if odometry was
         not fresh (then :meth:`start` needs one)."""
-        anchor = _point(anchor)
+        anchor = as_point(anchor)
         return cls(landmark_file=os.path.realpath(os.path.expanduser(landmark_file)), digest='',
                    landmarks=0, anchor=anchor, frame_id=str(frame_id or ''), completed=0,
                    position=anchor, status=state.ROTATING, updated=float(now), route=None,
@@ -201,7 +190,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         if self.status != state.ROTATING:
             raise ValueError('a return starts after the pi turn (status rotating), not in %s'
                              % self.status)
-        anchor = _point(anchor) if anchor is not None else self.anchor
+        anchor = as_point(anchor) if anchor is not None else self.anchor
         if anchor is None:
             raise ValueError('the return has no anchor (no odometry at vision loss): give one')
         return self._replace(digest=digest, landmarks=landmarks, anchor=anchor,
@@ -218,7 +207,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
                              % (self.completed, self.landmarks, completed))
         changes = dict(completed=completed, updated=float(now))
         if position is not None:
-            changes['position'] = _point(position)
+            changes['position'] = as_point(position)
         if travelled is not None:
             changes['travelled'] = float(travelled)
         return self._replace(**changes).checked()
@@ -231,7 +220,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
             raise ValueError('the return already ended %s' % self.status)
         changes = dict(status=status, reason=str(reason), updated=float(now))
         if position is not None:
-            changes['position'] = _point(position)
+            changes['position'] = as_point(position)
         return self._replace(**changes).checked()
 
     @classmethod
@@ -253,81 +242,6 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         if problem:
             raise ProgressError(path, *problem)
         return self
-
-    def resume(self, now, digest, position, mission=None,
-               resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
-               resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], landmark_count=None):
-        """May a restarted layer resume this return? A :class:`ResumeDecision`.
-
-        ``now``: wall time, s; ``digest``: sha256 of ``landmark_file`` now (None
-        if it cannot be read); ``position``: the robot's odometry [x, y] now
-        (None if unknown: wait for odometry before asking); ``mission``: the
-        current mission's id, if known; ``landmark_count``: how many landmarks
-        the file holds now, if the caller loaded it. Rules, in order:
-
-        - finished (home, aborted): IGNORE;
-        - unfinished, and both this record and the caller name a mission, and
-          they differ: IGNORE (left over from an earlier mission);
-        - otherwise a return of this mission was under way: ABORT if it was
-          updated more than ``resume_timeout`` s ago or in the future (the clock
-          changed), during the pi turn (the heading is unknown), if the file is
-          gone or changed or does not hold ``landmarks`` landmarks, if the
-          robot's position is unknown or more than
-          ``resume_max_offset`` m from where the return stopped; else RESUME.
-        """
-        action, why = resume_check(self, now, digest, resume_timeout, mission)
-        if action == RESUME and landmark_count is not None and landmark_count != self.landmarks:
-            action, why = ABORT, ('%s: landmarks: the return was over %d landmarks, the file holds '
-                                  '%d' % (self.landmark_file, self.landmarks, landmark_count))
-        if action == RESUME:
-            problem = position_check(self, position, resume_max_offset)
-            if problem:
-                action, why = ABORT, 'cannot resume the return of %s: %s' % (self.landmark_file,
-                                                                             problem)
-        return ResumeDecision(action, why, self)
-
-
-def resume_check(progress, now, digest, resume_timeout, mission=None):
-    """The file part of :meth:`ReturnProgress.resume` (not where the robot is):
-    ``(action, reason)``."""
-    if not progress.unfinished:
-        return IGNORE, 'the last return (%s) ended %s' % (progress.landmark_file, progress.status)
-    if mission is not None and progress.mission is not None and mission != progress.mission:
-        return IGNORE, ('an unfinished return of %s is left over from mission %s (this is mission '
-                        '%s); not resuming it' % (progress.landmark_file, progress.mission, mission))
-    age = now - float(progress.updated)
-    if age < 0:
-        return ABORT, ('the unfinished return of %s was updated %.0f s in the future (the clock '
-                       'changed?): cannot tell how old it is' % (progress.landmark_file, -age))
-    if age > resume_timeout:
-        return ABORT, ('the unfinished return of %s was last updated %.0f s ago (resume_timeout '
-                       '%.0f s): too old to resume' % (progress.landmark_file, age, resume_timeout))
-    if progress.status == state.ROTATING:
-        return ABORT, 'restarted during the pi turn: the heading is unknown, not travelling back'
-    if digest is None:
-        return ABORT, 'landmark file %s of the unfinished return is gone' % progress.landmark_file
-    if digest != progress.digest:
-        return ABORT, 'landmark file %s changed since the return started' % progress.landmark_file
-    if progress.anchor is None or progress.position is None:
-        return ABORT, 'the unfinished return has no anchor/position to resume from'
-    return RESUME, 'resuming the return of %s after %d of %d landmarks' % (
-        progress.landmark_file, progress.completed, progress.landmarks)
-
-
-def position_check(progress, position, resume_max_offset):
-    """None if the robot (odometry ``position`` [x, y], None if unknown) is within
-    ``resume_max_offset`` m of where ``progress`` stopped, else why not."""
-    if position is None:
-        return 'no odometry to check where the robot is'
-    try:
-        x, y = _point(position)
-    except (TypeError, ValueError) as error:
-        return 'the robot\'s position is unusable: %s' % error
-    offset = math.hypot(x - progress.position[0], y - progress.position[1])
-    if offset > resume_max_offset:
-        return ('the robot is %.2f m from where the return stopped (resume_max_offset %.2f m): '
-                'odometry reset or robot moved' % (offset, resume_max_offset))
-    return None
 
 
 # --- the file ----------------------------------------------------------------
@@ -384,52 +298,3 @@ def load_progress(path):
     if unknown:
         raise ProgressError(path, unknown[0], 'unknown field')
     return ReturnProgress(**document).checked(path)
-
-
-def resume_from_file(path, now, position, mission=None,
-                     resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
-                     resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], limits=Limits()):
-    """What a restarted layer does with the progress at ``path``: a
-    :class:`ResumeDecision` (see :meth:`ReturnProgress.resume`). No file:
-    IGNORE; a file that cannot be trusted: ABORT naming the file and field.
-    The landmark file's digest and count are taken here (loaded with
-    ``limits``; a file that no longer loads: ABORT naming it)."""
-    try:
-        progress = load_progress(path)
-    except ProgressError as error:
-        return ResumeDecision(ABORT, 'cannot trust the return progress: %s' % error, None)
-    if progress is None:
-        return ResumeDecision(IGNORE, 'no return progress at %s' % path, None)
-    digest = count = None
-    if progress.unfinished and progress.status != state.ROTATING:
-        try:
-            digest = file_digest(progress.landmark_file)
-            count = len(load_landmarks(progress.landmark_file, limits).landmarks)
-        except OSError:
-            digest = None
-        except LandmarkFileError as error:
-            return ResumeDecision(ABORT, 'landmark file unusable: %s' % error, progress)
-    return progress.resume(now, digest, position, mission, resume_timeout, resume_max_offset,
-                           count)
-
-
-def settle_abort(path, decision, now):
-    """Record an ABORT ``decision`` at ``path`` so the next start does not decide
-    again: the progress read is marked aborted with the reason; an untrusted
-    file is first renamed to ``<path>.bad-<time>`` (kept for inspection) and
-    replaced by an aborted record. Returns the name it was set aside as, or
-    None. StorageError (naming the file) if it cannot be written."""
-    if decision.action != ABORT:
-        raise ValueError('only an abort is settled, not %r' % (decision.action,))
-    if decision.progress is not None:
-        save_progress(path, decision.progress.finish(state.ABORTED, decision.reason, now))
-        return None
-    aside = None
-    if os.path.lexists(path):
-        stamp = datetime.datetime.fromtimestamp(now).strftime('%Y%m%d-%H%M%S')
-        aside, n = '%s.bad-%s' % (path, stamp), 1
-        while os.path.lexists(aside):
-            aside, n = '%s.bad-%s-%d' % (path, stamp, n), n + 1
-        os.rename(path, aside)
-    save_progress(path, ReturnProgress.aborted(decision.reason, now))
-    return aside

@@ -9,8 +9,8 @@ import os
 import time
 
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.progress import (ABORT, IGNORE, ProgressError, progress_path,
-                                            resume_from_file, save_progress, settle_abort)
+from blind_navigation.core.progress import ProgressError, progress_path, save_progress
+from blind_navigation.core.resume import ABORT, IGNORE, resume_from_file, settle_abort
 
 
 class ProgressKeeper(object):
@@ -35,7 +35,7 @@ class ProgressKeeper(object):
         """(state, reason): ``returning`` to resume an unfinished return of this
         mission, ``aborted`` if one was under way but cannot continue (or its
         progress cannot be trusted; the abort is recorded), else ``idle``
-        (core/progress.resume_from_file). ``position()`` waits for the robot's [x, y]."""
+        (core/resume.resume_from_file). ``position()`` waits for the robot's [x, y]."""
         if not os.path.lexists(self.path):
             return state.IDLE, ''
         decision = resume_from_file(self.path, time.time(), position(), mission_id,

@@ -9,9 +9,10 @@ import yaml
 
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
-from blind_navigation.core.progress import (ABORT, IGNORE, RESUME, ProgressError, ReturnProgress,
-                                            file_digest, load_progress, progress_path,
-                                            resume_from_file, save_progress, settle_abort)
+from blind_navigation.core.progress import (ProgressError, ReturnProgress, file_digest,
+                                            load_progress, progress_path, save_progress)
+from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
+                                          settle_abort)
 
 NOW = 1.7e9
 
@@ -135,21 +136,21 @@ def test_a_failed_write_keeps_the_old_progress_and_names_the_file(mission, tmp_p
 def test_resume_rules(mission):
     link, _, digest = mission
     p = returning(link, digest)
-    assert p.resume(NOW, digest, [0.6, 2.1]).action == RESUME
-    assert p.resume(NOW, digest, [0.6, 2.1], mission='m1').action == RESUME
-    decision = p.resume(NOW, digest, [0.6, 2.1], mission='m2')
+    assert resume_decision(p, NOW, digest, [0.6, 2.1]).action == RESUME
+    assert resume_decision(p, NOW, digest, [0.6, 2.1], mission='m1').action == RESUME
+    decision = resume_decision(p, NOW, digest, [0.6, 2.1], mission='m2')
     assert decision.action == IGNORE and 'left over from mission m1' in decision.reason
     ended = p.finish(state.ABORTED, 'x', NOW - 5)
-    assert ended.resume(NOW, digest, None).action == IGNORE
+    assert resume_decision(ended, NOW, digest, None).action == IGNORE
     for now, words in ((NOW + 700.0, 'too old'), (NOW - 60.0, 'in the future')):
-        decision = p.resume(now, digest, [0.6, 2.1])
+        decision = resume_decision(p, now, digest, [0.6, 2.1])
         assert decision.action == ABORT and words in decision.reason
     rotating = ReturnProgress.begin(link, [1.0, 2.0], 'odom', NOW - 5)
-    assert 'pi turn' in rotating.resume(NOW, digest, [1.0, 2.0]).reason
-    assert 'changed' in p.resume(NOW, '0' * 64, [0.6, 2.1]).reason
-    assert 'gone' in p.resume(NOW, None, [0.6, 2.1]).reason
-    assert 'no odometry' in p.resume(NOW, digest, None).reason
-    decision = p.resume(NOW, digest, [2.0, 2.0])
+    assert 'pi turn' in resume_decision(rotating, NOW, digest, [1.0, 2.0]).reason
+    assert 'changed' in resume_decision(p, NOW, '0' * 64, [0.6, 2.1]).reason
+    assert 'gone' in resume_decision(p, NOW, None, [0.6, 2.1]).reason
+    assert 'no odometry' in resume_decision(p, NOW, digest, None).reason
+    decision = resume_decision(p, NOW, digest, [2.0, 2.0])
     assert decision.action == ABORT and 'moved' in decision.reason
 
 
