@@ -5,7 +5,7 @@ the caller persists it atomically with :func:`save_progress` next to the
 landmark file, :func:`progress_path`): :meth:`ReturnProgress.begin` at vision
 loss (landmark file, anchor, odometry frame, mission id),
 :meth:`~ReturnProgress.start` when the robot starts back (the file's sha256
-and landmark count, the route as plain data), :meth:`~ReturnProgress.goal_done`
+and landmark count, the route record), :meth:`~ReturnProgress.goal_done`
 after each goal, :meth:`~ReturnProgress.finish` with ``home`` or ``aborted``.
 
 :func:`load_progress` reads it back (a file of another ``format`` version is
@@ -22,6 +22,7 @@ import yaml
 
 from . import mission_state as state
 from .files import FileContentError, NotRegularFileError, read_regular_file, write_atomically
+from .route import Route
 
 #: Defaults of the resume rule (the client exposes them as ~params).
 PROGRESS_DEFAULTS = {
@@ -29,7 +30,11 @@ PROGRESS_DEFAULTS = {
     'resume_max_offset': 0.5,  # m between the robot and where the return stopped, to resume
 }
 
-FORMAT_VERSION = 1
+#: The layout of the progress file; a file of another version is refused (not resumed).
+#: 2: ``route`` is a route record (:func:`route_record`); 1 kept it as free plain data.
+FORMAT_VERSION = 2
+#: The fields of the ``route`` field's map.
+ROUTE_RECORD = ('route', 'heading')
 FIELDS = ('landmark_file', 'digest', 'landmarks', 'anchor', 'frame_id', 'completed', 'position',
           'status', 'updated', 'route', 'reason', 'mission', 'started', 'travelled')
 STATUSES = (state.ROTATING, state.RETURNING, state.HOME, state.ABORTED)
@@ -60,7 +65,7 @@ def _is_count(value):
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def _isas_point(value):
+def _is_point(value):
     return isinstance(value, list) and len(value) == 2 and all(_is_number(c) for c in value)
 
 
@@ -69,7 +74,7 @@ def as_point(value):
     if value is None:
         return None
     point = list(value) if isinstance(value, (list, tuple)) else value
-    if not _isas_point(point):
+    if not _is_point(point):
         raise ValueError('a point must be [x, y] (finite numbers), got %r' % (value,))
     return [float(c) for c in point]
 
@@ -95,15 +100,38 @@ def _plain(value, depth=0):
 
 
 def _route(value):
-    """A route: None, a list of [x, y] waypoints or a map of plain data."""
+    """A route record (:func:`route_record`) or None, as stored; ValueError naming
+    what is wrong (the route itself is checked by core/route.Route.from_lists)."""
     if value is None:
         return None
-    if isinstance(value, dict):
-        return _plain(value)
-    if isinstance(value, (list, tuple)):
-        return [as_point(point) for point in value]
-    raise ValueError('route must be a list of [x, y] waypoints, a map of plain data or null, '
-                     'got %s' % type(value).__name__)
+    if not isinstance(value, dict) or set(value) != set(ROUTE_RECORD):
+        raise ValueError('route must be null or a map of exactly %s, got %r'
+                         % (', '.join(ROUTE_RECORD), value if not isinstance(value, dict)
+                            else sorted(value)))
+    Route.from_lists(value['route'])
+    heading = value['heading']
+    if heading is not None and not isinstance(heading, dict):
+        raise ValueError('route heading must be a map or null, got %s' % type(heading).__name__)
+    return {'route': _plain(value['route']), 'heading': _plain(heading)}
+
+
+def route_record(route, heading=None):
+    """What the progress keeps of the return's route (its ``route`` field): the
+    core/route.Route and, with the heading correction, its plain form
+    (ros/heading_correction's ``to_plain``: a restarted layer continues in the same frame)."""
+    return {'route': route.to_lists(), 'heading': heading}
+
+
+def kept_route(progress):
+    """The core/route.Route ``progress`` keeps; ValueError if it keeps none."""
+    if progress.route is None:
+        raise ValueError('no route kept')
+    return Route.from_lists(progress.route['route'])
+
+
+def kept_heading(progress):
+    """The plain heading correction ``progress`` keeps, or None."""
+    return progress.route['heading'] if progress.route is not None else None
 
 
 def _field_problem(progress):
@@ -131,7 +159,7 @@ def _field_problem(progress):
                                                                                p.completed)
     for name in ('anchor', 'position'):
         value = getattr(p, name)
-        if value is not None and not _isas_point(value):
+        if value is not None and not _is_point(value):
             return name, 'must be [x, y] (finite numbers) or null, got %r' % (value,)
     if returned and p.anchor is None:
         return 'anchor', 'a return needs its anchor, got null'
@@ -164,7 +192,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
     odometry where recording stopped, or None), ``frame_id`` (odometry frame),
     ``completed`` (goals done, return order), ``position`` ([x, y] odometry at
     the last update, or None), ``status`` (rotating, returning, home, aborted),
-    ``updated`` (wall time, s), ``route`` (plain data, see :meth:`start`),
+    ``updated`` (wall time, s), ``route`` (:func:`route_record`),
     ``reason`` (why it ended), ``mission`` (the mission id, or None),
     ``started`` (wall time of :meth:`begin`, s), ``travelled`` (m driven by the
     return so far, for core/plausibility.RouteBudget across restarts).
@@ -185,7 +213,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
 
     def start(self, digest, landmarks, now, route=None, anchor=None):
         """The robot starts back over ``landmarks`` landmarks of a file with sha256
-        ``digest``; ``route``: the route the return follows, as plain data;
+        ``digest``; ``route``: the route the return follows (:func:`route_record`);
         ``anchor``: [x, y] if :meth:`begin` had none."""
         if self.status != state.ROTATING:
             raise ValueError('a return starts after the pi turn (status rotating), not in %s'
@@ -290,7 +318,9 @@ def load_progress(path):
                             % (', '.join(FIELDS), type(document).__name__))
     version = document.pop('format', None)
     if version != FORMAT_VERSION:
-        raise ProgressError(path, 'format', 'must be %d, got %r' % (FORMAT_VERSION, version))
+        raise ProgressError(path, 'format', 'must be %d, got %r%s' % (
+            FORMAT_VERSION, version, ' (written by an older version of the layer: its return '
+            'is not resumed)' if isinstance(version, int) and version < FORMAT_VERSION else ''))
     missing = [name for name in FIELDS if name not in document]
     if missing:
         raise ProgressError(path, missing[0], 'missing')

@@ -9,7 +9,8 @@ import os
 import time
 
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.progress import ProgressError, progress_path, save_progress
+from blind_navigation.core.progress import (ProgressError, kept_heading, progress_path,
+                                            route_record, save_progress)
 from blind_navigation.core.resume import ABORT, IGNORE, resume_from_file, settle_abort
 
 
@@ -54,16 +55,15 @@ class ProgressKeeper(object):
         return state.RETURNING, 'resume after a restart'
 
     def route_data(self, route):
-        """What the progress keeps of the route: the route itself and, with the heading
-        correction, the correction and the corrected frame's state now (a restarted
-        layer continues in the same frame)."""
-        heading = self.correction.to_plain() if self.correction is not None else None
-        return {'route': route.to_lists(), 'heading': heading}
+        """The route record (core/progress.route_record) of ``route`` and, with the
+        heading correction, the correction and the corrected frame's state now."""
+        return route_record(route, self.correction.to_plain() if self.correction is not None
+                            else None)
 
     def restore_heading(self):
         """The heading correction kept in the progress, installed (the whole layer
         restarted mid-return); None, or why it cannot be."""
-        kept = (self.progress.route or {}).get('heading')
+        kept = kept_heading(self.progress)
         if kept and self.correction is not None and not self.correction.received:
             try:
                 self.correction.install_plain(kept)

@@ -14,10 +14,9 @@ from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.plausibility import RouteBudget
-from blind_navigation.core.progress import file_digest
+from blind_navigation.core.progress import file_digest, kept_route
 from blind_navigation.core.return_plan import (gaps_warning, plan_route, recording_problem,
                                                return_goals)
-from blind_navigation.core.route import Route
 from blind_navigation.core.safety import expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal
@@ -101,7 +100,7 @@ class ReturnRunner(object):
         if digest != progress.digest or goals != progress.landmarks:
             return None, 'landmark file %s changed since the return started' % progress.landmark_file
         try:
-            return Route.from_lists((progress.route or {}).get('route')), None
+            return kept_route(progress), None
         except ValueError as error:
             return None, 'cannot resume: the route in %s: %s' % (self.mission.keeper.path, error)
 

@@ -5,7 +5,6 @@ The layer's roles obey only the mission state published by the mission's owner
 without a client names itself as that role's ``~mission_owner`` in its .test file
 and publishes the state with :class:`MissionOwner`.
 """
-import json
 import time
 
 import rospy
@@ -15,6 +14,7 @@ from blind_navigation import names
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.route import build_route
 from blind_navigation.msg import BackTravelGoal
+from blind_navigation.ros.route_wire import route_message
 from blind_navigation.srv import SetReturnRoute
 
 #: A goal no server takes (|v| far beyond the Kobuki's): rejected as a bad goal while
@@ -58,7 +58,7 @@ class MissionOwner(object):
         deadline = time.monotonic() + timeout
         while True:
             response = set_route(header=Header(stamp=rospy.Time.now(), frame_id='odom'),
-                                 route=json.dumps(route.to_lists()),
+                                 route=route_message(route),
                                  landmarks=[value for goal in goals for value in goal], completed=0)
             if response.ok:
                 return
