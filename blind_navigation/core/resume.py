@@ -6,6 +6,7 @@ safely continue, or the file cannot be trusted: docs/safety.md, "Faults");
 :func:`settle_abort` then records the abort, so the next start is clean.
 """
 import datetime
+import enum
 import math
 import os
 from collections import namedtuple
@@ -16,7 +17,16 @@ from .progress import (PROGRESS_DEFAULTS, ProgressError, ReturnProgress, as_poin
                        load_progress, save_progress)
 from .store import LandmarkFileError, load_landmarks
 
-RESUME, IGNORE, ABORT = 'resume', 'ignore', 'abort'
+
+
+class Action(enum.Enum):
+    """What a restarted layer does with a return's progress."""
+    RESUME = 'resume'
+    IGNORE = 'ignore'
+    ABORT = 'abort'
+
+
+RESUME, IGNORE, ABORT = Action.RESUME, Action.IGNORE, Action.ABORT
 ResumeDecision = namedtuple('ResumeDecision', 'action reason progress')
 ResumeDecision.__doc__ = ('What a restarted layer does: ``action`` (RESUME, IGNORE or ABORT), '
                           '``reason`` (one line naming the file and, for a bad file, the field), '
