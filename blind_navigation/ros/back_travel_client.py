@@ -1,21 +1,19 @@
 """The back-travel client: the paper's action client (section 3.3.7, Figure 6)
-and the owner of the mission's state (core/mission_state.py).
+and the owner of the mission's state, a thin ROS shell over its rooms.
 
 It publishes the state latched on ``blind_navigation/state`` (std_msgs/String)
 and, with its reason and the return's progress, on ``blind_navigation/status``
-(blind_navigation/MissionStatus). Vision lost while recording: ``rotating``
+(blind_navigation/MissionStatus); every change goes through
+core/mission_state.MissionState. Vision lost while recording: ``rotating``
 (the anchor and the landmark file's real path kept); the pi turn reported done
-(``blind_navigation/rotation_done``) and the robot really turned: it loads the
-landmarks (core/store), expresses them in the heading-corrected frame, builds
-the route (core/route; with ``prune_loops`` pruned by core/pruning), sets it on
-the server (``blind_navigation/set_return_route``) and sends the landmarks in
-reverse order, one goal at a time, within the whole return's allowance; then
-``home`` or ``aborted`` with the reason. It publishes the return's poses on
-``blind_navigation/return_path``. The progress (core/progress) is written next
-to ``landmark_file`` at vision loss and after each goal: a restarted client
-resumes or aborts. The landmark file is only read. A fault of this process
-(ros/wiring.py: a refused topic, a role's exception) or one another process
-reports on ``blind_navigation/role_failure`` ends the mission ``aborted``.
+(``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
+driven by ros/return_runner.py (the route set on the server, the landmarks
+sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
+the reason. The progress (ros/return_progress.py) is written next to
+``landmark_file`` at vision loss and after each goal: a restarted client
+resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
+ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
+or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
 Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
 import math
