@@ -83,6 +83,7 @@ fi
 # shellcheck source=venvs.sh
 source "$(dirname "$0")/venvs.sh"
 make_venv tools /usr/bin/python3 tools.txt
+make_venv sim /usr/bin/python3 sim.txt --system-site-packages   # the fake's physics engine (MuJoCo)
 if python38=$(find_python38); then
   make_venv py38 "$python38" py38.txt
   debian_ros_behind "$BN_WS/venvs/py38"

@@ -2,7 +2,8 @@
 
     /usr/bin/python3 -m blind_navigation.evaluation.bench [--seeds 20] [--processes 2]
         [--real-like-paths 60] [--real-like-seed 1000] [--no-real-like-events]
-        [--loops-paths 40] [--loops-seed 2000] [--no-ros] [--ros-seeds 2] [--rtf 4]
+        [--loops-paths 40] [--loops-seed 2000] [--physics-paths 100] [--physics-table6-seeds 3]
+        [--physics-trajectory-seeds 2] [--physics-loop-paths 12] [--no-ros] [--ros-seeds 2] [--rtf 4]
         [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--out results]
 
 Sections (docs/evaluation.md says what each number means):
@@ -15,9 +16,11 @@ Sections (docs/evaluation.md says what each number means):
    and replayed real trajectories, every mode, error against the physical floor;
 6. loops (evaluation/loops.py): paths that come back to where they have been,
    the closed-loop return pruned and unpruned: return length, time and error;
-7. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
+7. physics base (evaluation/physics.py): the default launch on the MuJoCo Kobuki
+   (sim/mujoco_kobuki.py) beside the kinematic one, same missions and seeds;
+8. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
    the landmark file vs the bag of the same run, detection and rotation latency;
-8. the layer's running cost in real time (evaluation/cost.py, launch/cost.launch):
+9. the layer's running cost in real time (evaluation/cost.py, launch/cost.launch):
    CPU and peak RSS per process at rtf 1 beside ``rosbag record /odom``, the
    default launch and the paper's layout, while recording and during the
    return; detection latency of the default and the image-based detectors.
@@ -30,7 +33,7 @@ import time
 
 from ..core.back_travel import MODES
 from ..sim.mission import load_mission
-from . import cost, loops, paper, plots, real_like, tables
+from . import cost, loops, paper, physics, plots, real_like, tables
 from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
@@ -301,6 +304,12 @@ def main(argv=None):
     parser.add_argument('--loops-paths', type=int, default=40,
                         help='loop paths of the loops section (spread over the categories; 0: skip)')
     parser.add_argument('--loops-seed', type=int, default=2000, help='first seed of the loop paths')
+    parser.add_argument('--physics-paths', type=int, default=100,
+                        help='random real-like paths of the physics-base section (0: skip the section)')
+    parser.add_argument('--physics-table6-seeds', type=int, default=3, help='physics base: seeds per Table VI mission')
+    parser.add_argument('--physics-trajectory-seeds', type=int, default=2,
+                        help='physics base: seeds per real trajectory')
+    parser.add_argument('--physics-loop-paths', type=int, default=12, help='physics base: loop paths')
     parser.add_argument('--no-ros', action='store_true', help='skip the ROS runs')
     parser.add_argument('--ros-seeds', type=int, default=2)
     parser.add_argument('--rtf', type=float, default=4.0, help='real-time factor of the agreement runs')
@@ -333,6 +342,10 @@ def main(argv=None):
     loops_text = ''
     if args.loops_paths > 0:
         loops_text, _ = timed('loops', loops_section, args)
+    physics_text = ''
+    if args.physics_paths > 0:
+        physics_text, physics_rows = timed('physics base', physics.section, args, log)
+        write_csv(os.path.join(args.out, 'physics.csv'), physics_rows)
     ros_text = ''
     if not args.no_ros:
         ros_text, _ = timed('ROS runs', ros_section, args, rows)
@@ -364,6 +377,9 @@ def main(argv=None):
     if loops_text:
         sections.append(('loops', 'Loops: the return pruned and unpruned (return length, time and error)',
                          loops_text))
+    if physics_text:
+        sections.append(('physics', 'Physics base: the MuJoCo Kobuki beside the kinematic one (same missions '
+                         'and seeds, default launch)', physics_text))
     note = ('\nRecorded statistics (RLV, RAV, samples, memory) are those of the `time` runs, i.e. the '
             'paper\'s configuration (launch/paper.launch, classifier dead-band 0); `closed_loop` records '
             'with blind_navigation.launch\'s dead-band 0.01 rad (montecarlo.csv has every mode\'s).\n')
@@ -392,7 +408,7 @@ def main(argv=None):
         stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
                      'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
                      'CSV: montecarlo.csv, reconstruction.csv, storage.csv, real_like.csv, loops.csv, '
-                     'ros_runs.csv.\n')
+                     'physics.csv, ros_runs.csv.\n')
     print(open(os.path.join(args.out, 'report.md')).read())
     log('wrote %s/report.md in %.0f s' % (args.out, total))
 

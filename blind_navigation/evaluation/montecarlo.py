@@ -34,10 +34,10 @@ def recording_settings(mode):
     return {'deadband': 0.0, 'heading_correction': False} if mode in PAPER_CONFIGURATION_MODES else {}
 
 
-def gyro_calibration_for(profile, seed):
+def gyro_calibration_for(profile, seed, base='kinematic'):
     """The gyro calibration (calibrate_gyro.launch, simulated) the user of the
-    robot of ``profile`` made before mission ``seed``."""
-    return simulate_gyro_calibration(profile, seed + CALIBRATION_SEED_OFFSET)
+    robot of ``profile`` (on ``base``, sim/mujoco_kobuki.BASES) made before mission ``seed``."""
+    return simulate_gyro_calibration(profile, seed + CALIBRATION_SEED_OFFSET, base=base)
 
 
 def set_velocities(mission):
@@ -93,17 +93,17 @@ def return_geometry(forward_path, return_path):
             'pe': 100.0 * (d - cd) / d if d > 0 else float('nan'), 'rm': d - cd}
 
 
-def settings_for(profile, seed):
+def settings_for(profile, seed, base='kinematic'):
     """``settings_of(mode)``: the harness settings ``mode`` is launched with
-    (:func:`recording_settings`), with the gyro calibration of this robot
+    (:func:`recording_settings`) on ``base``, with the gyro calibration of this robot
     (:func:`gyro_calibration_for`, made once) where the heading correction runs."""
     calibration = []
 
     def settings_of(mode):
-        settings = recording_settings(mode)
+        settings = dict(recording_settings(mode), base=base)
         if harness_settings(**settings)['heading_correction']:
             if not calibration:
-                calibration.append(gyro_calibration_for(profile, seed))
+                calibration.append(gyro_calibration_for(profile, seed, base))
             settings['gyro_calibration'] = calibration[0]
         return settings
     return settings_of

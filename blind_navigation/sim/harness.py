@@ -2,8 +2,9 @@
 
 One run = what the ROS graph does, over the same core objects, at a fixed
 control step: a scripted operator (sim/mission.py) drives a SimulatedKobuki
-(sim/kobuki.py) while the two-rate SamplingSchedule and the PathRecorder take
-landmarks from its odometry; the mission ends, the robot is left to stop,
+(sim/kobuki.py; with the ``base`` setting ``mujoco`` the physics base,
+sim/mujoco_kobuki.py) while the two-rate SamplingSchedule and the PathRecorder
+take landmarks from its odometry; the mission ends, the robot is left to stop,
 vision is lost (a final landmark covers the partial cycle, the return route is
 anchored at the odometry position), core/rotation.py turns by pi, and the
 landmarks are driven back in reverse order.
@@ -81,7 +82,8 @@ from ..core.recorder import OdometryHistory, PathRecorder
 from ..core.rotation import Rotation
 from ..core.segment import SamplingSchedule
 from ..core.store import LandmarkWriter, load_landmarks
-from .kobuki import SimulatedKobuki, load_profile, make_profile
+from .kobuki import load_profile, make_profile
+from .mujoco_kobuki import make_base
 from .mission import load_mission
 from .visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 
@@ -109,6 +111,9 @@ SIMULATION_DEFAULTS = {
                                # a proposal; off = the paper's sampling)
     'odometry_gaps': (),       # ((start, length), ...) s after the pi turn starts: odometry stops
                                # arriving (held as the nodes hold: core/allowance.OdomGrace)
+    'base': 'kinematic',       # the robot: kinematic (sim/kobuki.py) or mujoco (sim/mujoco_kobuki.py)
+    'world': 'tile',           # the mujoco base's floor (config/worlds name or path)
+    'payload': (0.0, 0.0, 0.0),  # the mujoco base's payload: kg, x, y m of its centre of mass
     'prune_loops': False,      # closed_loop: cut loops and doubled-back stretches from the route
                                # (core/pruning.py, its params from ``params``), as the client's
                                # prune_loops does
@@ -140,8 +145,8 @@ class _Run(object):
     ``fit`` is set, visual odometry and odometry feed it; once
     ``corrector`` is set, :meth:`odom` is the corrected odometry."""
 
-    def __init__(self, profile, seed, dt, correct_heading=False):
-        self.base = SimulatedKobuki(profile, seed=seed)
+    def __init__(self, profile, seed, dt, correct_heading=False, base=('kinematic', 'tile', (0.0, 0.0, 0.0))):
+        self.base = make_base(base[0], profile, seed=seed, world=base[1], payload=base[2])
         self.dt = dt
         self.path = []
         self.path_times = []          # sim time of each point of ``path``
@@ -400,12 +405,14 @@ def _stop(run, settings):
         run.advance()
 
 
-def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0.02):
+def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0.02, base='kinematic',
+                              world='tile'):
     """Run core/gyro_calibration.SpinCalibration on a fake Kobuki (``seed``: its
-    gyro bias; visual odometry from ``seed`` + 1, as in a mission) and return
-    the :class:`GyroCalibration` (CalibrationError if not determined)."""
+    gyro bias; visual odometry from ``seed`` + 1, as in a mission; ``base``,
+    ``world``: as run_mission's) and return the :class:`GyroCalibration`
+    (CalibrationError if not determined)."""
     profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
-    run = _Run(profile, seed, control_dt)
+    run = _Run(profile, seed, control_dt, base=(base, world, (0.0, 0.0, 0.0)))
     spin = SpinCalibration(params)
     run.fit = spin.fit
     while not spin.done:
@@ -439,7 +446,8 @@ class _Recorded(object):
         self.profile_name = profile if isinstance(profile, str) else 'custom'
         self.profile = load_profile(profile) if isinstance(profile, str) else make_profile(profile)
         self.seed, self.settings = seed, settings
-        run = self.run = _Run(self.profile, seed, settings['control_dt'], settings['heading_correction'])
+        run = self.run = _Run(self.profile, seed, settings['control_dt'], settings['heading_correction'],
+                              (settings['base'], settings['world'], tuple(settings['payload'])))
         if settings['floor']:
             run.odometry_log = [run.base.odom]
         start = run.base.true_pose

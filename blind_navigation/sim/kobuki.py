@@ -21,13 +21,10 @@ the same object. What it reproduces (numbers from the Kobuki and kobuki_node):
 Every random draw comes from ``random.Random(seed)``: same seed, same run.
 """
 import math
-import os
 import random
 
-import yaml
-
 from ..core.geometry import OdomState, Pose2D, wrap_angle
-from .config_dir import config_dir
+from .config_dir import config_dir, load_named
 
 WHEEL_RADIUS = 0.035          # m
 WHEEL_SEPARATION = 0.230      # m
@@ -69,14 +66,7 @@ def load_profile(name_or_path):
     Missing keys take the ideal value; unknown keys or wrong types raise ValueError
     naming the key and the file.
     """
-    path = name_or_path
-    if os.path.sep not in name_or_path and not name_or_path.endswith('.yaml'):
-        path = os.path.join(PROFILE_DIR, name_or_path + '.yaml')
-    if not os.path.isfile(path):
-        known = sorted(f[:-5] for f in os.listdir(PROFILE_DIR) if f.endswith('.yaml'))
-        raise ValueError('noise profile %r not found (%s); known: %s' % (name_or_path, path, known))
-    with open(path) as stream:
-        data = yaml.safe_load(stream) or {}
+    path, data = load_named(PROFILE_DIR, name_or_path, 'noise profile')
     return make_profile(data, where=path)
 
 
@@ -257,7 +247,14 @@ class SimulatedKobuki(object):
             target = (_ramp(self._limited[0], target[0], lim['v_up'], lim['v_down'], h),
                       _ramp(self._limited[1], target[1], lim['w_up'], lim['w_down'], h))
         self._limited = target
-        v, w = target
+        self._actuate(target[0], target[1], h)
+        if self._steps % self._sensor_every == 0:
+            self._sense(self._sensor_every * h)
+
+    def _actuate(self, v, w, h):
+        """The wheels driven toward (v, w) for ``h`` s and the body moved (the physics;
+        sim/mujoco_kobuki.py replaces it)."""
+        p = self.profile
         if p['ripple_common'] > 0.0 and p['ripple_std'] > 0.0 and (v != 0.0 or w != 0.0):
             a = math.exp(-h / p['ripple_time'])
             self._common_ripple = self._common_ripple * a + self._rng.gauss(0.0, math.sqrt(1.0 - a * a))
@@ -265,8 +262,6 @@ class SimulatedKobuki(object):
         self._drive_wheel(self._left, v - half, h)
         self._drive_wheel(self._right, v + half, h)
         self._move_body(h)
-        if self._steps % self._sensor_every == 0:
-            self._sense(self._sensor_every * h)
 
     def _drive_wheel(self, wheel, target, h):
         p = self.profile
@@ -302,10 +297,15 @@ class SimulatedKobuki(object):
         self.true_twist = (v, w)
         self.true_pose = moved
 
+    def _true_turn(self):
+        """The body's true turn (rad) since the last sensor cycle, as the gyro feels it."""
+        turn = self.true_pose.yaw - self._cycle_start_yaw
+        self._cycle_start_yaw = self.true_pose.yaw
+        return turn
+
     def _sense(self, period):
         p = self.profile
-        true_rate = (self.true_pose.yaw - self._cycle_start_yaw) / period
-        self._cycle_start_yaw = self.true_pose.yaw
+        true_rate = self._true_turn() / period
         self.gyro_rate = (true_rate * (1.0 + p['gyro_scale_error']) + self._gyro_bias
                           + (self._rng.gauss(0.0, p['gyro_noise_std']) if p['gyro_noise_std'] > 0 else 0.0))
         self.gyro_heading += self.gyro_rate * period

@@ -1,6 +1,10 @@
 #!/usr/bin/env python3
 """Fake Kobuki base node: runs sim/kobuki.SimulatedKobuki and owns the sim clock.
 
+``~base`` chooses the robot: ``kinematic`` (sim/kobuki.py) or ``mujoco`` (the
+physics base, sim/mujoco_kobuki.py, on the floor ``~physics_world`` with an optional
+payload); it logs one line naming MuJoCo and its version at start.
+
 Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
 (Twist), ``commands/motor_power``, ``commands/reset_odometry`` (as kobuki_node: pose,
 gyro heading and wheel angles from zero, twist continuous); publishes at
@@ -45,8 +49,8 @@ from std_msgs.msg import Empty, Float64
 from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
-from blind_navigation.sim.kobuki import (ODOM_POSE_COVARIANCE, SENSOR_PERIOD, SimulatedKobuki,
-                                         load_profile)
+from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
+from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.common import load_params, set_pose, subscribe
 
 DBL_MAX = sys.float_info.max
@@ -63,12 +67,15 @@ class FakeKobuki(object):
     ``base_frame``, ``world_frame``, ``imu_frame``; ``publish_tf``; ``stats_period`` s of wall
     time between CPU/rtf log lines (0 = never); ``clock``: publish /clock at ``rtf`` (true) or
     follow another node's /clock (false; ``rtf`` then unused); ``wall_time``: no /clock, stamps
-    in wall time, paced at ``rtf`` 1 (the only rtf it accepts; ``clock`` then unused).
+    in wall time, paced at ``rtf`` 1 (the only rtf it accepts; ``clock`` then unused); ``base``
+    kinematic or mujoco; with mujoco ``physics_world`` (config/worlds name or path) and a payload
+    of ``payload_mass`` kg centred ``payload_x``, ``payload_y`` m from the axle's middle.
     """
     DEFAULTS = {'rtf': 1.0, 'seed': 0, 'noise': 'ideal', 'world': '', 'clock_period': 0.01,
                 'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
                 'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True,
-                'wall_time': False}
+                'wall_time': False, 'base': 'kinematic', 'physics_world': 'tile', 'payload_mass': 0.0,
+                'payload_x': 0.0, 'payload_y': 0.0}
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
@@ -86,7 +93,12 @@ class FakeKobuki(object):
         if p.world:
             with open(p.world) as stream:
                 arena = arena_from_dict(yaml.safe_load(stream), p.world)
-        self.base = SimulatedKobuki(load_profile(p.noise), seed=int(p.seed), arena=arena)
+        self.base = make_base(p.base, load_profile(p.noise), seed=int(p.seed), arena=arena,
+                              world=p.physics_world,
+                              payload=(float(p.payload_mass), float(p.payload_x), float(p.payload_y)))
+        if p.base == 'mujoco':
+            rospy.loginfo('fake_kobuki: physics base on %s (world %s, payload %g kg at %g, %g m)',
+                          engine_name(), p.physics_world, p.payload_mass, p.payload_x, p.payload_y)
         self.lock = threading.Lock()
         self.ticks = 0
         self.odometry_gap_until = None   # base time (s) a running odometry gap ends, or None
@@ -286,7 +298,7 @@ def main():
     rospy.init_node('mobile_base')
     try:
         node = FakeKobuki()
-    except (ValueError, OSError) as error:
+    except (ValueError, OSError, ImportError) as error:
         rospy.logfatal('fake_kobuki: %s', error)
         sys.exit(1)
     node.run()
