@@ -21,7 +21,7 @@ from collections import namedtuple
 
 from .geometry import OdomState, wrap_angle
 from .gyro_bias import fuse_bias
-from .route import period_turn
+from .period_model import period_turn
 
 #: Parameters of the decision (max_bias rad/s, max_scale, significance and
 #: scale_significance in standard errors).

@@ -13,7 +13,7 @@ reasons: docs/pruning.md, "Honest about drift".
 import math
 from collections import namedtuple
 
-from .route import period_turn
+from .period_model import period_turn
 
 #: Error model of the odometry over a loop (the back-travel client exposes them as ~params).
 #: wheel_error_per_m: the paper profile's encoder distance error at indoor speeds

@@ -14,10 +14,11 @@ the mission's owner (back_travel_client)::
 - ``returning``: the pi turn is over and the robot really turned.
 - ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts.
 
-Motion is commanded only by the role that owns the phase (:data:`MOTION_OWNER`):
-the pi turn in ``rotating``, the back travel in ``returning``; every velocity
-output of the layer asks :func:`may_move` before it publishes anything but zero.
+Every change goes through :meth:`MissionState.transition` (table-checked,
+atomic). Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`);
+every velocity output asks :func:`may_move` before it publishes anything but zero.
 """
+import threading
 
 IDLE = 'idle'
 RECORDING = 'recording'
@@ -29,8 +30,10 @@ ABORTED = 'aborted'
 ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED)
 TERMINAL = (HOME, ABORTED)
 
-#: Allowed transitions: state -> the states it may move to.
+#: Allowed transitions: state -> the states it may move to. ``None`` is the owner
+#: before its first state: idle, or (a restarted owner) a resumed return or its abort.
 TRANSITIONS = {
+    None: (IDLE, RETURNING, ABORTED),
     IDLE: (RECORDING, ABORTED),
     RECORDING: (ROTATING, ABORTED),
     ROTATING: (RETURNING, ABORTED),
@@ -58,3 +61,45 @@ def may_move(role, state):
 def records(state):
     """True while the path is recorded (before the first landmark and after it)."""
     return state in (None, IDLE, RECORDING)
+
+
+class IllegalTransition(ValueError):
+    """A transition that :data:`TRANSITIONS` does not allow (a programming error)."""
+
+
+def check_transition(old, new):
+    """Raise :class:`IllegalTransition` unless ``old -> new`` is in :data:`TRANSITIONS`."""
+    if new not in TRANSITIONS.get(old, ()):
+        raise IllegalTransition('illegal mission state transition %s -> %s' % (old, new))
+
+
+class MissionState(object):
+    """The mission's state and its reason, changed only by :meth:`transition` and
+    :meth:`abort` (atomic: check and set under one lock)."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self.state = None
+        self.reason = ''
+
+    def transition(self, expected, new, reason=''):
+        """Move ``expected -> new`` if the state is ``expected``; True if it moved,
+        False if the state was another (an event late or raced: the caller ignores
+        it). An ``expected -> new`` the table forbids raises IllegalTransition."""
+        check_transition(expected, new)
+        with self._lock:
+            if self.state != expected:
+                return False
+            self.state, self.reason = new, reason
+            return True
+
+    def abort(self, reason):
+        """Move any unfinished state to ``aborted``: (moved, the state before); a
+        mission that had already ended is not moved (terminal states never change)."""
+        with self._lock:
+            old = self.state
+            if old in TERMINAL:
+                return False, old
+            check_transition(old, ABORTED)
+            self.state, self.reason = ABORTED, reason
+            return True, old

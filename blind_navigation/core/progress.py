@@ -1,21 +1,17 @@
-"""The persisted progress of a return, and whether a restarted layer may resume it.
+"""The persisted progress of a return: the record and its file.
 
 Life of a return (each step returns a new, validated :class:`ReturnProgress`;
 the caller persists it atomically with :func:`save_progress` next to the
 landmark file, :func:`progress_path`): :meth:`ReturnProgress.begin` at vision
 loss (landmark file, anchor, odometry frame, mission id),
 :meth:`~ReturnProgress.start` when the robot starts back (the file's sha256
-and landmark count, the route as plain data), :meth:`~ReturnProgress.goal_done`
+and landmark count, the route record), :meth:`~ReturnProgress.goal_done`
 after each goal, :meth:`~ReturnProgress.finish` with ``home`` or ``aborted``.
 
-A restarted layer asks :func:`resume_from_file` (or
-:meth:`~ReturnProgress.resume`) what to do: :data:`RESUME`, :data:`IGNORE`
-(nothing was under way) or :data:`ABORT` (a return was under way and cannot
-safely continue, or the file cannot be trusted: docs/safety.md, "Faults");
-:func:`settle_abort` then records the abort, so the next start is clean. The
-recorded landmark file itself is only ever read.
+:func:`load_progress` reads it back (a file of another ``format`` version is
+refused, naming the field); whether a restarted layer resumes is core/resume.py's.
+The recorded landmark file itself is only ever read.
 """
-import datetime
 import hashlib
 import math
 import os
@@ -26,8 +22,7 @@ import yaml
 
 from . import mission_state as state
 from .files import FileContentError, NotRegularFileError, read_regular_file, write_atomically
-from .plausibility import Limits
-from .store import LandmarkFileError, load_landmarks
+from .route import Route
 
 #: Defaults of the resume rule (the client exposes them as ~params).
 PROGRESS_DEFAULTS = {
@@ -35,7 +30,11 @@ PROGRESS_DEFAULTS = {
     'resume_max_offset': 0.5,  # m between the robot and where the return stopped, to resume
 }
 
-FORMAT_VERSION = 1
+#: The layout of the progress file; a file of another version is refused (not resumed).
+#: 2: ``route`` is a route record (:func:`route_record`); 1 kept it as free plain data.
+FORMAT_VERSION = 2
+#: The fields of the ``route`` field's map.
+ROUTE_RECORD = ('route', 'heading')
 FIELDS = ('landmark_file', 'digest', 'landmarks', 'anchor', 'frame_id', 'completed', 'position',
           'status', 'updated', 'route', 'reason', 'mission', 'started', 'travelled')
 STATUSES = (state.ROTATING, state.RETURNING, state.HOME, state.ABORTED)
@@ -46,11 +45,6 @@ MAX_PROGRESS_BYTES = 16 << 20
 #: Deepest nesting accepted in ``route``.
 MAX_ROUTE_DEPTH = 16
 
-RESUME, IGNORE, ABORT = 'resume', 'ignore', 'abort'
-ResumeDecision = namedtuple('ResumeDecision', 'action reason progress')
-ResumeDecision.__doc__ = ('What a restarted layer does: ``action`` (RESUME, IGNORE or ABORT), '
-                          '``reason`` (one line naming the file and, for a bad file, the field), '
-                          '``progress`` (the ReturnProgress read, None if none could be).')
 
 _HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
 
@@ -75,7 +69,7 @@ def _is_point(value):
     return isinstance(value, list) and len(value) == 2 and all(_is_number(c) for c in value)
 
 
-def _point(value):
+def as_point(value):
     """``value`` as [x, y] floats (None stays None); ValueError if not a finite point."""
     if value is None:
         return None
@@ -106,15 +100,38 @@ def _plain(value, depth=0):
 
 
 def _route(value):
-    """A route: None, a list of [x, y] waypoints or a map of plain data."""
+    """A route record (:func:`route_record`) or None, as stored; ValueError naming
+    what is wrong (the route itself is checked by core/route.Route.from_lists)."""
     if value is None:
         return None
-    if isinstance(value, dict):
-        return _plain(value)
-    if isinstance(value, (list, tuple)):
-        return [_point(point) for point in value]
-    raise ValueError('route must be a list of [x, y] waypoints, a map of plain data or null, '
-                     'got %s' % type(value).__name__)
+    if not isinstance(value, dict) or set(value) != set(ROUTE_RECORD):
+        raise ValueError('route must be null or a map of exactly %s, got %r'
+                         % (', '.join(ROUTE_RECORD), value if not isinstance(value, dict)
+                            else sorted(value)))
+    Route.from_lists(value['route'])
+    heading = value['heading']
+    if heading is not None and not isinstance(heading, dict):
+        raise ValueError('route heading must be a map or null, got %s' % type(heading).__name__)
+    return {'route': _plain(value['route']), 'heading': _plain(heading)}
+
+
+def route_record(route, heading=None):
+    """What the progress keeps of the return's route (its ``route`` field): the
+    core/route.Route and, with the heading correction, its plain form
+    (ros/heading_correction's ``to_plain``: a restarted layer continues in the same frame)."""
+    return {'route': route.to_lists(), 'heading': heading}
+
+
+def kept_route(progress):
+    """The core/route.Route ``progress`` keeps; ValueError if it keeps none."""
+    if progress.route is None:
+        raise ValueError('no route kept')
+    return Route.from_lists(progress.route['route'])
+
+
+def kept_heading(progress):
+    """The plain heading correction ``progress`` keeps, or None."""
+    return progress.route['heading'] if progress.route is not None else None
 
 
 def _field_problem(progress):
@@ -175,7 +192,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
     odometry where recording stopped, or None), ``frame_id`` (odometry frame),
     ``completed`` (goals done, return order), ``position`` ([x, y] odometry at
     the last update, or None), ``status`` (rotating, returning, home, aborted),
-    ``updated`` (wall time, s), ``route`` (plain data, see :meth:`start`),
+    ``updated`` (wall time, s), ``route`` (:func:`route_record`),
     ``reason`` (why it ended), ``mission`` (the mission id, or None),
     ``started`` (wall time of :meth:`begin`, s), ``travelled`` (m driven by the
     return so far, for core/plausibility.RouteBudget across restarts).
@@ -188,7 +205,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         """Vision was lost: a return over ``landmark_file`` (resolved to its real
         path) begins with the pi turn; ``anchor`` [x, y] or None if odometry was
         not fresh (then :meth:`start` needs one)."""
-        anchor = _point(anchor)
+        anchor = as_point(anchor)
         return cls(landmark_file=os.path.realpath(os.path.expanduser(landmark_file)), digest='',
                    landmarks=0, anchor=anchor, frame_id=str(frame_id or ''), completed=0,
                    position=anchor, status=state.ROTATING, updated=float(now), route=None,
@@ -196,12 +213,12 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
 
     def start(self, digest, landmarks, now, route=None, anchor=None):
         """The robot starts back over ``landmarks`` landmarks of a file with sha256
-        ``digest``; ``route``: the route the return follows, as plain data;
+        ``digest``; ``route``: the route the return follows (:func:`route_record`);
         ``anchor``: [x, y] if :meth:`begin` had none."""
         if self.status != state.ROTATING:
             raise ValueError('a return starts after the pi turn (status rotating), not in %s'
                              % self.status)
-        anchor = _point(anchor) if anchor is not None else self.anchor
+        anchor = as_point(anchor) if anchor is not None else self.anchor
         if anchor is None:
             raise ValueError('the return has no anchor (no odometry at vision loss): give one')
         return self._replace(digest=digest, landmarks=landmarks, anchor=anchor,
@@ -218,7 +235,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
                              % (self.completed, self.landmarks, completed))
         changes = dict(completed=completed, updated=float(now))
         if position is not None:
-            changes['position'] = _point(position)
+            changes['position'] = as_point(position)
         if travelled is not None:
             changes['travelled'] = float(travelled)
         return self._replace(**changes).checked()
@@ -231,7 +248,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
             raise ValueError('the return already ended %s' % self.status)
         changes = dict(status=status, reason=str(reason), updated=float(now))
         if position is not None:
-            changes['position'] = _point(position)
+            changes['position'] = as_point(position)
         return self._replace(**changes).checked()
 
     @classmethod
@@ -253,81 +270,6 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         if problem:
             raise ProgressError(path, *problem)
         return self
-
-    def resume(self, now, digest, position, mission=None,
-               resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
-               resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], landmark_count=None):
-        """May a restarted layer resume this return? A :class:`ResumeDecision`.
-
-        ``now``: wall time, s; ``digest``: sha256 of ``landmark_file`` now (None
-        if it cannot be read); ``position``: the robot's odometry [x, y] now
-        (None if unknown: wait for odometry before asking); ``mission``: the
-        current mission's id, if known; ``landmark_count``: how many landmarks
-        the file holds now, if the caller loaded it. Rules, in order:
-
-        - finished (home, aborted): IGNORE;
-        - unfinished, and both this record and the caller name a mission, and
-          they differ: IGNORE (left over from an earlier mission);
-        - otherwise a return of this mission was under way: ABORT if it was
-          updated more than ``resume_timeout`` s ago or in the future (the clock
-          changed), during the pi turn (the heading is unknown), if the file is
-          gone or changed or does not hold ``landmarks`` landmarks, if the
-          robot's position is unknown or more than
-          ``resume_max_offset`` m from where the return stopped; else RESUME.
-        """
-        action, why = resume_check(self, now, digest, resume_timeout, mission)
-        if action == RESUME and landmark_count is not None and landmark_count != self.landmarks:
-            action, why = ABORT, ('%s: landmarks: the return was over %d landmarks, the file holds '
-                                  '%d' % (self.landmark_file, self.landmarks, landmark_count))
-        if action == RESUME:
-            problem = position_check(self, position, resume_max_offset)
-            if problem:
-                action, why = ABORT, 'cannot resume the return of %s: %s' % (self.landmark_file,
-                                                                             problem)
-        return ResumeDecision(action, why, self)
-
-
-def resume_check(progress, now, digest, resume_timeout, mission=None):
-    """The file part of :meth:`ReturnProgress.resume` (not where the robot is):
-    ``(action, reason)``."""
-    if not progress.unfinished:
-        return IGNORE, 'the last return (%s) ended %s' % (progress.landmark_file, progress.status)
-    if mission is not None and progress.mission is not None and mission != progress.mission:
-        return IGNORE, ('an unfinished return of %s is left over from mission %s (this is mission '
-                        '%s); not resuming it' % (progress.landmark_file, progress.mission, mission))
-    age = now - float(progress.updated)
-    if age < 0:
-        return ABORT, ('the unfinished return of %s was updated %.0f s in the future (the clock '
-                       'changed?): cannot tell how old it is' % (progress.landmark_file, -age))
-    if age > resume_timeout:
-        return ABORT, ('the unfinished return of %s was last updated %.0f s ago (resume_timeout '
-                       '%.0f s): too old to resume' % (progress.landmark_file, age, resume_timeout))
-    if progress.status == state.ROTATING:
-        return ABORT, 'restarted during the pi turn: the heading is unknown, not travelling back'
-    if digest is None:
-        return ABORT, 'landmark file %s of the unfinished return is gone' % progress.landmark_file
-    if digest != progress.digest:
-        return ABORT, 'landmark file %s changed since the return started' % progress.landmark_file
-    if progress.anchor is None or progress.position is None:
-        return ABORT, 'the unfinished return has no anchor/position to resume from'
-    return RESUME, 'resuming the return of %s after %d of %d landmarks' % (
-        progress.landmark_file, progress.completed, progress.landmarks)
-
-
-def position_check(progress, position, resume_max_offset):
-    """None if the robot (odometry ``position`` [x, y], None if unknown) is within
-    ``resume_max_offset`` m of where ``progress`` stopped, else why not."""
-    if position is None:
-        return 'no odometry to check where the robot is'
-    try:
-        x, y = _point(position)
-    except (TypeError, ValueError) as error:
-        return 'the robot\'s position is unusable: %s' % error
-    offset = math.hypot(x - progress.position[0], y - progress.position[1])
-    if offset > resume_max_offset:
-        return ('the robot is %.2f m from where the return stopped (resume_max_offset %.2f m): '
-                'odometry reset or robot moved' % (offset, resume_max_offset))
-    return None
 
 
 # --- the file ----------------------------------------------------------------
@@ -376,7 +318,9 @@ def load_progress(path):
                             % (', '.join(FIELDS), type(document).__name__))
     version = document.pop('format', None)
     if version != FORMAT_VERSION:
-        raise ProgressError(path, 'format', 'must be %d, got %r' % (FORMAT_VERSION, version))
+        raise ProgressError(path, 'format', 'must be %d, got %r%s' % (
+            FORMAT_VERSION, version, ' (written by an older version of the layer: its return '
+            'is not resumed)' if isinstance(version, int) and version < FORMAT_VERSION else ''))
     missing = [name for name in FIELDS if name not in document]
     if missing:
         raise ProgressError(path, missing[0], 'missing')
@@ -384,52 +328,3 @@ def load_progress(path):
     if unknown:
         raise ProgressError(path, unknown[0], 'unknown field')
     return ReturnProgress(**document).checked(path)
-
-
-def resume_from_file(path, now, position, mission=None,
-                     resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
-                     resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], limits=Limits()):
-    """What a restarted layer does with the progress at ``path``: a
-    :class:`ResumeDecision` (see :meth:`ReturnProgress.resume`). No file:
-    IGNORE; a file that cannot be trusted: ABORT naming the file and field.
-    The landmark file's digest and count are taken here (loaded with
-    ``limits``; a file that no longer loads: ABORT naming it)."""
-    try:
-        progress = load_progress(path)
-    except ProgressError as error:
-        return ResumeDecision(ABORT, 'cannot trust the return progress: %s' % error, None)
-    if progress is None:
-        return ResumeDecision(IGNORE, 'no return progress at %s' % path, None)
-    digest = count = None
-    if progress.unfinished and progress.status != state.ROTATING:
-        try:
-            digest = file_digest(progress.landmark_file)
-            count = len(load_landmarks(progress.landmark_file, limits).landmarks)
-        except OSError:
-            digest = None
-        except LandmarkFileError as error:
-            return ResumeDecision(ABORT, 'landmark file unusable: %s' % error, progress)
-    return progress.resume(now, digest, position, mission, resume_timeout, resume_max_offset,
-                           count)
-
-
-def settle_abort(path, decision, now):
-    """Record an ABORT ``decision`` at ``path`` so the next start does not decide
-    again: the progress read is marked aborted with the reason; an untrusted
-    file is first renamed to ``<path>.bad-<time>`` (kept for inspection) and
-    replaced by an aborted record. Returns the name it was set aside as, or
-    None. StorageError (naming the file) if it cannot be written."""
-    if decision.action != ABORT:
-        raise ValueError('only an abort is settled, not %r' % (decision.action,))
-    if decision.progress is not None:
-        save_progress(path, decision.progress.finish(state.ABORTED, decision.reason, now))
-        return None
-    aside = None
-    if os.path.lexists(path):
-        stamp = datetime.datetime.fromtimestamp(now).strftime('%Y%m%d-%H%M%S')
-        aside, n = '%s.bad-%s' % (path, stamp), 1
-        while os.path.lexists(aside):
-            aside, n = '%s.bad-%s-%d' % (path, stamp, n), n + 1
-        os.rename(path, aside)
-    save_progress(path, ReturnProgress.aborted(decision.reason, now))
-    return aside

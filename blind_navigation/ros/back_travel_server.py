@@ -17,7 +17,6 @@ state-gated (ros/motion.MotionOutput); stale or refused odometry holds the goal
 shutdown publish zero velocity. Details and reasons: docs/back_travel.md,
 docs/safety.md.
 """
-import json
 import threading
 import types
 
@@ -31,7 +30,6 @@ from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES, Route
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.goal import CommandHold, make_goal
 from blind_navigation.core.landmark import landmark_from_values
-from blind_navigation.core.route import Route
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
@@ -40,6 +38,7 @@ from blind_navigation.ros.common import REQUIRED, shutting_down
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.faults import describe
 from blind_navigation.ros.motion import MotionOutput
+from blind_navigation.ros.route_wire import route_of
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
 
 
@@ -128,10 +127,7 @@ class BackTravelServer(object):
         sender = request._connection_header.get('callerid', '?')
         if sender != self.layer.mission_owner:
             raise ValueError('only %s sets the return route, not %s' % (self.layer.mission_owner, sender))
-        try:
-            route = Route.from_lists(json.loads(request.route))
-        except (TypeError, ValueError) as error:   # json's errors are ValueErrors
-            raise ValueError('route: %s' % error)
+        route = route_of(request)
         landmarks = landmarks_from_flat(request.landmarks)
         if len(landmarks) != len(route.sections):
             raise ValueError('%d landmarks for a route of %d sections'

@@ -142,11 +142,6 @@ class OdometryFeed(object):
         for callback in list(self._reanchor_listeners):
             callback(reset.reason, trusted)
 
-    def catch_up(self):
-        """Redundant: every reader catches up itself (ros/odometry_batches.py). Kept while
-        ros/back_travel_client.py, being split (issue 22 item 2), still calls it."""
-        return self.batches.catch_up()
-
     def clear_history(self):
         """Forget the states kept (they are in another frame)."""
         with self._lock:

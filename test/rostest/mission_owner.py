@@ -5,7 +5,6 @@ The layer's roles obey only the mission state published by the mission's owner
 without a client names itself as that role's ``~mission_owner`` in its .test file
 and publishes the state with :class:`MissionOwner`.
 """
-import json
 import time
 
 import rospy
@@ -15,6 +14,7 @@ from blind_navigation import names
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.route import build_route
 from blind_navigation.msg import BackTravelGoal
+from blind_navigation.ros.route_wire import route_message
 from blind_navigation.srv import SetReturnRoute
 
 #: A goal no server takes (|v| far beyond the Kobuki's): rejected as a bad goal while
@@ -47,18 +47,21 @@ class MissionOwner(object):
                                      % (count, self.pub.resolved_name, timeout))
             time.sleep(0.02)
 
-    def set_route(self, goals, anchor, timeout):
+    def set_route(self, goals, anchor, timeout, version=None):
         """As back_travel_client does when the return starts: give the back-travel
         server the route back from ``anchor`` (x, y: where the robot is) through
         ``goals`` (landmark tuples in the order they will be sent), none done yet;
-        retried while the server has not yet seen the mission ``returning``."""
-        route = build_route([Landmark(*goal) for goal in reversed(goals)], anchor)
+        retried while the server has not yet seen the mission ``returning``.
+        ``version``: the ReturnRoute version sent, if not the current one."""
+        route = route_message(build_route([Landmark(*goal) for goal in reversed(goals)], anchor))
+        if version is not None:
+            route.version = version
         rospy.wait_for_service(names.SET_RETURN_ROUTE, timeout)
         set_route = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
         deadline = time.monotonic() + timeout
         while True:
             response = set_route(header=Header(stamp=rospy.Time.now(), frame_id='odom'),
-                                 route=json.dumps(route.to_lists()),
+                                 route=route,
                                  landmarks=[value for goal in goals for value in goal], completed=0)
             if response.ok:
                 return

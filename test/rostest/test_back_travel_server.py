@@ -97,6 +97,14 @@ class BackTravelServerTest(unittest.TestCase):
         self.assertIn('|v|', self.client.get_goal_status_text())
         self.assertFalse([c for c in self.base.commands[start:] if c[1:] != (0.0, 0.0)])
 
+    def test_a_route_of_another_version_is_refused(self):
+        goal = (0.1, 0.0, 0.2, 2.0, 0.0)
+        self.owner.set_route([goal], (self.base.x, self.base.y), TIMEOUT)   # the server is returning
+        start = len(self.base.commands)
+        with self.assertRaisesRegex(AssertionError, 'route: version 2, this server reads version 1'):
+            self.owner.set_route([goal], (self.base.x, self.base.y), TIMEOUT, version=2)
+        self.assertFalse([c for c in self.base.commands[start:] if c[1:] != (0.0, 0.0)])
+
     def test_only_the_routes_next_landmark_is_taken(self):
         first, second = (0.1, 0.0, 0.1, 1.0, 0.0), (0.1, 0.0, 0.2, 2.0, 0.0)
         self.owner.set_route((first, second), (self.base.x, self.base.y), TIMEOUT)

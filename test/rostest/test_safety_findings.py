@@ -58,6 +58,7 @@ from blind_navigation.core.plausibility import RouteBudget  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
 from blind_navigation.core.route import build_route  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
+from blind_navigation.ros.route_wire import route_message  # noqa: E402
 from blind_navigation.msg import BackTravelAction, BackTravelGoal  # noqa: E402
 from blind_navigation.srv import SetReturnRoute  # noqa: E402
 
@@ -164,13 +165,13 @@ class Stranger(object):
         return self.client.get_state(), self.client.get_goal_status_text()
 
 
-def set_route(route_json, landmarks, completed, callerid=None):
+def set_route(route, landmarks, completed, callerid=None):
     """Call set_return_route as this node, or with ``callerid`` forged in the connection
     header (rospy lets a client's headers override it); returns (ok, message)."""
     rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
     proxy = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute,
                                headers={'callerid': callerid} if callerid else None)
-    response = proxy(header=Header(stamp=rospy.Time.now(), frame_id='odom'), route=route_json,
+    response = proxy(header=Header(stamp=rospy.Time.now(), frame_id='odom'), route=route,
                      landmarks=[value for landmark in landmarks for value in landmark],
                      completed=completed)
     return response.ok, response.message
@@ -399,9 +400,9 @@ class TestB_ReturnFaults(MissionCase):
             run.play_mission(MISSION)
             # the spoofed routes (built on the recording so far: one section per landmark sent)
             recorded = list(reversed(run.recorded().landmarks))
-            far = build_route(list(reversed(recorded)), (1e6, 1e6)).to_lists()
-            nan = json.loads(json.dumps(far))
-            nan['x'][0] = float('nan')
+            far = route_message(build_route(list(reversed(recorded)), (1e6, 1e6)))
+            nan = route_message(build_route(list(reversed(recorded)), (1e6, 1e6)))
+            nan.x = [float('nan')] + list(nan.x[1:])
             flood = Flood(m.owner)
             try:
                 returning = m.wait_state('returning')
@@ -418,10 +419,10 @@ class TestB_ReturnFaults(MissionCase):
             cls.stranger_goal = stranger.send(STRANGER_GOAL)
             # finding 5c: spoofed routes
             cls.route_answers = [
-                ('stranger, NaN anchor', set_route(json.dumps(nan), recorded, 0)),
-                ('owner forged, NaN anchor', set_route(json.dumps(nan), recorded, 0, m.owner)),
-                ('owner forged, anchor at 1e6', set_route(json.dumps(far), recorded, 0, m.owner)),
-                ('owner forged, completed 99', set_route(json.dumps(far), recorded, 99, m.owner))]
+                ('stranger, NaN anchor', set_route(nan, recorded, 0)),
+                ('owner forged, NaN anchor', set_route(nan, recorded, 0, m.owner)),
+                ('owner forged, anchor at 1e6', set_route(far, recorded, 0, m.owner)),
+                ('owner forged, completed 99', set_route(far, recorded, 99, m.owner))]
             cls.spoofs_during_return = m.state_time('home') is None
             cls.final, cls.final_at = m.wait_final()
             cls.landmarks = len(run.recorded().landmarks)

@@ -9,9 +9,13 @@ import yaml
 
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
-from blind_navigation.core.progress import (ABORT, IGNORE, RESUME, ProgressError, ReturnProgress,
-                                            file_digest, load_progress, progress_path,
-                                            resume_from_file, save_progress, settle_abort)
+from blind_navigation.core.landmark import Landmark
+from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, ReturnProgress,
+                                            file_digest, kept_heading, kept_route, load_progress,
+                                            progress_path, route_record, save_progress)
+from blind_navigation.core.route import build_route
+from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
+                                          settle_abort)
 
 NOW = 1.7e9
 
@@ -27,9 +31,12 @@ def mission(tmp_path):
     return str(link), progress_path(str(link)), file_digest(str(real))
 
 
+ROUTE = build_route([Landmark(0.1, 0.0, 0.2, 2.0, 0.0)] * 10, (1.0, 2.0))
+
+
 def returning(link, digest, completed=4):
     progress = ReturnProgress.begin(link, [1.0, 2.0], 'odom', NOW - 100.0, mission='m1')
-    progress = progress.start(digest, 10, NOW - 90.0, route=[[1.0, 2.0], [0.5, 2.0], [0.0, 0.0]])
+    progress = progress.start(digest, 10, NOW - 90.0, route=route_record(ROUTE))
     return progress.goal_done(completed, NOW - 10.0, position=[0.5, 2.0], travelled=0.6)
 
 
@@ -38,8 +45,9 @@ def test_life_of_a_return(mission):
     progress = ReturnProgress.begin(link, (1.0, 2.0), 'odom', NOW, mission='m1')
     assert progress.status == state.ROTATING and progress.landmark_file == os.path.realpath(link)
     assert progress.anchor == [1.0, 2.0] and progress.digest == '' and progress.started == NOW
-    progress = progress.start(digest, 3, NOW + 1, route={'waypoints': [[1.0, 2.0]], 'pruned': True})
-    assert progress.status == state.RETURNING and progress.route['pruned'] is True
+    progress = progress.start(digest, 3, NOW + 1, route=route_record(ROUTE, {'yaw': 0.5}))
+    assert progress.status == state.RETURNING and kept_heading(progress) == {'yaw': 0.5}
+    assert kept_route(progress).to_lists() == ROUTE.to_lists()
     progress = progress.goal_done(1, NOW + 2, position=[0.9, 2.0], travelled=0.1)
     progress = progress.goal_done(3, NOW + 3)
     assert (progress.completed, progress.position, progress.travelled) == (3, [0.9, 2.0], 0.1)
@@ -74,6 +82,12 @@ def test_misuse_of_the_life_is_refused(mission):
         progress.finish(state.IDLE, '', NOW)
     with pytest.raises(ProgressError, match='route'):
         progress._replace(route=[[0.0, float('inf')]]).checked()
+    broken = route_record(ROUTE)
+    broken['route']['x'][1] = float('inf')
+    with pytest.raises(ProgressError, match='route: route field x must be a list of finite'):
+        progress._replace(route=broken).checked()
+    with pytest.raises(ProgressError, match='route heading must be a map'):
+        progress._replace(route=route_record(ROUTE, [1.0])).checked()
 
 
 def test_progress_file_is_atomic_next_to_the_landmark_file(mission, tmp_path):
@@ -135,21 +149,21 @@ def test_a_failed_write_keeps_the_old_progress_and_names_the_file(mission, tmp_p
 def test_resume_rules(mission):
     link, _, digest = mission
     p = returning(link, digest)
-    assert p.resume(NOW, digest, [0.6, 2.1]).action == RESUME
-    assert p.resume(NOW, digest, [0.6, 2.1], mission='m1').action == RESUME
-    decision = p.resume(NOW, digest, [0.6, 2.1], mission='m2')
+    assert resume_decision(p, NOW, digest, [0.6, 2.1]).action == RESUME
+    assert resume_decision(p, NOW, digest, [0.6, 2.1], mission='m1').action == RESUME
+    decision = resume_decision(p, NOW, digest, [0.6, 2.1], mission='m2')
     assert decision.action == IGNORE and 'left over from mission m1' in decision.reason
     ended = p.finish(state.ABORTED, 'x', NOW - 5)
-    assert ended.resume(NOW, digest, None).action == IGNORE
+    assert resume_decision(ended, NOW, digest, None).action == IGNORE
     for now, words in ((NOW + 700.0, 'too old'), (NOW - 60.0, 'in the future')):
-        decision = p.resume(now, digest, [0.6, 2.1])
+        decision = resume_decision(p, now, digest, [0.6, 2.1])
         assert decision.action == ABORT and words in decision.reason
     rotating = ReturnProgress.begin(link, [1.0, 2.0], 'odom', NOW - 5)
-    assert 'pi turn' in rotating.resume(NOW, digest, [1.0, 2.0]).reason
-    assert 'changed' in p.resume(NOW, '0' * 64, [0.6, 2.1]).reason
-    assert 'gone' in p.resume(NOW, None, [0.6, 2.1]).reason
-    assert 'no odometry' in p.resume(NOW, digest, None).reason
-    decision = p.resume(NOW, digest, [2.0, 2.0])
+    assert 'pi turn' in resume_decision(rotating, NOW, digest, [1.0, 2.0]).reason
+    assert 'changed' in resume_decision(p, NOW, '0' * 64, [0.6, 2.1]).reason
+    assert 'gone' in resume_decision(p, NOW, None, [0.6, 2.1]).reason
+    assert 'no odometry' in resume_decision(p, NOW, digest, None).reason
+    decision = resume_decision(p, NOW, digest, [2.0, 2.0])
     assert decision.action == ABORT and 'moved' in decision.reason
 
 
@@ -159,7 +173,7 @@ def test_resume_from_file(mission, tmp_path):
     save_progress(path, returning(link, digest))
     decision = resume_from_file(path, NOW, [0.5, 2.0], mission='m1')
     assert decision.action == RESUME and decision.progress.completed == 4
-    assert decision.progress.route == [[1.0, 2.0], [0.5, 2.0], [0.0, 0.0]]
+    assert kept_route(decision.progress).to_lists() == ROUTE.to_lists()
     # the progress says 12 landmarks, the (unchanged) file holds 10: refused by count
     save_progress(path, returning(link, digest)._replace(landmarks=12))
     decision = resume_from_file(path, NOW, [0.5, 2.0])
@@ -172,7 +186,7 @@ def test_resume_from_file(mission, tmp_path):
 
 
 def edited(link, digest, field, value):
-    document = yaml.safe_load(yaml.safe_dump(dict([('format', 1)] + list(
+    document = yaml.safe_load(yaml.safe_dump(dict([('format', FORMAT_VERSION)] + list(
         returning(link, digest)._asdict().items()))))
     if value is KeyError:
         del document[field]
@@ -211,6 +225,10 @@ UNTRUSTED = {
     'negative travelled': (lambda link, digest: edited(link, digest, 'travelled', -1.0),
                            'travelled'),
     'bad route': (lambda link, digest: edited(link, digest, 'route', [[0.0, 'x']]), 'route'),
+    'version 1 route': (lambda link, digest: edited(link, digest, 'route', {
+        'route': [[1.0, 2.0], [0.0, 0.0]], 'heading': None}), 'route'),
+    'version 1 file': (lambda link, digest: edited(link, digest, 'format', 1),
+                       'format: must be 2, got 1 (written by an older version'),
     'empty mission': (lambda link, digest: edited(link, digest, 'mission', ''), 'mission'),
     'started after updated': (lambda link, digest: edited(link, digest, 'started', NOW + 1e6),
                               'started'),

@@ -10,7 +10,8 @@ import pytest
 from blind_navigation.core import route as route_module
 from blind_navigation.core.geometry import wrap_angle
 from blind_navigation.core.landmark import Landmark
-from blind_navigation.core.route import Route, build_route, period_turn
+from blind_navigation.core.period_model import period_shape, period_turn
+from blind_navigation.core.route import Route, build_route
 
 from unicycle import drive, record
 
@@ -158,7 +159,7 @@ def test_modelled_chord_beats_the_mean_heading_on_turn_then_drive():
     start = Landmark(0.0, 1.6, 0.0, 0.5, a.yaw)
     end = Landmark(0.2, 0.0, math.hypot(b.x - a.x, b.y - a.y), 2.0, b.yaw)
     truth = math.atan2(b.y - a.y, b.x - a.x)
-    direction = route_module._period_shape(start, end, end.d, 16)[0]
+    direction = period_shape(start, end, end.d, 16)[0]
     mean = (a.yaw + b.yaw) / 2.0
     assert abs(wrap_angle(mean - truth)) == pytest.approx(0.4, abs=1e-6)
     assert abs(wrap_angle(direction - truth)) < 0.1
@@ -180,12 +181,12 @@ class _Counting(list):
 
 def test_building_is_linear_in_the_landmark_count():
     calls = []
-    original = route_module._period_shape
+    original = route_module.period_shape
 
     def counted(*args):
         calls.append(1)
         return original(*args)
-    route_module._period_shape = counted
+    route_module.period_shape = counted
     try:
         for n in (1000, 4000):
             del calls[:]
@@ -195,7 +196,7 @@ def test_building_is_linear_in_the_landmark_count():
             assert len(calls) == n
             assert route.vertices <= (route_module.MAX_SUBDIVISIONS + 1) * n
     finally:
-        route_module._period_shape = original
+        route_module.period_shape = original
 
 
 def _count_reads(route):

@@ -11,7 +11,8 @@ from hypothesis import strategies as st
 
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Landmark
-from blind_navigation.core.route import IN_PLACE_JITTER, ROUTE_DEFAULTS, SHAPE_TRUST, Route, build_route
+from blind_navigation.core.period_model import SHAPE_TRUST
+from blind_navigation.core.route import IN_PLACE_JITTER, ROUTE_DEFAULTS, Route, build_route
 
 from unicycle import follow_route
 

@@ -1,0 +1,90 @@
+"""The model of one recording period, from landmark ``a`` to the next, ``b``
+(``b.T`` s): the speed and heading over the period from all five variables at
+both ends (:func:`period_shape`), scaled to the recorded ``d``, and the turn
+(:func:`period_turn`). core/route.py chains the periods into the route;
+docs/back_travel.md, "The route", tells the model.
+"""
+import math
+
+from .geometry import wrap_angle
+
+#: A modelled chord this many times longer or shorter than d is not trusted for its shape.
+SHAPE_TRUST = 3.0
+
+
+def period_turn(previous, landmark):
+    """Heading change (rad) from landmark ``previous`` to the next one,
+    ``landmark``, over its period: the branch of wrap(psi - psi_previous) + 2 pi m
+    nearest what the mean of the two recorded turn rates gives (a turn faster
+    than pi per period is not unwrapped the short way)."""
+    change = wrap_angle(landmark.psi - previous.psi)
+    expected = (previous.w + landmark.w) / 2.0 * landmark.T
+    return change + 2.0 * math.pi * round((expected - change) / (2.0 * math.pi))
+
+
+def _velocity_model(v_a, v_b, d, period):
+    """Signed speed over the period as (v_a, v_b, bump): u(t) = v_a + (v_b - v_a) t
+    + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends
+    do not reach (same sign as the motion; forward if the ends are both still)."""
+    if v_a * v_b < 0.0:
+        return v_a, v_b, 0.0
+    mean = (abs(v_a) + abs(v_b)) / 2.0
+    missing = d / period - mean
+    if missing <= 0.0:
+        return v_a, v_b, 0.0
+    return v_a, v_b, math.copysign(missing, v_a + v_b if v_a + v_b != 0.0 else 1.0)
+
+
+def _motion(a, b, d, turn):
+    """The modelled motion of the period: ``state(t)`` -> (signed speed, heading),
+    t in [0, 1] (module docstring)."""
+    period = b.T
+    v_a, v_b, bump = _velocity_model(a.v, b.v, d, period)
+
+    def state(t):
+        t2, t3 = t * t, t * t * t
+        heading = (a.psi + period * a.w * (t3 - 2.0 * t2 + t) + turn * (3.0 * t2 - 2.0 * t3)
+                   + period * b.w * (t3 - t2))
+        return v_a + (v_b - v_a) * t + bump * 6.0 * t * (1.0 - t), heading
+    return state
+
+
+def period_shape(a, b, d, subdivisions):
+    """Modelled motion from landmark state ``a`` to ``b`` (``b.T`` s): the chord
+    direction (rad), intermediate points as offsets from the period's start
+    scaled to ``d`` (or [] when the model is not trusted for the shape), the
+    modelled speed at each point (start, intermediate..., end) and the turn."""
+    period = b.T
+    turn = period_turn(a, b)
+    state = _motion(a, b, d, turn)
+    steps = max(2, subdivisions)
+    grid = [k / float(steps) for k in range(steps + 1)]
+
+    def velocity(t):
+        speed, heading = state(t)
+        return speed * math.cos(heading), speed * math.sin(heading), speed, heading
+
+    points, speeds = [], [abs(state(0.0)[0])]
+    x = y = 0.0
+    heading_sum_x = heading_sum_y = 0.0
+    previous = velocity(0.0)
+    for t0, t1 in zip(grid, grid[1:]):
+        middle, end = velocity((t0 + t1) / 2.0), velocity(t1)
+        h = period * (t1 - t0)
+        x += h * (previous[0] + 4.0 * middle[0] + end[0]) / 6.0
+        y += h * (previous[1] + 4.0 * middle[1] + end[1]) / 6.0
+        heading_sum_x += math.cos(middle[3]) * (t1 - t0)
+        heading_sum_y += math.sin(middle[3]) * (t1 - t0)
+        points.append((x, y))
+        speeds.append(abs(end[2]))
+        previous = end
+    modelled = math.hypot(x, y)
+    if modelled > 1e-12:
+        direction = math.atan2(y, x)
+    else:   # no modelled motion: the mean heading, reversed if the motion was
+        direction = math.atan2(heading_sum_y, heading_sum_x) + (math.pi if a.v + b.v < 0 else 0.0)
+    points.pop()        # the end is the next landmark's point, placed exactly by d
+    if d <= 0.0 or modelled <= 1e-12 or not 1.0 / SHAPE_TRUST <= d / modelled <= SHAPE_TRUST:
+        return direction, [], [speeds[0], speeds[-1]], turn
+    scale = d / modelled
+    return direction, [(px * scale, py * scale) for px, py in points], speeds, turn

@@ -1,0 +1,57 @@
+"""The back-travel client's three diagnostics (diagnostic_msgs, through the
+layer's updater): ``mission`` (the state, its reason, the return's progress and
+warnings), ``odometry`` (its age; an error while the robot turns or returns)
+and ``landmark file`` (the recorder's file and its size).
+"""
+import os
+
+from blind_navigation.core import mission_state as state
+from blind_navigation.ros import diagnostics
+
+
+def add_mission_diagnostics(client):
+    """Register the diagnostics of ``client`` (a BackTravelClient) on its layer."""
+    updater = client.layer.diagnostics
+    updater.add('mission', lambda stat: _mission_status(client, stat))
+    updater.add('odometry', lambda stat: _odometry_status(client, stat))
+    updater.add('landmark file', lambda stat: _file_status(client, stat))
+
+
+def _mission_status(client, stat):
+    progress = client.keeper.progress
+    stat.add('state', client.state)
+    if progress is not None:
+        stat.add('landmarks', progress.landmarks)
+        stat.add('completed', progress.completed)
+    if client.warnings:
+        stat.add('warnings', client.warnings)
+    if client.state == state.ABORTED:
+        stat.summary(diagnostics.ERROR, 'aborted: %s' % client.reason)
+    elif client.warnings:
+        stat.summary(diagnostics.WARN, '%s: %s' % (client.state, client.warnings))
+    else:
+        stat.summary(diagnostics.OK, '%s%s' % (client.state,
+                                               ': ' + client.reason if client.reason else ''))
+
+
+def _odometry_status(client, stat):
+    odometry = client.odometry
+    level = diagnostics.ERROR if client.state in (state.ROTATING, state.RETURNING) \
+        else diagnostics.WARN
+    diagnostics.age_status(stat, 'odometry', odometry.age(), client.params.odom_timeout,
+                           level, level, listening=odometry.listening())
+    stat.add('refused messages', odometry.refused)
+
+
+def _file_status(client, stat):
+    stat.add('file', client.landmark_file)
+    try:
+        real = os.path.realpath(client.landmark_file)
+        stat.add('mission file', real)
+        stat.add('bytes', os.path.getsize(real))
+        stat.summary(diagnostics.OK, os.path.basename(real))
+    except OSError as error:
+        level = diagnostics.ERROR if client.state in (state.RECORDING, state.ROTATING,
+                                                      state.RETURNING) else diagnostics.OK
+        stat.summary(level, 'no landmark file yet' if level == diagnostics.OK else
+                     'landmark file unreadable: %s' % error.strerror)

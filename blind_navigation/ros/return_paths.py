@@ -1,0 +1,49 @@
+"""The return's paths for RViz, latched (nav_msgs/Path): the route the return
+will drive on ``blind_navigation/return_route`` and the poses driven so far on
+``blind_navigation/return_path`` (one pose per ``spacing`` m of odometry).
+"""
+import rospy
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Path
+
+from blind_navigation import names
+from blind_navigation.core.geometry import distance, quaternion_from_yaw
+
+
+def _pose(header, x, y, yaw):
+    pose = PoseStamped()
+    pose.header = header
+    pose.pose.position.x, pose.pose.position.y = x, y
+    q = pose.pose.orientation
+    q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)
+    return pose
+
+
+class ReturnPaths(object):
+    """Publishes the route and the driven path (``spacing``: m between driven poses)."""
+
+    def __init__(self, spacing):
+        self.spacing = spacing
+        self.path_pub = rospy.Publisher(names.RETURN_PATH, Path, queue_size=1, latch=True)
+        self.route_pub = rospy.Publisher(names.RETURN_ROUTE, Path, queue_size=1, latch=True)
+        self.path = Path()
+
+    def publish_route(self, route, frame_id):
+        """The route (core/route.Route) the return will drive, in ``frame_id`` ('' : odom)."""
+        msg = Path()
+        msg.header.stamp, msg.header.frame_id = rospy.Time.now(), frame_id or 'odom'
+        for index, (x, y) in enumerate(zip(route.x, route.y)):
+            yaw = route.direction(min(index, route.vertices - 2)) if route.vertices > 1 else 0.0
+            msg.poses.append(_pose(msg.header, x, y, yaw))
+        self.route_pub.publish(msg)
+
+    def driven(self, stamp, frame_id, odom):
+        """The robot is at ``odom`` (x, y, yaw) at ``stamp`` (s): a pose every ``spacing`` m."""
+        poses = self.path.poses
+        if poses and distance(poses[-1].pose.position.x, poses[-1].pose.position.y,
+                              odom.x, odom.y) < self.spacing:
+            return
+        header = rospy.Header(stamp=rospy.Time.from_sec(stamp), frame_id=frame_id)
+        poses.append(_pose(header, odom.x, odom.y, odom.yaw))
+        self.path.header = header
+        self.path_pub.publish(self.path)

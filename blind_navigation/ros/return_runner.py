@@ -1,0 +1,208 @@
+"""The return of the back-travel client (section 3.3.7, Figure 6): loads the
+landmarks, expresses them in the heading-corrected frame, plans the route
+(core/return_plan.py), sets it on the server (``blind_navigation/set_return_route``)
+and sends the landmarks in reverse order, one goal at a time (ros/goal_runner.py),
+within each goal's backstop, the whole return's allowance and its distance
+budget; the progress is persisted after each goal. The mission's state stays
+with the client (ros/back_travel_client.py), which owns this runner.
+"""
+import time
+
+import rospy
+
+from blind_navigation import names
+from blind_navigation.core import mission_state as state
+from blind_navigation.core.heading_correction import correct_landmarks
+from blind_navigation.core.plausibility import RouteBudget
+from blind_navigation.core.progress import file_digest, kept_route
+from blind_navigation.core.return_plan import (gaps_warning, plan_route, recording_problem,
+                                               return_goals)
+from blind_navigation.core.safety import expected_duration, return_allowance
+from blind_navigation.core.store import LandmarkFileError, load_landmarks
+from blind_navigation.msg import BackTravelAction, BackTravelGoal
+from blind_navigation.ros.goal_runner import GoalRunner
+from blind_navigation.ros.route_wire import set_return_route
+
+#: How often the goal wait checks safety events and allowances, s.
+WAIT_SLICE = 0.02
+
+
+class ReturnRunner(object):
+    """Drives the returns of ``mission`` (the BackTravelClient: params, progress, events)."""
+
+    def __init__(self, mission):
+        self.mission = mission
+        self.params, self.log = mission.params, mission.log
+        # The action client is made when the first return starts, not at start-up: rospy
+        # drops a publisherUpdate that arrives while registerSubscriber is in flight, so
+        # subscribing while the server registers can leave feedback/result unconnected.
+        self.client = None
+
+    def cancel(self):
+        """Cancel the goal under way, if any."""
+        if self.client is not None:
+            self.client.cancel()
+
+    def travel_back(self):
+        """Figure 6: load, reverse, send goal by goal (from the first landmark not
+        completed yet). Returns (ok, reason)."""
+        m = self.mission
+        resuming = m.keeper.progress.status == state.RETURNING
+        loaded, digest, problem = self._load(m.keeper.progress.landmark_file, resuming)
+        if problem:
+            return False, problem
+        landmarks, problem = self._in_corrected_frame(loaded.landmarks)
+        if problem:
+            return False, problem
+        goals = return_goals(loaded.labels, landmarks)
+        if loaded.gaps:
+            m.warnings = gaps_warning(loaded)
+            self.log.warn('%s: %s', m.keeper.progress.landmark_file, m.warnings)
+        if resuming:
+            route, problem = self._kept_route(digest, len(goals))
+        else:
+            route, problem = self._new_route(landmarks, digest, len(goals))
+        if problem:
+            return False, problem
+        m.paths.publish_route(route, m.keeper.progress.frame_id)
+        m.publish_status()
+        done = m.keeper.progress.completed
+        self.log.info('%d landmarks, %.2f m, from %s; %s; waiting for %s', len(goals),
+                      loaded.total_distance, m.keeper.progress.landmark_file,
+                      'resuming after %d' % done if done else 'starting',
+                      rospy.resolve_name(names.BACK_TRAVEL))
+        problem = self._connect(route, [landmark for _, landmark in goals], done)
+        if problem:
+            return False, problem
+        return self._drive(goals, done, route, RouteBudget(landmarks))
+
+    def _load(self, path, resuming):
+        """(loaded landmarks, the file's digest, problem) of the recorded file."""
+        m = self.mission
+        try:
+            loaded = load_landmarks(path, limits=m.limits)
+            digest = file_digest(path)
+        except OSError as error:
+            return None, None, 'landmark file unusable: %s: cannot read: %s' % (path, error.strerror)
+        except LandmarkFileError as error:
+            return None, None, 'landmark file unusable: %s' % error
+        for warning in loaded.warnings:
+            self.log.warn('%s', warning)
+        loss = m.losses.get(path)
+        reported = loss.lost if loss is not None and not resuming else None
+        problem = m.keeper.restore_heading() if resuming else None    # the layer restarted mid-return
+        return loaded, digest, problem or recording_problem(
+            loaded, reported, loss.error if loss is not None else '')
+
+    def _kept_route(self, digest, goals):
+        """(route, problem): the route of the return this one resumes."""
+        progress = self.mission.keeper.progress
+        if digest != progress.digest or goals != progress.landmarks:
+            return None, 'landmark file %s changed since the return started' % progress.landmark_file
+        try:
+            return kept_route(progress), None
+        except ValueError as error:
+            return None, 'cannot resume: the route in %s: %s' % (self.mission.keeper.path, error)
+
+    def _new_route(self, landmarks, digest, goals):
+        """(route, problem): the route planned from where recording stopped, persisted."""
+        m, p = self.mission, self.params
+        anchor = m.keeper.progress.anchor or m.position()
+        if anchor is None:
+            return None, 'no odometry for the return: %s' % m.odometry.describe_missing(
+                p.odom_timeout)
+        correction = m.correction.correction if m.correction is not None else None
+        try:
+            route, lines = plan_route(landmarks, anchor, p, p.prune_loops, correction)
+        except ValueError as error:
+            return None, 'cannot build the return route: %s' % error
+        for line in lines:
+            self.log.info('%s', line)
+        m.keeper.save(m.keeper.progress.start(digest, goals, time.time(), route=m.keeper.route_data(route),
+                                         anchor=anchor))
+        return route, None
+
+    def _connect(self, route, landmarks, done):
+        """Wait for the action server and set the route on it; None or why not."""
+        p = self.params
+        if self.client is None:
+            self.client = GoalRunner(names.BACK_TRAVEL, BackTravelAction)
+        if not self.client.wait_for_server(rospy.Duration(p.server_timeout)):
+            return ('action server %s not available after %.0f s (is back_travel_server '
+                    'running?)' % (rospy.resolve_name(names.BACK_TRAVEL), p.server_timeout))
+        return set_return_route(route, landmarks, done, self.mission.keeper.progress.frame_id or '',
+                                p.server_timeout)
+
+    def _drive(self, goals, done, route, budget):
+        """Send ``goals[done:]`` one at a time; (ok, reason)."""
+        m, p = self.mission, self.params
+        remaining = [landmark for _, landmark in goals[done:]]
+        allowance = return_allowance(remaining, p.return_timeout_factor, p.return_timeout_margin,
+                                     p.slowest_v)
+        deadline = rospy.get_time() + allowance
+        travelled = m.keeper.progress.travelled or 0.0
+        for number, (label, landmark) in enumerate(goals[done:], done + 1):
+            where = 'goal %d/%d (%s)' % (number, len(goals), label)
+            self.client.send(BackTravelGoal(*landmark.as_list()))
+            problem = self._wait_for_goal(where, landmark, deadline, allowance,
+                                          lambda: budget.problem(travelled + self._goal_distance()))
+            if problem:
+                return False, problem
+            if not self.client.succeeded:
+                return False, '%s ended %s' % (where, self.client.describe())
+            travelled += self.client.result.distance
+            progress = m.keeper.progress.goal_done(number, time.time(), m.position(), travelled)
+            m.keeper.save(progress._replace(route=m.keeper.route_data(route)).checked())
+            m.publish_status()
+        return True, 'travelled %.3f m over %d landmarks%s%s' % (
+            travelled, len(goals) - done,
+            ' (resumed after %d)' % done if done else '',
+            '; ' + m.warnings if m.warnings else '')
+
+    def _goal_distance(self):
+        """m driven by the current goal so far (its last feedback)."""
+        return self.client.feedback.distance if self.client.feedback is not None else 0.0
+
+    def _in_corrected_frame(self, landmarks):
+        """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""
+        receiver = self.mission.correction
+        if receiver is None:
+            return landmarks, None
+        deadline = time.monotonic() + self.params.correction_timeout
+        while not receiver.received and time.monotonic() < deadline and not rospy.is_shutdown():
+            time.sleep(0.05)
+        if not receiver.received:
+            return None, ('no heading correction on %s within %.0f s (is heading_correction '
+                          'running?)' % (rospy.resolve_name(names.HEADING_CORRECTION),
+                                         self.params.correction_timeout))
+        self.log.info('landmarks in the corrected odometry frame: %s', receiver.correction.describe())
+        return correct_landmarks(landmarks, receiver.correction, receiver.reference.yaw), None
+
+    def _wait_for_goal(self, where, landmark, deadline, allowance, over_budget):
+        """Wait for the goal's result; cancel it and say why on a safety event, the
+        goal's backstop, the whole return's allowance or its distance budget
+        (``over_budget()``: None or why). None once it ended."""
+        m, p = self.mission, self.params
+        goal_allowance = (p.goal_timeout_factor * expected_duration(landmark, p.slowest_v)
+                          + p.goal_timeout_margin)
+        while not self.client.wait(WAIT_SLICE):
+            now = rospy.get_time()
+            if m.trip:
+                problem = '%s: safety stop: %s' % (where, m.trip)
+            elif m.lost:
+                problem = '%s: %s' % (where, m.lost)
+            elif now > self.client.heard + goal_allowance:
+                problem = '%s: no result and no feedback for %.0f s' % (where, goal_allowance)
+            elif now > deadline:
+                problem = '%s: the return exceeded its time allowance of %.0f s' % (where, allowance)
+            elif rospy.is_shutdown():
+                problem = '%s: node shutting down' % where
+            elif m.state != state.RETURNING:
+                problem = '%s: the mission is %s' % (where, m.state)
+            elif over_budget():
+                problem = '%s: %s' % (where, over_budget())
+            else:
+                continue
+            self.client.cancel()
+            return problem
+        return None

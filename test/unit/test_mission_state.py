@@ -1,0 +1,119 @@
+"""core/mission_state.MissionState: every legal transition moves, illegal ones raise,
+a transition from a state the mission is not in does not move, terminal states never
+change, and two threads racing the same transition: exactly one wins."""
+import threading
+import time
+
+import pytest
+
+from blind_navigation.core import mission_state as ms
+
+LEGAL = [(old, new) for old, targets in ms.TRANSITIONS.items() for new in targets]
+ILLEGAL = [(old, new) for old in ms.TRANSITIONS for new in ms.ALL + (None,)
+           if new not in ms.TRANSITIONS[old]]
+
+
+class SlowRead(ms.MissionState):
+    """Reading the state yields the thread: a check-then-set without the lock loses the race."""
+
+    @property
+    def state(self):
+        value = self._value
+        time.sleep(0.0005)
+        return value
+
+    @state.setter
+    def state(self, value):
+        self._value = value
+
+
+def in_state(state, cls=ms.MissionState):
+    machine = cls()
+    machine.state = state       # the test's set-up only: the product moves by transition()
+    return machine
+
+
+def test_the_table_names_every_state_and_the_start():
+    assert set(ms.TRANSITIONS) == set(ms.ALL) | {None}
+    assert all(set(targets) <= set(ms.ALL) for targets in ms.TRANSITIONS.values())
+    assert len(LEGAL) == 11 and ms.TRANSITIONS[ms.HOME] == ms.TRANSITIONS[ms.ABORTED] == ()
+
+
+@pytest.mark.parametrize('old,new', LEGAL)
+def test_every_legal_transition_moves(old, new):
+    machine = in_state(old)
+    assert machine.transition(old, new, 'why') is True
+    assert (machine.state, machine.reason) == (new, 'why')
+
+
+@pytest.mark.parametrize('old,new', ILLEGAL)
+def test_an_illegal_transition_raises_and_changes_nothing(old, new):
+    machine = in_state(old)
+    with pytest.raises(ms.IllegalTransition, match='%s -> %s' % (old, new)):
+        machine.transition(old, new)
+    assert machine.state == old
+
+
+def test_a_transition_from_another_state_does_not_move():
+    machine = in_state(ms.ABORTED)
+    assert machine.transition(ms.ROTATING, ms.RETURNING) is False
+    assert machine.state == ms.ABORTED
+
+
+@pytest.mark.parametrize('old', [None, ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING])
+def test_abort_ends_every_unfinished_state(old):
+    machine = in_state(old)
+    assert machine.abort('fault') == (True, old)
+    assert (machine.state, machine.reason) == (ms.ABORTED, 'fault')
+
+
+@pytest.mark.parametrize('old', ms.TERMINAL)
+def test_abort_leaves_an_ended_mission_alone(old):
+    machine = in_state(old)
+    assert machine.abort('late fault') == (False, old)
+    assert (machine.state, machine.reason) == (old, '')
+
+
+@pytest.mark.parametrize('second', [ms.RETURNING, ms.ABORTED])
+def test_two_threads_racing_a_transition_exactly_one_wins(second):
+    for _ in range(100):
+        machine = in_state(ms.ROTATING, SlowRead)
+        start = threading.Barrier(2)
+        won = []
+
+        def race(new):
+            start.wait(5.0)
+            won.append((new, machine.transition(ms.ROTATING, new)))
+
+        threads = [threading.Thread(target=race, args=(new,)) for new in (ms.RETURNING, second)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(5.0)
+            assert not thread.is_alive(), 'a racing transition did not return within 5 s'
+        winners = [new for new, moved in won if moved]
+        assert len(winners) == 1, won
+        assert machine.state == winners[0]
+
+
+def test_abort_racing_a_transition_leaves_one_consistent_end():
+    for _ in range(100):
+        machine = in_state(ms.RETURNING, SlowRead)
+        start = threading.Barrier(2)
+        results = {}
+
+        def home():
+            start.wait(5.0)
+            results['home'] = machine.transition(ms.RETURNING, ms.HOME)
+
+        def abort():
+            start.wait(5.0)
+            results['abort'] = machine.abort('fault')[0]
+
+        threads = [threading.Thread(target=home), threading.Thread(target=abort)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(5.0)
+        assert results['home'] != results['abort'], results
+        assert machine.state == (ms.HOME if results['home'] else ms.ABORTED)
