@@ -3,7 +3,7 @@
 The action server drives one landmark per goal (the paper's protocol). In the
 paper's modes each goal has its own controller (core/back_travel.make_controller:
 ``time``, ``distance``); in ``closed_loop`` the goals of a return share one
-core/back_travel.RouteFollower over the whole route, and a goal ends when the
+core/route_follower.RouteFollower over the whole route, and a goal ends when the
 follower has finished the goal's section of the route. :func:`make_goal` gives
 both the same interface::
 

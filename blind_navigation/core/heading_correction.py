@@ -189,6 +189,20 @@ class CorrectedOdometry(object):
         return frame
 
 
+    @classmethod
+    def started(cls, correction, reference, latest=None, snapshot=None):
+        """The frame equal to the raw one at the raw OdomState ``reference`` (or
+        continuing from an earlier run's ``snapshot``: :meth:`restored`), brought up to
+        ``latest`` when that is newer than ``reference``."""
+        if snapshot is not None:
+            frame = cls.restored(correction, snapshot)
+        else:
+            frame = cls(correction)
+            frame.update(reference)
+        if latest is not None and latest.stamp > reference.stamp:
+            frame.update(latest)
+        return frame
+
 def correct_landmarks(landmarks, correction, reference_yaw=None):
     """``landmarks`` (recording order, raw odometry frame) in the corrected frame
     whose reference is the last landmark (where recording stopped; raw yaw

@@ -1,6 +1,6 @@
 """The whole return route, built at once from the recorded landmarks (closed-loop return).
 
-API (core/back_travel.RouteFollower, the back_travel server and client, the harness)::
+API (core/route_follower.RouteFollower, the back_travel server and client, the harness)::
 
     route = build_route(landmarks, anchor, params=None)   # landmarks in recording order,
                                                           # anchor = (x, y) where recording stopped

@@ -4,7 +4,7 @@ Serves ``blind_navigation/back_travel`` (blind_navigation/BackTravel): each
 goal is one path landmark ``(v, w, d, T, psi)``, driven on ``cmd_vel`` in the
 mode ``control`` (core/goal.py): ``time`` and ``distance`` (the landmark's own
 controller, core/back_travel.py) or ``closed_loop`` (the goals of a return
-share one core/back_travel.RouteFollower over the route the mission's owner
+share one core/route_follower.RouteFollower over the route the mission's owner
 set with ``blind_navigation/set_return_route``; a goal ends when its section is
 done). Feedback: the distance so far; result: odometry distance and duration.
 
@@ -26,7 +26,8 @@ import rospy
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
 from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
-from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES, RouteFollower
+from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES
+from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.goal import CommandHold, make_goal
 from blind_navigation.core.landmark import landmark_from_values

@@ -286,21 +286,12 @@ class OdometryFeed(object):
 
     # --- the heading-corrected frame -------------------------------------------------------------
     def set_correction(self, correction, reference, snapshot=None):
-        """From now on :meth:`fresh` is in the frame of ``correction``
-        (core/heading_correction.GyroCorrection) that equals the raw one at the raw
-        OdomState ``reference`` (where vision was lost); with ``snapshot``
-        (:meth:`correction_snapshot` of an earlier run of this return) the frame
-        continues from there."""
-        if snapshot is not None:
-            corrector = CorrectedOdometry.restored(correction, snapshot)
-        else:
-            corrector = CorrectedOdometry(correction)
-            corrector.update(reference)
+        """From now on :meth:`fresh` is in the frame of ``correction`` (a GyroCorrection)
+        equal to the raw one at ``reference`` (where vision was lost), or continuing from
+        an earlier run's ``snapshot`` (core/heading_correction.CorrectedOdometry.started)."""
         with self._lock:
-            latest = self._states.latest
-            if latest is not None and latest.stamp > reference.stamp:
-                corrector.update(latest)
-            self._corrector = corrector
+            self._corrector = CorrectedOdometry.started(correction, reference,
+                                                        self._states.latest, snapshot)
 
     @property
     def corrected(self):

@@ -31,7 +31,7 @@ back_travel_client do.
 Goals are driven as back_travel_server drives them (core/goal.make_goal), one
 per landmark in return order: ``closed_loop`` builds the whole route at once
 (core/route.build_route) and the goals are the sections of one
-core/back_travel.RouteFollower; ``time`` and ``distance`` run one controller
+core/route_follower.RouteFollower; ``time`` and ``distance`` run one controller
 per landmark. With ``prune_loops`` the closed-loop route is pruned first
 (core/pruning.prune_route, with the mission's heading correction), as
 back_travel_client prunes it.
@@ -65,7 +65,7 @@ from collections import namedtuple
 from types import SimpleNamespace
 
 from ..core.allowance import ABORT, DRIVE, HOLD, OdomGrace
-from ..core.back_travel import RouteFollower
+from ..core.route_follower import RouteFollower
 from ..core.goal import CommandHold, make_goal
 from ..core.geometry import distance, wrap_angle
 from ..core.landmark import Landmark

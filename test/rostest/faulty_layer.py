@@ -7,7 +7,7 @@ made to raise, as a bug would. The first argument names the fault (:data:`FAULTS
 - ``client``: the client's route building after vision loss raises Python 3.8's
   TypeError of bisect(key=) (BackTravelClient._pruned, issue 21's report);
 - ``server``: the back-travel server's control step raises mid-return
-  (core/back_travel.RouteFollower.step, after AFTER_STEPS steps);
+  (core/route_follower.RouteFollower.step, after AFTER_STEPS steps);
 - ``rotate``: rotate_pi's turn step raises mid-turn (core/rotation.Rotation.step).
 """
 import runpy
@@ -16,7 +16,7 @@ import sys
 import roslib.packages
 import rospy
 
-from blind_navigation.core.back_travel import RouteFollower
+from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.rotation import Rotation
 from blind_navigation.ros.back_travel_client import BackTravelClient
 

@@ -9,8 +9,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from blind_navigation.core.back_travel import (RouteFollower, make_controller, replay_command,
-                                               section_limits)
+from blind_navigation.core.back_travel import make_controller, replay_command
+from blind_navigation.core.route_follower import RouteFollower, section_limits
 from blind_navigation.core.geometry import OdomState, distance
 from blind_navigation.core.goal import make_goal
 from blind_navigation.core.landmark import Landmark

@@ -206,7 +206,7 @@ def _count_reads(route):
 
 
 def test_following_costs_the_same_per_step_however_long_the_route():
-    from blind_navigation.core.back_travel import RouteFollower
+    from blind_navigation.core.route_follower import RouteFollower
     from unicycle import Unicycle
     per_step = []
     for n in (1000, 4000):

@@ -7,7 +7,7 @@ import bisect
 import math
 from types import SimpleNamespace
 
-from blind_navigation.core.back_travel import RouteFollower
+from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import OdomState, Pose2D, wrap_angle
 from blind_navigation.core.recorder import PathRecorder, record_path
 from blind_navigation.core.segment import SamplingSchedule
@@ -115,7 +115,7 @@ def _record_with_events(profile, odom_at, duration, straight_period, curved_peri
 
 
 def follow_route(route, start, dt=DT, limit=100000, section=0):
-    """A core/back_travel.RouteFollower (``stop_lead`` 0: this unicycle stops at once)
+    """A core/route_follower.RouteFollower (``stop_lead`` 0: this unicycle stops at once)
     driving ``route`` from goal ``section`` on a Unicycle put at ``start`` (x, y, yaw),
     stepped every ``dt`` s until done or failed, at most ``limit`` steps.
     Returns (robot, follower)."""

@@ -1,0 +1,269 @@
+"""The closed-loop return (``closed_loop``): :class:`RouteFollower` drives the whole
+route (core/route.build_route) from where the robot turned back to the start: pure
+pursuit between corners, a turn in place at each corner, at the recorded speed and
+never faster (:func:`section_limits`). Its params are core/back_travel's
+BACK_TRAVEL_DEFAULTS; the why: docs/back_travel.md, "The route follower".
+"""
+import math
+from types import SimpleNamespace
+
+from .allowance import ProgressWatch
+from .back_travel import BACK_TRAVEL_DEFAULTS, _param
+from .geometry import distance, wrap_angle
+from .landmark import Landmark
+from .rotation import ROTATION_DEFAULTS, Rotation
+from .safety import VelocityLimits, goal_limits
+
+DRIVING, STOPPING, TURNING, FINISHED = 'driving', 'stopping', 'turning', 'finished'
+
+
+def section_limits(section, max_v, max_w, correction_w, creep_v):
+    """core/safety.goal_limits of a route section: never faster than its recorded
+    speed, never turning faster than its recorded turn rate + ``correction_w``;
+    but a stretch recorded slower than ``creep_v`` (at most a few centimetres:
+    d / T is below it) may be driven at ``creep_v``."""
+    limits = goal_limits(Landmark(section.speed, section.turn_rate, 0.0, 1.0, 0.0),
+                         max_v, max_w, correction_w)
+    return limits._replace(max_v=max(limits.max_v, min(creep_v, max_v)))
+
+
+class RouteFollower(object):
+    """Drives a core/route.Route from its anchor to its end.
+
+    Modes: ``driving`` a piece (pure pursuit), ``stopping`` at a corner,
+    ``turning`` in place there (core/rotation.Rotation to the heading of the
+    route point ``aim_distance`` ahead), ``finished``. ``params``: attributes
+    of :data:`BACK_TRAVEL_DEFAULTS`, core/allowance.ALLOWANCE_DEFAULTS and
+    core/rotation.ROTATION_DEFAULTS (gain, decel, min_w, tolerance; missing
+    ones take the defaults).
+    """
+
+    def __init__(self, route, params=None):
+        self.route = route
+        self.params = params
+        for name in ('max_v', 'max_w', 'lookahead', 'min_v', 'stop_lead', 'lookahead_time',
+                     'brake_decel', 'stopped_v', 'stopped_w', 'stop_timeout', 'align_tolerance',
+                     'aim_distance', 'correction_w', 'timeout_factor', 'timeout_margin', 'creep_v'):
+            setattr(self, name, _param(params, name))
+        self.limits = [section_limits(sec, self.max_v, self.max_w, self.correction_w, self.creep_v)
+                       for sec in route.sections]
+        self.nominal = [sec.nominal_time + abs(sec.turn) / max(limit.max_w, 1e-3)
+                        for sec, limit in zip(route.sections, self.limits)]
+        self.watch = ProgressWatch(sum(self.nominal), params)
+        self.done = self.failed = False
+        self.reason = ''
+        self.mode = None
+        self.section = 0
+        self.late = []
+        self.travelled = 0.0
+        self._mark = (0.0, 0.0)       # progress: (s along the route, phase of the corner turn)
+        self._piece = 0
+        self._segment = 0
+        self._target = None           # the last pursuit target: (x, y, segment) on the current piece
+        self._rotation = None
+        self._turn_angle = 0.0
+        self._last = None
+        self._stop_since = None
+        self._section_started = 0.0
+
+    # --- progress ---------------------------------------------------------------
+    @property
+    def started(self):
+        """True once :meth:`start` was called."""
+        return self._last is not None
+
+    @property
+    def progress(self):
+        """(m along the route, phase of the turn at the corner there)."""
+        return self._mark
+
+    def section_finished(self, index):
+        """Whether section (goal) ``index`` of the route is done."""
+        return self.done or self._mark >= self.route.section_end(index)
+
+    def _advance(self, mark):
+        """Move the progress mark forward (never back) and close finished sections."""
+        if mark > self._mark:
+            self._mark = mark
+        sections = self.route.sections
+        while self.section < len(sections) and self._mark >= self.route.section_end(self.section):
+            taken = self.watch.active - self._section_started
+            allowed = self.timeout_factor * self.nominal[self.section] + self.timeout_margin
+            if taken > allowed:
+                self.late.append((self.section, taken, self.nominal[self.section]))
+            self._section_started = self.watch.active
+            self.section += 1
+
+    def _limit(self):
+        if not self.limits:
+            return VelocityLimits(min(self.creep_v, self.max_v), min(self.correction_w, self.max_w))
+        return self.limits[min(self.section, len(self.limits) - 1)]
+
+    # --- control ----------------------------------------------------------------
+    def start(self, odom_state, section=0):
+        """Start (or resume at goal ``section``) from ``odom_state``."""
+        route = self.route
+        if not 0 <= section <= len(route.sections):
+            raise ValueError('cannot start at section %d of %d' % (section, len(route.sections)))
+        self._last = odom_state
+        self.travelled = 0.0
+        self.done = self.failed = False
+        self.reason = ''
+        self.watch.update(odom_state.stamp, 0.0)
+        mark = (0.0, 0.0) if section == 0 else route.section_end(section - 1)
+        vertex = 0 if section == 0 else route.sections[section - 1].end_vertex
+        self._mark = mark
+        self.section = section
+        self._section_started = self.watch.active
+        self._advance(mark)
+        if route.vertices == 1 or vertex >= route.vertices - 1:
+            self._finish()
+            return
+        self._piece = route.piece_of(vertex)
+        self._segment = vertex
+        self._target = None
+        if route.corner[vertex] and mark[1] < 1.0:
+            self._start_turn(odom_state)
+        else:
+            self.mode = DRIVING
+
+    def step(self, odom_state):
+        """(v, w) for this control cycle; sets done / failed (then (0, 0))."""
+        if self._last is None:
+            raise RuntimeError('RouteFollower.step called before start')
+        self.travelled += distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
+        self._last = odom_state
+        if self.done or self.failed:
+            return 0.0, 0.0
+        if self.mode == DRIVING:
+            command, heading_error = self._drive(odom_state)
+        elif self.mode == STOPPING:
+            command, heading_error = self._stop(odom_state), None
+        else:
+            command, heading_error = self._turn(odom_state)
+        why = self.watch.update(odom_state.stamp, self._mark[0], heading_error)
+        if why and not self.done:
+            self.failed, self.reason = True, why
+        if self.done or self.failed:
+            return 0.0, 0.0
+        return self._limit().clamp(*command)
+
+    def _finish(self):
+        self.mode = FINISHED
+        self._advance((self.route.length, 1.0))
+        self.done = True
+
+    def _piece_end(self):
+        return self.route.corners[self._piece + 1]
+
+    def _locate(self, x, y):
+        """Along-route distance of the robot's projection on the current piece,
+        walking forward from the last segment (progress only moves forward). A
+        robot nearer its last pursuit target than that projection cut across a
+        curl of the piece: it is on the nearest segment up to the target's."""
+        route, last = self.route, self._piece_end() - 1
+        segment = max(self._segment, self.route.corners[self._piece])
+        while True:
+            t, gap = _project(route, segment, x, y)
+            if t >= 1.0 and segment < last:
+                segment += 1
+                continue
+            break
+        if self._target is not None and distance(x, y, self._target[0], self._target[1]) ** 2 < gap:
+            for later in range(segment + 1, min(self._target[2], last) + 1):
+                t_later, gap_later = _project(route, later, x, y)
+                if gap_later < gap:
+                    segment, t, gap = later, t_later, gap_later
+        self._segment = segment
+        t = max(0.0, min(1.0, t))
+        return route.s[segment] + t * (route.s[segment + 1] - route.s[segment])
+
+    def _drive(self, odom):
+        route = self.route
+        along = self._locate(odom.x, odom.y)
+        end_vertex = self._piece_end()
+        remaining = route.s[end_vertex] - along
+        if remaining <= max(odom.v, 0.0) * self.stop_lead:
+            self._advance((route.s[end_vertex], 0.0))
+            if end_vertex >= route.vertices - 1:
+                self._finish()
+                return (0.0, 0.0), None
+            self.mode, self._stop_since = STOPPING, odom.stamp
+            return (0.0, 0.0), None
+        self._advance((along, 0.0))
+        limit = self._limit()
+        slowest = min(self.min_v, limit.max_v)
+        speed = max(slowest, min(route.speed_at(along, self._segment), limit.max_v,
+                                 math.sqrt(2.0 * self.brake_decel * remaining)))
+        reach_ahead = max(self.lookahead, self.lookahead_time * speed)
+        self._target = route.point_at(min(along + reach_ahead, route.s[end_vertex]), self._segment)
+        tx, ty, _ = self._target
+        reach = distance(odom.x, odom.y, tx, ty)
+        alpha = wrap_angle(math.atan2(ty - odom.y, tx - odom.x) - odom.yaw)
+        if abs(alpha) > math.pi / 3.0:
+            # Target well off the bow (after a poor turn, or pushed off): face it first.
+            return (0.0, math.copysign(min(limit.max_w, 2.0 * abs(alpha)), alpha)), abs(alpha)
+        return (speed, 2.0 * speed * math.sin(alpha) / max(reach, 1e-6)), None
+
+    def _stop(self, odom):
+        still = abs(odom.v) <= self.stopped_v and abs(odom.w) <= self.stopped_w
+        if still or odom.stamp - self._stop_since >= self.stop_timeout:
+            self._piece += 1
+            self._segment = self.route.corners[self._piece]
+            self._target = None
+            self._start_turn(odom)
+        return 0.0, 0.0
+
+    def _aim_heading(self, odom):
+        """Heading from the robot to the route point ``aim_distance`` into the piece."""
+        route = self.route
+        corner = route.corners[self._piece]
+        end = route.s[self._piece_end()]
+        tx, ty, _ = route.point_at(min(route.s[corner] + self.aim_distance, end), corner)
+        if distance(odom.x, odom.y, tx, ty) < 0.5 * self.aim_distance:
+            return route.direction(corner)
+        return math.atan2(ty - odom.y, tx - odom.x)
+
+    def _start_turn(self, odom):
+        angle = wrap_angle(self._aim_heading(odom) - odom.yaw)
+        self.watch.new_heading_goal()
+        corner = self.route.s[self.route.corners[self._piece]]
+        if abs(angle) <= self.align_tolerance:
+            self._advance((corner, 1.0))
+            self.mode, self._rotation = DRIVING, None
+            return
+        limit = self._limit()
+        turn = dict((name, _rotation_param(self.params, name)) for name in ROTATION_DEFAULTS)
+        turn.update(angle=angle, max_w=limit.max_w, min_w=min(turn['min_w'], limit.max_w),
+                    time_allowance=float('inf'))
+        self._rotation = Rotation(SimpleNamespace(**turn))
+        self._rotation.start(odom)
+        self._turn_angle = angle
+        self.mode = TURNING
+
+    def _turn(self, odom):
+        rotation = self._rotation
+        command = rotation.step(odom)
+        corner = self.route.s[self.route.corners[self._piece]]
+        share = 1.0 - min(1.0, abs(rotation.remaining) / abs(self._turn_angle))
+        self._advance((corner, 1.0 if rotation.done else share))
+        if rotation.done:
+            self.mode, self._rotation = DRIVING, None
+        return command, abs(rotation.remaining)
+
+
+def _project(route, segment, x, y):
+    """(t, squared distance): the share along ``segment`` of the route of the
+    projection of (x, y) (unclamped; 1 on a zero-length segment) and the squared
+    distance from (x, y) to the segment."""
+    ax, ay = route.x[segment], route.y[segment]
+    dx, dy = route.x[segment + 1] - ax, route.y[segment + 1] - ay
+    length_sq = dx * dx + dy * dy
+    t = ((x - ax) * dx + (y - ay) * dy) / length_sq if length_sq > 0 else 1.0
+    share = max(0.0, min(1.0, t))
+    return t, (ax + share * dx - x) ** 2 + (ay + share * dy - y) ** 2
+
+
+def _rotation_param(params, name):
+    return float(getattr(params, name, ROTATION_DEFAULTS[name]) if params is not None
+                 else ROTATION_DEFAULTS[name])
