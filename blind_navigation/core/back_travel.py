@@ -63,7 +63,19 @@ def replay_command(landmark, straight_period):
     return landmark.v, -landmark.w
 
 
-class _Controller(object):
+class Odometer(object):
+    """What a drive travelled on odometry since its start (``travelled``, ``_last``),
+    and whether it ended (``done`` / ``failed``): shared by every controller and
+    core/route_follower.RouteFollower."""
+
+    def _count_step(self, odom_state):
+        """Count the step to ``odom_state``; True once the drive is done or failed."""
+        self.travelled += distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
+        self._last = odom_state
+        return self.done or self.failed
+
+
+class _Controller(Odometer):
     """Common bookkeeping: odometry distance, time allowance, clamping."""
 
     def __init__(self, landmark, params):
@@ -94,9 +106,7 @@ class _Controller(object):
     def step(self, odom_state):
         if self.started is None:
             raise RuntimeError('%s.step called before start' % type(self).__name__)
-        self.travelled += distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
-        self._last = odom_state
-        if self.done or self.failed:
+        if self._count_step(odom_state):
             return 0.0, 0.0
         if self.elapsed(odom_state) > self.allowance:
             self.failed = True

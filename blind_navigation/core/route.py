@@ -150,11 +150,7 @@ class Route(object):
     # --- plain form -----------------------------------------------------------
     def to_lists(self):
         """{field: [float, ...]} (:data:`ROUTE_FIELDS`); :meth:`from_lists` inverts it."""
-        data = {'x': list(self.x), 'y': list(self.y), 'speed': list(self.speed),
-                'corner': [1.0 if c else 0.0 for c in self.corner]}
-        for field in SECTION_FIELDS:
-            data['section_' + field] = [float(getattr(s, field)) for s in self.sections]
-        return data
+        return route_lists(self)
 
     @classmethod
     def from_lists(cls, data):
@@ -343,3 +339,13 @@ def _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params
                                 max(abs(landmark.w), abs(turn) / landmark.T),
                                 expected_duration(landmark, slowest_v), owned[i]))
     return sections
+
+
+def route_lists(route):
+    """{field: [float, ...]} (:data:`ROUTE_FIELDS`) of anything with a route's ``x``,
+    ``y``, ``speed``, ``corner`` and ``sections`` (a Route, a ReturnRoute message)."""
+    data = {'x': list(route.x), 'y': list(route.y), 'speed': list(route.speed),
+            'corner': [1.0 if c else 0.0 for c in route.corner]}
+    for field in SECTION_FIELDS:
+        data['section_' + field] = [float(getattr(s, field)) for s in route.sections]
+    return data

@@ -8,7 +8,7 @@ import math
 from types import SimpleNamespace
 
 from .allowance import ProgressWatch
-from .back_travel import BACK_TRAVEL_DEFAULTS, _param
+from .back_travel import BACK_TRAVEL_DEFAULTS, Odometer, _param
 from .geometry import distance, wrap_angle
 from .landmark import Landmark
 from .rotation import ROTATION_DEFAULTS, Rotation
@@ -27,7 +27,7 @@ def section_limits(section, max_v, max_w, correction_w, creep_v):
     return limits._replace(max_v=max(limits.max_v, min(creep_v, max_v)))
 
 
-class RouteFollower(object):
+class RouteFollower(Odometer):
     """Drives a core/route.Route from its anchor to its end.
 
     Modes: ``driving`` a piece (pure pursuit), ``stopping`` at a corner,
@@ -131,9 +131,7 @@ class RouteFollower(object):
         """(v, w) for this control cycle; sets done / failed (then (0, 0))."""
         if self._last is None:
             raise RuntimeError('RouteFollower.step called before start')
-        self.travelled += distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
-        self._last = odom_state
-        if self.done or self.failed:
+        if self._count_step(odom_state):
             return 0.0, 0.0
         if self.mode == DRIVING:
             command, heading_error = self._drive(odom_state)

@@ -7,7 +7,7 @@ Route (:func:`route_of`: a route of another version or a bad field is refused).
 import rospy
 
 from blind_navigation import names
-from blind_navigation.core.route import SECTION_FIELDS, Route
+from blind_navigation.core.route import SECTION_FIELDS, Route, route_lists
 from blind_navigation.msg import ReturnRoute, RouteSection
 from blind_navigation.srv import SetReturnRoute
 
@@ -27,12 +27,8 @@ def route_of(request):
     if msg.version != ReturnRoute.ROUTE_VERSION:
         raise ValueError('route: version %d, this server reads version %d'
                          % (msg.version, ReturnRoute.ROUTE_VERSION))
-    data = {'x': list(msg.x), 'y': list(msg.y), 'speed': list(msg.speed),
-            'corner': [1.0 if c else 0.0 for c in msg.corner]}
-    for field in SECTION_FIELDS:
-        data['section_' + field] = [float(getattr(s, field)) for s in msg.sections]
     try:
-        return Route.from_lists(data)
+        return Route.from_lists(route_lists(msg))
     except ValueError as error:
         raise ValueError('route: %s' % error)
 
