@@ -50,6 +50,27 @@ CALIBRATION_ROLE = 'calibrate_gyro'
 MOTION_OWNER = {ROTATING: ROTATION_ROLE, RETURNING: BACK_TRAVEL_ROLE}
 
 
+#: The state in which ``go_home`` starts the return (as vision loss does).
+GO_HOME_FROM = RECORDING
+#: The reason of a ``cancel``'s ``aborted``.
+CANCELLED = 'cancelled by request'
+
+
+def go_home_refusal(state):
+    """Why ``go_home`` is refused in ``state`` (None: it starts the return)."""
+    if state == GO_HOME_FROM:
+        return None
+    return 'refused: the mission is %s (go_home starts the return only while %s)' % (
+        state, GO_HOME_FROM)
+
+
+def cancel_refusal(state):
+    """Why ``cancel`` is refused in ``state`` (None: the mission is aborted)."""
+    if state in TERMINAL or state is None:
+        return 'refused: the mission is %s (nothing to cancel)' % state
+    return None
+
+
 def may_move(role, state):
     """True when ``role`` may command motion while the mission is in ``state``
     (None: no mission is running, which only the calibration may use)."""
