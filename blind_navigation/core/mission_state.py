@@ -9,10 +9,9 @@ the mission's owner (back_travel_client)::
                    \\-> aborted (idle -> aborted too: a return that cannot resume)
 
 - ``recording``: the recorder saved its first landmark.
-- ``rotating``: vision was lost while recording (a trigger in any other state
-  is logged and changes nothing; repeated triggers change nothing).
+- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`).
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts.
+- ``home`` / ``aborted``: terminal (``cancel``: :func:`cancel_refusal`). Nothing moves until a new mission starts.
 
 Every change goes through :meth:`MissionState.transition` (table-checked,
 atomic). Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`);

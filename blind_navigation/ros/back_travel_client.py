@@ -9,9 +9,9 @@ core/mission_state.MissionState. Vision lost while recording: ``rotating``
 (``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
 driven by ros/return_runner.py (the route set on the server, the landmarks
 sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
-the reason. The progress (ros/return_progress.py) is written next to
-``landmark_file`` at vision loss and after each goal: a restarted client
-resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
+the reason. Its services ``go_home``, ``cancel``: ros/mission_services.py. The
+progress (ros/return_progress.py) is written next to ``landmark_file`` at
+vision loss and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
 ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
 or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
 Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
