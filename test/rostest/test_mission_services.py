@@ -87,12 +87,8 @@ class ServicesTest(unittest.TestCase):
                 cls.outcome = run.outcome()
                 cls.cancel_reply = cancel()
             else:
-                run.wait(lambda: len(run.goals.snapshot()) > GOALS_BEFORE_CANCEL
-                         and run.truth.speed() > MOVING_SPEED,
-                         'the robot never drove back at > %.2f m/s after %d goals'
-                         % (MOVING_SPEED, GOALS_BEFORE_CANCEL))
-                cls.speed_at_cancel = run.truth.speed()
-                cls.cancelled_at = rospy.Time.now().to_sec()
+                cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL,
+                                                                            MOVING_SPEED)
                 cls.cancel_reply = cancel()
                 cls.goals_at_cancel = len(run.goals.snapshot())
                 run.wait(lambda: run.state_names()[-1:] == ['aborted'],
