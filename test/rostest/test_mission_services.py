@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest: the mission owner's services on the fake TurtleBot, default launch
-(mission_go_home.test, mission_cancel_service.test).
+(mission_go_home.test, mission_cancel_service.test; the paper's node layout:
+mission_cancel_service_paper.test).
 
 A short mission is recorded; ``/blind_navigation/go_home`` (std_srvs/Trigger)
 called while recording is acknowledged and starts the return (the status's
