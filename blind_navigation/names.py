@@ -32,6 +32,10 @@ SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
 # --- the layer's own names (INTERFACE.md)
 #: std_msgs/Empty: vision has failed
 VISION_LOST = 'blind_navigation/vision_lost'
+#: service std_srvs/Trigger: the manual trigger, acknowledged (starts the return while recording)
+GO_HOME = 'blind_navigation/go_home'
+#: service std_srvs/Trigger: stop now, the mission ``aborted`` ("cancelled by request")
+CANCEL = 'blind_navigation/cancel'
 #: std_msgs/String, latched: the mission state (core/mission_state.py)
 STATE = 'blind_navigation/state'
 #: blind_navigation/MissionStatus, latched: the state with its reason and the return's progress

@@ -9,10 +9,9 @@ the mission's owner (back_travel_client)::
                    \\-> aborted (idle -> aborted too: a return that cannot resume)
 
 - ``recording``: the recorder saved its first landmark.
-- ``rotating``: vision was lost while recording (a trigger in any other state
-  is logged and changes nothing; repeated triggers change nothing).
+- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`).
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted``: terminal. Nothing moves until a new mission starts.
+- ``home`` / ``aborted``: terminal (``cancel``: :func:`cancel_refusal`). Nothing moves until a new mission starts.
 
 Every change goes through :meth:`MissionState.transition` (table-checked,
 atomic). Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`);
@@ -48,6 +47,27 @@ BACK_TRAVEL_ROLE = 'back_travel_server'
 #: The one-off gyro calibration runs outside any mission (no state) and may spin then.
 CALIBRATION_ROLE = 'calibrate_gyro'
 MOTION_OWNER = {ROTATING: ROTATION_ROLE, RETURNING: BACK_TRAVEL_ROLE}
+
+
+#: The state in which ``go_home`` starts the return (as vision loss does).
+GO_HOME_FROM = RECORDING
+#: The reason of a ``cancel``'s ``aborted``.
+CANCELLED = 'cancelled by request'
+
+
+def go_home_refusal(state):
+    """Why ``go_home`` is refused in ``state`` (None: it starts the return)."""
+    if state == GO_HOME_FROM:
+        return None
+    return 'refused: the mission is %s (go_home starts the return only while %s)' % (
+        state, GO_HOME_FROM)
+
+
+def cancel_refusal(state):
+    """Why ``cancel`` is refused in ``state`` (None: the mission is aborted)."""
+    if state in TERMINAL or state is None:
+        return 'refused: the mission is %s (nothing to cancel)' % state
+    return None
 
 
 def may_move(role, state):

@@ -29,6 +29,19 @@ ROTATION_DEFAULTS = {
 }
 
 
+
+def turn_problem(start_yaw, yaw, tolerance):
+    """Why a robot at ``yaw`` has not really turned by pi from ``start_yaw`` (within
+    ``tolerance``, rad), or None; a missing ``yaw`` is a problem, a missing start is not."""
+    if yaw is None:
+        return 'no odometry to check the turn'
+    if start_yaw is None:
+        return None
+    turned = abs(wrap_angle(yaw - start_yaw))
+    if abs(turned - math.pi) > tolerance:
+        return 'the robot turned %.2f rad since vision loss, not pi' % turned
+    return None
+
 class Rotation(object):
     """Turn in place by ``angle`` (rad) using odometry yaw; see module docstring.
 

@@ -9,14 +9,13 @@ core/mission_state.MissionState. Vision lost while recording: ``rotating``
 (``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
 driven by ros/return_runner.py (the route set on the server, the landmarks
 sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
-the reason. The progress (ros/return_progress.py) is written next to
-``landmark_file`` at vision loss and after each goal: a restarted client
-resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
+the reason. Its services ``go_home``, ``cancel``: ros/mission_services.py. The
+progress (ros/return_progress.py) is written next to ``landmark_file`` at
+vision loss and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
 ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
 or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
 Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
-import math
 import os
 import threading
 import time
@@ -26,19 +25,20 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.geometry import wrap_angle
 from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params
 from blind_navigation.core.route import ROUTE_DEFAULTS
 from blind_navigation.core.progress import PROGRESS_DEFAULTS, ReturnProgress
+from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import SAFETY_DEFAULTS
 from blind_navigation.msg import MissionStatus, StorageUsage
 from blind_navigation.ros import wiring
 from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
+from blind_navigation.ros.mission_services import MissionServices
 from blind_navigation.ros.return_paths import ReturnPaths
 from blind_navigation.ros.return_progress import ProgressKeeper
 from blind_navigation.ros.return_runner import ReturnRunner
@@ -98,6 +98,7 @@ class BackTravelClient(object):
         self.warnings = ''
         self.losses = {}                # real path of a landmark file -> its last storage with a loss
         self._return = threading.Event()
+        self._begin_lock = threading.Lock()     # vision_lost and go_home: one return starts
         self.trip = None
         self.lost = None           # an untrusted odometry reset during the turn or the return
         self._turn_start = None          # raw odometry yaw where recording stopped
@@ -116,6 +117,7 @@ class BackTravelClient(object):
         subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
         subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
         subscribe(names.ROTATION_DONE, Bool, guard(self._on_rotation_done), queue_size=1)
+        self.services = MissionServices(self)
         add_mission_diagnostics(self)
         rospy.on_shutdown(self._on_shutdown)
 
@@ -136,7 +138,7 @@ class BackTravelClient(object):
         self._announce(expected, new_state, reason)
         return True
 
-    def _abort(self, reason):
+    def abort(self, reason):
         """Any unfinished state -> ``aborted``; False if the mission had already ended."""
         moved, old = self.machine.abort(reason)
         if moved:
@@ -198,21 +200,30 @@ class BackTravelClient(object):
             if current not in (state.ROTATING, state.RETURNING):   # repeats are simply idempotent
                 self.log.warn('vision_lost from %s ignored in state %s', sender, current)
             return
-        if self.odometry.lost:
-            self._move(state.RECORDING, state.ABORTED, 'vision lost (%s), but %s: the way back is '
-                       'unknown; not travelling back' % (sender, self.odometry.lost))
-            return
-        latest = self.odometry.latest()
-        anchor = [latest.x, latest.y] if latest is not None else None
-        self._turn_start = latest.yaw if latest is not None else None
-        self.keeper.save(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
-                                                 time.time(), self.layer.mission_id))
-        if not self._move(state.RECORDING, state.ROTATING, 'vision lost (%s)' % sender):
-            # a fault ended the mission while the turn's start was recorded
-            self.keeper.save(self.keeper.progress.finish(state.ABORTED, self.reason, time.time()))
-            return
+        self.begin_return('vision lost (%s)' % sender)
+
+    def begin_return(self, reason):
+        """Recording -> rotating for ``reason`` (vision lost, go_home; one at a time): the
+        anchor and progress saved, the turn's timeout armed. True if it started."""
+        with self._begin_lock:
+            if self.state != state.RECORDING:
+                return False
+            if self.odometry.lost:
+                self._move(state.RECORDING, state.ABORTED, '%s, but %s: the way back is '
+                           'unknown; not travelling back' % (reason, self.odometry.lost))
+                return False
+            latest = self.odometry.latest()
+            anchor = [latest.x, latest.y] if latest is not None else None
+            self._turn_start = latest.yaw if latest is not None else None
+            self.keeper.save(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
+                                                  time.time(), self.layer.mission_id))
+            if not self._move(state.RECORDING, state.ROTATING, reason):
+                # a fault ended the mission while the turn's start was recorded
+                self.keeper.save(self.keeper.progress.finish(state.ABORTED, self.reason, time.time()))
+                return False
         rospy.Timer(rospy.Duration(self.rotation_timeout), self.guard(self._check_rotation),
                     oneshot=True)
+        return True
 
     def _check_rotation(self, _event):
         self._move(state.ROTATING, state.ABORTED, 'no finished pi turn within %.0f s of vision '
@@ -231,7 +242,9 @@ class BackTravelClient(object):
             self._move(state.ROTATING, state.ABORTED, 'the pi rotation failed%s; not travelling '
                        'back' % (' (safety stop: %s)' % safety if safety else ''))
             return
-        problem = self._turn_problem()
+        latest = self.odometry.latest()
+        problem = turn_problem(self._turn_start, latest.yaw if latest is not None else None,
+                               self.params.turn_tolerance)
         if problem:
             self.log.error('rotation_done true refused: %s', problem)
             return
@@ -240,21 +253,11 @@ class BackTravelClient(object):
         else:
             self.log.warn('rotation_done true ignored in state %s', self.state)
 
-    def _turn_problem(self):
-        """Why the robot has not really turned by pi since recording stopped, or None."""
-        latest = self.odometry.latest()
-        if self._turn_start is None or latest is None:
-            return None if latest is not None else 'no odometry to check the turn'
-        turned = abs(wrap_angle(latest.yaw - self._turn_start))
-        if abs(turned - math.pi) > self.params.turn_tolerance:
-            return 'the robot turned %.2f rad since vision loss, not pi' % turned
-        return None
-
     def _on_fault(self, reason):
         """A fault of this process (ros/wiring.py: a refused topic, a role's exception,
         ros/faults.py) or of another (``blind_navigation/role_failure``): the mission
         ends ``aborted`` with ``reason``."""
-        if not self._abort(reason):
+        if not self.abort(reason):
             self.log.error('%s (the mission had ended %s)', reason, self.state)
 
     def _on_failure_report(self, msg):

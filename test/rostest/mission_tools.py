@@ -265,6 +265,13 @@ class MissionRun(object):
         """GoalStatus codes of the results the server published, in order."""
         return [r.status.status for r in self.results.snapshot()]
 
+    def wait_mid_return(self, goals, speed):
+        """Until more than ``goals`` goals were sent and the base drives faster than
+        ``speed`` (m/s, ground truth); (that speed, the sim time now)."""
+        self.wait(lambda: len(self.goals.snapshot()) > goals and self.truth.speed() > speed,
+                  'the robot never drove back at > %.2f m/s after %d goals' % (speed, goals))
+        return self.truth.speed(), rospy.Time.now().to_sec()
+
     def cancel_all_goals(self):
         """What `rostopic pub .../back_travel/cancel actionlib_msgs/GoalID {}` does: cancel every goal."""
         publisher = rospy.Publisher(names.BACK_TRAVEL + '/cancel', GoalID, queue_size=1)

@@ -45,12 +45,8 @@ class CancelTest(unittest.TestCase):
             run.wait_for_operator(rospy.get_param('~mission'))
             cls.landmarks = len(run.recorded().landmarks)
             run.trigger_by_publisher()
-            run.wait(lambda: len(run.goals.snapshot()) > GOALS_BEFORE_CANCEL
-                     and run.truth.speed() > MOVING_SPEED,
-                     'the robot never drove back at > %.2f m/s after %d goals'
-                     % (MOVING_SPEED, GOALS_BEFORE_CANCEL))
-            cls.speed_at_cancel = run.truth.speed()
-            cls.cancelled_at = rospy.Time.now().to_sec()
+            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL,
+                                                                        MOVING_SPEED)
             run.cancel_all_goals()
             cls.goals_at_cancel = len(run.goals.snapshot())
             run.wait(lambda: run.state_names()[-1:] in (['aborted'], ['home']),

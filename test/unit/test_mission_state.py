@@ -117,3 +117,21 @@ def test_abort_racing_a_transition_leaves_one_consistent_end():
             thread.join(5.0)
         assert results['home'] != results['abort'], results
         assert machine.state == (ms.HOME if results['home'] else ms.ABORTED)
+
+
+def test_go_home_starts_the_return_only_while_recording():
+    assert ms.go_home_refusal(ms.RECORDING) is None
+    for other in (None,) + tuple(s for s in ms.ALL if s != ms.RECORDING):
+        refusal = ms.go_home_refusal(other)
+        assert refusal.startswith('refused: the mission is %s ' % other), refusal
+
+
+def test_cancel_aborts_every_unfinished_state_and_refuses_an_ended_one():
+    for unfinished in (ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING):
+        assert ms.cancel_refusal(unfinished) is None
+        machine = ms.MissionState()
+        machine.state = unfinished
+        assert machine.abort(ms.CANCELLED) == (True, unfinished)
+        assert (machine.state, machine.reason) == (ms.ABORTED, 'cancelled by request')
+    for ended in ms.TERMINAL + (None,):
+        assert ms.cancel_refusal(ended).startswith('refused: the mission is %s ' % ended)

@@ -1,0 +1,168 @@
+#!/usr/bin/env python3
+"""rostest: the mission owner's services on the fake TurtleBot, default launch
+(mission_go_home.test, mission_cancel_service.test; the paper's node layout:
+mission_cancel_service_paper.test).
+
+A short mission is recorded; ``/blind_navigation/go_home`` (std_srvs/Trigger)
+called while recording is acknowledged and starts the return (the status's
+reason says it was requested); called again while returning it is refused
+naming the state. Case ``home``: the robot comes home within 2 % of the
+recorded path, and ``cancel`` is then refused naming ``home``. Case
+``cancel``: ``/blind_navigation/cancel`` mid-return is acknowledged; the first
+zero on the mux input (teleop) comes within one control cycle of the server
+(1 / control_rate, sim s) of the call, the base's ground-truth stop at most
+one of its 50 Hz samples later; the
+state ends ``aborted`` with "cancelled by request" and no goal follows.
+"""
+import os
+import sys
+import threading
+import unittest
+
+import rospy
+import rostest
+from nav_msgs.msg import Odometry
+from std_srvs.srv import Trigger
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from mission_tools import (ONE_PROCESS, STOPPED_SPEED, TELEOP_TOPIC, MissionRun,  # noqa: E402
+                           TimedTwists)
+from recording_tools import Collector  # noqa: E402
+
+from blind_navigation import names  # noqa: E402
+from blind_navigation.msg import MissionStatus  # noqa: E402
+from blind_navigation.ros.back_travel_server import BackTravelServer  # noqa: E402
+from blind_navigation.sim.kobuki import SENSOR_PERIOD  # noqa: E402
+
+#: The return must end within this fraction of the recorded path's length of the start.
+MAX_RELATIVE_ERROR = 0.02
+#: Cancel mid-return: goals done and ground-truth speed (m/s) when cancelling.
+GOALS_BEFORE_CANCEL, MOVING_SPEED = 4, 0.05
+#: s of sim time the base must then stay put, and how little it may move (m).
+STAY_FOR, STAY_WITHIN = 2.0, 0.002
+
+
+class TimedSpeeds(object):
+    """(sim stamp, speed m/s) of every /ground_truth/odom message."""
+
+    def __init__(self):
+        self._lock, self.items = threading.Lock(), []
+        self.sub = rospy.Subscriber(names.GROUND_TRUTH, Odometry, self._on_msg, queue_size=100)
+
+    def _on_msg(self, msg):
+        t = msg.twist.twist
+        with self._lock:
+            self.items.append((msg.header.stamp.to_sec(), (t.linear.x ** 2 + t.linear.y ** 2) ** 0.5))
+
+    def after(self, t):
+        with self._lock:
+            return [item for item in self.items if item[0] >= t]
+
+
+def trigger(service):
+    """A persistent std_srvs/Trigger proxy of ``service`` (no connection set-up per call)."""
+    proxy = rospy.ServiceProxy(service, Trigger, persistent=True)
+    proxy.wait_for_service(timeout=30.0)
+    return proxy
+
+
+class ServicesTest(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.case = rospy.get_param('~case')
+        cls.mission_run = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
+        cls.status = Collector(names.STATUS, MissionStatus)
+        cls.teleop, cls.speeds = TimedTwists(TELEOP_TOPIC), TimedSpeeds()
+        go_home, cancel = trigger(names.GO_HOME), trigger(names.CANCEL)
+        try:
+            run.wait_for_layer()
+            run.start_operator(rospy.get_param('~mission'))
+            run.wait_for_operator(rospy.get_param('~mission'))
+            cls.loaded = run.recorded()
+            cls.go_home_recording = go_home()
+            run.wait(lambda: 'returning' in run.state_names(),
+                     'the return never started after go_home; states %s' % run.state_names())
+            cls.go_home_returning = go_home()
+            if cls.case == 'home':
+                cls.outcome = run.outcome()
+                cls.cancel_reply = cancel()
+            else:
+                cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL,
+                                                                            MOVING_SPEED)
+                cls.cancel_reply = cancel()
+                cls.goals_at_cancel = len(run.goals.snapshot())
+                run.wait(lambda: run.state_names()[-1:] == ['aborted'],
+                         'the mission never became aborted after cancel; states %s' % run.state_names())
+                run.wait_sim(1.0, 'the base stopping')
+                cls.stopped_at = run.truth.position()
+                run.wait_sim(STAY_FOR, 'the base staying put')
+                cls.final_at = run.truth.position()
+        finally:
+            run.stop_operator()
+        cls.cycle = 1.0 / rospy.get_param(
+            '%s/back_travel_server/control_rate' % (ONE_PROCESS if run.compact else ''),
+            BackTravelServer.DEFAULTS['control_rate'])    # the server's control period, s
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.mission_run.remove_recording()
+
+    def reasons(self, state):
+        return [msg.reason for msg in self.status.snapshot() if msg.state == state]
+
+    def test_go_home_while_recording_starts_the_return(self):
+        reply = self.go_home_recording
+        self.assertTrue(reply.success, reply.message)
+        self.assertIn('rotating', reply.message)
+        self.assertEqual(self.mission_run.state_names()[:4], ['idle', 'recording', 'rotating', 'returning'])
+        reasons = self.reasons('rotating')
+        self.assertTrue(reasons and reasons[0].startswith('return requested (go_home'), reasons)
+
+    def test_go_home_while_returning_is_refused_naming_the_state(self):
+        reply = self.go_home_returning
+        self.assertFalse(reply.success, reply.message)
+        self.assertIn('returning', reply.message)
+
+    def test_the_mission_ends_as_the_case_says(self):
+        run = self.mission_run
+        if self.case == 'home':
+            self.assertEqual(run.state_names()[-1], 'home')
+            rospy.loginfo('GO_HOME: error %.4f m on a %.2f m path (%.2f %%)', self.outcome.error,
+                          self.loaded.total_distance, 100 * self.outcome.error / self.loaded.total_distance)
+            self.assertLess(self.outcome.error, MAX_RELATIVE_ERROR * self.loaded.total_distance)
+            self.assertFalse(self.cancel_reply.success, self.cancel_reply.message)
+            self.assertIn('home', self.cancel_reply.message)
+            return
+        self.assertTrue(self.cancel_reply.success, self.cancel_reply.message)
+        self.assertEqual(run.state_names()[-1], 'aborted')
+        self.assertEqual(self.reasons('aborted')[-1:], ['cancelled by request'])
+        self.assertEqual(len(run.goals.snapshot()), self.goals_at_cancel, 'a goal after the cancel')
+        self.assertLess(self.goals_at_cancel, len(self.loaded.landmarks), 'cancel after the last goal')
+
+    def test_cancel_gives_zero_velocity_within_one_control_cycle(self):
+        if self.case != 'cancel':
+            self.skipTest('case %s does not cancel mid-return' % self.case)
+        self.assertGreater(self.speed_at_cancel, MOVING_SPEED)
+        after = self.teleop.after(self.cancelled_at)
+        zeros = [i for i, (_, v, w) in enumerate(after) if v == 0.0 and w == 0.0]
+        self.assertTrue(zeros, 'no zero velocity on %s after the cancel' % TELEOP_TOPIC)
+        zero_after = after[zeros[0]][0] - self.cancelled_at
+        stops = [t for t, speed in self.speeds.after(self.cancelled_at) if speed < STOPPED_SPEED]
+        self.assertTrue(stops, 'the base never stopped after the cancel')
+        stop_after = stops[0] - self.cancelled_at
+        rospy.loginfo('CANCEL SERVICE: first zero on teleop %.3f s, base stopped %.3f s (sim) after '
+                      'the call; control cycle %.3f s', zero_after, stop_after, self.cycle)
+        self.assertLessEqual(zero_after, self.cycle)
+        # the truth shows the stop at its next sample after the zero reached the base
+        self.assertLessEqual(stop_after, self.cycle + SENSOR_PERIOD)
+        moving = [item for item in after[zeros[0]:] if item[1] or item[2]]
+        self.assertEqual(moving, [], 'motion commands after the stop')
+        moved = ((self.final_at[0] - self.stopped_at[0]) ** 2
+                 + (self.final_at[1] - self.stopped_at[1]) ** 2) ** 0.5
+        self.assertLess(moved, STAY_WITHIN)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_mission_services')
+    rostest.rosrun('blind_navigation', 'mission_services', ServicesTest)
