@@ -5,7 +5,8 @@ argument, e.g. rotate_pi.py of the paper's layout), with ONE method of one role'
 made to raise, as a bug would. The first argument names the fault (:data:`FAULTS`):
 
 - ``client``: the client's route building after vision loss raises Python 3.8's
-  TypeError of bisect(key=) (BackTravelClient._pruned, issue 21's report);
+  TypeError of bisect(key=) (core/pruning.prune_route as core/return_plan calls it,
+  in the client's thread: issue 21's report);
 - ``server``: the back-travel server's control step raises mid-return
   (core/route_follower.RouteFollower.step, after AFTER_STEPS steps);
 - ``rotate``: rotate_pi's turn step raises mid-turn (core/rotation.Rotation.step).
@@ -16,9 +17,9 @@ import sys
 import roslib.packages
 import rospy
 
-from blind_navigation.core.route_follower import RouteFollower
+from blind_navigation.core import return_plan
 from blind_navigation.core.rotation import Rotation
-from blind_navigation.ros.back_travel_client import BackTravelClient
+from blind_navigation.core.route_follower import RouteFollower
 
 #: control steps (50 Hz) before the step raises: the robot is moving by then
 AFTER_STEPS = 60
@@ -38,12 +39,12 @@ def raising_after(method, steps, error):
     return step
 
 
-def pruned(self, route, landmarks):
+def pruned(route, landmarks, correction, params):
     raise TypeError(BISECT_KEY)
 
 
 FAULTS = {
-    'client': lambda: setattr(BackTravelClient, '_pruned', pruned),
+    'client': lambda: setattr(return_plan, 'prune_route', pruned),
     'server': lambda: setattr(RouteFollower, 'step', raising_after(
         RouteFollower.step, AFTER_STEPS, ZeroDivisionError('injected in the control step'))),
     'rotate': lambda: setattr(Rotation, 'step', raising_after(
