@@ -96,8 +96,16 @@ class RecorderInputTest(unittest.TestCase):
                 state.publish(String(data=text))
             rospy.sleep(1.0)
         MissionOwner('/sampling_publisher').publish('rotating')    # vision lost: recording ends
-        wait_for(lambda: any('recording finished' in m.msg for _, m in rosout.items
-                             if m.name == '/landmark_saver'), 'the saver finished', 60.0)
+        # the status is published every second, a log line once (a loaded machine's /rosout
+        # queue may drop it): wait on the status, and name the roles' last lines if it never comes
+        finished = 'landmark_saver: landmark_saver: recording'
+
+        def said():
+            return [m.msg for _, m in rosout.items[-200:]
+                    if m.name in ('/landmark_saver', '/sampling_publisher')][-6:]
+        wait_for(lambda: 'recording finished' in (diagnostics.status(finished) or ('',))[0],
+                 lambda: 'the saver finished (status %s; last lines %s)'
+                 % (diagnostics.status(finished), said()), 60.0)
 
         self.assertTrue(refusals and not any(r.saved for r in refusals))
         self.assertTrue(all('unknown command' in r.message for r in refusals), refusals[0])

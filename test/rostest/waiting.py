@@ -6,9 +6,11 @@ import rospy
 
 
 def wait_for(condition, what, timeout=30.0, poll=0.01):
-    """Poll ``condition()`` until true; AssertionError naming ``what`` after ``timeout`` s wall."""
+    """Poll ``condition()`` until true; AssertionError naming ``what`` after ``timeout`` s wall
+    (``what`` may be a callable, asked only then, to say what was seen instead)."""
     deadline = time.monotonic() + timeout
     while not condition():
         if time.monotonic() > deadline or rospy.is_shutdown():
-            raise AssertionError('gave up after %.0f s (wall): %s' % (timeout, what))
+            raise AssertionError('gave up after %.0f s (wall): %s'
+                                 % (timeout, what() if callable(what) else what))
         time.sleep(poll)
