@@ -7,15 +7,16 @@ the mission's owner (back_travel_client)::
                  \\            \\            \\-> aborted
                   \\            \\-> aborted
                    \\-> aborted (idle -> aborted too: a return that cannot resume)
+    home, aborted -> idle (``new_mission``: :func:`new_mission_refusal`)
 
 - ``recording``: the recorder saved its first landmark.
 - ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`).
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted``: terminal (``cancel``: :func:`cancel_refusal`). Nothing moves until a new mission starts.
+- :data:`TERMINAL` (``cancel``: :func:`cancel_refusal`): nothing moves until ``new_mission``.
 
-Every change goes through :meth:`MissionState.transition` (table-checked,
-atomic). Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`);
-every velocity output asks :func:`may_move` before it publishes anything but zero.
+Every change goes through :meth:`MissionState.transition` (table-checked, atomic).
+Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`); every velocity
+output asks :func:`may_move` first. The table and who may move: docs/DESIGN.md.
 """
 import threading
 
@@ -27,6 +28,8 @@ HOME = 'home'
 ABORTED = 'aborted'
 
 ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED)
+#: The mission has ended here; ``new_mission`` starts the next one from any of them
+#: (a new terminal state is one more name here: TRANSITIONS and the rules follow).
 TERMINAL = (HOME, ABORTED)
 
 #: Allowed transitions: state -> the states it may move to. ``None`` is the owner
@@ -37,9 +40,8 @@ TRANSITIONS = {
     RECORDING: (ROTATING, ABORTED),
     ROTATING: (RETURNING, ABORTED),
     RETURNING: (HOME, ABORTED),
-    HOME: (),
-    ABORTED: (),
 }
+TRANSITIONS.update((ended, (IDLE,)) for ended in TERMINAL)     # new_mission
 
 #: The role that may command motion in a state (the roles are the layer's node classes).
 ROTATION_ROLE = 'rotate_pi'
@@ -68,6 +70,19 @@ def cancel_refusal(state):
     if state in TERMINAL or state is None:
         return 'refused: the mission is %s (nothing to cancel)' % state
     return None
+
+
+def new_mission_refusal(state):
+    """Why ``new_mission`` is refused in ``state`` (None: the next mission starts)."""
+    if state in TERMINAL:
+        return None
+    return 'refused: the mission is %s (new_mission starts the next one only once it is %s)' % (
+        state, ' or '.join(TERMINAL))
+
+
+def starts_new_mission(old, new):
+    """True when ``old -> new`` is ``new_mission``: the roles start recording again."""
+    return old in TERMINAL and new == IDLE
 
 
 def may_move(role, state):
@@ -115,7 +130,7 @@ class MissionState(object):
 
     def abort(self, reason):
         """Move any unfinished state to ``aborted``: (moved, the state before); a
-        mission that had already ended is not moved (terminal states never change)."""
+        mission that had already ended is not moved (only ``new_mission`` leaves a terminal state)."""
         with self._lock:
             old = self.state
             if old in TERMINAL:

@@ -9,7 +9,7 @@ core/mission_state.MissionState. Vision lost while recording: ``rotating``
 (``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
 driven by ros/return_runner.py (the route set on the server, the landmarks
 sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
-the reason. Its services ``go_home``, ``cancel``: ros/mission_services.py. The
+the reason. Its services ``go_home``, ``cancel``, ``new_mission``: ros/mission_services.py. The
 progress (ros/return_progress.py) is written next to ``landmark_file`` at
 vision loss and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
 ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
@@ -99,8 +99,8 @@ class BackTravelClient(object):
         self.losses = {}                # real path of a landmark file -> its last storage with a loss
         self._return = threading.Event()
         self._begin_lock = threading.Lock()     # vision_lost and go_home: one return starts
-        self.trip = None
-        self.lost = None           # an untrusted odometry reset during the turn or the return
+        self.trip = self.lost = None    # a safety trip, an untrusted odometry reset (turn, return)
+        self.rotation_timer = None      # the pi turn's timeout (new_mission shuts it down)
         self._turn_start = None          # raw odometry yaw where recording stopped
         self.correction = layer.heading_correction() if p.heading_correction else None
         self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log)
@@ -221,8 +221,8 @@ class BackTravelClient(object):
                 # a fault ended the mission while the turn's start was recorded
                 self.keeper.save(self.keeper.progress.finish(state.ABORTED, self.reason, time.time()))
                 return False
-        rospy.Timer(rospy.Duration(self.rotation_timeout), self.guard(self._check_rotation),
-                    oneshot=True)
+        self.rotation_timer = rospy.Timer(rospy.Duration(self.rotation_timeout),
+                                          self.guard(self._check_rotation), oneshot=True)
         return True
 
     def _check_rotation(self, _event):

@@ -288,10 +288,11 @@ class OdometryFeed(object):
     def set_correction(self, correction, reference, snapshot=None):
         """From now on :meth:`fresh` is in the frame of ``correction`` (a GyroCorrection)
         equal to the raw one at ``reference`` (where vision was lost), or continuing from
-        an earlier run's ``snapshot`` (core/heading_correction.CorrectedOdometry.started)."""
+        an earlier run's ``snapshot`` (core/heading_correction.CorrectedOdometry.started);
+        None: the raw frame again (a new mission measures its own)."""
         with self._lock:
-            self._corrector = CorrectedOdometry.started(correction, reference,
-                                                        self._states.latest, snapshot)
+            self._corrector = None if correction is None else CorrectedOdometry.started(
+                correction, reference, self._states.latest, snapshot)
 
     @property
     def corrected(self):

@@ -10,7 +10,7 @@ Watches, through the debounced detectors of core/vision.py:
   lost and stalled;
 - optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
 
-It fires once, while the mission records, and publishes a latched
+It fires once per mission (``new_mission`` watches anew), while the mission records, and publishes a latched
 std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
 (std_msgs/String). A stall counts only while the wheel odometry flows
 (core/vision.HostFlow). Whether the loss ends the recording is the mission
@@ -65,20 +65,33 @@ class VisionMonitor(object):
         self.log = layer.logger(self.ROLE)
         enabled = {name for name in ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
                    if getattr(p, 'detect_' + name)}
-        self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
-                                         p.dark_threshold, p.dark_frames, p.host_stall_gap)
+        self.enabled = enabled
         self.layer = layer
         self.lock = threading.Lock()
         self.done = False
+        self.generation = 0   # the missions watched (new_mission watches anew)
         self.warned = set()
         self.started = None   # first stall check: sim time may not have arrived yet here
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
-        guard = layer.guard(self.ROLE)
+        guard = self.guard = layer.guard(self.ROLE)
         self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
-        self.subscribers = [subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))]
+        # kept across missions: a new subscription would get a latched vision_lost again
+        self.manual_sub = subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))
         self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
+        self.start_watching()
+        layer.mission.on_change(guard(self.on_state))
+        layer.mission.on_new_mission(guard(self.new_mission))
+        layer.diagnostics.add('vision monitor', self.status)
+        self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
+
+    def start_watching(self):
+        """Fresh detectors, their inputs subscribed, the stall checks running."""
+        p, enabled, guard = self.params, self.enabled, self.guard
+        self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
+                                         p.dark_threshold, p.dark_frames, p.host_stall_gap)
+        self.subscribers = []
         if 'dark' in enabled:
             numpy_module()      # loaded now, not with the first frame (lifts the one-process block)
             self.camera_topic = names.CAMERA
@@ -93,20 +106,18 @@ class VisionMonitor(object):
         self.camera_info_until_vo = self.camera_info_sub is not None and 'vo_stall' in enabled
         self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
         if self.watching_vo:
-            layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
-            layer.visual_odometry.acquire(self.ROLE)
+            self.layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
+            self.layer.visual_odometry.acquire(self.ROLE)
         # the wheel odometry's arrivals tell a host stall from a vision fault (one process:
         # the recorder's subscription already; the paper's layout: one more)
-        layer.odometry.add_listener(self.listeners['wheel'], raw=True)
-        layer.odometry.acquire(self.ROLE)
+        self.layer.odometry.add_listener(self.listeners['wheel'], raw=True)
+        self.layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg,
                                               guard(self.on_odom_info), expected=ODOM_INFO,
                                               queue_size=5))
-        layer.mission.on_change(guard(self.on_state))
-        layer.diagnostics.add('vision monitor', self.status)
-        threading.Thread(target=guard(self.watch_stalls), name='vision_monitor_stalls', daemon=True).start()
-        self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
+        threading.Thread(target=guard(self.watch_stalls), args=(self.generation,),
+                         name='vision_monitor_stalls', daemon=True).start()
 
     # --- inputs ---------------------------------------------------------------------------------
     def on_camera_info(self, _msg):
@@ -164,6 +175,13 @@ class VisionMonitor(object):
         if caller != rospy.get_name():
             self.feed(self.monitor.manual, caller)
 
+    def new_mission(self):
+        with self.lock:
+            self.done, self.started = False, None
+            self.generation += 1
+        self.log.info('new mission: watching again')
+        self.start_watching()
+
     def on_state(self, _old, new):
         if not mission_state.records(new):
             with self.lock:
@@ -173,10 +191,10 @@ class VisionMonitor(object):
             self.log.info('mission %s: no longer watching', new)
             self.stop_watching()
 
-    def watch_stalls(self):
+    def watch_stalls(self, generation):
         """Check the stall detectors whenever one of them could fire next, and warn once
-        about a stream that never came; until the monitor stops watching."""
-        while not rospy.is_shutdown() and not self.done:
+        about a stream that never came; until the monitor stops watching this mission."""
+        while not rospy.is_shutdown() and not self.done and self.generation == generation:
             now = rospy.get_time()
             if now > 0.0:                 # zero: sim time has not started
                 self.started = now if self.started is None else self.started
