@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """rostest: ``/blind_navigation/new_mission`` (std_srvs/Trigger) on the fake TurtleBot
-(mission_new_mission.test: default launch, one process; _paper: the paper's node layout).
+(mission_new_mission.test: default launch, one process; mission_new_mission_paper.test:
+the paper's node layout).
 
 Mission 1: a short mission is recorded and ``go_home`` brings it home;
 ``new_mission`` called while the mission is ``rotating`` is refused naming it.
