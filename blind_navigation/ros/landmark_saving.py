@@ -89,10 +89,10 @@ class LandmarkSaving(object):
         self.error = ''
         self.recorder = PathRecorder()
         configured = landmark_file(self.params.landmark_file)
-        self.writer = open_mission_file(configured, self.layer.current_mission_id(), fsync=self.params.fsync,
-                                        metadata={'recorder': self.variant,
-                                                  'odom_topic': rospy.resolve_name(names.ODOM),
-                                                  'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
+        self.mission = self.layer.current_mission_id()
+        self.writer = open_mission_file(configured, self.mission, fsync=self.params.fsync, metadata={
+            'recorder': self.variant, 'odom_topic': rospy.resolve_name(names.ODOM),
+            'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
         self.finished = self.writer.finished   # a continued mission file may be finished already
         path = self.writer.path
         if self.writer.resumed is not None:
@@ -104,8 +104,14 @@ class LandmarkSaving(object):
                           os.path.basename(path))
 
     def _new_mission(self):
-        """The old file closed as it is, the new mission's opened, RViz's path emptied."""
         with self._lock:
+            self._follow_mission()
+
+    def _follow_mission(self):
+        """If ``new_mission`` set a new mission id (lock held): the old file closed as it is,
+        the new mission's opened, RViz's path emptied; at the new mission's state or at its
+        first sample, whichever reaches this process first."""
+        if self.layer.current_mission_id() != self.mission:
             self.writer.close()
             self._open()
             self.path_pub.publish(path_message(self._poses, rospy.Time.now(), self.odometry.frame_id))
@@ -133,6 +139,8 @@ class LandmarkSaving(object):
             if command not in COMMANDS:
                 return self._refuse('unknown command %r (expected one of %s)'
                                     % (command, ', '.join(COMMANDS)))
+            if self.finished:
+                self._follow_mission()
             if self.finished:
                 return self._refuse('recording has finished (a final sample was saved)')
             if self.writer.holds(sample):
@@ -289,15 +297,21 @@ class LandmarkSaving(object):
             self.path_pub.publish(path_message(self._poses, now, self.odometry.frame_id))
 
     def _publish_storage(self, now):
-        used = storage_usage(self.writer.count, self.writer.bytes, self.writer.total_distance)
-        mark = self.writer.sample
-        msg = StorageUsage(file=self.writer.path, landmarks=used.landmarks, bytes=used.bytes,
-                           distance=used.distance, bytes_per_metre=used.bytes_per_metre,
-                           lost=self.writer.lost, error=self.error,
-                           recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
-        msg.header.stamp = now
+        msg, used = storage_message(self.writer, self.error, now)
         self.storage_pub.publish(msg)
         return used
+
+
+def storage_message(writer, error, stamp):
+    """(blind_navigation/StorageUsage, core/recorder storage_usage) of ``writer``'s file."""
+    used = storage_usage(writer.count, writer.bytes, writer.total_distance)
+    mark = writer.sample
+    msg = StorageUsage(file=writer.path, landmarks=used.landmarks, bytes=used.bytes,
+                       distance=used.distance, bytes_per_metre=used.bytes_per_metre,
+                       lost=writer.lost, error=error,
+                       recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
+    msg.header.stamp = stamp
+    return msg, used
 
 
 def path_message(poses, stamp, frame_id):
