@@ -85,6 +85,9 @@ class Layer(object):
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
+        # a new mission starts on the odometry as it finds it (ros/odometry.py)
+        self.mission.on_new_mission(self.guard('odometry feed')(
+            lambda: self.odometry.set_correction(None, None)))
         self.safety = SafetyMonitor(self.guard('safety monitor'))
         self._correction = None
         self._correction_lock = threading.Lock()
@@ -193,8 +196,7 @@ class CorrectionReceiver(object):
     def forget(self):
         """A new mission: the raw frame until its own correction arrives."""
         with self._lock:
-            self.correction = self.reference = None
-            self.odometry.set_correction(None, None)
+            self.correction = self.reference = None     # the feed: the layer drops its correction
             self._received.clear()
 
     def _install(self, correction, reference, snapshot=None):
