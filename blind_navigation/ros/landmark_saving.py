@@ -89,8 +89,8 @@ class LandmarkSaving(object):
         self.error = ''
         self.recorder = PathRecorder()
         configured = landmark_file(self.params.landmark_file)
-        self.mission = self.layer.current_mission_id()
-        self.writer = open_mission_file(configured, self.mission, fsync=self.params.fsync, metadata={
+        self.mission_id = self.layer.current_mission_id()   # of the file open
+        self.writer = open_mission_file(configured, self.mission_id, fsync=self.params.fsync, metadata={
             'recorder': self.variant, 'odom_topic': rospy.resolve_name(names.ODOM),
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
         self.finished = self.writer.finished   # a continued mission file may be finished already
@@ -111,7 +111,7 @@ class LandmarkSaving(object):
         """If ``new_mission`` set a new mission id (lock held): the old file closed as it is,
         the new mission's opened, RViz's path emptied; at the new mission's state or at its
         first sample, whichever reaches this process first."""
-        if self.layer.current_mission_id() != self.mission:
+        if self.layer.current_mission_id() != self.mission_id:
             self.writer.close()
             self._open()
             self.path_pub.publish(path_message(self._poses, rospy.Time.now(), self.odometry.frame_id))
