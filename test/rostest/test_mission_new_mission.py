@@ -65,11 +65,14 @@ class NewMissionTest(unittest.TestCase):
             run.stop_operator()
             cls.states_1 = run.state_names()
 
+            stored_1 = len(run.storage_msgs)
             cls.new_reply = new_mission()
             run.wait(lambda: run.state_names()[len(cls.states_1):][-1:] == ['recording'],
                      'the state never became recording after new_mission; states %s'
                      % run.state_names())
-            cls.file_2 = os.path.realpath(run.storage_msgs.snapshot()[-1].file)
+            run.wait(lambda: len(run.storage_msgs) > stored_1,
+                     'no storage message after new_mission (nothing recorded)')
+            cls.file_2 = os.path.realpath(run.storage_msgs.snapshot(stored_1)[0].file)
             cls.link_2 = os.path.realpath(run.param('landmark_saver', 'landmark_file'))
             cls.refused_recording = new_mission()
             run.start = run.truth.position()
