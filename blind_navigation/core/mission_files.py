@@ -3,6 +3,7 @@ configured ``landmark_file`` is a symlink to the current one.
 
 :func:`open_mission_file` continues the current mission's file (a recorder
 restarted mid-mission) or starts a new one (:func:`start_mission_file`);
+``new_mission`` numbers the missions of a launch (:func:`next_mission_id`);
 nothing recorded is overwritten or deleted. Why: docs/recording.md, "File".
 """
 import datetime
@@ -19,6 +20,21 @@ from .landmark_writer import LandmarkWriter
 #: Why a restarted recorder's first landmark breaks the d chain.
 RESTART_GAP = ('the recorder restarted mid-mission: this landmark measures d from where the robot '
                'was at the restart, not from the previous landmark')
+
+
+def next_mission_id(current):
+    """The id of the mission after ``current`` (a launch's id, None, or one made here):
+    ``<launch id>#<n>``, numbered on from ``current``'s."""
+    launch, _, number = (current or '').rpartition('#')
+    if launch and number.isdigit():
+        return '%s#%d' % (launch, int(number) + 1)
+    return '%s#2' % (current or 'mission')
+
+
+def mission_number(current):
+    """The number of mission ``current`` within its launch (1: the launch's own id)."""
+    _, _, number = (current or '').rpartition('#')
+    return int(number) if number.isdigit() else 1
 
 
 def mission_file_name(landmark_file, when=None):

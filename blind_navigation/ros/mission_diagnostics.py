@@ -6,6 +6,7 @@ and ``landmark file`` (the recorder's file and its size).
 import os
 
 from blind_navigation.core import mission_state as state
+from blind_navigation.core.mission_files import mission_number
 from blind_navigation.ros import diagnostics
 
 
@@ -20,7 +21,7 @@ def add_mission_diagnostics(client):
 def _mission_status(client, stat):
     progress = client.keeper.progress
     stat.add('state', client.state)
-    stat.add('mission', client.services.number)       # in this launch (new_mission counts on)
+    stat.add('mission', mission_number(client.layer.mission_id))   # in this launch
     stat.add('mission id', client.layer.mission_id)
     stat.add('mission file', os.path.realpath(client.landmark_file))
     if progress is not None:

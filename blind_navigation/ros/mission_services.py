@@ -22,12 +22,8 @@ from std_srvs.srv import Trigger, TriggerResponse
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
+from blind_navigation.core.mission_files import mission_number, next_mission_id
 from blind_navigation.ros.layer import MISSION_ID
-
-
-def mission_id(first, number):
-    """The id of mission ``number`` of a launch whose first mission is ``first`` (or None)."""
-    return first if number == 1 else '%s#%d' % (first or 'mission', number)
 
 
 class MissionServices(object):
@@ -35,8 +31,6 @@ class MissionServices(object):
 
     def __init__(self, mission):
         self.mission = mission
-        self.number = 1                     # the mission's number in this launch
-        self.first_id = mission.layer.mission_id
         self._new_lock = threading.Lock()   # one new_mission at a time
         self.services = [rospy.Service(names.GO_HOME, Trigger, mission.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, mission.guard(self._on_cancel)),
@@ -74,17 +68,15 @@ class MissionServices(object):
             old = m.state
             refusal = state.new_mission_refusal(old)
             if refusal is None:
-                number = self.number + 1
-                rospy.set_param(MISSION_ID, mission_id(self.first_id, number))  # before idle
-                m.layer.current_mission_id()
+                new_id = next_mission_id(m.layer.current_mission_id())
+                rospy.set_param(MISSION_ID, new_id)         # before the roles see idle
+                number = mission_number(m.layer.current_mission_id())
                 self._forget_return()
                 if m._move(old, state.IDLE, 'mission %d (new_mission by %s)' % (number, sender)):
-                    self.number = number
                     return TriggerResponse(success=True, message=(
                         'mission %d: idle; recording into a new file behind %s from the first '
                         'landmark' % (number, m.landmark_file)))
-                rospy.set_param(MISSION_ID, mission_id(self.first_id, self.number))   # unused
-                m.layer.current_mission_id()
+                # only new_mission (under this lock) leaves a terminal state: not reached
                 refusal = 'refused: the mission became %s meanwhile' % m.state
             m.log.warn('new_mission from %s %s', sender, refusal)
             return TriggerResponse(success=False, message=refusal)

@@ -13,7 +13,8 @@ from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
 from blind_navigation.core.landmark_format import Gap, LandmarkFileError, SampleMark, format_entry
 from blind_navigation.core.landmark_writer import LandmarkWriter
-from blind_navigation.core.mission_files import RESTART_GAP, open_mission_file, start_mission_file
+from blind_navigation.core.mission_files import (RESTART_GAP, mission_number, next_mission_id,
+                                                 open_mission_file, start_mission_file)
 from blind_navigation.core.store import load_landmarks
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
@@ -89,6 +90,30 @@ def test_start_mission_file_keeps_earlier_missions(tmp_path):
     assert load_landmarks(link).landmarks == PATH[:1]
     assert load_landmarks(first).landmarks == PATH
 
+
+
+def test_new_missions_are_numbered_on_from_the_launch_id():
+    assert [next_mission_id(m) for m in ('mission_vm_1', 'mission_vm_1#2', None, 'mission#9')] == [
+        'mission_vm_1#2', 'mission_vm_1#3', 'mission#2', 'mission#10']
+    assert [mission_number(m) for m in ('mission_vm_1', 'mission_vm_1#2', None, 'a#b')] == [1, 2, 1, 1]
+
+
+def test_a_new_mission_id_opens_a_new_file_and_keeps_the_old_one_byte_identical(tmp_path):
+    link = str(tmp_path / 'landmarks.yaml')
+    with open_mission_file(link, 'launch', fsync=False) as writer:
+        for landmark in PATH:
+            writer.append(landmark)
+        writer.finish()
+        first = writer.path
+    with open(first, 'rb') as stream:
+        before = stream.read()
+    with open_mission_file(link, next_mission_id('launch'), fsync=False) as writer:
+        writer.append(PATH[0])
+        second = writer.path
+    assert second != first and os.path.realpath(link) == second
+    with open(first, 'rb') as stream:
+        assert stream.read() == before
+    assert load_landmarks(link).landmarks == PATH[:1]
 
 def test_start_mission_file_archives_a_regular_file(tmp_path):
     link = tmp_path / 'landmarks.yaml'
