@@ -13,6 +13,8 @@ Only ``/clock`` is global.
 ODOM = 'odom'
 #: geometry_msgs/Twist the pi turn and the back travel drive (a cmd_vel_mux input, as in the paper)
 CMD_VEL = 'cmd_vel_mux/input/teleop'
+#: std_msgs/String, the mux's active input (its name, or ``idle``): a takeover (ros/takeover.py)
+CMD_VEL_MUX_ACTIVE = 'cmd_vel_mux/active'
 #: geometry_msgs/Pose2D, the paper's yaw source (sampling_publisher with yaw_source pose2d)
 POSE2D = 'pose2d'
 #: sensor_msgs/Image of the RGB camera (vision-loss detection, the dark detector only)

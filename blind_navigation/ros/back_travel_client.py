@@ -32,7 +32,8 @@ from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params
 from blind_navigation.core.route import ROUTE_DEFAULTS
 from blind_navigation.core.progress import PROGRESS_DEFAULTS, ReturnProgress
 from blind_navigation.core.rotation import turn_problem
-from blind_navigation.core.safety import SAFETY_DEFAULTS
+from blind_navigation.core.pause import TAKEOVER_DEFAULTS
+from blind_navigation.core.safety import SAFETY_DEFAULTS, is_contact
 from blind_navigation.msg import MissionStatus, StorageUsage
 from blind_navigation.ros import wiring
 from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
@@ -61,7 +62,7 @@ class BackTravelClient(object):
     """Mission state machine and goal sender (module docstring)."""
 
     ROLE = 'back_travel_client'
-    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **{
+    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **TAKEOVER_DEFAULTS, **{
         'landmark_file': '',            # the recorder's symlink (empty: under $ROS_HOME); only read
         'odom_timeout': 0.5,            # s; older odometry counts as missing
         'server_timeout': 10.0,         # s to wait for the back-travel server
@@ -87,7 +88,7 @@ class BackTravelClient(object):
 
     def __init__(self, layer):
         p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS,
-                                                shared=('standstill_time',)))
+                                                shared=('standstill_time',) + tuple(TAKEOVER_DEFAULTS)))
         self.log = layer.logger(self.ROLE)
         self.layer = layer
         self.odometry = layer.odometry
@@ -100,6 +101,7 @@ class BackTravelClient(object):
         self._return = threading.Event()
         self._begin_lock = threading.Lock()     # vision_lost and go_home: one return starts
         self.trip = None
+        self.takeover = layer.takeover(p)    # its pauses do not count against the allowances
         self.lost = None           # an untrusted odometry reset during the turn or the return
         self._turn_start = None          # raw odometry yaw where recording stopped
         self.correction = layer.heading_correction() if p.heading_correction else None
@@ -221,11 +223,20 @@ class BackTravelClient(object):
                 # a fault ended the mission while the turn's start was recorded
                 self.keeper.save(self.keeper.progress.finish(state.ABORTED, self.reason, time.time()))
                 return False
-        rospy.Timer(rospy.Duration(self.rotation_timeout), self.guard(self._check_rotation),
-                    oneshot=True)
+        self._arm_rotation_check(self.takeover.paused())
         return True
 
-    def _check_rotation(self, _event):
+    def _arm_rotation_check(self, paused, seconds=None):
+        """Check the turn ``seconds`` (the rotation_timeout) from now; ``paused``: the
+        takeovers' time so far, which does not count."""
+        rospy.Timer(rospy.Duration(self.rotation_timeout if seconds is None else seconds),
+                    self.guard(lambda event: self._check_rotation(paused)), oneshot=True)
+
+    def _check_rotation(self, paused):
+        more = self.takeover.paused() - paused
+        if more > 0 and self.state == state.ROTATING:      # an operator held the robot: extend
+            self._arm_rotation_check(paused + more, max(more, 0.1))
+            return
         self._move(state.ROTATING, state.ABORTED, 'no finished pi turn within %.0f s of vision '
                    'loss (is rotate_pi running?)' % self.rotation_timeout)
 
@@ -266,8 +277,8 @@ class BackTravelClient(object):
             self._on_fault('%s (%s)' % (msg.data, sender))
 
     def _on_trip(self, reason):
-        if self.state in (state.ROTATING, state.RETURNING):
-            self.trip = reason
+        if self.state == state.ROTATING or (self.state == state.RETURNING and not is_contact(reason)):
+            self.trip = reason          # a contact during the return: the server's Contacts decide
 
     def _on_reset(self, reason, trusted):
         """An untrusted odometry reset: the frame of the turn and the route is lost

@@ -25,6 +25,7 @@ from blind_navigation import names
 from blind_navigation.core import drive, mission_state
 from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
+from blind_navigation.core.pause import TAKEOVER_DEFAULTS
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
@@ -38,7 +39,7 @@ class RotatePi(object):
     """Turns by ``angle`` when vision is lost (module docstring)."""
 
     ROLE = mission_state.ROTATION_ROLE
-    DEFAULTS = dict(ROTATION_DEFAULTS,
+    DEFAULTS = dict(ROTATION_DEFAULTS, **TAKEOVER_DEFAULTS,
                     control_rate=50.0,          # Hz of the turn's control loop
                     odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],  # s; older odometry: hold (zero)
                     odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],  # s a hold may last before the turn fails
@@ -49,7 +50,8 @@ class RotatePi(object):
                                                 # wait for the heading correction
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS,
+                                       shared=('standstill_time',) + tuple(TAKEOVER_DEFAULTS))
         self.log = layer.logger(self.ROLE)
         if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
             raise ValueError('~control_rate must be positive, ~recording_end_timeout and '
@@ -58,9 +60,11 @@ class RotatePi(object):
         OdomGrace(p)
         self.correction_timeout = standstill_timeout(p) + p.correction_margin
         self.layer = layer
-        self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety)
+        self.takeover = layer.takeover(p)
+        self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety,
+                                   self.takeover)
         self.drive = DriveLoop(self.output, layer.odometry, layer.safety, p, self.log,
-                               layer.guard(self.ROLE))
+                               layer.guard(self.ROLE), takeover=self.takeover)
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
         self._trigger = threading.Event()
         self._recording_ended = threading.Event()
@@ -78,6 +82,7 @@ class RotatePi(object):
             stat.add('heading correction', 'installed' if self.correction.received else 'awaited')
         if self.layer.safety.active:
             stat.add('safety', ', '.join(self.layer.safety.active))
+        stat.add('takeover', self.takeover.active() or 'none')
 
     # --- events ----------------------------------------------------------------------------------
     def _on_sample(self, msg):
@@ -142,12 +147,12 @@ class RotatePi(object):
         self.log.info('standing still while heading_correction measures the gyro bias (waiting '
                       'at most %.0f s for %s)', self.correction_timeout,
                       rospy.resolve_name(names.HEADING_CORRECTION))
-        deadline = rospy.get_time() + self.correction_timeout
+        deadline = rospy.get_time() + self.correction_timeout - self.takeover.paused()
         try:
             while not self.correction.received:
                 if rospy.is_shutdown() or not self.rotating:
                     return False
-                if rospy.get_time() >= deadline:
+                if rospy.get_time() >= deadline + self.takeover.paused():   # takeovers do not count
                     self.log.error('cannot turn: no heading correction on %s within %.0f s (is '
                                    'heading_correction running?); the robot stays here',
                                    rospy.resolve_name(names.HEADING_CORRECTION),
