@@ -43,6 +43,7 @@ from blind_navigation.ros.mission_services import MissionServices
 from blind_navigation.ros.return_paths import ReturnPaths
 from blind_navigation.ros.return_progress import ProgressKeeper
 from blind_navigation.ros.return_runner import ReturnRunner
+from blind_navigation.ros.takeover import after_unpaused
 
 
 def _checked(p):
@@ -87,8 +88,8 @@ class BackTravelClient(object):
     })
 
     def __init__(self, layer):
-        p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS,
-                                                shared=('standstill_time',) + tuple(TAKEOVER_DEFAULTS)))
+        p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS, shared=(
+            'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs')))
         self.log = layer.logger(self.ROLE)
         self.layer = layer
         self.odometry = layer.odometry
@@ -101,7 +102,7 @@ class BackTravelClient(object):
         self._return = threading.Event()
         self._begin_lock = threading.Lock()     # vision_lost and go_home: one return starts
         self.trip = None
-        self.takeover = layer.takeover(p)    # its pauses do not count against the allowances
+        self.takeover = layer.takeover(p)    # its pauses count against no allowance
         self.lost = None           # an untrusted odometry reset during the turn or the return
         self._turn_start = None          # raw odometry yaw where recording stopped
         self.correction = layer.heading_correction() if p.heading_correction else None
@@ -223,20 +224,10 @@ class BackTravelClient(object):
                 # a fault ended the mission while the turn's start was recorded
                 self.keeper.save(self.keeper.progress.finish(state.ABORTED, self.reason, time.time()))
                 return False
-        self._arm_rotation_check(self.takeover.paused())
+        after_unpaused(self.rotation_timeout, self.takeover, self.guard(self._check_rotation))
         return True
 
-    def _arm_rotation_check(self, paused, seconds=None):
-        """Check the turn ``seconds`` (the rotation_timeout) from now; ``paused``: the
-        takeovers' time so far, which does not count."""
-        rospy.Timer(rospy.Duration(self.rotation_timeout if seconds is None else seconds),
-                    self.guard(lambda event: self._check_rotation(paused)), oneshot=True)
-
-    def _check_rotation(self, paused):
-        more = self.takeover.paused() - paused
-        if more > 0 and self.state == state.ROTATING:      # an operator held the robot: extend
-            self._arm_rotation_check(paused + more, max(more, 0.1))
-            return
+    def _check_rotation(self):
         self._move(state.ROTATING, state.ABORTED, 'no finished pi turn within %.0f s of vision '
                    'loss (is rotate_pi running?)' % self.rotation_timeout)
 

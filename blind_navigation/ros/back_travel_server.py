@@ -9,16 +9,14 @@ set with ``blind_navigation/set_return_route``; a goal ends when its section is
 done). Feedback: the distance so far; result: odometry distance and duration.
 
 It serves its own mission only: a goal is accepted while the mission is
-``returning``, from the mission's owner, one at a time, and only if it is the
-next landmark of the route. Between goals the last command holds for at most
-``handover_timeout`` (core/goal.CommandHold). Every command is clamped and
-state-gated (ros/motion.MotionOutput); stale or refused odometry holds the goal
-(core/allowance.OdomGrace); a bumper contact holds it (core/pause.Contacts,
-counted over the whole return: ``contact_wait``, ``max_contacts``,
-``contact_timeout``), a cliff or wheel drop aborts it; an operator's takeover
-pauses it silently (ros/takeover.py, ``on_takeover``); cancel, error and
-shutdown publish zero velocity. Details and reasons: docs/back_travel.md,
-docs/safety.md.
+``returning``, from the mission's owner, one at a time, if it is the route's
+next landmark. Between goals the last command holds for at most
+``handover_timeout`` (core/goal.CommandHold). Commands are clamped and
+state-gated (ros/motion.MotionOutput); stale odometry holds the goal
+(core/allowance.OdomGrace), so does a bumper contact (core/pause.Contacts,
+counted over the return) and, silently, an operator's takeover
+(ros/takeover.py); a cliff or wheel drop aborts it; cancel, error and shutdown
+publish zero velocity. Why: docs/back_travel.md, docs/safety.md.
 """
 import threading
 import types
@@ -64,8 +62,8 @@ class BackTravelServer(object):
                     status_frequency=1.0)       # Hz of the action server's periodic status
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS,
-                                       shared=('straight_rate',) + tuple(TAKEOVER_DEFAULTS))
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=(
+            'straight_rate', 'takeover_wait', 'on_takeover', 'takeover_inputs'))
         self.log = layer.logger(self.ROLE)
         if p.control not in MODES:
             raise ValueError('~control must be one of %s, got %r' % (', '.join(MODES), p.control))

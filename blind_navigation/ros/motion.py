@@ -7,17 +7,15 @@ output's halt from the event callback, at once; an event topic of another type
 is refused (ros/wiring.py).
 
 :class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
-name, remappable) for one role, and only when that role may move in the
-current mission state (core/mission_state.may_move): in any other state every
-command becomes zero. Commands are clamped to ``max_v``/``max_w`` and the
-current goal's :meth:`~MotionOutput.limit` (v and w scaled together, the
-curvature kept); :meth:`~MotionOutput.halt` stops at once and turns every
-later :meth:`~MotionOutput.publish` into zero until
-:meth:`~MotionOutput.release`; while an operator has taken over
-(ros/takeover.py) it publishes nothing at all, not even zero, so a control loop that computed its command
-before a cancel or a safety event cannot move the robot again. Zero is
-published on node shutdown. Once any subscription of the process was refused
-for its type (ros/wiring.py) every output publishes zero for good.
+name, remappable) for one role, only when that role may move in the mission
+state (core/mission_state.may_move): else zero. Commands are clamped to
+``max_v``/``max_w`` and the goal's :meth:`~MotionOutput.limit` (the curvature
+kept); :meth:`~MotionOutput.halt` stops at once and turns every later
+:meth:`~MotionOutput.publish` into zero until :meth:`~MotionOutput.release`,
+so a control loop that computed its command before a cancel or a safety event
+cannot move the robot again. Zero on node shutdown, and for good once a
+subscription of the process was refused for its type (ros/wiring.py). While
+an operator has taken over (ros/takeover.py) it publishes nothing, not even zero.
 """
 import threading
 

@@ -50,8 +50,8 @@ class RotatePi(object):
                                                 # wait for the heading correction
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS,
-                                       shared=('standstill_time',) + tuple(TAKEOVER_DEFAULTS))
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=(
+            'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs'))
         self.log = layer.logger(self.ROLE)
         if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
             raise ValueError('~control_rate must be positive, ~recording_end_timeout and '

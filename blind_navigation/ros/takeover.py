@@ -52,3 +52,19 @@ class TakeoverWatch(object):
         with self._lock:
             self._takeover.active(rospy.get_time())
             return self._takeover.paused(rospy.get_time())
+
+
+def after_unpaused(seconds, watch, callback):
+    """Call ``callback()`` once ``seconds`` of sim time passed, not counting the time
+    takeovers (``watch``, a TakeoverWatch) paused meanwhile (one-shot rospy Timers)."""
+    def check(paused):
+        more = watch.paused() - paused
+        if more > 0:
+            arm(more, paused + more)
+        else:
+            callback()
+
+    def arm(delay, paused):
+        rospy.Timer(rospy.Duration(delay), lambda _event: check(paused), oneshot=True)
+
+    arm(seconds, watch.paused())
