@@ -64,7 +64,9 @@ class RecoverCase(unittest.TestCase):
         return m
 
     def commands_between(self, m, start, end):
-        return [c for c in m.layer_commands() if start <= c[0] <= end]
+        """The layer's commands received from ``start`` to ``end`` (not this node's)."""
+        return [c for c in m.layer_commands()
+                if start <= c[0] <= end and c[3] != rospy.get_name()]
 
     def assert_home_within(self, m, fraction):
         final, _ = m.wait_final()
@@ -131,21 +133,23 @@ class BumpTest(RecoverCase):
 class TakeoverTest(RecoverCase):
 
     def drive(self, m, seconds):
-        """Drive on the layer's own input for ``seconds`` (10 Hz); (first, last) sim times."""
+        """Drive on the layer's own input for ``seconds`` (10 Hz); sim times of the first and
+        the last command."""
         teleop = m.keep(rospy.Publisher(TELEOP_TOPIC, Twist, queue_size=5))
         m.wait(lambda: teleop.get_num_connections() >= 2, 'the mux and the layer subscribe teleop')
         command = Twist()
         command.linear.x, command.angular.z = 0.1, 0.3
-        first = rospy.get_time()
-        while rospy.get_time() < first + seconds:
+        first = last = rospy.get_time()
+        while last < first + seconds:
+            last = rospy.get_time()
             teleop.publish(command)
             rospy.sleep(0.1)
-        last = rospy.get_time()
         return first, last
 
     def assert_silent(self, m, first, last):
         during = self.commands_between(m, first + IN_FLIGHT, last)
-        print('RECOVER %s: layer commands while the operator drove: %d' % (m.label, len(during)))
+        print('RECOVER %s: layer commands while the operator drove %.1f s: %d (%s)' % (
+            m.label, last - first, len(during), sorted(set(c[3] for c in during))))
         self.assertEqual(during, [], 'the layer published while the operator drove')
 
     def test_1_the_layer_is_silent_and_resumes_home(self):
