@@ -72,7 +72,9 @@ class DriveLoop(object):
         if decision == PAUSE:
             return 'bumper contact %d (%s): holding' % (self.contacts.count,
                                                         ', '.join(self.safety.active) or 'released')
-        return Outcome(SAFETY_STOP, decision) if decision else None
+        if decision:
+            return Outcome(SAFETY_STOP, '%s: %s' % (', '.join(self.safety.active) or 'bumper', decision))
+        return None
 
     def _resumed(self, behaviour, label, paused):
         """After a pause of ``paused`` s: the takeover's Outcome (on_takeover abort) or None."""
