@@ -112,7 +112,7 @@ class DriveLoop(object):
                     if paused_at is None:
                         paused_at = now
                         self.log.warn('%s: %s', label, pause)
-                    if self.taken is None:
+                    if pause != self.taken:
                         self.output.stop()      # a contact: zero (a takeover: nothing)
                     rate.sleep()
                     continue
