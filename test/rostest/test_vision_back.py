@@ -8,7 +8,9 @@ goes ``rotating`` and back to ``recording`` (the reason names the brief loss), n
 no return start, the recording goes on; ``go_home`` after the operator is done brings the
 robot home within 2 % of the recorded path. Case ``stop`` (``on_vision_back:=stop``): vision
 fails after the mission and comes back mid-return: the state becomes ``recovered``, the base
-is still within 1 s of sim time, and the reason gives the distance left.
+is still within 1 s of sim time, and the reason gives the distance left. Case ``paper``
+(paper.launch, vision_back_paper.test): a 3 s loss after the mission still turns and
+returns home (no waiting, policy home).
 """
 import os
 import sys
@@ -21,12 +23,14 @@ from std_srvs.srv import SetBool
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import STOPPED_SPEED, MissionRun  # noqa: E402
 from recording_tools import Collector  # noqa: E402
-from test_mission_services import trigger  # noqa: E402
+from test_mission_services import TimedSpeeds, trigger  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
 
 MAX_RELATIVE_ERROR = 0.02
+#: m, the paper's time mode on the left arc (mission_left_arc_time.test's bound and why)
+PAPER_MAX_ERROR = 0.59
 #: sim s after the recording starts when vision fails (case brief)
 FAIL_AFTER = 5.0
 #: goals sent and ground-truth speed (m/s) when vision comes back (case stop)
@@ -43,6 +47,7 @@ class VisionBackTest(unittest.TestCase):
         mission = rospy.get_param('~mission')
         cls.run_ = run = MissionRun(float(rospy.get_param('~wall_timeout', 200.0)))
         cls.status = Collector(names.STATUS, MissionStatus)
+        cls.speeds = TimedSpeeds()
         rospy.wait_for_service(names.SET_VISION, timeout=30.0)
         set_vision = rospy.ServiceProxy(names.SET_VISION, SetBool)
         try:
@@ -58,6 +63,12 @@ class VisionBackTest(unittest.TestCase):
                 cls.before_go_home = run.wait_for_operator(mission)
                 cls.before_go_home = run.state_names()
                 cls.go_home = trigger(names.GO_HOME)()
+                cls.outcome = run.outcome()
+            elif cls.case == 'paper':
+                run.wait_for_operator(mission)
+                set_vision(False)
+                run.wait_sim(float(rospy.get_param('~loss')), 'the vision loss')
+                set_vision(True)
                 cls.outcome = run.outcome()
             else:
                 run.wait_for_operator(mission)
@@ -83,6 +94,14 @@ class VisionBackTest(unittest.TestCase):
 
     def test_vision_back(self):
         run = self.run_
+        if self.case == 'paper':
+            self.assertEqual(run.state_names(), ['idle', 'recording', 'rotating', 'returning', 'home'])
+            self.assertTrue(self.reasons('rotating')[0].startswith('vision lost'), self.reasons('rotating'))
+            rospy.loginfo('PAPER LOSS: home within %.4f m on a %.2f m path', self.outcome.error,
+                          self.loaded.total_distance)
+            # the paper's time mode on the ideal fake: mission_left_arc_time.test's bound
+            self.assertLess(self.outcome.error, PAPER_MAX_ERROR)
+            return
         if self.case == 'brief':
             self.assertEqual(self.before_go_home, ['idle', 'recording', 'rotating', 'recording'])
             self.assertIn('brief vision loss', self.reasons('recording')[-1])
@@ -94,9 +113,14 @@ class VisionBackTest(unittest.TestCase):
                           self.loaded.total_distance, 100 * error)
             self.assertLess(error, MAX_RELATIVE_ERROR)
             return
-        reason = self.reasons('recovered')[-1]
-        rospy.loginfo('RECOVERED: %s; speed %.4f m/s %.1f s later', reason, self.speed, STILL_WITHIN)
+        recovered = [msg for msg in self.status.snapshot() if msg.state == 'recovered']
+        reason, at = recovered[0].reason, recovered[0].header.stamp.to_sec()
+        stops = [t for t, speed in self.speeds.after(at) if speed < STOPPED_SPEED]
+        self.assertTrue(stops, 'the base never stopped after recovered')
+        rospy.loginfo('RECOVERED: %s; base stopped %.3f s (sim) after, speed %.4f m/s %.1f s after',
+                      reason, stops[0] - at, self.speed, STILL_WITHIN)
         self.assertIn(' m left to home', reason)
+        self.assertLessEqual(stops[0] - at, STILL_WITHIN)
         self.assertLess(self.speed, STOPPED_SPEED)
 
 
