@@ -233,8 +233,9 @@ class BackTravelClient(object):
                        'back' % (' (safety stop: %s)' % safety if safety else ''))
             return
         latest = self.odometry.latest()
-        problem = turn_problem(self.turn_start, latest.yaw if latest is not None else None,
-                               self.params.turn_tolerance)
+        problem = 'the pi turn has not begun (the recording goes on)' if not self.turn.begun \
+            else turn_problem(self.turn_start, latest.yaw if latest is not None else None,
+                              self.params.turn_tolerance)
         if problem:
             self.log.error('rotation_done true refused: %s', problem)
             return

@@ -78,7 +78,10 @@ class TurnStart(object):
                     self.begun = True
                     self._save_anchor()
                     break
-            rospy.sleep(POLL)
+            try:
+                rospy.sleep(POLL)
+            except rospy.ROSInterruptException:
+                return
         self.end_pub.publish(Empty())
         c.log.info('the pi turn begins: recording ended')
 

@@ -60,7 +60,7 @@ class VisionBackTest(unittest.TestCase):
                 set_vision(True)
                 run.wait(lambda: run.state_names()[-2:] == ['rotating', 'recording'],
                          'the state never went back to recording; states %s' % run.state_names())
-                cls.before_go_home = run.wait_for_operator(mission)
+                run.wait_for_operator(mission)
                 cls.before_go_home = run.state_names()
                 cls.go_home = trigger(names.GO_HOME)()
                 cls.outcome = run.outcome()
