@@ -34,6 +34,10 @@ SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
 # --- the layer's own names (INTERFACE.md)
 #: std_msgs/Empty: vision has failed
 VISION_LOST = 'blind_navigation/vision_lost'
+#: std_msgs/String: vision back after a loss (vision_monitor): its length and the loss
+VISION_BACK = 'blind_navigation/vision_back'
+#: std_msgs/Empty, latched: the pi turn begins, the recording ends (back_travel_client)
+RECORDING_END = 'blind_navigation/recording_end'
 #: service std_srvs/Trigger: the manual trigger, acknowledged (starts the return while recording)
 GO_HOME = 'blind_navigation/go_home'
 #: service std_srvs/Trigger: stop now, the mission ``aborted`` ("cancelled by request")

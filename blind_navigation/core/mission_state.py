@@ -4,14 +4,15 @@ States, published latched on ``blind_navigation/state`` (std_msgs/String) by
 the mission's owner (back_travel_client)::
 
     idle -> recording -> rotating -> returning -> home
-                 \\            \\            \\-> aborted
-                  \\            \\-> aborted
+                 \\  ^         \\            \\-> aborted, recovered
+                  \\  '---------'\\-> aborted, recovered
                    \\-> aborted (idle -> aborted too: a return that cannot resume)
 
 - ``recording``: the recorder saved its first landmark.
-- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`).
+- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`); the
+  recording goes on until the pi turn begins; vision back before that: ``recording`` again.
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted``: terminal (``cancel``: :func:`cancel_refusal`). Nothing moves until a new mission starts.
+- ``home`` / ``aborted`` / ``recovered`` (vision back in the turn or return, policy ``stop``): terminal (``cancel``: :func:`cancel_refusal`). Nothing moves until a new mission starts.
 
 Every change goes through :meth:`MissionState.transition` (table-checked,
 atomic). Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`);
@@ -25,9 +26,10 @@ ROTATING = 'rotating'
 RETURNING = 'returning'
 HOME = 'home'
 ABORTED = 'aborted'
+RECOVERED = 'recovered'
 
-ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED)
-TERMINAL = (HOME, ABORTED)
+ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED, RECOVERED)
+TERMINAL = (HOME, ABORTED, RECOVERED)
 
 #: Allowed transitions: state -> the states it may move to. ``None`` is the owner
 #: before its first state: idle, or (a restarted owner) a resumed return or its abort.
@@ -35,10 +37,11 @@ TRANSITIONS = {
     None: (IDLE, RETURNING, ABORTED),
     IDLE: (RECORDING, ABORTED),
     RECORDING: (ROTATING, ABORTED),
-    ROTATING: (RETURNING, ABORTED),
-    RETURNING: (HOME, ABORTED),
+    ROTATING: (RETURNING, RECORDING, RECOVERED, ABORTED),
+    RETURNING: (HOME, RECOVERED, ABORTED),
     HOME: (),
     ABORTED: (),
+    RECOVERED: (),
 }
 
 #: The role that may command motion in a state (the roles are the layer's node classes).
@@ -79,8 +82,24 @@ def may_move(role, state):
 
 
 def records(state):
-    """True while the path is recorded (before the first landmark and after it)."""
-    return state in (None, IDLE, RECORDING)
+    """True while the path may still be recorded (before the first landmark, after it, and in
+    ``rotating`` until the pi turn begins: the recording's end is the owner's decision)."""
+    return state in (None, IDLE, RECORDING, ROTATING)
+
+
+#: ``on_vision_back`` policies: go on home (the paper's), or stop ``recovered``.
+ON_VISION_BACK = ('home', 'stop')
+
+
+def vision_back_state(state, turn_begun, policy):
+    """The state vision back moves ``state`` to (None: no change): ``recording`` while the
+    pi turn has not begun (a brief loss), ``recovered`` during the turn or the return
+    with policy ``stop``."""
+    if state == ROTATING and not turn_begun:
+        return RECORDING
+    if state in (ROTATING, RETURNING) and policy == 'stop':
+        return RECOVERED
+    return None
 
 
 class IllegalTransition(ValueError):

@@ -38,6 +38,14 @@ class ReturnRunner(object):
         # subscribing while the server registers can leave feedback/result unconnected.
         self.client = None
         self.paused = 0.0
+        self._left = None       # the landmarks not driven yet, while a return drives
+
+    def distance_left(self):
+        """m still to drive home along the landmarks (None: the return has not started)."""
+        left = self._left
+        if left is None:
+            return None
+        return max(sum(abs(landmark.d) for landmark in left) - self._goal_distance(), 0.0)
 
     def cancel(self):
         """Cancel the goal under way, if any."""
@@ -145,6 +153,7 @@ class ReturnRunner(object):
         travelled = m.keeper.progress.travelled or 0.0
         for number, (label, landmark) in enumerate(goals[done:], done + 1):
             where = 'goal %d/%d (%s)' % (number, len(goals), label)
+            self._left = [remaining for _, remaining in goals[number - 1:]]
             self.client.send(BackTravelGoal(*landmark.as_list()))
             problem = self._wait_for_goal(where, landmark, deadline, allowance,
                                           lambda: budget.problem(travelled + self._goal_distance()))
@@ -163,7 +172,8 @@ class ReturnRunner(object):
 
     def _goal_distance(self):
         """m driven by the current goal so far (its last feedback)."""
-        return self.client.feedback.distance if self.client.feedback is not None else 0.0
+        client = self.client
+        return client.feedback.distance if client is not None and client.feedback is not None else 0.0
 
     def _in_corrected_frame(self, landmarks):
         """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""

@@ -9,9 +9,10 @@ false when the turn failed (time allowance, odometry gone for longer than
 ``odom_grace``, a Kobuki bumper/cliff/wheel-drop event). When the mission
 leaves ``rotating`` for any reason the output is halted at once.
 
-Before turning it waits for the recorder's ``final`` sample and, with
-``wait_for_heading_correction``, for the heading correction (then turns on the
-corrected odometry; none in time: no turn, rotation_done false). Stale or
+Before turning it waits, with ``wait_for_heading_correction``, for the heading
+correction (then turns on the corrected odometry; none in time: no turn,
+rotation_done false), then for the owner's ``blind_navigation/recording_end``
+(the turn begins: vision did not come back) and the recorder's ``final`` sample. Stale or
 refused odometry holds the turn (core/allowance.OdomGrace). A rotate_pi
 (re)started while the mission is already ``rotating`` reports rotation_done
 false at once. Details and reasons: docs/back_travel.md, docs/safety.md.
@@ -19,7 +20,7 @@ false at once. Details and reasons: docs/back_travel.md, docs/safety.md.
 import threading
 
 import rospy
-from std_msgs.msg import Bool
+from std_msgs.msg import Bool, Empty
 
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
@@ -68,9 +69,12 @@ class RotatePi(object):
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
         self._trigger = threading.Event()
         self._recording_ended = threading.Event()
+        self._turn_begins = threading.Event()
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
         guard = layer.guard(self.ROLE)
         subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
+        subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self._turn_begins.set()),
+                  queue_size=1)
         self.status = 'waiting for vision loss'
         layer.mission.on_change(guard(self._on_state))
         layer.diagnostics.add('pi turn', self._diagnose)
@@ -117,26 +121,34 @@ class RotatePi(object):
             self.layer.odometry.acquire(self.ROLE)
             self.status = 'turning'
             try:
-                self._wait_for_recording_end()
-                ok = self._wait_for_heading_correction() and self.rotate()
+                ok = self._wait_for_heading_correction() and self._wait_for_recording_end() \
+                    and self.rotate()
             finally:
                 self.output.halt('turn over')
                 self.layer.odometry.release(self.ROLE)
-            self.status = 'turned' if ok else 'failed (see the log)'
+            back = self.layer.mission.state == mission_state.RECORDING
+            self.status = 'turned' if ok else 'waiting for vision loss (vision came back)' if back \
+                else 'failed (see the log)'
             if self.rotating:
                 self.done_pub.publish(Bool(data=ok))
             self.layer.diagnostics.now()
 
     def _wait_for_recording_end(self):
-        """Until the recorder's final sample is seen or ``recording_end_timeout`` (sim) passes."""
+        """Until the owner ends the recording (False: the mission left rotating first), then
+        until the recorder's final sample or ``recording_end_timeout`` (sim) passes."""
+        while not self._turn_begins.is_set():
+            if rospy.is_shutdown() or not self.rotating:
+                return False
+            rospy.sleep(0.01)
         deadline = rospy.get_time() + self.params.recording_end_timeout
         while not self._recording_ended.is_set() and rospy.get_time() < deadline:
             if rospy.is_shutdown() or not self.rotating:
-                return
+                return False
             rospy.sleep(0.01)
         if not self._recording_ended.is_set():
             self.log.warn('no final sample from the recorder within %.1f s; turning anyway',
                           self.params.recording_end_timeout)
+        return True
 
     def _wait_for_heading_correction(self):
         """True once the heading correction is installed in the odometry (or none is

@@ -10,11 +10,12 @@ Watches, through the debounced detectors of core/vision.py:
   lost and stalled;
 - optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
 
-It fires once, while the mission records, and publishes a latched
-std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
-(std_msgs/String). A stall counts only while the wheel odometry flows
-(core/vision.HostFlow). Whether the loss ends the recording is the mission
-owner's decision. Details and reasons: docs/detection.md.
+Per loss: a latched std_msgs/Empty, the reason in the log and the latched
+``~loss`` (std_msgs/String). After a loss it detected, once every detector has
+been healthy for ``vision_back_time`` (core/vision.VisionBack):
+``blind_navigation/vision_back`` (std_msgs/String, the loss's length), re-armed.
+A stall counts only while the wheel odometry flows (core/vision.HostFlow). The
+owner decides what a loss does. Until the mission ends; docs/detection.md.
 """
 import threading
 
@@ -24,8 +25,8 @@ from std_msgs.msg import Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
-from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensity, numpy_module,
-                                          odom_info_lost, wire_lost_reason)
+from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
+                                          numpy_module, odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.odometry import ros_time
@@ -37,6 +38,8 @@ ODOM_INFO = Expected(('rtabmap_msgs/OdomInfo', 'rtabmap_ros/OdomInfo'))
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 #: s: the stall checks never come closer together than this (a stall about to fire)
 MIN_CHECK_WAIT = 0.01
+#: s between the periodic checks while vision is lost
+BACK_CHECK = 0.1
 
 
 class VisionMonitor(object):
@@ -58,6 +61,7 @@ class VisionMonitor(object):
         'no_input_warning': 5.0,     # s with no camera or visual odometry before it warns
         'host_stall_gap': 0.5,       # s without wheel odometry too: the host stalled, a silent
                                      # camera or VO is then no vision loss (core/vision.HostFlow)
+        'vision_back_time': 1.0,     # s every detector must be healthy after a loss: vision back
     }
 
     def __init__(self, layer):
@@ -67,14 +71,18 @@ class VisionMonitor(object):
                    if getattr(p, 'detect_' + name)}
         self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
                                          p.dark_threshold, p.dark_frames, p.host_stall_gap)
+        VisionBack(self.monitor, p.vision_back_time)    # a bad vision_back_time fails now
         self.layer = layer
         self.lock = threading.Lock()
         self.done = False
+        self.lost = None      # the loss detected (core/vision.Loss), until vision is back
+        self.back = None      # its core/vision.VisionBack
         self.warned = set()
         self.started = None   # first stall check: sim time may not have arrived yet here
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
+        self.back_pub = rospy.Publisher(names.VISION_BACK, String, queue_size=1)
         guard = layer.guard(self.ROLE)
         self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
         self.subscribers = [subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))]
@@ -165,7 +173,7 @@ class VisionMonitor(object):
             self.feed(self.monitor.manual, caller)
 
     def on_state(self, _old, new):
-        if not mission_state.records(new):
+        if new in mission_state.TERMINAL:
             with self.lock:
                 if self.done:
                     return
@@ -193,6 +201,8 @@ class VisionMonitor(object):
         """ROS time of the next stall check: the earliest moment an enabled stall detector
         could fire (an unarmed one: if its first message came right now), or the
         no-input warning."""
+        if self.lost is not None:
+            return now + BACK_CHECK       # the streams' messages drive the checks meanwhile
         checks = []
         for stall in (self.monitor.stall, self.monitor.vo_stall):
             if stall.name in self.monitor.enabled:
@@ -216,23 +226,36 @@ class VisionMonitor(object):
 
     # --- output ---------------------------------------------------------------------------------
     def feed(self, method, *args):
-        """Run one core feed method at the current ROS time; act on the first loss."""
+        """Run one core feed method at the current ROS time; act on a loss and on its end."""
         with self.lock:
             if self.done:
                 return
-            losses = method(rospy.get_time(), *args)
-            if not losses:
+            now = rospy.get_time()
+            losses = method(now, *args)
+            lost = self.lost
+            if lost is None and losses:
+                self.lost = lost = losses[0]
+                # vision back only after a loss seen here, not after one declared by hand
+                self.back = None if lost.detector == 'manual' else VisionBack(
+                    self.monitor, self.params.vision_back_time)
+            elif lost is not None and self.back is not None and self.back.update(now):
+                self.lost = self.back = None
+                self.back_pub.publish(String(data='vision back after %.1f s (%s lost)'
+                                             % (now - self.params.vision_back_time - lost.since,
+                                                lost.detector)))
+                self.log.warn('VISION BACK after %.1f s: watching for the next loss',
+                              now - lost.since)
                 return
-            self.done = True
-        self.fire(losses[0])
+            else:
+                return
+        self.fire(lost)
 
     def fire(self, loss):
-        self.log.warn('VISION LOST, detector %s: %s (%.2f s after the failure began); no longer '
-                      'watching', loss.detector, loss.reason, loss.t - loss.since)
+        self.log.warn('VISION LOST, detector %s: %s (%.2f s after the failure began)',
+                      loss.detector, loss.reason, loss.t - loss.since)
         if loss.detector != 'manual':
             self.lost_pub.publish(Empty())
         self.loss_pub.publish(String(data='%s: %s' % (loss.detector, loss.reason)))
-        self.stop_watching()
         self.layer.diagnostics.now()
 
     def stop_watching(self):
@@ -259,7 +282,10 @@ class VisionMonitor(object):
         stat.add('camera age (s)', camera)
         stat.add('visual odometry age (s)', '-' if self.last_vo is None else '%.2f' % (now - self.last_vo))
         if self.done:
-            stat.summary(diagnostics.OK, 'not watching (vision lost or the mission moved on)')
+            stat.summary(diagnostics.OK, 'not watching (the mission has ended)')
+        elif self.lost is not None:
+            stat.summary(diagnostics.WARN, 'vision lost (%s)%s' % (self.lost.detector, '' if self.back
+                         else '; declared by hand: not watching for its end'))
         elif self.warned & {'no_camera', 'no_vo'}:
             stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
                 sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
