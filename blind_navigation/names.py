@@ -42,6 +42,8 @@ RECORDING_END = 'blind_navigation/recording_end'
 GO_HOME = 'blind_navigation/go_home'
 #: service std_srvs/Trigger: stop now, the mission ``aborted`` ("cancelled by request")
 CANCEL = 'blind_navigation/cancel'
+#: service std_srvs/Trigger: from a terminal state, a new recording in a new mission file
+NEW_MISSION = 'blind_navigation/new_mission'
 #: std_msgs/String, latched: the mission state (core/mission_state.py)
 STATE = 'blind_navigation/state'
 #: blind_navigation/MissionStatus, latched: the state with its reason and the return's progress

@@ -1,22 +1,21 @@
-"""The mission's one state machine, obeyed by every role of the layer.
-
-States, published latched on ``blind_navigation/state`` (std_msgs/String) by
-the mission's owner (back_travel_client)::
+"""The mission's one state machine, obeyed by every role of the layer: states published
+latched on ``blind_navigation/state`` by the owner (back_travel_client)::
 
     idle -> recording -> rotating -> returning -> home
                  \\  ^         \\            \\-> aborted, recovered
                   \\  '---------'\\-> aborted, recovered
                    \\-> aborted (idle -> aborted too: a return that cannot resume)
+    home, aborted, recovered -> idle (``new_mission``: :func:`new_mission_refusal`)
 
 - ``recording``: the recorder saved its first landmark.
 - ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`); the
   recording goes on until the pi turn begins; vision back before that: ``recording`` again.
 - ``returning``: the pi turn is over and the robot really turned.
-- ``home`` / ``aborted`` / ``recovered`` (vision back in the turn or return, policy ``stop``): terminal (``cancel``: :func:`cancel_refusal`). Nothing moves until a new mission starts.
+- :data:`TERMINAL` (``recovered``: vision back in the turn or return, policy ``stop``;
+  ``cancel``: :func:`cancel_refusal`): nothing moves until ``new_mission``.
 
-Every change goes through :meth:`MissionState.transition` (table-checked,
-atomic). Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`);
-every velocity output asks :func:`may_move` before it publishes anything but zero.
+Every change goes through :meth:`MissionState.transition` (table-checked, atomic); only
+the phase's owner moves the robot (:data:`MOTION_OWNER`, :func:`may_move`). docs/DESIGN.md.
 """
 import threading
 
@@ -29,6 +28,8 @@ ABORTED = 'aborted'
 RECOVERED = 'recovered'
 
 ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED, RECOVERED)
+#: The mission has ended here; ``new_mission`` starts the next one from any of them
+#: (a new terminal state is one more name here: TRANSITIONS and the rules follow).
 TERMINAL = (HOME, ABORTED, RECOVERED)
 
 #: Allowed transitions: state -> the states it may move to. ``None`` is the owner
@@ -39,10 +40,8 @@ TRANSITIONS = {
     RECORDING: (ROTATING, ABORTED),
     ROTATING: (RETURNING, RECORDING, RECOVERED, ABORTED),
     RETURNING: (HOME, RECOVERED, ABORTED),
-    HOME: (),
-    ABORTED: (),
-    RECOVERED: (),
 }
+TRANSITIONS.update((ended, (IDLE,)) for ended in TERMINAL)     # new_mission
 
 #: The role that may command motion in a state (the roles are the layer's node classes).
 ROTATION_ROLE = 'rotate_pi'
@@ -71,6 +70,19 @@ def cancel_refusal(state):
     if state in TERMINAL or state is None:
         return 'refused: the mission is %s (nothing to cancel)' % state
     return None
+
+
+def new_mission_refusal(state):
+    """Why ``new_mission`` is refused in ``state`` (None: the next mission starts)."""
+    if state in TERMINAL:
+        return None
+    return 'refused: the mission is %s (new_mission starts the next one only once it is %s)' % (
+        state, ' or '.join(TERMINAL))
+
+
+def starts_new_mission(old, new):
+    """True when ``old -> new`` is ``new_mission``: the roles start recording again."""
+    return old in TERMINAL and new == IDLE
 
 
 def may_move(role, state):
@@ -134,7 +146,7 @@ class MissionState(object):
 
     def abort(self, reason):
         """Move any unfinished state to ``aborted``: (moved, the state before); a
-        mission that had already ended is not moved (terminal states never change)."""
+        mission that had already ended is not moved (only ``new_mission`` leaves a terminal state)."""
         with self._lock:
             old = self.state
             if old in TERMINAL:

@@ -11,7 +11,7 @@ before it, ``recording`` again; after it, ``on_vision_back``, ``stop``:
 (``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
 driven by ros/return_runner.py (the route set on the server, the landmarks
 sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
-the reason. Its services ``go_home``, ``cancel``: ros/mission_services.py. The
+the reason. Its services ``go_home``, ``cancel``, ``new_mission``: ros/mission_services.py. The
 progress (ros/return_progress.py) is written next to ``landmark_file`` when
 the turn begins and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
 ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)

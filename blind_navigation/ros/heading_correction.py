@@ -14,7 +14,8 @@ latched on ``blind_navigation/heading_correction``
 (blind_navigation/HeadingCorrection, with the reference pose). It relays no
 odometry: the roles that drive install the correction into their shared feed.
 One estimate per mission; vision back before it (``rotating`` -> ``recording``)
-drops the standstill. Details and reasons: docs/back_travel.md, "Gyro
+drops the standstill; ``new_mission`` (the state back to ``idle``) starts the
+next one's measurement. Details and reasons: docs/back_travel.md, "Gyro
 heading correction".
 """
 import datetime
@@ -71,12 +72,7 @@ class HeadingCorrectionRole(object):
         self.layer = layer
         self.calibration_path = calibration_file(p.gyro_calibration_file)
         self.scale_prior = self._load_calibration()
-        self.standstill = None      # StandstillBias while measuring after vision loss
-        self.result = None          # GyroCorrection once estimated
-        self._reference = None      # raw OdomState where the corrected frame starts
-        self._visual = None         # BiasEstimate of visual odometry at vision loss, or None
-        self._recording_time = 0.0  # s recorded before vision loss
-        self._started = rospy.get_time()
+        self._fresh()
         self._vo_last = None        # rospy time of the last visual odometry
         self._vo_warned = False
         self._lock = threading.Lock()
@@ -84,11 +80,10 @@ class HeadingCorrectionRole(object):
                                               queue_size=1, latch=True)
         guard = layer.guard(self.ROLE)
         self._odom_listener = guard(self._on_odom)    # removed at the standstill's end
-        layer.odometry.add_listener(self._odom_listener)
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
-        layer.odometry.acquire(self.ROLE)
-        layer.visual_odometry.acquire(self.ROLE)
+        self._listen()
         layer.mission.on_change(guard(self._on_state))
+        layer.mission.on_new_mission(guard(self._new_mission))
         layer.diagnostics.add('heading correction: visual odometry', self._vo_status)
         layer.diagnostics.add('heading correction: gyro calibration', self._calibration_status)
         self._vo_timer = rospy.Timer(rospy.Duration(p.vo_timeout), guard(self._check_vo),
@@ -96,6 +91,21 @@ class HeadingCorrectionRole(object):
         self.log.info('calibrating the gyro against %s until vision is lost, then standing still '
                       'up to %.0f s to measure its bias', rospy.resolve_name(names.VO_ODOM),
                       self.standstill_time)
+
+    def _fresh(self):
+        """Nothing measured yet for this mission."""
+        self.fit = GyroVisualFit(self.params)
+        self.standstill = None      # StandstillBias while measuring after vision loss
+        self.result = None          # GyroCorrection once estimated
+        self._reference = None      # raw OdomState where the corrected frame starts
+        self._visual = None         # BiasEstimate of visual odometry at vision loss, or None
+        self._recording_time = 0.0  # s recorded before vision loss
+        self._started = rospy.get_time()
+
+    def _listen(self):
+        self.layer.odometry.add_listener(self._odom_listener)
+        self.layer.odometry.acquire(self.ROLE)
+        self.layer.visual_odometry.acquire(self.ROLE)
 
     def _load_calibration(self):
         """The gyro calibration (core/gyro_calibration.GyroCalibration), or None:
@@ -148,6 +158,12 @@ class HeadingCorrectionRole(object):
             self._publish(*result)
 
     # --- after vision loss ---------------------------------------------------------------------
+    def _new_mission(self):
+        with self._lock:
+            self._fresh()
+        self._listen()
+        self.log.info('new mission: calibrating the gyro against visual odometry again')
+
     def _on_state(self, old, new):
         if old == mission_state.ROTATING and new == mission_state.RECORDING:
             self._resume_recording()

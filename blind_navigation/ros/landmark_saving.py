@@ -15,8 +15,8 @@ someone listens, the recorded path (``blind_navigation/recorded_path``). A
 write failure is an ERROR and a lost landmark; an odometry reset the feed
 could not carry across is a gap (one it carried across changes nothing).
 A saver restarted within the mission catches up on the samples it missed from
-the sampling publisher (:meth:`LandmarkSaving.start_catch_up`). Details and
-reasons: docs/recording.md ("Saving", "File").
+the sampling publisher (:meth:`LandmarkSaving.start_catch_up`); ``new_mission``
+opens the next mission's file. Why: docs/recording.md ("Saving", "File").
 """
 import math
 import os
@@ -73,16 +73,26 @@ class LandmarkSaving(object):
         self.odometry.acquire(role, batched=True)   # reads back: at a stamp, waiting for it
         self.odometry.on_reanchor(self.guard(self._on_reanchor))
         self._lock = threading.Lock()
-        self._start = None
+        self.variant, self.layer = variant, layer
+        self.writer = None
+        self._open()
+        rospy.on_shutdown(lambda: self.writer.close())
+        self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
+        self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
+        layer.mission.on_new_mission(self.guard(self._new_mission))
+        layer.diagnostics.add('%s: recording' % role, self._diagnose)
+
+    def _open(self):
+        """Open the mission's file (continued within the mission, else a new one) and start
+        the path (lock held, or before the callbacks exist)."""
         self._poses = array('d')       # x, y, yaw of every landmark (and the start)
-        self.finished = False
         self.error = ''
         self.recorder = PathRecorder()
-        configured = landmark_file(p.landmark_file)
-        self.writer = open_mission_file(configured, layer.mission_id, fsync=p.fsync, metadata={
-            'recorder': variant, 'odom_topic': rospy.resolve_name(names.ODOM),
+        configured = landmark_file(self.params.landmark_file)
+        self.mission_id = self.layer.current_mission_id()   # of the file open
+        self.writer = open_mission_file(configured, self.mission_id, fsync=self.params.fsync, metadata={
+            'recorder': self.variant, 'odom_topic': rospy.resolve_name(names.ODOM),
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
-        rospy.on_shutdown(self.writer.close)
         self.finished = self.writer.finished   # a continued mission file may be finished already
         path = self.writer.path
         if self.writer.resumed is not None:
@@ -92,9 +102,19 @@ class LandmarkSaving(object):
         else:
             self.log.info('recording path landmarks into %s (%s -> %s)', path, configured,
                           os.path.basename(path))
-        self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
-        self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
-        layer.diagnostics.add('%s: recording' % role, self._diagnose)
+
+    def _new_mission(self):
+        with self._lock:
+            self._follow_mission()
+
+    def _follow_mission(self):
+        """If ``new_mission`` set a new mission id (lock held): the old file closed as it is,
+        the new mission's opened, RViz's path emptied; at the new mission's state or at its
+        first sample, whichever reaches this process first."""
+        if self.layer.current_mission_id() != self.mission_id:
+            self.writer.close()
+            self._open()
+            self.path_pub.publish(path_message(self._poses, rospy.Time.now(), self.odometry.frame_id))
 
     def _diagnose(self, stat):
         stat.add('file', self.writer.path)
@@ -119,6 +139,8 @@ class LandmarkSaving(object):
             if command not in COMMANDS:
                 return self._refuse('unknown command %r (expected one of %s)'
                                     % (command, ', '.join(COMMANDS)))
+            if self.finished:
+                self._follow_mission()
             if self.finished:
                 return self._refuse('recording has finished (a final sample was saved)')
             if self.writer.holds(sample):
@@ -272,27 +294,35 @@ class LandmarkSaving(object):
                       [round(value, 4) for value in landmark], used.landmarks, used.bytes,
                       used.distance, used.bytes_per_metre)
         if self.path_pub.get_num_connections() > 0 or self.finished:
-            self.path_pub.publish(self._path(now))
+            self.path_pub.publish(path_message(self._poses, now, self.odometry.frame_id))
 
     def _publish_storage(self, now):
-        used = storage_usage(self.writer.count, self.writer.bytes, self.writer.total_distance)
-        mark = self.writer.sample
-        msg = StorageUsage(file=self.writer.path, landmarks=used.landmarks, bytes=used.bytes,
-                           distance=used.distance, bytes_per_metre=used.bytes_per_metre,
-                           lost=self.writer.lost, error=self.error,
-                           recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
-        msg.header.stamp = now
+        msg, used = storage_message(self.writer, self.error, now)
         self.storage_pub.publish(msg)
         return used
 
-    def _path(self, stamp):
-        path = Path()
-        path.header.stamp, path.header.frame_id = stamp, self.odometry.frame_id
-        for index in range(0, len(self._poses), 3):
-            pose = PoseStamped()
-            pose.header = path.header
-            pose.pose.position.x, pose.pose.position.y = self._poses[index], self._poses[index + 1]
-            q = pose.pose.orientation
-            q.x, q.y, q.z, q.w = quaternion_from_yaw(self._poses[index + 2])
-            path.poses.append(pose)
-        return path
+
+def storage_message(writer, error, stamp):
+    """(blind_navigation/StorageUsage, core/recorder storage_usage) of ``writer``'s file."""
+    used = storage_usage(writer.count, writer.bytes, writer.total_distance)
+    mark = writer.sample
+    msg = StorageUsage(file=writer.path, landmarks=used.landmarks, bytes=used.bytes,
+                       distance=used.distance, bytes_per_metre=used.bytes_per_metre,
+                       lost=writer.lost, error=error,
+                       recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
+    msg.header.stamp = stamp
+    return msg, used
+
+
+def path_message(poses, stamp, frame_id):
+    """The nav_msgs/Path of ``poses`` (x, y, yaw, x, y, yaw, ...)."""
+    path = Path()
+    path.header.stamp, path.header.frame_id = stamp, frame_id
+    for index in range(0, len(poses), 3):
+        pose = PoseStamped()
+        pose.header = path.header
+        pose.pose.position.x, pose.pose.position.y = poses[index], poses[index + 1]
+        q = pose.pose.orientation
+        q.x, q.y, q.z, q.w = quaternion_from_yaw(poses[index + 2])
+        path.poses.append(pose)
+    return path

@@ -87,6 +87,9 @@ class Layer(object):
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
+        # a new mission starts on the odometry as it finds it (ros/odometry.py)
+        self.mission.on_new_mission(self.guard('odometry feed')(
+            lambda: self.odometry.set_correction(None, None)))
         self.safety = SafetyMonitor(self.guard('safety monitor'))
         self._correction = None
         self._correction_lock = threading.Lock()
@@ -102,6 +105,12 @@ class Layer(object):
         for name in shared:
             setattr(own, name, rospy.get_param('~' + name, defaults[name]))
         return own
+
+    def current_mission_id(self):
+        """The mission id, read again: ``new_mission`` sets a new one before the roles see
+        ``idle`` (ros/mission_services.py)."""
+        self.mission_id = rospy.get_param(MISSION_ID, self.mission_id)
+        return self.mission_id
 
     def guard(self, role):
         """``guard(fn)``: ``fn`` whose unexpected exception fails ``role``: zero velocity,
@@ -126,8 +135,9 @@ class Layer(object):
         first call: only the roles that drive on it subscribe)."""
         with self._correction_lock:
             if self._correction is None:
-                self._correction = CorrectionReceiver(self.odometry,
-                                                      self.guard('heading correction receiver'))
+                guard = self.guard('heading correction receiver')
+                self._correction = CorrectionReceiver(self.odometry, guard)
+                self.mission.on_new_mission(guard(self._correction.forget))
             return self._correction
 
 
@@ -193,6 +203,12 @@ class CorrectionReceiver(object):
 
     def _on_correction(self, msg):
         self._install(*correction_from_message(msg))
+
+    def forget(self):
+        """A new mission: the raw frame until its own correction arrives."""
+        with self._lock:
+            self.correction = self.reference = None     # the feed: the layer drops its correction
+            self._received.clear()
 
     def _install(self, correction, reference, snapshot=None):
         with self._lock:

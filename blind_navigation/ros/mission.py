@@ -6,7 +6,8 @@ roles of this process when it changes. Only the owner's messages count: a
 state published by any other node (a stray script, a bag played back) is
 refused and logged, so nobody can make the layer turn or drive by publishing a
 state. In the process that hosts the owner, the owner sets the view directly
-(:meth:`MissionStateView.set_local`) before it publishes.
+(:meth:`MissionStateView.set_local`) before it publishes. ``new_mission``
+(:meth:`MissionStateView.on_new_mission`) starts the roles afresh.
 """
 import threading
 
@@ -43,6 +44,11 @@ class MissionStateView(object):
                 current = self.state
             if current is not None:
                 callback(None, current)
+
+    def on_new_mission(self, callback):
+        """Call ``callback()`` when ``new_mission`` starts the next mission (a terminal state
+        -> ``idle``, core/mission_state.starts_new_mission): the roles start afresh."""
+        self.on_change(lambda old, new: mission_state.starts_new_mission(old, new) and callback())
 
     def set_local(self, new):
         """The owner, hosted in this process, moved the mission to ``new``."""

@@ -1,6 +1,7 @@
 """The back-travel client's three diagnostics (diagnostic_msgs, through the
-layer's updater): ``mission`` (the state, its reason, the return's progress and
-warnings; ``recovered`` a warning, the pi turn's wait while ``rotating``), ``odometry`` (its age; an error while the robot turns or returns)
+layer's updater): ``mission`` (the state, its reason, the mission's number, id and
+file, the return's progress and warnings; ``recovered`` a warning, the pi turn's wait
+while ``rotating``), ``odometry`` (its age; an error while the robot turns or returns)
 and ``landmark file`` (the recorder's file and its size).
 """
 import os
@@ -20,6 +21,9 @@ def add_mission_diagnostics(client):
 def _mission_status(client, stat):
     progress = client.keeper.progress
     stat.add('state', client.state)
+    stat.add('mission', client.services.number)       # in this launch (new_mission counts on)
+    stat.add('mission id', client.layer.mission_id)
+    stat.add('mission file', os.path.realpath(client.landmark_file))
     if progress is not None:
         stat.add('landmarks', progress.landmarks)
         stat.add('completed', progress.completed)

@@ -7,23 +7,41 @@ other state it is refused (success false) naming the state.
 ``blind_navigation/cancel``: stop now: the mission ``aborted`` ("cancelled by
 request"), which halts every MotionOutput of the layer (ros/motion.py; in the
 paper's layout through the latched state), and the goal under way is
-cancelled; in a terminal state it is refused naming the state. The rules:
-core/mission_state.go_home_refusal and cancel_refusal. Why: docs/safety.md.
+cancelled; in a terminal state it is refused naming the state.
+``blind_navigation/new_mission``: from a terminal state, the next mission: a new
+id (the ``blind_navigation/mission_id`` param, set before the roles see it),
+the last return forgotten, the state ``idle``; the roles (in any process) then
+record into a new file behind ``landmark_file``. The rules:
+core/mission_state.go_home_refusal, cancel_refusal, new_mission_refusal.
+Why: docs/safety.md; the state machine: docs/DESIGN.md.
 """
+import threading
+
 import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
+from blind_navigation.ros.layer import MISSION_ID
+
+
+def mission_id(first, number):
+    """The id of mission ``number`` of a launch whose first mission is ``first`` (or None)."""
+    return first if number == 1 else '%s#%d' % (first or 'mission', number)
 
 
 class MissionServices(object):
-    """``go_home`` and ``cancel`` of ``mission`` (the BackTravelClient)."""
+    """``go_home``, ``cancel`` and ``new_mission`` of ``mission`` (the BackTravelClient)."""
 
     def __init__(self, mission):
         self.mission = mission
+        self.number = 1                     # the mission's number in this launch
+        self.first_id = mission.layer.mission_id
+        self._new_lock = threading.Lock()   # one new_mission at a time
         self.services = [rospy.Service(names.GO_HOME, Trigger, mission.guard(self._on_go_home)),
-                         rospy.Service(names.CANCEL, Trigger, mission.guard(self._on_cancel))]
+                         rospy.Service(names.CANCEL, Trigger, mission.guard(self._on_cancel)),
+                         rospy.Service(names.NEW_MISSION, Trigger,
+                                       mission.guard(self._on_new_mission))]
 
     def _on_go_home(self, request):
         m = self.mission
@@ -48,3 +66,36 @@ class MissionServices(object):
         refusal = refusal or state.cancel_refusal(m.state)
         m.log.warn('cancel from %s %s', sender, refusal)
         return TriggerResponse(success=False, message=refusal)
+
+    def _on_new_mission(self, request):
+        m = self.mission
+        sender = request._connection_header.get('callerid', '?')
+        with self._new_lock:
+            old = m.state
+            refusal = state.new_mission_refusal(old)
+            if refusal is None:
+                number = self.number + 1
+                rospy.set_param(MISSION_ID, mission_id(self.first_id, number))  # before idle
+                m.layer.current_mission_id()
+                self._forget_return()
+                if m.move(old, state.IDLE, 'mission %d (new_mission by %s)' % (number, sender)):
+                    self.number = number
+                    return TriggerResponse(success=True, message=(
+                        'mission %d: idle; recording into a new file behind %s from the first '
+                        'landmark' % (number, m.landmark_file)))
+                rospy.set_param(MISSION_ID, mission_id(self.first_id, self.number))   # unused
+                m.layer.current_mission_id()
+                refusal = 'refused: the mission became %s meanwhile' % m.state
+            m.log.warn('new_mission from %s %s', sender, refusal)
+            return TriggerResponse(success=False, message=refusal)
+
+    def _forget_return(self):
+        """The last mission's return forgotten: its progress (the file is replaced at the next
+        return; a restart ignores it, another mission's), turn timeout, trip, lost frame,
+        warnings and RViz paths. The roles reset their own on ``idle``."""
+        m = self.mission
+        m.turn.forget()
+        m.keeper.progress = None
+        m.trip = m.lost = None
+        m.warnings = ''
+        m.paths.clear()

@@ -286,12 +286,13 @@ class OdometryFeed(object):
 
     # --- the heading-corrected frame -------------------------------------------------------------
     def set_correction(self, correction, reference, snapshot=None):
-        """From now on :meth:`fresh` is in the frame of ``correction`` (a GyroCorrection)
-        equal to the raw one at ``reference`` (where vision was lost), or continuing from
-        an earlier run's ``snapshot`` (core/heading_correction.CorrectedOdometry.started)."""
+        """From now on :meth:`fresh` is in the frame of ``correction`` (a GyroCorrection) equal to
+        the raw one at ``reference`` (where vision was lost), or from an earlier run's ``snapshot``
+        (core CorrectedOdometry.started); None: a new mission, the raw frame as found (not lost)."""
         with self._lock:
-            self._corrector = CorrectedOdometry.started(correction, reference,
-                                                        self._states.latest, snapshot)
+            self._corrector = None if correction is None else CorrectedOdometry.started(
+                correction, reference, self._states.latest, snapshot)
+            self.lost = None if correction is None else self.lost
 
     @property
     def corrected(self):

@@ -37,6 +37,13 @@ class ReturnPaths(object):
             msg.poses.append(_pose(msg.header, x, y, yaw))
         self.route_pub.publish(msg)
 
+    def clear(self):
+        """A new mission: both paths empty (RViz drops the last mission's)."""
+        self.path = Path()
+        self.path.header.stamp, self.path.header.frame_id = rospy.Time.now(), 'odom'
+        self.path_pub.publish(self.path)
+        self.route_pub.publish(Path(header=self.path.header))
+
     def driven(self, stamp, frame_id, odom):
         """The robot is at ``odom`` (x, y, yaw) at ``stamp`` (s): a pose every ``spacing`` m."""
         poses = self.path.poses

@@ -77,6 +77,7 @@ class RotatePi(object):
                   queue_size=1)
         self.status = 'waiting for vision loss'
         layer.mission.on_change(guard(self._on_state))
+        layer.mission.on_new_mission(guard(self._new_mission))
         layer.diagnostics.add('pi turn', self._diagnose)
 
     def _diagnose(self, stat):
@@ -92,6 +93,11 @@ class RotatePi(object):
     def _on_sample(self, msg):
         if msg.command == FINAL:
             self._recording_ended.set()
+
+    def _new_mission(self):
+        self._recording_ended.clear()      # the new recording's final sample is awaited
+        self._turn_begins.clear()          # and the owner's commit of its turn
+        self.status = 'waiting for vision loss'
 
     def _on_state(self, old, new):
         if new != mission_state.ROTATING:

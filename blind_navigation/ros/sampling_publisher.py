@@ -11,7 +11,8 @@ sample's number) on ``blind_navigation/sample``; with ``event_sampling`` also
 one at each motion event (core/motion_events.EventSampler). Recording starts
 with the first valid yaw once ``min_subscribers`` listen, and ends when the
 owner ends it (``blind_navigation/recording_end``: the pi turn begins) or the
-mission stops recording, with one ``final`` sample for the partial cycle.
+mission stops recording, with one ``final`` sample for the partial cycle;
+``new_mission`` (the state back to ``idle``) starts a new recording.
 It logs what each sample's landmark needs (core/sample_log.SampleLog) and
 serves it on ``blind_navigation/recorded_samples`` to a restarted saver.
 Details and reasons: docs/recording.md ("Roles"), docs/cost.md.
@@ -57,24 +58,19 @@ class SamplingPublisher(object):
         if p.yaw_source not in YAW_SOURCES:
             raise ValueError('~yaw_source must be one of %s, got %r' % (', '.join(YAW_SOURCES),
                                                                           p.yaw_source))
-        self.schedule = SamplingSchedule(period_of(p.straight_rate, '~straight_rate'),
-                                         period_of(p.curved_rate, '~curved_rate'), p.deadband)
+        self._periods = (period_of(p.straight_rate, '~straight_rate'),
+                         period_of(p.curved_rate, '~curved_rate'))
         if p.event_sampling and p.yaw_source != 'odom':
             raise ValueError('~event_sampling needs ~yaw_source odom (the events come from odometry)')
-        self.events = EventSampler(p) if p.event_sampling else None
-        if self.events is not None and self.events.latency >= min(self.schedule.straight_period,
-                                                                  self.schedule.curved_period):
-            raise ValueError('~event_latency %.2f s must be shorter than the sampling periods'
-                             % self.events.latency)
         self.layer = layer
         self._lock = threading.Lock()
         self._pose2d_yaw = None
-        self._last_tick = None      # rospy.Time of the last tick (or of the start)
-        self._events_fed = None     # stamp (s) of the last odometry state fed to the events
-        self.stopped = False
-        self.recording = 0.0        # the recording's id: when it started (s), 0 before
-        self.seq = 0                # the number of the last sample published
-        self.samples = None         # SampleLog of the recording (yaw_source odom)
+        self._generation = 0        # the recordings started (each new_mission one more)
+        self._restarted = threading.Event()
+        self._fresh()
+        if self.events is not None and self.events.latency >= min(self._periods):
+            raise ValueError('~event_latency %.2f s must be shorter than the sampling periods'
+                             % self.events.latency)
         self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
         guard = layer.guard(self.ROLE)
         self.samples_service = rospy.Service(names.RECORDED_SAMPLES, RecordedSamples,
@@ -91,7 +87,20 @@ class SamplingPublisher(object):
         layer.mission.on_change(guard(self._on_state))
         subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self.stop('the pi turn begins')),
                   queue_size=1)
+        layer.mission.on_new_mission(guard(self._new_mission))
         layer.diagnostics.add('sampling', self._diagnose)
+
+    def _fresh(self):
+        """Nothing recorded yet: the schedule, the events and the counters start anew."""
+        self.schedule = SamplingSchedule(self._periods[0], self._periods[1], self.params.deadband)
+        self.events = EventSampler(self.params) if self.params.event_sampling else None
+        self._last_tick = None      # rospy.Time of the last tick (or of the start)
+        self._events_fed = None     # stamp (s) of the last odometry state fed to the events
+        self.stopped = False
+        self.recording = 0.0        # the recording's id: when it started (s), 0 before
+        self.seq = 0                # the number of the last sample published
+        self.samples = None         # SampleLog of the recording (yaw_source odom)
+        self._generation += 1
 
     def _diagnose(self, stat):
         stat.add('segment', self.schedule.segment)
@@ -129,9 +138,17 @@ class SamplingPublisher(object):
         if not mission_state.records(new):
             self.stop('mission state is %s' % new)
 
+    def _new_mission(self):
+        with self._lock:
+            self._fresh()
+        if self.params.yaw_source == 'odom':
+            self.layer.odometry.acquire(self.ROLE, batched=self.events is not None)
+        self.log.info('new mission: recording again')
+        self._restarted.set()
+
     # -- the sampling loop ----------------------------------------------------
     def stop(self, reason):
-        """Publish the final partial-cycle sample (if recording) and stop for good."""
+        """Publish the final partial-cycle sample (if recording) and stop (until a new mission)."""
         with self._lock:
             if self.stopped:
                 return
@@ -186,15 +203,7 @@ class SamplingPublisher(object):
                 response.message = 'sample %d is not kept (%d to %d are)' % (
                     request.after, self.samples.first, self.samples.last)
                 return response
-        for entry in logged:
-            sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
-                                recording=self.recording, seq=entry.seq)
-            sample.header.stamp = rospy.Time.from_sec(entry.stamp)
-            response.samples.append(sample)
-            response.x.append(entry.x)
-            response.y.append(entry.y)
-            response.v.append(entry.v)
-            response.w.append(entry.w)
+        add_logged(response, logged)
         self.log.info('sent samples %d to %d of recording %.3f to a restarted recorder',
                       request.after, self.seq, self.recording)
         return response
@@ -244,7 +253,15 @@ class SamplingPublisher(object):
         return False
 
     def run(self):
-        """The sampling loop (blocks until the recording stops or shutdown)."""
+        """Record, and again at each new mission (blocks until shutdown)."""
+        rospy.on_shutdown(self._restarted.set)
+        while not rospy.is_shutdown():
+            self._record(self._generation)
+            self._restarted.wait()      # a new mission, or shutdown
+            self._restarted.clear()
+
+    def _record(self, generation):
+        """The sampling loop of one recording (until it stops, a new one starts, or shutdown)."""
         if not self._wait_for_start():
             return
         period = self.schedule.period
@@ -259,7 +276,7 @@ class SamplingPublisher(object):
             except rospy.ROSInterruptException:
                 return
             with self._lock:
-                if self.stopped:
+                if self.stopped or self._generation != generation:
                     return
                 if self.events is None:
                     yaw = self._yaw()
@@ -273,13 +290,26 @@ class SamplingPublisher(object):
             if next_period != period:
                 self.log.info('%s segment: period %.3g s -> %.3g s', self.schedule.segment, period,
                               next_period)
-                rate = self._switch(rate, next_period)
+                rate = switched(rate, next_period)
                 period = next_period
 
-    @staticmethod
-    def _switch(rate, period):
-        """A Rate of the new period that keeps the old one's tick phase, so the
-        next cycle lasts exactly ``period`` from this tick."""
-        switched = rospy.Rate(1.0 / period)
-        switched.last_time = rate.last_time
-        return switched
+
+def switched(rate, period):
+    """A Rate of the new period that keeps the old one's tick phase, so the
+    next cycle lasts exactly ``period`` from this tick."""
+    result = rospy.Rate(1.0 / period)
+    result.last_time = rate.last_time
+    return result
+
+
+def add_logged(response, logged):
+    """Add the ``logged`` samples (core/sample_log entries) to a RecordedSamples ``response``."""
+    for entry in logged:
+        sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
+                            recording=response.recording, seq=entry.seq)
+        sample.header.stamp = rospy.Time.from_sec(entry.stamp)
+        response.samples.append(sample)
+        response.x.append(entry.x)
+        response.y.append(entry.y)
+        response.v.append(entry.v)
+        response.w.append(entry.w)

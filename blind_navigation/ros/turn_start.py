@@ -60,6 +60,12 @@ class TurnStart(object):
         after_unpaused(c.rotation_timeout, c.takeover, c.guard(lambda: self._check_rotation(episode)))
         return True
 
+    def forget(self):
+        """A new mission: a commit or a turn timeout still pending is void."""
+        with self.lock:
+            self.episode += 1
+            self.begun, self.lost_at = False, None
+
     def _ready(self):
         correction = self.client.correction
         if correction is not None:

@@ -1,21 +1,18 @@
 """The vision monitor: notices vision loss by itself and publishes
-``blind_navigation/vision_lost``.
-
-Watches, through the debounced detectors of core/vision.py:
+``blind_navigation/vision_lost``, through the debounced detectors of core/vision.py:
 
 - the camera: a stall of its sensor_msgs/CameraInfo (``camera/rgb/camera_info``,
   read only until visual odometry arrives), or, with ``detect_dark``, the
   images themselves (``camera/rgb/image_rect_color``: stall and dark images);
 - RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
-  lost and stalled;
-- optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
+  lost and stalled; optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
 
-Per loss: a latched std_msgs/Empty, the reason in the log and the latched
-``~loss`` (std_msgs/String). After a loss it detected, once every detector has
-been healthy for ``vision_back_time`` (core/vision.VisionBack):
-``blind_navigation/vision_back`` (std_msgs/String, the loss's length), re-armed.
-A stall counts only while the wheel odometry flows (core/vision.HostFlow). The
-owner decides what a loss does. Until the mission ends; docs/detection.md.
+Per loss: a latched std_msgs/Empty, the reason in the log and the latched ``~loss``
+(std_msgs/String). After a loss it detected, once every detector has been healthy for
+``vision_back_time`` (core/vision.VisionBack): ``blind_navigation/vision_back``
+(std_msgs/String, the loss's length), re-armed. A stall counts only while the wheel
+odometry flows (core/vision.HostFlow). The owner decides what a loss does. Until the
+mission ends (``new_mission`` watches anew); docs/detection.md.
 """
 import threading
 
@@ -69,12 +66,11 @@ class VisionMonitor(object):
         self.log = layer.logger(self.ROLE)
         enabled = {name for name in ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
                    if getattr(p, 'detect_' + name)}
-        self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
-                                         p.dark_threshold, p.dark_frames, p.host_stall_gap)
-        VisionBack(self.monitor, p.vision_back_time)    # a bad vision_back_time fails now
+        self.enabled = enabled
         self.layer = layer
         self.lock = threading.Lock()
         self.done = False
+        self.generation = 0   # the missions watched (new_mission watches anew)
         self.lost = None      # the loss detected (core/vision.Loss), until vision is back
         self.back = None      # its core/vision.VisionBack
         self.warned = set()
@@ -83,10 +79,24 @@ class VisionMonitor(object):
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.back_pub = rospy.Publisher(names.VISION_BACK, String, queue_size=1)
-        guard = layer.guard(self.ROLE)
+        guard = self.guard = layer.guard(self.ROLE)
         self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
-        self.subscribers = [subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))]
+        # kept across missions: a new subscription would get a latched vision_lost again
+        self.manual_sub = subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))
         self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
+        self.start_watching()
+        VisionBack(self.monitor, p.vision_back_time)    # a bad vision_back_time fails now
+        layer.mission.on_change(guard(self.on_state))
+        layer.mission.on_new_mission(guard(self.new_mission))
+        layer.diagnostics.add('vision monitor', lambda stat: vision_status(self, stat))
+        self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
+
+    def start_watching(self):
+        """Fresh detectors, their inputs subscribed, the stall checks running."""
+        p, enabled, guard = self.params, self.enabled, self.guard
+        self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
+                                         p.dark_threshold, p.dark_frames, p.host_stall_gap)
+        self.subscribers = []
         if 'dark' in enabled:
             numpy_module()      # loaded now, not with the first frame (lifts the one-process block)
             self.camera_topic = names.CAMERA
@@ -101,20 +111,18 @@ class VisionMonitor(object):
         self.camera_info_until_vo = self.camera_info_sub is not None and 'vo_stall' in enabled
         self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
         if self.watching_vo:
-            layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
-            layer.visual_odometry.acquire(self.ROLE)
+            self.layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
+            self.layer.visual_odometry.acquire(self.ROLE)
         # the wheel odometry's arrivals tell a host stall from a vision fault (one process:
         # the recorder's subscription already; the paper's layout: one more)
-        layer.odometry.add_listener(self.listeners['wheel'], raw=True)
-        layer.odometry.acquire(self.ROLE)
+        self.layer.odometry.add_listener(self.listeners['wheel'], raw=True)
+        self.layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg,
                                               guard(self.on_odom_info), expected=ODOM_INFO,
                                               queue_size=5))
-        layer.mission.on_change(guard(self.on_state))
-        layer.diagnostics.add('vision monitor', self.status)
-        threading.Thread(target=guard(self.watch_stalls), name='vision_monitor_stalls', daemon=True).start()
-        self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
+        threading.Thread(target=guard(self.watch_stalls), args=(self.generation,),
+                         name='vision_monitor_stalls', daemon=True).start()
 
     # --- inputs ---------------------------------------------------------------------------------
     def on_camera_info(self, _msg):
@@ -172,6 +180,14 @@ class VisionMonitor(object):
         if caller != rospy.get_name():
             self.feed(self.monitor.manual, caller)
 
+    def new_mission(self):
+        with self.lock:
+            self.done, self.started = False, None
+            self.lost = self.back = None
+            self.generation += 1
+        self.log.info('new mission: watching again')
+        self.start_watching()
+
     def on_state(self, _old, new):
         if new in mission_state.TERMINAL:
             with self.lock:
@@ -181,10 +197,10 @@ class VisionMonitor(object):
             self.log.info('mission %s: no longer watching', new)
             self.stop_watching()
 
-    def watch_stalls(self):
+    def watch_stalls(self, generation):
         """Check the stall detectors whenever one of them could fire next, and warn once
-        about a stream that never came; until the monitor stops watching."""
-        while not rospy.is_shutdown() and not self.done:
+        about a stream that never came; until the monitor stops watching this mission."""
+        while not rospy.is_shutdown() and not self.done and self.generation == generation:
             now = rospy.get_time()
             if now > 0.0:                 # zero: sim time has not started
                 self.started = now if self.started is None else self.started
@@ -274,21 +290,23 @@ class VisionMonitor(object):
             self.warned.add(key)
             self.log.warn('%s', text)
 
-    def status(self, stat):
-        now = rospy.get_time()
-        camera = '-' if self.last_camera is None else '%.2f' % (now - self.last_camera)
-        if self.camera_topic is None and self.last_vo is not None:
-            camera = 'not read (the visual-odometry stall detector covers it)'
-        stat.add('camera age (s)', camera)
-        stat.add('visual odometry age (s)', '-' if self.last_vo is None else '%.2f' % (now - self.last_vo))
-        if self.done:
-            stat.summary(diagnostics.OK, 'not watching (the mission has ended)')
-        elif self.lost is not None:
-            stat.summary(diagnostics.WARN, 'vision lost (%s)%s' % (self.lost.detector, '' if self.back
-                         else '; declared by hand: not watching for its end'))
-        elif self.warned & {'no_camera', 'no_vo'}:
-            stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
-                sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
-                       for key in self.warned & {'no_camera', 'no_vo'})))
-        else:
-            stat.summary(diagnostics.OK, 'watching')
+
+def vision_status(monitor, stat):
+    """The vision monitor ``monitor``'s /diagnostics status."""
+    now = rospy.get_time()
+    camera = '-' if monitor.last_camera is None else '%.2f' % (now - monitor.last_camera)
+    if monitor.camera_topic is None and monitor.last_vo is not None:
+        camera = 'not read (the visual-odometry stall detector covers it)'
+    stat.add('camera age (s)', camera)
+    stat.add('visual odometry age (s)', '-' if monitor.last_vo is None else '%.2f' % (now - monitor.last_vo))
+    if monitor.done:
+        stat.summary(diagnostics.OK, 'not watching (the mission has ended)')
+    elif monitor.lost is not None:
+        stat.summary(diagnostics.WARN, 'vision lost (%s)%s' % (monitor.lost.detector, '' if monitor.back
+                     else '; declared by hand: not watching for its end'))
+    elif monitor.warned & {'no_camera', 'no_vo'}:
+        stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
+            sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
+                   for key in monitor.warned & {'no_camera', 'no_vo'})))
+    else:
+        stat.summary(diagnostics.OK, 'watching')

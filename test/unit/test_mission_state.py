@@ -1,6 +1,6 @@
 """core/mission_state.MissionState: every legal transition moves, illegal ones raise,
-a transition from a state the mission is not in does not move, terminal states never
-change, and two threads racing the same transition: exactly one wins."""
+a transition from a state the mission is not in does not move, terminal states change
+only to idle (new_mission), and two threads racing the same transition: exactly one wins."""
 import threading
 import time
 
@@ -36,8 +36,8 @@ def in_state(state, cls=ms.MissionState):
 def test_the_table_names_every_state_and_the_start():
     assert set(ms.TRANSITIONS) == set(ms.ALL) | {None}
     assert all(set(targets) <= set(ms.ALL) for targets in ms.TRANSITIONS.values())
-    assert len(LEGAL) == 14 and ms.TRANSITIONS[ms.HOME] == ms.TRANSITIONS[ms.ABORTED] == \
-        ms.TRANSITIONS[ms.RECOVERED] == ()
+    assert len(LEGAL) == 14 + len(ms.TERMINAL)
+    assert all(ms.TRANSITIONS[ended] == (ms.IDLE,) for ended in ms.TERMINAL)
 
 
 @pytest.mark.parametrize('old,new', LEGAL)
@@ -168,3 +168,20 @@ def test_recovered_is_terminal_and_nobody_moves_in_it():
 
 def test_the_recording_goes_on_while_rotating_until_the_owner_ends_it():
     assert ms.records(ms.ROTATING) and not ms.records(ms.RETURNING)
+def test_new_mission_starts_from_every_terminal_state_and_is_refused_elsewhere():
+    for ended in ms.TERMINAL:
+        assert ms.new_mission_refusal(ended) is None
+        machine = in_state(ended)
+        assert machine.transition(ended, ms.IDLE, 'mission 2')
+        assert (machine.state, machine.reason) == (ms.IDLE, 'mission 2')
+        assert ms.starts_new_mission(ended, ms.IDLE)
+    for unfinished in (None, ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING):
+        refusal = ms.new_mission_refusal(unfinished)
+        assert refusal.startswith('refused: the mission is %s ' % unfinished), refusal
+        for ended in ms.TERMINAL:
+            assert ended in refusal
+        assert not ms.starts_new_mission(unfinished, ms.IDLE)
+    for unfinished in (ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING):
+        with pytest.raises(ms.IllegalTransition):       # a mission under way never restarts
+            in_state(unfinished).transition(unfinished, ms.IDLE)
+    assert not ms.starts_new_mission(ms.HOME, ms.RECORDING)
