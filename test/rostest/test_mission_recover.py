@@ -13,6 +13,8 @@ starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions per
   mid-return: the layer publishes nothing meanwhile; it drives again once the
   operator was silent ``takeover_wait`` s and comes home within 3 %; with
   ``on_takeover:=abort`` the mission ends ``aborted`` naming the takeover.
+
+The .test's arg ``one_process:=false`` runs the paper's node layout instead.
 """
 import os
 import sys
@@ -54,7 +56,8 @@ class RecoverCase(unittest.TestCase):
 
     def start_return(self, label, args=()):
         """A fresh layer: the mission recorded, vision lost, the robot driving back."""
-        m = self.mission = FindingMission(label, args=args)
+        m = self.mission = FindingMission(label, args=args,
+                                          one_process=rospy.get_param('~one_process', True))
         m.run.wait_for_layer()
         m.run.play_mission(MISSION)
         m.run.trigger_by_publisher()
