@@ -13,6 +13,8 @@ Only ``/clock`` is global.
 ODOM = 'odom'
 #: geometry_msgs/Twist the pi turn and the back travel drive (a cmd_vel_mux input, as in the paper)
 CMD_VEL = 'cmd_vel_mux/input/teleop'
+#: std_msgs/String, the mux's active input (its name, or ``idle``): a takeover (ros/takeover.py)
+CMD_VEL_MUX_ACTIVE = 'cmd_vel_mux/active'
 #: geometry_msgs/Pose2D, the paper's yaw source (sampling_publisher with yaw_source pose2d)
 POSE2D = 'pose2d'
 #: sensor_msgs/Image of the RGB camera (vision-loss detection, the dark detector only)
@@ -32,6 +34,10 @@ SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
 # --- the layer's own names (INTERFACE.md)
 #: std_msgs/Empty: vision has failed
 VISION_LOST = 'blind_navigation/vision_lost'
+#: std_msgs/String: vision back after a loss (vision_monitor): its length and the loss
+VISION_BACK = 'blind_navigation/vision_back'
+#: std_msgs/Empty, latched: the pi turn begins, the recording ends (back_travel_client)
+RECORDING_END = 'blind_navigation/recording_end'
 #: service std_srvs/Trigger: the manual trigger, acknowledged (starts the return while recording)
 GO_HOME = 'blind_navigation/go_home'
 #: service std_srvs/Trigger: stop now, the mission ``aborted`` ("cancelled by request")

@@ -16,6 +16,7 @@ from .allowance import ABORT, HOLD, OdomGrace
 
 SUCCEEDED, CANCELLED, FAILED, TIMED_OUT = 'succeeded', 'cancelled', 'failed', 'timed out'
 SAFETY_STOP, ODOMETRY_LOST, PREEMPTED = 'safety stop', 'odometry lost', 'preempted'
+TAKEN_OVER = 'taken over'      # an operator took the robot (on_takeover abort)
 
 
 class Outcome(collections.namedtuple('Outcome', 'kind reason')):

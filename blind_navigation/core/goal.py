@@ -11,6 +11,7 @@ both the same interface::
     goal.start(odom_state)
     v, w = goal.step(odom_state)     # until goal.done or goal.failed (goal.reason says why)
     goal.travelled                   # m of odometry driven during this goal
+    goal.hold(seconds)               # the robot was held (paused) that long: not driving time
 
 The back_travel server and the simulation harness both drive goals through it,
 and both hold the output between two goals with :class:`CommandHold`.
@@ -39,6 +40,10 @@ class SectionGoal(object):
         self._travelled_before = self.follower.travelled
         self.done = self.follower.section_finished(self.index)
 
+    def hold(self, seconds):
+        """Nothing to do: the follower re-tracks from the pose, its progress watch skips
+        gaps longer than max_step_gap."""
+
     def step(self, odom_state):
         command = self.follower.step(odom_state)
         self.failed, self.reason = self.follower.failed, self.follower.reason
@@ -65,6 +70,11 @@ class ControllerGoal(object):
 
     def start(self, odom_state):
         self.controller.start(odom_state)
+
+    def hold(self, seconds):
+        """The controller's clock skips the ``seconds`` held (time: T is driving time)."""
+        if self.controller.started is not None:
+            self.controller.started += seconds
 
     def step(self, odom_state):
         return self.controller.step(odom_state)

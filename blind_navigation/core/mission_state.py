@@ -1,22 +1,21 @@
-"""The mission's one state machine, obeyed by every role of the layer.
-
-States, published latched on ``blind_navigation/state`` (std_msgs/String) by
-the mission's owner (back_travel_client)::
+"""The mission's one state machine, obeyed by every role of the layer: states published
+latched on ``blind_navigation/state`` by the owner (back_travel_client)::
 
     idle -> recording -> rotating -> returning -> home
-                 \\            \\            \\-> aborted
-                  \\            \\-> aborted
+                 \\  ^         \\            \\-> aborted, recovered
+                  \\  '---------'\\-> aborted, recovered
                    \\-> aborted (idle -> aborted too: a return that cannot resume)
-    home, aborted -> idle (``new_mission``: :func:`new_mission_refusal`)
+    home, aborted, recovered -> idle (``new_mission``: :func:`new_mission_refusal`)
 
 - ``recording``: the recorder saved its first landmark.
-- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`).
+- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`); the
+  recording goes on until the pi turn begins; vision back before that: ``recording`` again.
 - ``returning``: the pi turn is over and the robot really turned.
-- :data:`TERMINAL` (``cancel``: :func:`cancel_refusal`): nothing moves until ``new_mission``.
+- :data:`TERMINAL` (``recovered``: vision back in the turn or return, policy ``stop``;
+  ``cancel``: :func:`cancel_refusal`): nothing moves until ``new_mission``.
 
-Every change goes through :meth:`MissionState.transition` (table-checked, atomic).
-Motion is commanded only by the phase's owner (:data:`MOTION_OWNER`); every velocity
-output asks :func:`may_move` first. The table and who may move: docs/DESIGN.md.
+Every change goes through :meth:`MissionState.transition` (table-checked, atomic); only
+the phase's owner moves the robot (:data:`MOTION_OWNER`, :func:`may_move`). docs/DESIGN.md.
 """
 import threading
 
@@ -26,11 +25,12 @@ ROTATING = 'rotating'
 RETURNING = 'returning'
 HOME = 'home'
 ABORTED = 'aborted'
+RECOVERED = 'recovered'
 
-ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED)
+ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED, RECOVERED)
 #: The mission has ended here; ``new_mission`` starts the next one from any of them
 #: (a new terminal state is one more name here: TRANSITIONS and the rules follow).
-TERMINAL = (HOME, ABORTED)
+TERMINAL = (HOME, ABORTED, RECOVERED)
 
 #: Allowed transitions: state -> the states it may move to. ``None`` is the owner
 #: before its first state: idle, or (a restarted owner) a resumed return or its abort.
@@ -38,8 +38,8 @@ TRANSITIONS = {
     None: (IDLE, RETURNING, ABORTED),
     IDLE: (RECORDING, ABORTED),
     RECORDING: (ROTATING, ABORTED),
-    ROTATING: (RETURNING, ABORTED),
-    RETURNING: (HOME, ABORTED),
+    ROTATING: (RETURNING, RECORDING, RECOVERED, ABORTED),
+    RETURNING: (HOME, RECOVERED, ABORTED),
 }
 TRANSITIONS.update((ended, (IDLE,)) for ended in TERMINAL)     # new_mission
 
@@ -94,8 +94,24 @@ def may_move(role, state):
 
 
 def records(state):
-    """True while the path is recorded (before the first landmark and after it)."""
-    return state in (None, IDLE, RECORDING)
+    """True while the path may still be recorded (before the first landmark, after it, and in
+    ``rotating`` until the pi turn begins: the recording's end is the owner's decision)."""
+    return state in (None, IDLE, RECORDING, ROTATING)
+
+
+#: ``on_vision_back`` policies: go on home (the paper's), or stop ``recovered``.
+ON_VISION_BACK = ('home', 'stop')
+
+
+def vision_back_state(state, turn_begun, policy):
+    """The state vision back moves ``state`` to (None: no change): ``recording`` while the
+    pi turn has not begun (a brief loss), ``recovered`` during the turn or the return
+    with policy ``stop``."""
+    if state == ROTATING and not turn_begun:
+        return RECORDING
+    if state in (ROTATING, RETURNING) and policy == 'stop':
+        return RECOVERED
+    return None
 
 
 class IllegalTransition(ValueError):

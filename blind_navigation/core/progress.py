@@ -37,7 +37,7 @@ FORMAT_VERSION = 2
 ROUTE_RECORD = ('route', 'heading')
 FIELDS = ('landmark_file', 'digest', 'landmarks', 'anchor', 'frame_id', 'completed', 'position',
           'status', 'updated', 'route', 'reason', 'mission', 'started', 'travelled')
-STATUSES = (state.ROTATING, state.RETURNING, state.HOME, state.ABORTED)
+STATUSES = (state.ROTATING, state.RETURNING, state.HOME, state.ABORTED, state.RECOVERED)
 #: Statuses of a return in progress; the others are finished.
 UNFINISHED = (state.ROTATING, state.RETURNING)
 #: Largest progress file read (a route of ~100000 waypoints).
@@ -241,9 +241,9 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         return self._replace(**changes).checked()
 
     def finish(self, status, reason, now, position=None):
-        """The return ended ``home`` or ``aborted``, for ``reason``."""
-        if status not in (state.HOME, state.ABORTED):
-            raise ValueError('a return finishes home or aborted, not %r' % (status,))
+        """The return ended ``home``, ``aborted`` or ``recovered``, for ``reason``."""
+        if status not in (state.HOME, state.ABORTED, state.RECOVERED):
+            raise ValueError('a return finishes home, aborted or recovered, not %r' % (status,))
         if not self.unfinished and status != self.status:
             raise ValueError('the return already ended %s' % self.status)
         changes = dict(status=status, reason=str(reason), updated=float(now))

@@ -82,6 +82,13 @@ EVENT_LAYOUT = {
     'cliff': (('left', 'center', 'right'), 1, 'cliff'),          # CliffEvent.CLIFF
     'wheel_drop': (('left', 'right'), 1, 'dropped'),             # WheelDropEvent.DROPPED
 }
+#: The kind a return survives as a contact (core/pause.Contacts); the others stay terminal.
+CONTACT = 'bumper'
+
+
+def is_contact(reason):
+    """True when ``reason`` (a SafetyEvents reason) is a bumper contact."""
+    return reason.startswith(CONTACT + ' ')
 
 
 class SafetyEvents(object):
@@ -110,6 +117,11 @@ class SafetyEvents(object):
     def active(self):
         """Reasons of the sensors active now (empty: safe to drive)."""
         return sorted(self._active.values())
+
+    @property
+    def terminal(self):
+        """Reasons of the active sensors other than the bumper (cliff, wheel drop)."""
+        return [reason for reason in self.active if not is_contact(reason)]
 
 
 # --- route sent by the client ---------------------------------------------------

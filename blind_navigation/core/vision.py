@@ -9,7 +9,8 @@ never fires. A detector fires once per loss: it stays quiet while its condition
 keeps holding and re-arms as soon as the condition clears.
 
 ``VisionLossMonitor`` bundles the enabled detectors; each feed method returns
-the ``Loss`` events it caused (usually none).
+the ``Loss`` events it caused (usually none). After a loss, ``VisionBack`` says
+when the same detectors have all been healthy for ``vision_back_time`` seconds.
 """
 import math
 import struct
@@ -317,3 +318,34 @@ class VisionLossMonitor(object):
         """Somebody declared vision lost by hand; fires at once (no debounce) if enabled."""
         self._clock(t)
         return self._fired(Loss('manual', 'vision_lost published by %s' % source, t, t))
+
+    def unhealthy(self, t):
+        """Why vision is not healthy at ``t`` by the enabled detectors (None: healthy): a
+        watched stream silent for its timeout or never seen, a bad condition holding."""
+        watched = [stall for stall in self._stalls if stall.name in self.enabled]
+        if 'dark' in self.enabled and self.stall not in watched:
+            watched.append(self.stall)      # the dark detector reads the images themselves
+        if not watched:
+            return 'no camera or visual-odometry stream watched'
+        for stall in watched:
+            if stall.last is None or t - stall.last >= stall.timeout:
+                return 'no %s' % stall.what
+        for detector in (self.dark, self.vo_lost, self.odom_info):
+            if detector.name in self.enabled and detector.debounce.onset is not None:
+                return '%s still bad' % detector.name
+        return None
+
+
+class VisionBack(object):
+    """Vision is back once ``monitor`` (a :class:`VisionLossMonitor`) has been healthy
+    without a break for ``hold`` seconds since the loss."""
+
+    def __init__(self, monitor, hold):
+        if not hold > 0:
+            raise ValueError('vision_back_time must be > 0 s, got %r' % (hold,))
+        self.monitor = monitor
+        self.debounce = Debounce(hold)
+
+    def update(self, t):
+        """Check at ``t``; True exactly once, when vision has been back for ``hold``."""
+        return self.debounce.update(t, self.monitor.unhealthy(t) is None)

@@ -4,14 +4,16 @@ and the owner of the mission's state, a thin ROS shell over its rooms.
 It publishes the state latched on ``blind_navigation/state`` (std_msgs/String)
 and, with its reason and the return's progress, on ``blind_navigation/status``
 (blind_navigation/MissionStatus); every change goes through
-core/mission_state.MissionState. Vision lost while recording: ``rotating``
-(the anchor and the landmark file's real path kept); the pi turn reported done
+core/mission_state.MissionState. Vision lost while recording: ``rotating``,
+the recording going on until the turn begins (ros/turn_start.py: vision back
+before it, ``recording`` again; after it, ``on_vision_back``, ``stop``:
+``recovered``); the pi turn reported done
 (``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
 driven by ros/return_runner.py (the route set on the server, the landmarks
 sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
 the reason. Its services ``go_home``, ``cancel``, ``new_mission``: ros/mission_services.py. The
-progress (ros/return_progress.py) is written next to ``landmark_file`` at
-vision loss and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
+progress (ros/return_progress.py) is written next to ``landmark_file`` when
+the turn begins and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
 ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
 or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
 Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
@@ -30,9 +32,10 @@ from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_time
 from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
 from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params
 from blind_navigation.core.route import ROUTE_DEFAULTS
-from blind_navigation.core.progress import PROGRESS_DEFAULTS, ReturnProgress
+from blind_navigation.core.progress import PROGRESS_DEFAULTS
 from blind_navigation.core.rotation import turn_problem
-from blind_navigation.core.safety import SAFETY_DEFAULTS
+from blind_navigation.core.pause import TAKEOVER_DEFAULTS
+from blind_navigation.core.safety import SAFETY_DEFAULTS, is_contact
 from blind_navigation.msg import MissionStatus, StorageUsage
 from blind_navigation.ros import wiring
 from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
@@ -42,6 +45,7 @@ from blind_navigation.ros.mission_services import MissionServices
 from blind_navigation.ros.return_paths import ReturnPaths
 from blind_navigation.ros.return_progress import ProgressKeeper
 from blind_navigation.ros.return_runner import ReturnRunner
+from blind_navigation.ros.turn_start import TurnStart
 
 
 def _checked(p):
@@ -53,6 +57,11 @@ def _checked(p):
             raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
     if not isinstance(p.prune_loops, bool):
         raise ValueError('~prune_loops must be true or false, got %r' % (p.prune_loops,))
+    if not p.vision_back_grace >= 0:
+        raise ValueError('~vision_back_grace must not be negative, got %r' % (p.vision_back_grace,))
+    if p.on_vision_back not in state.ON_VISION_BACK:
+        raise ValueError('~on_vision_back must be one of %s, got %r'
+                         % (', '.join(state.ON_VISION_BACK), p.on_vision_back))
     prune_params(p)                  # a bad pruning param fails now, not at the return
     return p
 
@@ -61,7 +70,7 @@ class BackTravelClient(object):
     """Mission state machine and goal sender (module docstring)."""
 
     ROLE = 'back_travel_client'
-    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **{
+    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **TAKEOVER_DEFAULTS, **{
         'landmark_file': '',            # the recorder's symlink (empty: under $ROS_HOME); only read
         'odom_timeout': 0.5,            # s; older odometry counts as missing
         'server_timeout': 10.0,         # s to wait for the back-travel server
@@ -80,28 +89,32 @@ class BackTravelClient(object):
         'correction_timeout': 5.0,      # s the return waits for the heading correction (none: aborted)
         'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
         'rotation_margin': 60.0,        # s added to the standstill's timeout: the rotation_timeout,
-                                        # from vision loss to the end of the pi turn
+                                        # (+ vision_back_grace) from vision loss to the turn's end
         'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
         'prune_loops': REQUIRED,        # true: cut loops from the route (core/pruning; closed_loop)
+        'vision_back_grace': 5.0,       # s after vision loss the pi turn waits for vision back
+                                        # without heading_correction (0: the paper's, at once)
+        'on_vision_back': 'home',       # vision back during the turn or return: home (go on) or
+                                        # stop (state recovered)
     })
 
     def __init__(self, layer):
-        p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS,
-                                                shared=('standstill_time',)))
+        p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS, shared=(
+            'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs')))
         self.log = layer.logger(self.ROLE)
         self.layer = layer
         self.odometry = layer.odometry
         self.landmark_file = landmark_file(p.landmark_file)
-        self.rotation_timeout = standstill_timeout(p) + p.rotation_margin
+        self.rotation_timeout = standstill_timeout(p) + p.rotation_margin + p.vision_back_grace
         self.limits = Limits(p.max_v, p.max_w)
         self.machine = state.MissionState()
         self.warnings = ''
         self.losses = {}                # real path of a landmark file -> its last storage with a loss
         self._return = threading.Event()
-        self._begin_lock = threading.Lock()     # vision_lost and go_home: one return starts
-        self.trip = self.lost = None    # a safety trip, an untrusted odometry reset (turn, return)
-        self.rotation_timer = None      # the pi turn's timeout (new_mission shuts it down)
-        self._turn_start = None          # raw odometry yaw where recording stopped
+        self.trip = None
+        self.takeover = layer.takeover(p)    # its pauses count against no allowance
+        self.lost = None           # an untrusted odometry reset during the turn or the return
+        self.turn_start = None          # raw odometry yaw where recording stopped
         self.correction = layer.heading_correction() if p.heading_correction else None
         self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
@@ -109,6 +122,7 @@ class BackTravelClient(object):
         self.paths = ReturnPaths(p.path_spacing)
         self.runner = ReturnRunner(self)
         guard = self.guard = layer.guard(self.ROLE)
+        self.turn = TurnStart(self)
         self._start()
         layer.safety.on_trip(guard(self._on_trip))
         wiring.on_fault(self._on_fault)
@@ -130,7 +144,7 @@ class BackTravelClient(object):
     def reason(self):
         return self.machine.reason
 
-    def _move(self, expected, new_state, reason=''):
+    def move(self, expected, new_state, reason=''):
         """``expected -> new_state`` through the state machine (core/mission_state);
         announced if it moved. False if the state was another (the event is late)."""
         if not self.machine.transition(expected, new_state, reason):
@@ -172,7 +186,7 @@ class BackTravelClient(object):
         """The first state, from the progress a previous run left (ros/return_progress.py)."""
         first, reason = self.keeper.first_state(self._wait_for_position, self.layer.mission_id,
                                                 self.params, self.limits)
-        if self._move(None, first, reason) and first == state.RETURNING:
+        if self.move(None, first, reason) and first == state.RETURNING:
             self._return.set()
 
     def position(self):
@@ -191,7 +205,7 @@ class BackTravelClient(object):
                 self.log.error('%s', warning)
                 self.publish_status()
                 self.layer.diagnostics.now()
-        self._move(state.IDLE, state.RECORDING)
+        self.move(state.IDLE, state.RECORDING)
 
     def _on_vision_lost(self, msg):
         sender = msg._connection_header.get('callerid', '?')
@@ -200,55 +214,34 @@ class BackTravelClient(object):
             if current not in (state.ROTATING, state.RETURNING):   # repeats are simply idempotent
                 self.log.warn('vision_lost from %s ignored in state %s', sender, current)
             return
-        self.begin_return('vision lost (%s)' % sender)
+        self.begin_return('vision lost (%s)' % sender, vision=True)
 
-    def begin_return(self, reason):
-        """Recording -> rotating for ``reason`` (vision lost, go_home; one at a time): the
-        anchor and progress saved, the turn's timeout armed. True if it started."""
-        with self._begin_lock:
-            if self.state != state.RECORDING:
-                return False
-            if self.odometry.lost:
-                self._move(state.RECORDING, state.ABORTED, '%s, but %s: the way back is '
-                           'unknown; not travelling back' % (reason, self.odometry.lost))
-                return False
-            latest = self.odometry.latest()
-            anchor = [latest.x, latest.y] if latest is not None else None
-            self._turn_start = latest.yaw if latest is not None else None
-            self.keeper.save(ReturnProgress.begin(self.landmark_file, anchor, self.odometry.frame_id,
-                                                  time.time(), self.layer.mission_id))
-            if not self._move(state.RECORDING, state.ROTATING, reason):
-                # a fault ended the mission while the turn's start was recorded
-                self.keeper.save(self.keeper.progress.finish(state.ABORTED, self.reason, time.time()))
-                return False
-        self.rotation_timer = rospy.Timer(rospy.Duration(self.rotation_timeout),
-                                          self.guard(self._check_rotation), oneshot=True)
-        return True
-
-    def _check_rotation(self, _event):
-        self._move(state.ROTATING, state.ABORTED, 'no finished pi turn within %.0f s of vision '
-                   'loss (is rotate_pi running?)' % self.rotation_timeout)
+    def begin_return(self, reason, vision=False):
+        """Recording -> rotating for ``reason`` (``vision``: a vision loss; go_home otherwise):
+        the turn begins when ros/turn_start.py commits it. True if it moved."""
+        return self.turn.begin(reason, vision)
 
     def _on_rotation_done(self, msg):
         if self.state != state.ROTATING:
             return
         lost = self.lost or self.odometry.lost
         if lost:
-            self._move(state.ROTATING, state.ABORTED, 'the pi rotation: %s; not travelling back'
+            self.move(state.ROTATING, state.ABORTED, 'the pi rotation: %s; not travelling back'
                        % lost)
             return
         if not msg.data:
             safety = self.trip or ', '.join(self.layer.safety.active)
-            self._move(state.ROTATING, state.ABORTED, 'the pi rotation failed%s; not travelling '
+            self.move(state.ROTATING, state.ABORTED, 'the pi rotation failed%s; not travelling '
                        'back' % (' (safety stop: %s)' % safety if safety else ''))
             return
         latest = self.odometry.latest()
-        problem = turn_problem(self._turn_start, latest.yaw if latest is not None else None,
-                               self.params.turn_tolerance)
+        problem = 'the pi turn has not begun (the recording goes on)' if not self.turn.begun \
+            else turn_problem(self.turn_start, latest.yaw if latest is not None else None,
+                              self.params.turn_tolerance)
         if problem:
             self.log.error('rotation_done true refused: %s', problem)
             return
-        if self._move(state.ROTATING, state.RETURNING):
+        if self.move(state.ROTATING, state.RETURNING):
             self._return.set()
         else:
             self.log.warn('rotation_done true ignored in state %s', self.state)
@@ -266,8 +259,8 @@ class BackTravelClient(object):
             self._on_fault('%s (%s)' % (msg.data, sender))
 
     def _on_trip(self, reason):
-        if self.state in (state.ROTATING, state.RETURNING):
-            self.trip = reason
+        if self.state == state.ROTATING or (self.state == state.RETURNING and not is_contact(reason)):
+            self.trip = reason          # a contact during the return: the server's Contacts decide
 
     def _on_reset(self, reason, trusted):
         """An untrusted odometry reset: the frame of the turn and the route is lost
@@ -298,7 +291,7 @@ class BackTravelClient(object):
             self._return.clear()
             ok, reason = self.runner.travel_back()
             if not rospy.is_shutdown():
-                self._move(state.RETURNING, state.HOME if ok else state.ABORTED, reason)
+                self.move(state.RETURNING, state.HOME if ok else state.ABORTED, reason)
 
     def _wait_for_position(self):
         """The robot's odometry [x, y], waiting (wall-bounded) for it; None if none came."""

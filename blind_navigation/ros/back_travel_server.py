@@ -9,13 +9,14 @@ set with ``blind_navigation/set_return_route``; a goal ends when its section is
 done). Feedback: the distance so far; result: odometry distance and duration.
 
 It serves its own mission only: a goal is accepted while the mission is
-``returning``, from the mission's owner, one at a time, and only if it is the
-next landmark of the route. Between goals the last command holds for at most
-``handover_timeout`` (core/goal.CommandHold). Every command is clamped and
-state-gated (ros/motion.MotionOutput); stale or refused odometry holds the goal
-(core/allowance.OdomGrace), a Kobuki event aborts it; cancel, error and
-shutdown publish zero velocity. Details and reasons: docs/back_travel.md,
-docs/safety.md.
+``returning``, from the mission's owner, one at a time, if it is the route's
+next landmark. Between goals the last command holds for at most
+``handover_timeout`` (core/goal.CommandHold). Commands are clamped and
+state-gated (ros/motion.MotionOutput); stale odometry holds the goal
+(core/allowance.OdomGrace), so does a bumper contact (core/pause.Contacts,
+counted over the return) and, silently, an operator's takeover
+(ros/takeover.py); a cliff or wheel drop aborts it; cancel, error and shutdown
+publish zero velocity. Why: docs/back_travel.md, docs/safety.md.
 """
 import threading
 import types
@@ -31,6 +32,7 @@ from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.goal import CommandHold, make_goal
 from blind_navigation.core.landmark import landmark_from_values
+from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS, Contacts
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
 from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
@@ -48,7 +50,7 @@ class BackTravelServer(object):
 
     ROLE = mission_state.BACK_TRAVEL_ROLE
     DEFAULTS = dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
-                    **ALLOWANCE_DEFAULTS,
+                    **ALLOWANCE_DEFAULTS, **CONTACT_DEFAULTS, **TAKEOVER_DEFAULTS,
                     control=REQUIRED,           # time, distance or closed_loop (core/goal.py)
                     straight_rate=SAMPLING_DEFAULTS['straight_rate'],  # Hz; a landmark with T >=
                                                 # 1 / straight_rate is a straight segment
@@ -60,7 +62,8 @@ class BackTravelServer(object):
                     status_frequency=1.0)       # Hz of the action server's periodic status
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('straight_rate',))
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=(
+            'straight_rate', 'takeover_wait', 'on_takeover', 'takeover_inputs'))
         self.log = layer.logger(self.ROLE)
         if p.control not in MODES:
             raise ValueError('~control must be one of %s, got %r' % (', '.join(MODES), p.control))
@@ -69,12 +72,15 @@ class BackTravelServer(object):
             if not getattr(p, name) > 0:
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
         OdomGrace(p)                     # validates the odometry params now
+        self.contacts = Contacts(p)      # the return's bumper contacts (validates their params)
         self.straight_period = period_of(p.straight_rate, '~straight_rate')
         self.goal_params = types.SimpleNamespace(**dict(
             {name: getattr(p, name) for name in self.DEFAULTS}, straight_period=self.straight_period))
         self.layer = layer
         self.odometry = layer.odometry
-        self.output = MotionOutput(self.ROLE, p.max_v, p.max_w, layer.mission, layer.safety)
+        self.takeover = layer.takeover(p)
+        self.output = MotionOutput(self.ROLE, p.max_v, p.max_w, layer.mission, layer.safety,
+                                   self.takeover)
         layer.heading_correction()       # drive on the corrected odometry once it exists
         self._lock = threading.Lock()
         self._active = None              # the goal handle being driven
@@ -86,7 +92,8 @@ class BackTravelServer(object):
         self.next_goal = 0               # index of the goal the route expects next
         self.follower = None             # closed_loop: the RouteFollower of the return
         guard = self.guard = layer.guard(self.ROLE)
-        self.drive = DriveLoop(self.output, self.odometry, layer.safety, p, self.log, guard)
+        self.drive = DriveLoop(self.output, self.odometry, layer.safety, p, self.log, guard,
+                               takeover=self.takeover)
         layer.mission.on_change(guard(self._on_state))
         rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, guard(self._on_set_route))
         self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction,
@@ -114,6 +121,7 @@ class BackTravelServer(object):
             if self._active is not None or self._pending is not None:
                 return SetReturnRouteResponse(ok=False, message='a goal is being driven')
             self.route, self.landmarks, self.next_goal = route, landmarks, request.completed
+            self.contacts = Contacts(self.params)      # counted over the whole return
             self.follower = RouteFollower(route, self.goal_params) \
                 if self.params.control == 'closed_loop' else None
         self.log.info('return route of %d landmarks (%.2f m) in %s, %d completed',
@@ -201,6 +209,8 @@ class BackTravelServer(object):
     def _diagnose(self, stat):
         stat.add('control', self.params.control)
         stat.add('goals done', '%d of %d' % (self.next_goal, len(self.landmarks)))
+        stat.add('bumper contacts', self.contacts.describe())
+        stat.add('takeover', self.takeover.active() or 'none')
         if self.layer.mission.state == mission_state.RETURNING:
             diagnostics.age_status(stat, 'odometry', self.odometry.age(), self.params.odom_timeout,
                                    diagnostics.ERROR,
@@ -268,7 +278,8 @@ class BackTravelServer(object):
         goal = _Goal(make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal),
                      handle, self.hold, p.feedback_rate)
         outcome = self.drive.run(goal, 'goal %d' % (self.next_goal + 1), wait=p.odom_grace,
-                                 cancelled=goal.cancelled, inactive=self._inactive)
+                                 cancelled=goal.cancelled, inactive=self._inactive,
+                                 contacts=self.contacts)
         if outcome.ok:
             _report_late(self.follower, self.log)
         return goal.ended(outcome)
@@ -300,6 +311,9 @@ class _Goal(drive.Behaviour):
 
     def end(self):
         return drive.Outcome(drive.SUCCEEDED, '') if self.goal.done else None
+
+    def hold(self, seconds):
+        self.goal.hold(seconds)
 
     def step(self, odom, now):
         v, w = self.goal.step(odom)

@@ -5,43 +5,92 @@ cycle core/drive.DriveCycle decides (its end, a Kobuki event, a cancel, the
 mission leaving the behaviour's state, the odometry grace), then the
 behaviour's ``step`` gives the command, published through ros/motion.MotionOutput.
 It returns a typed core/drive.Outcome; every exit but success halts the
-output (zero velocity). Why: docs/back_travel.md, "The drive loop".
+output (zero velocity). Two pauses hold the behaviour without ending it
+(its ``hold`` gets the paused time): a bumper contact when the run is given
+core/pause.Contacts (zero velocity; too many or too long: a safety stop), and
+an operator's takeover (ros/takeover.py: nothing published; ``on_takeover``
+abort ends the run TAKEN_OVER once the operator is silent). Why:
+docs/back_travel.md, "The drive loop"; docs/safety.md.
 """
 import rospy
 
 from blind_navigation.core.allowance import HOLD
-from blind_navigation.core.drive import (CANCELLED, ODOMETRY_LOST, SAFETY_STOP, DriveCycle,
-                                         Outcome)
+from blind_navigation.core.drive import (CANCELLED, ODOMETRY_LOST, PREEMPTED, SAFETY_STOP,
+                                         TAKEN_OVER, DriveCycle, Outcome)
+from blind_navigation.core.pause import PAUSE
+from blind_navigation.core.safety import is_contact
 
 
 class DriveLoop(object):
     """Drives behaviours on ``output`` from ``odometry`` (ros/odometry.OdometryFeed).
-    ``params``: control_rate, odom_timeout and (with ``grace``) odom_grace."""
+    ``params``: control_rate, odom_timeout and (with ``grace``) odom_grace;
+    ``takeover``: the process's ros/takeover.TakeoverWatch, or None."""
 
-    def __init__(self, output, odometry, safety, params, log, guard, grace=True):
+    def __init__(self, output, odometry, safety, params, log, guard, grace=True, takeover=None):
         self.output, self.odometry, self.safety = output, odometry, safety
-        self.params, self.log, self.grace = params, log, grace
-        self.tripped = None
+        self.params, self.log, self.grace, self.takeover = params, log, grace, takeover
+        self.tripped = self.contacts = None
+        self.bumped = False
+        self.taken = None               # the takeover of the pause under way
         safety.on_trip(guard(self._on_trip))
 
     def _on_trip(self, reason):
-        self.tripped = reason
+        if self.contacts is not None and is_contact(reason):
+            self.bumped = True          # counted by the run's contacts (a press between cycles too)
+        else:
+            self.tripped = reason
 
-    def run(self, behaviour, label, wait=0.0, cancelled=None, inactive=None):
+    def run(self, behaviour, label, wait=0.0, cancelled=None, inactive=None, contacts=None):
         """Drive ``behaviour`` to its Outcome. ``wait``: s to wait for fresh odometry
         before starting; ``cancelled()``: True to stop; ``inactive()``: why the
-        mission no longer lets it move, or None; ``label`` prefixes the log."""
-        self.tripped = None
-        outcome = self._drive(behaviour, label, wait, cancelled or (lambda: False),
-                              inactive or (lambda: None))
+        mission no longer lets it move, or None; ``contacts``: core/pause.Contacts
+        (a bumper press pauses), None (it stops the run); ``label`` prefixes the log."""
+        self.tripped, self.bumped, self.taken, self.contacts = None, False, None, contacts
+        try:
+            outcome = self._drive(behaviour, label, wait, cancelled or (lambda: False),
+                                  inactive or (lambda: None))
+        finally:
+            self.contacts = None
         if not outcome.ok:
             self.output.halt(outcome.kind)
         return outcome
 
+    def _blocking(self):
+        """The active safety conditions that stop this run."""
+        return self.safety.terminal if self.contacts is not None else self.safety.active
+
+    def _pause(self, now):
+        """Why the run pauses this cycle (a takeover, a contact), an Outcome, or None."""
+        taken = self.takeover.active() if self.takeover is not None else None
+        if taken:
+            self.taken = taken
+            return taken
+        if self.contacts is None:
+            return None
+        bumped, self.bumped = self.bumped, False
+        decision = self.contacts.decide(bumped or self.safety.pressed, now)
+        if decision == PAUSE:
+            return 'bumper contact %d (%s): holding' % (self.contacts.count,
+                                                        ', '.join(self.safety.active) or 'released')
+        if decision:
+            return Outcome(SAFETY_STOP, '%s: %s' % (', '.join(self.safety.active) or 'bumper', decision))
+        return None
+
+    def _resumed(self, behaviour, label, paused):
+        """After a pause of ``paused`` s: the takeover's Outcome (on_takeover abort) or None."""
+        taken, self.taken = self.taken, None
+        if taken and self.takeover.policy == 'abort':
+            return Outcome(TAKEN_OVER, '%s (on_takeover abort)' % taken)
+        behaviour.hold(paused)          # paused time is not driving time
+        self.log.warn('%s: going on after %.1f s paused%s', label, paused,
+                      ' (%s ended)' % taken if taken else '')
+        self.output.release()
+        return None
+
     def _drive(self, behaviour, label, wait, cancelled, inactive):
         p, odometry = self.params, self.odometry
-        if self.safety.active:
-            return Outcome(SAFETY_STOP, ', '.join(self.safety.active))
+        if self._blocking():
+            return Outcome(SAFETY_STOP, ', '.join(self._blocking()))
         odom = odometry.wait_fresh(p.odom_timeout, wait)
         if odom is None:
             return Outcome(ODOMETRY_LOST, odometry.describe_missing(p.odom_timeout))
@@ -49,10 +98,30 @@ class DriveLoop(object):
         self.output.release()
         cycle = DriveCycle(behaviour, p if self.grace else None, p.odom_timeout)
         rate = rospy.Rate(p.control_rate)
+        paused_at = None
         try:
             while True:
                 now, age = rospy.get_time(), odometry.age()
-                tripped = self.tripped or ', '.join(self.safety.active)
+                pause = self._pause(now)
+                if isinstance(pause, Outcome):
+                    return pause
+                if pause:
+                    stop = self._stopped(cancelled, inactive)
+                    if stop:
+                        return stop
+                    if paused_at is None:
+                        paused_at = now
+                        self.log.warn('%s: %s', label, pause)
+                    if pause != self.taken:
+                        self.output.stop()      # a contact: zero (a takeover: nothing)
+                    rate.sleep()
+                    continue
+                if paused_at is not None:
+                    ended = self._resumed(behaviour, label, now - paused_at)
+                    if ended:
+                        return ended
+                    paused_at = None
+                tripped = self.tripped or ', '.join(self._blocking())
                 decision, message = cycle.decide(now, None if age is None else now - age, tripped,
                                                  cancelled() or rospy.is_shutdown(), inactive())
                 if message:
@@ -74,6 +143,16 @@ class DriveLoop(object):
                 rate.sleep()
         except rospy.ROSInterruptException:
             return Outcome(CANCELLED, 'node shutdown')
+
+    def _stopped(self, cancelled, inactive):
+        """During a pause: the Outcome of a cancel, the mission leaving, a terminal event."""
+        tripped = self.tripped or ', '.join(self._blocking())
+        if tripped:
+            return Outcome(SAFETY_STOP, tripped)
+        if cancelled() or rospy.is_shutdown():
+            return Outcome(CANCELLED, 'cancelled')
+        why = inactive()
+        return Outcome(PREEMPTED, why) if why else None
 
     def _lost(self, outcome):
         """The odometry outcome, saying what is missing."""

@@ -13,7 +13,8 @@ the scale from ``gyro_calibration_file`` when there is one) and publishes it
 latched on ``blind_navigation/heading_correction``
 (blind_navigation/HeadingCorrection, with the reference pose). It relays no
 odometry: the roles that drive install the correction into their shared feed.
-One estimate per mission; ``new_mission`` (the state back to ``idle``) starts the
+One estimate per mission; vision back before it (``rotating`` -> ``recording``)
+drops the standstill; ``new_mission`` (the state back to ``idle``) starts the
 next one's measurement. Details and reasons: docs/back_travel.md, "Gyro
 heading correction".
 """
@@ -163,7 +164,9 @@ class HeadingCorrectionRole(object):
         self._listen()
         self.log.info('new mission: calibrating the gyro against visual odometry again')
 
-    def _on_state(self, _old, new):
+    def _on_state(self, old, new):
+        if old == mission_state.ROTATING and new == mission_state.RECORDING:
+            self._resume_recording()
         if new != mission_state.ROTATING:
             if new in mission_state.TERMINAL:
                 self._stop_listening()
@@ -186,6 +189,15 @@ class HeadingCorrectionRole(object):
                       'known to %.3f rad over the %.0f s recording, %.0f-%.0f s of still odometry)',
                       self.params.heading_budget, self._recording_time, self.params.standstill_min,
                       self.standstill_time)
+
+    def _resume_recording(self):
+        """Vision back before the pi turn: the standstill is dropped, the fit goes on."""
+        with self._lock:
+            if self.result is not None or self.standstill is None:
+                return
+            self.standstill = self._reference = None
+        self.layer.visual_odometry.acquire(self.ROLE)
+        self.log.info('vision back before the pi turn: standstill dropped, calibrating on')
 
     def _set_reference(self, raw):
         """Where the corrected frame starts (vision loss); the visual-odometry bias and the

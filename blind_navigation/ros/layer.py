@@ -12,6 +12,7 @@ its own node (launch/paper.launch) or with the others in one process
 - :attr:`Layer.safety`: the Kobuki's bumper, cliff and wheel-drop events;
 - :meth:`Layer.heading_correction`: the latched gyro correction, installed into
   the shared odometry as soon as it arrives;
+- :meth:`Layer.takeover`: the operator's takeover (ros/takeover.py), one watch;
 - :attr:`Layer.diagnostics`: the process's /diagnostics;
 - :meth:`Layer.guard`: every callback and thread target of a role (ros/faults.py).
 """
@@ -33,6 +34,7 @@ from .faults import Faults
 from .mission import MissionStateView
 from .motion import SafetyMonitor
 from .odometry import OdometryFeed
+from .takeover import TakeoverWatch
 
 #: The node that owns the mission state when back_travel_client runs as its own node.
 MISSION_OWNER = 'back_travel_client'
@@ -91,6 +93,7 @@ class Layer(object):
         self.safety = SafetyMonitor(self.guard('safety monitor'))
         self._correction = None
         self._correction_lock = threading.Lock()
+        self._takeover = None
 
     def params(self, role, defaults, shared=()):
         """The params of ``role`` (a name) with their ``defaults`` (a dict). Hosted with
@@ -118,6 +121,14 @@ class Layer(object):
     def logger(self, role):
         """A RoleLog naming the node, and the role when it shares the node."""
         return RoleLog('%s/%s' % (self.node, role) if self.compact else self.node)
+
+    def takeover(self, params):
+        """The process's TakeoverWatch (created at the first call, from that role's
+        ``params``: takeover_wait, on_takeover, takeover_inputs, shared by the process)."""
+        with self._correction_lock:
+            if self._takeover is None:
+                self._takeover = TakeoverWatch(params, self.guard('takeover watch'))
+            return self._takeover
 
     def heading_correction(self):
         """The process's receiver of the latched heading correction (created at the

@@ -1,6 +1,7 @@
 """The back-travel client's three diagnostics (diagnostic_msgs, through the
 layer's updater): ``mission`` (the state, its reason, the mission's number, id and
-file, the return's progress and warnings), ``odometry`` (its age; an error while the robot turns or returns)
+file, the return's progress and warnings; ``recovered`` a warning, the pi turn's wait
+while ``rotating``), ``odometry`` (its age; an error while the robot turns or returns)
 and ``landmark file`` (the recorder's file and its size).
 """
 import os
@@ -29,8 +30,12 @@ def _mission_status(client, stat):
         stat.add('completed', progress.completed)
     if client.warnings:
         stat.add('warnings', client.warnings)
+    if client.state == state.ROTATING:
+        stat.add('pi turn', 'begun' if client.turn.begun else 'waiting (vision may come back)')
     if client.state == state.ABORTED:
         stat.summary(diagnostics.ERROR, 'aborted: %s' % client.reason)
+    elif client.state == state.RECOVERED:     # stopped away from home: someone takes the robot
+        stat.summary(diagnostics.WARN, 'recovered: %s' % client.reason)
     elif client.warnings:
         stat.summary(diagnostics.WARN, '%s: %s' % (client.state, client.warnings))
     else:

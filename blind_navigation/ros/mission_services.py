@@ -72,7 +72,7 @@ class MissionServices(object):
                 rospy.set_param(MISSION_ID, new_id)         # before the roles see idle
                 number = mission_number(m.layer.current_mission_id())
                 self._forget_return()
-                if m._move(old, state.IDLE, 'mission %d (new_mission by %s)' % (number, sender)):
+                if m.move(old, state.IDLE, 'mission %d (new_mission by %s)' % (number, sender)):
                     return TriggerResponse(success=True, message=(
                         'mission %d: idle; recording into a new file behind %s from the first '
                         'landmark' % (number, m.landmark_file)))
@@ -86,8 +86,7 @@ class MissionServices(object):
         return; a restart ignores it, another mission's), turn timeout, trip, lost frame,
         warnings and RViz paths. The roles reset their own on ``idle``."""
         m = self.mission
-        if m.rotation_timer is not None:
-            m.rotation_timer.shutdown()
+        m.turn.forget()
         m.keeper.progress = None
         m.trip = m.lost = None
         m.warnings = ''

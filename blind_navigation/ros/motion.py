@@ -7,16 +7,15 @@ output's halt from the event callback, at once; an event topic of another type
 is refused (ros/wiring.py).
 
 :class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
-name, remappable) for one role, and only when that role may move in the
-current mission state (core/mission_state.may_move): in any other state every
-command becomes zero. Commands are clamped to ``max_v``/``max_w`` and the
-current goal's :meth:`~MotionOutput.limit` (v and w scaled together, the
-curvature kept); :meth:`~MotionOutput.halt` stops at once and turns every
-later :meth:`~MotionOutput.publish` into zero until
-:meth:`~MotionOutput.release`, so a control loop that computed its command
-before a cancel or a safety event cannot move the robot again. Zero is
-published on node shutdown. Once any subscription of the process was refused
-for its type (ros/wiring.py) every output publishes zero for good.
+name, remappable) for one role, only when that role may move in the mission
+state (core/mission_state.may_move): else zero. Commands are clamped to
+``max_v``/``max_w`` and the goal's :meth:`~MotionOutput.limit` (the curvature
+kept); :meth:`~MotionOutput.halt` stops at once and turns every later
+:meth:`~MotionOutput.publish` into zero until :meth:`~MotionOutput.release`,
+so a control loop that computed its command before a cancel or a safety event
+cannot move the robot again. Zero on node shutdown, and for good once a
+subscription of the process was refused for its type (ros/wiring.py). While
+an operator has taken over (ros/takeover.py) it publishes nothing, not even zero.
 """
 import threading
 
@@ -65,12 +64,24 @@ class SafetyMonitor(object):
         with self._lock:
             return self._events.active
 
+    @property
+    def terminal(self):
+        """The active conditions other than a bumper contact (core/safety.is_contact)."""
+        with self._lock:
+            return self._events.terminal
+
+    @property
+    def pressed(self):
+        """True while a bumper is pressed."""
+        with self._lock:
+            return len(self._events.active) > len(self._events.terminal)
+
 
 class MotionOutput(object):
     """The velocity output of ``role`` (see module docstring); ``mission`` is the
     process's ros/mission.MissionStateView (None: no mission, e.g. the calibration)."""
 
-    def __init__(self, role, max_v, max_w, mission=None, safety=None):
+    def __init__(self, role, max_v, max_w, mission=None, safety=None, takeover=None):
         if max_v < 0 or max_w <= 0:
             raise ValueError('velocity limits: need max_v >= 0 and max_w > 0 (max_v %r, max_w %r)'
                              % (max_v, max_w))
@@ -79,6 +90,7 @@ class MotionOutput(object):
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
+        self.takeover = takeover    # ros/takeover.TakeoverWatch: silent while it is active
         self._lock = threading.Lock()
         self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
         if safety is not None:
@@ -122,6 +134,8 @@ class MotionOutput(object):
             self.halted = None
 
     def _send(self, v, w):
+        if self.takeover is not None and self.takeover.active():
+            return                  # the operator drives: never fight a person for the robot
         try:
             self._pub.publish(twist(v, w))
         except rospy.ROSException:

@@ -37,6 +37,15 @@ class ReturnRunner(object):
         # drops a publisherUpdate that arrives while registerSubscriber is in flight, so
         # subscribing while the server registers can leave feedback/result unconnected.
         self.client = None
+        self.paused = 0.0
+        self._left = None       # the landmarks not driven yet, while a return drives
+
+    def distance_left(self):
+        """m still to drive home along the landmarks (None: the return has not started)."""
+        left = self._left
+        if left is None:
+            return None
+        return max(sum(abs(landmark.d) for landmark in left) - self._goal_distance(), 0.0)
 
     def cancel(self):
         """Cancel the goal under way, if any."""
@@ -140,9 +149,11 @@ class ReturnRunner(object):
         allowance = return_allowance(remaining, p.return_timeout_factor, p.return_timeout_margin,
                                      p.slowest_v)
         deadline = rospy.get_time() + allowance
+        self.paused = 0.0               # s of takeovers and bumper presses: the deadline moves on
         travelled = m.keeper.progress.travelled or 0.0
         for number, (label, landmark) in enumerate(goals[done:], done + 1):
             where = 'goal %d/%d (%s)' % (number, len(goals), label)
+            self._left = [remaining for _, remaining in goals[number - 1:]]
             self.client.send(BackTravelGoal(*landmark.as_list()))
             problem = self._wait_for_goal(where, landmark, deadline, allowance,
                                           lambda: budget.problem(travelled + self._goal_distance()))
@@ -161,7 +172,8 @@ class ReturnRunner(object):
 
     def _goal_distance(self):
         """m driven by the current goal so far (its last feedback)."""
-        return self.client.feedback.distance if self.client.feedback is not None else 0.0
+        client = self.client
+        return client.feedback.distance if client is not None and client.feedback is not None else 0.0
 
     def _in_corrected_frame(self, landmarks):
         """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""
@@ -181,19 +193,26 @@ class ReturnRunner(object):
     def _wait_for_goal(self, where, landmark, deadline, allowance, over_budget):
         """Wait for the goal's result; cancel it and say why on a safety event, the
         goal's backstop, the whole return's allowance or its distance budget
-        (``over_budget()``: None or why). None once it ended."""
+        (``over_budget()``: None or why). None once it ended. While an operator has
+        taken over or a bumper is pressed, neither the backstop nor the allowance counts."""
         m, p = self.mission, self.params
         goal_allowance = (p.goal_timeout_factor * expected_duration(landmark, p.slowest_v)
                           + p.goal_timeout_margin)
+        paused = None                   # a takeover or a bumper pressed: no allowance counts
         while not self.client.wait(WAIT_SLICE):
             now = rospy.get_time()
+            if m.takeover.active() or m.layer.safety.pressed:
+                self.paused += now - paused if paused is not None else 0.0
+                self.client.heard, paused = now, now
+            else:
+                paused = None
             if m.trip:
                 problem = '%s: safety stop: %s' % (where, m.trip)
             elif m.lost:
                 problem = '%s: %s' % (where, m.lost)
             elif now > self.client.heard + goal_allowance:
                 problem = '%s: no result and no feedback for %.0f s' % (where, goal_allowance)
-            elif now > deadline:
+            elif now > deadline + self.paused:
                 problem = '%s: the return exceeded its time allowance of %.0f s' % (where, allowance)
             elif rospy.is_shutdown():
                 problem = '%s: node shutting down' % where

@@ -9,9 +9,10 @@ false when the turn failed (time allowance, odometry gone for longer than
 ``odom_grace``, a Kobuki bumper/cliff/wheel-drop event). When the mission
 leaves ``rotating`` for any reason the output is halted at once.
 
-Before turning it waits for the recorder's ``final`` sample and, with
-``wait_for_heading_correction``, for the heading correction (then turns on the
-corrected odometry; none in time: no turn, rotation_done false). Stale or
+Before turning it waits, with ``wait_for_heading_correction``, for the heading
+correction (then turns on the corrected odometry; none in time: no turn,
+rotation_done false), then for the owner's ``blind_navigation/recording_end``
+(the turn begins: vision did not come back) and the recorder's ``final`` sample. Stale or
 refused odometry holds the turn (core/allowance.OdomGrace). A rotate_pi
 (re)started while the mission is already ``rotating`` reports rotation_done
 false at once. Details and reasons: docs/back_travel.md, docs/safety.md.
@@ -19,12 +20,13 @@ false at once. Details and reasons: docs/back_travel.md, docs/safety.md.
 import threading
 
 import rospy
-from std_msgs.msg import Bool
+from std_msgs.msg import Bool, Empty
 
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
 from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
 from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
+from blind_navigation.core.pause import TAKEOVER_DEFAULTS
 from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
@@ -38,7 +40,7 @@ class RotatePi(object):
     """Turns by ``angle`` when vision is lost (module docstring)."""
 
     ROLE = mission_state.ROTATION_ROLE
-    DEFAULTS = dict(ROTATION_DEFAULTS,
+    DEFAULTS = dict(ROTATION_DEFAULTS, **TAKEOVER_DEFAULTS,
                     control_rate=50.0,          # Hz of the turn's control loop
                     odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],  # s; older odometry: hold (zero)
                     odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],  # s a hold may last before the turn fails
@@ -49,7 +51,8 @@ class RotatePi(object):
                                                 # wait for the heading correction
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
+        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=(
+            'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs'))
         self.log = layer.logger(self.ROLE)
         if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
             raise ValueError('~control_rate must be positive, ~recording_end_timeout and '
@@ -58,15 +61,20 @@ class RotatePi(object):
         OdomGrace(p)
         self.correction_timeout = standstill_timeout(p) + p.correction_margin
         self.layer = layer
-        self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety)
+        self.takeover = layer.takeover(p)
+        self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety,
+                                   self.takeover)
         self.drive = DriveLoop(self.output, layer.odometry, layer.safety, p, self.log,
-                               layer.guard(self.ROLE))
+                               layer.guard(self.ROLE), takeover=self.takeover)
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
         self._trigger = threading.Event()
         self._recording_ended = threading.Event()
+        self._turn_begins = threading.Event()
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
         guard = layer.guard(self.ROLE)
         subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
+        subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self._turn_begins.set()),
+                  queue_size=1)
         self.status = 'waiting for vision loss'
         layer.mission.on_change(guard(self._on_state))
         layer.mission.on_new_mission(guard(self._new_mission))
@@ -79,6 +87,7 @@ class RotatePi(object):
             stat.add('heading correction', 'installed' if self.correction.received else 'awaited')
         if self.layer.safety.active:
             stat.add('safety', ', '.join(self.layer.safety.active))
+        stat.add('takeover', self.takeover.active() or 'none')
 
     # --- events ----------------------------------------------------------------------------------
     def _on_sample(self, msg):
@@ -87,6 +96,7 @@ class RotatePi(object):
 
     def _new_mission(self):
         self._recording_ended.clear()      # the new recording's final sample is awaited
+        self._turn_begins.clear()          # and the owner's commit of its turn
         self.status = 'waiting for vision loss'
 
     def _on_state(self, old, new):
@@ -117,26 +127,34 @@ class RotatePi(object):
             self.layer.odometry.acquire(self.ROLE)
             self.status = 'turning'
             try:
-                self._wait_for_recording_end()
-                ok = self._wait_for_heading_correction() and self.rotate()
+                ok = self._wait_for_heading_correction() and self._wait_for_recording_end() \
+                    and self.rotate()
             finally:
                 self.output.halt('turn over')
                 self.layer.odometry.release(self.ROLE)
-            self.status = 'turned' if ok else 'failed (see the log)'
+            back = self.layer.mission.state == mission_state.RECORDING
+            self.status = 'turned' if ok else 'waiting for vision loss (vision came back)' if back \
+                else 'failed (see the log)'
             if self.rotating:
                 self.done_pub.publish(Bool(data=ok))
             self.layer.diagnostics.now()
 
     def _wait_for_recording_end(self):
-        """Until the recorder's final sample is seen or ``recording_end_timeout`` (sim) passes."""
+        """Until the owner ends the recording (False: the mission left rotating first), then
+        until the recorder's final sample or ``recording_end_timeout`` (sim) passes."""
+        while not self._turn_begins.is_set():
+            if rospy.is_shutdown() or not self.rotating:
+                return False
+            rospy.sleep(0.01)
         deadline = rospy.get_time() + self.params.recording_end_timeout
         while not self._recording_ended.is_set() and rospy.get_time() < deadline:
             if rospy.is_shutdown() or not self.rotating:
-                return
+                return False
             rospy.sleep(0.01)
         if not self._recording_ended.is_set():
             self.log.warn('no final sample from the recorder within %.1f s; turning anyway',
                           self.params.recording_end_timeout)
+        return True
 
     def _wait_for_heading_correction(self):
         """True once the heading correction is installed in the odometry (or none is
@@ -147,12 +165,12 @@ class RotatePi(object):
         self.log.info('standing still while heading_correction measures the gyro bias (waiting '
                       'at most %.0f s for %s)', self.correction_timeout,
                       rospy.resolve_name(names.HEADING_CORRECTION))
-        deadline = rospy.get_time() + self.correction_timeout
+        deadline = rospy.get_time() + self.correction_timeout - self.takeover.paused()
         try:
             while not self.correction.received:
                 if rospy.is_shutdown() or not self.rotating:
                     return False
-                if rospy.get_time() >= deadline:
+                if rospy.get_time() >= deadline + self.takeover.paused():   # takeovers do not count
                     self.log.error('cannot turn: no heading correction on %s within %.0f s (is '
                                    'heading_correction running?); the robot stays here',
                                    rospy.resolve_name(names.HEADING_CORRECTION),

@@ -10,7 +10,8 @@ yaw, the period of the cycle that just ended, the recording's id and the
 sample's number) on ``blind_navigation/sample``; with ``event_sampling`` also
 one at each motion event (core/motion_events.EventSampler). Recording starts
 with the first valid yaw once ``min_subscribers`` listen, and ends when the
-mission leaves recording, with one ``final`` sample for the partial cycle;
+owner ends it (``blind_navigation/recording_end``: the pi turn begins) or the
+mission stops recording, with one ``final`` sample for the partial cycle;
 ``new_mission`` (the state back to ``idle``) starts a new recording.
 It logs what each sample's landmark needs (core/sample_log.SampleLog) and
 serves it on ``blind_navigation/recorded_samples`` to a restarted saver.
@@ -21,6 +22,7 @@ import threading
 
 import rospy
 from geometry_msgs.msg import Pose2D
+from std_msgs.msg import Empty
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
@@ -83,6 +85,8 @@ class SamplingPublisher(object):
             layer.odometry.acquire(self.ROLE, batched=self.events is not None)
             subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=10)
         layer.mission.on_change(guard(self._on_state))
+        subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self.stop('the pi turn begins')),
+                  queue_size=1)
         layer.mission.on_new_mission(guard(self._new_mission))
         layer.diagnostics.add('sampling', self._diagnose)
 

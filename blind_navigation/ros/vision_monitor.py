@@ -1,20 +1,18 @@
 """The vision monitor: notices vision loss by itself and publishes
-``blind_navigation/vision_lost``.
-
-Watches, through the debounced detectors of core/vision.py:
+``blind_navigation/vision_lost``, through the debounced detectors of core/vision.py:
 
 - the camera: a stall of its sensor_msgs/CameraInfo (``camera/rgb/camera_info``,
   read only until visual odometry arrives), or, with ``detect_dark``, the
   images themselves (``camera/rgb/image_rect_color``: stall and dark images);
 - RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
-  lost and stalled;
-- optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
+  lost and stalled; optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
 
-It fires once per mission (``new_mission`` watches anew), while the mission records, and publishes a latched
-std_msgs/Empty; the reason goes to the log and to the latched ``~loss``
-(std_msgs/String). A stall counts only while the wheel odometry flows
-(core/vision.HostFlow). Whether the loss ends the recording is the mission
-owner's decision. Details and reasons: docs/detection.md.
+Per loss: a latched std_msgs/Empty, the reason in the log and the latched ``~loss``
+(std_msgs/String). After a loss it detected, once every detector has been healthy for
+``vision_back_time`` (core/vision.VisionBack): ``blind_navigation/vision_back``
+(std_msgs/String, the loss's length), re-armed. A stall counts only while the wheel
+odometry flows (core/vision.HostFlow). The owner decides what a loss does. Until the
+mission ends (``new_mission`` watches anew); docs/detection.md.
 """
 import threading
 
@@ -24,8 +22,8 @@ from std_msgs.msg import Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
-from blind_navigation.core.vision import (VisionLossMonitor, image_mean_intensity, numpy_module,
-                                          odom_info_lost, wire_lost_reason)
+from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
+                                          numpy_module, odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.odometry import ros_time
@@ -37,6 +35,8 @@ ODOM_INFO = Expected(('rtabmap_msgs/OdomInfo', 'rtabmap_ros/OdomInfo'))
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
 #: s: the stall checks never come closer together than this (a stall about to fire)
 MIN_CHECK_WAIT = 0.01
+#: s between the periodic checks while vision is lost
+BACK_CHECK = 0.1
 
 
 class VisionMonitor(object):
@@ -58,6 +58,7 @@ class VisionMonitor(object):
         'no_input_warning': 5.0,     # s with no camera or visual odometry before it warns
         'host_stall_gap': 0.5,       # s without wheel odometry too: the host stalled, a silent
                                      # camera or VO is then no vision loss (core/vision.HostFlow)
+        'vision_back_time': 1.0,     # s every detector must be healthy after a loss: vision back
     }
 
     def __init__(self, layer):
@@ -70,20 +71,24 @@ class VisionMonitor(object):
         self.lock = threading.Lock()
         self.done = False
         self.generation = 0   # the missions watched (new_mission watches anew)
+        self.lost = None      # the loss detected (core/vision.Loss), until vision is back
+        self.back = None      # its core/vision.VisionBack
         self.warned = set()
         self.started = None   # first stall check: sim time may not have arrived yet here
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
+        self.back_pub = rospy.Publisher(names.VISION_BACK, String, queue_size=1)
         guard = self.guard = layer.guard(self.ROLE)
         self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
         # kept across missions: a new subscription would get a latched vision_lost again
         self.manual_sub = subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))
         self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
         self.start_watching()
+        VisionBack(self.monitor, p.vision_back_time)    # a bad vision_back_time fails now
         layer.mission.on_change(guard(self.on_state))
         layer.mission.on_new_mission(guard(self.new_mission))
-        layer.diagnostics.add('vision monitor', self.status)
+        layer.diagnostics.add('vision monitor', lambda stat: vision_status(self, stat))
         self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
 
     def start_watching(self):
@@ -178,12 +183,13 @@ class VisionMonitor(object):
     def new_mission(self):
         with self.lock:
             self.done, self.started = False, None
+            self.lost = self.back = None
             self.generation += 1
         self.log.info('new mission: watching again')
         self.start_watching()
 
     def on_state(self, _old, new):
-        if not mission_state.records(new):
+        if new in mission_state.TERMINAL:
             with self.lock:
                 if self.done:
                     return
@@ -211,6 +217,8 @@ class VisionMonitor(object):
         """ROS time of the next stall check: the earliest moment an enabled stall detector
         could fire (an unarmed one: if its first message came right now), or the
         no-input warning."""
+        if self.lost is not None:
+            return now + BACK_CHECK       # the streams' messages drive the checks meanwhile
         checks = []
         for stall in (self.monitor.stall, self.monitor.vo_stall):
             if stall.name in self.monitor.enabled:
@@ -234,23 +242,36 @@ class VisionMonitor(object):
 
     # --- output ---------------------------------------------------------------------------------
     def feed(self, method, *args):
-        """Run one core feed method at the current ROS time; act on the first loss."""
+        """Run one core feed method at the current ROS time; act on a loss and on its end."""
         with self.lock:
             if self.done:
                 return
-            losses = method(rospy.get_time(), *args)
-            if not losses:
+            now = rospy.get_time()
+            losses = method(now, *args)
+            lost = self.lost
+            if lost is None and losses:
+                self.lost = lost = losses[0]
+                # vision back only after a loss seen here, not after one declared by hand
+                self.back = None if lost.detector == 'manual' else VisionBack(
+                    self.monitor, self.params.vision_back_time)
+            elif lost is not None and self.back is not None and self.back.update(now):
+                self.lost = self.back = None
+                self.back_pub.publish(String(data='vision back after %.1f s (%s lost)'
+                                             % (now - self.params.vision_back_time - lost.since,
+                                                lost.detector)))
+                self.log.warn('VISION BACK after %.1f s: watching for the next loss',
+                              now - lost.since)
                 return
-            self.done = True
-        self.fire(losses[0])
+            else:
+                return
+        self.fire(lost)
 
     def fire(self, loss):
-        self.log.warn('VISION LOST, detector %s: %s (%.2f s after the failure began); no longer '
-                      'watching', loss.detector, loss.reason, loss.t - loss.since)
+        self.log.warn('VISION LOST, detector %s: %s (%.2f s after the failure began)',
+                      loss.detector, loss.reason, loss.t - loss.since)
         if loss.detector != 'manual':
             self.lost_pub.publish(Empty())
         self.loss_pub.publish(String(data='%s: %s' % (loss.detector, loss.reason)))
-        self.stop_watching()
         self.layer.diagnostics.now()
 
     def stop_watching(self):
@@ -269,18 +290,23 @@ class VisionMonitor(object):
             self.warned.add(key)
             self.log.warn('%s', text)
 
-    def status(self, stat):
-        now = rospy.get_time()
-        camera = '-' if self.last_camera is None else '%.2f' % (now - self.last_camera)
-        if self.camera_topic is None and self.last_vo is not None:
-            camera = 'not read (the visual-odometry stall detector covers it)'
-        stat.add('camera age (s)', camera)
-        stat.add('visual odometry age (s)', '-' if self.last_vo is None else '%.2f' % (now - self.last_vo))
-        if self.done:
-            stat.summary(diagnostics.OK, 'not watching (vision lost or the mission moved on)')
-        elif self.warned & {'no_camera', 'no_vo'}:
-            stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
-                sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
-                       for key in self.warned & {'no_camera', 'no_vo'})))
-        else:
-            stat.summary(diagnostics.OK, 'watching')
+
+def vision_status(monitor, stat):
+    """The vision monitor ``monitor``'s /diagnostics status."""
+    now = rospy.get_time()
+    camera = '-' if monitor.last_camera is None else '%.2f' % (now - monitor.last_camera)
+    if monitor.camera_topic is None and monitor.last_vo is not None:
+        camera = 'not read (the visual-odometry stall detector covers it)'
+    stat.add('camera age (s)', camera)
+    stat.add('visual odometry age (s)', '-' if monitor.last_vo is None else '%.2f' % (now - monitor.last_vo))
+    if monitor.done:
+        stat.summary(diagnostics.OK, 'not watching (the mission has ended)')
+    elif monitor.lost is not None:
+        stat.summary(diagnostics.WARN, 'vision lost (%s)%s' % (monitor.lost.detector, '' if monitor.back
+                     else '; declared by hand: not watching for its end'))
+    elif monitor.warned & {'no_camera', 'no_vo'}:
+        stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
+            sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
+                   for key in monitor.warned & {'no_camera', 'no_vo'})))
+    else:
+        stat.summary(diagnostics.OK, 'watching')

@@ -141,7 +141,7 @@ class LayerLaunch(object):
     it as Ctrl-C would and deletes the params it set on this node's master, so the next
     mission's layer starts clean."""
 
-    def __init__(self, label, directory, rtf, one_process=True, env=None, fake=False):
+    def __init__(self, label, directory, rtf, one_process=True, env=None, fake=False, args=()):
         roslaunch = shutil.which('roslaunch')
         if not roslaunch:
             raise AssertionError('roslaunch is not on PATH')
@@ -152,7 +152,7 @@ class LayerLaunch(object):
         self.log_path = os.path.join(log_dir, 'safety_findings_%s.launch.log' % label)
         command = [roslaunch, 'blind_navigation', 'mission_rig.launch', 'fake:=%s' % str(fake).lower(),
                    'control:=closed_loop', 'rtf:=%g' % rtf, 'dir:=%s' % directory,
-                   'one_process:=%s' % ('true' if one_process else 'false')]
+                   'one_process:=%s' % ('true' if one_process else 'false')] + list(args)
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                         start_new_session=True, universal_newlines=True,
                                         env=dict(os.environ, **(env or {})))
@@ -189,9 +189,10 @@ class FindingMission(object):
     """One mission of the layer on the fake TurtleBot for one or a few findings (module
     docstring). ``label`` names its landmark directory; ``prepare(directory)`` runs
     before the layer starts; ``one_process`` false runs the paper's node layout;
-    ``env`` is added to the layer launch's environment."""
+    ``env`` is added to the layer launch's environment; ``args``: more launch args
+    (``name:=value``) of mission_rig.launch."""
 
-    def __init__(self, label, one_process=True, prepare=None, env=None):
+    def __init__(self, label, one_process=True, prepare=None, env=None, args=()):
         self.label = label
         self.directory = mission_directory(label)
         shutil.rmtree(self.directory, ignore_errors=True)
@@ -208,7 +209,7 @@ class FindingMission(object):
         self.run = None
         self.nodes = []
         self.kept = []
-        self.layer = LayerLaunch(label, self.directory, self.rtf, one_process, env)
+        self.layer = LayerLaunch(label, self.directory, self.rtf, one_process, env, args=args)
         layout_param = '/blind_navigation/recorder' if one_process else '/back_travel_client/landmark_file'
         wait_for(lambda: rospy.has_param(layout_param) or self.layer.process.poll() is not None,
                  'the layer launch set its params', WALL_TIMEOUT)

@@ -8,7 +8,7 @@ and publishes the state with :class:`MissionOwner`.
 import time
 
 import rospy
-from std_msgs.msg import Header, String
+from std_msgs.msg import Empty, Header, String
 
 from blind_navigation import names
 from blind_navigation.core.landmark import Landmark
@@ -34,9 +34,14 @@ class MissionOwner(object):
                 raise AssertionError('%s/mission_owner is %r: the .test must set it to this test '
                                      'node, %s' % (node, owner, me))
         self.pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
+        self.end_pub = rospy.Publisher(names.RECORDING_END, Empty, queue_size=1, latch=True)
 
     def publish(self, state):
+        """Publish ``state``; ``rotating`` also ends the recording at once (the pi turn
+        begins, as the paper's owner does it)."""
         self.pub.publish(String(data=state))
+        if state == 'rotating':
+            self.end_pub.publish(Empty())
 
     def wait_heard(self, count, timeout):
         """Until ``count`` nodes subscribe to the state from this node."""

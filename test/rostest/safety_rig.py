@@ -138,8 +138,9 @@ class Node(object):
                 self.process.wait(timeout)
 
 
-#: What a back_travel_client started by a test needs (the launch files set it).
-CLIENT_PARAMS = {'heading_correction': 'false', 'prune_loops': 'false'}
+#: What a back_travel_client started by a test needs (the launch files set it); no
+#: vision_back_grace: the test plays the paper's rotate_pi, the turn begins at vision loss.
+CLIENT_PARAMS = {'heading_correction': 'false', 'prune_loops': 'false', 'vision_back_grace': '0.0'}
 #: What a back_travel_server started by a test needs (the launch files set it).
 SERVER_PARAMS = {'control': 'closed_loop'}
 

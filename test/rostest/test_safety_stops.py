@@ -5,9 +5,9 @@ back_travel_client per case, each the mission's owner the server obeys): every
 command within the configured and the recorded speed; odometry cut -> zero
 within 0.5 s (timed with sim time slowed, so the machine's load barely counts),
 and aborted only if it stays away longer than odom_grace (back sooner: the
-return continues and ends home); a bumper event -> zero at once,
-aborted naming it, and a new return started while it is pressed moves nothing
-(its goal aborted naming it); a cancel -> zero within one control cycle; a
+return continues and ends home); a bumper event -> zero at once, aborted
+naming it once pressed longer than contact_timeout (2 s here), and a new
+return started while it is pressed moves nothing (its goal aborted naming it); a cancel -> zero within one control cycle; a
 stuck robot (no progress) and the whole return's time allowance abort; server
 shutdown -> zero."""
 import os
@@ -183,6 +183,7 @@ class SafetyStopsTest(unittest.TestCase):
             self.assertEqual(self.layer.wait_final(since), 'aborted')
             self.assert_stopped_after(pressed, CONTROL_PERIOD, 'the bumper event')
             self.assertIn('bumper center pressed', self.abort_reason())
+            self.assertIn('longer than contact_timeout', self.abort_reason())
             # a new mission's return while the bumper is still pressed: its first goal is
             # aborted naming the bumper, nothing moves
             self.client.kill()

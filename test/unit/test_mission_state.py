@@ -36,7 +36,7 @@ def in_state(state, cls=ms.MissionState):
 def test_the_table_names_every_state_and_the_start():
     assert set(ms.TRANSITIONS) == set(ms.ALL) | {None}
     assert all(set(targets) <= set(ms.ALL) for targets in ms.TRANSITIONS.values())
-    assert len(LEGAL) == 11 + len(ms.TERMINAL)
+    assert len(LEGAL) == 14 + len(ms.TERMINAL)
     assert all(ms.TRANSITIONS[ended] == (ms.IDLE,) for ended in ms.TERMINAL)
 
 
@@ -138,6 +138,36 @@ def test_cancel_aborts_every_unfinished_state_and_refuses_an_ended_one():
         assert ms.cancel_refusal(ended).startswith('refused: the mission is %s ' % ended)
 
 
+def test_vision_back_before_the_turn_resumes_the_recording_whatever_the_policy():
+    for policy in ms.ON_VISION_BACK:
+        assert ms.vision_back_state(ms.ROTATING, False, policy) == ms.RECORDING
+        ms.check_transition(ms.ROTATING, ms.RECORDING)
+
+
+def test_vision_back_in_the_turn_or_the_return_follows_the_policy():
+    for current in (ms.ROTATING, ms.RETURNING):
+        turn_begun = True
+        assert ms.vision_back_state(current, turn_begun, 'home') is None
+        assert ms.vision_back_state(current, turn_begun, 'stop') == ms.RECOVERED
+        ms.check_transition(current, ms.RECOVERED)
+    for current in (ms.IDLE, ms.RECORDING, ms.HOME, ms.ABORTED, ms.RECOVERED):
+        assert ms.vision_back_state(current, True, 'stop') is None
+
+
+def test_recovered_is_terminal_and_nobody_moves_in_it():
+    assert ms.RECOVERED in ms.TERMINAL and not ms.records(ms.RECOVERED)
+    assert not any(ms.may_move(role, ms.RECOVERED) for role in (ms.ROTATION_ROLE, ms.BACK_TRAVEL_ROLE))
+    with pytest.raises(ms.IllegalTransition):
+        ms.check_transition(ms.RECOVERED, ms.RECORDING)
+    machine = ms.MissionState()
+    for old, new in ((None, ms.IDLE), (ms.IDLE, ms.RECORDING), (ms.RECORDING, ms.ROTATING),
+                     (ms.ROTATING, ms.RETURNING), (ms.RETURNING, ms.RECOVERED)):
+        assert machine.transition(old, new)
+    assert machine.abort('late') == (False, ms.RECOVERED)
+
+
+def test_the_recording_goes_on_while_rotating_until_the_owner_ends_it():
+    assert ms.records(ms.ROTATING) and not ms.records(ms.RETURNING)
 def test_new_mission_starts_from_every_terminal_state_and_is_refused_elsewhere():
     for ended in ms.TERMINAL:
         assert ms.new_mission_refusal(ended) is None

@@ -78,7 +78,7 @@ def test_misuse_of_the_life_is_refused(mission):
     aborted = progress.finish(state.ABORTED, 'bumper', NOW)
     with pytest.raises(ValueError, match='already ended aborted'):
         aborted.finish(state.HOME, 'late', NOW)
-    with pytest.raises(ValueError, match='home or aborted'):
+    with pytest.raises(ValueError, match='home, aborted or recovered'):
         progress.finish(state.IDLE, '', NOW)
     with pytest.raises(ProgressError, match='route'):
         progress._replace(route=[[0.0, float('inf')]]).checked()

@@ -7,7 +7,7 @@ import sys
 import numpy
 import pytest
 
-from blind_navigation.core.vision import (DETECTORS, Debounce, VisionLossMonitor,
+from blind_navigation.core.vision import (DETECTORS, Debounce, VisionBack, VisionLossMonitor,
                                           image_mean_intensity, odom_info_lost, vo_lost_reason)
 
 DT = 0.05  # 20 Hz messages
@@ -328,3 +328,47 @@ def test_image_mean_works_where_numpy_was_blocked():
                           cwd=root, timeout=60)
     assert done.returncode == 0, done.stderr
     assert float(done.stdout) == pytest.approx(15.0)
+
+
+# --- vision back -------------------------------------------------------------------------------
+
+def back_times(back, monitor, start, end, vo, feed_image=None):
+    """Stamps in [start, end) at which ``back`` fired, VO ``vo`` (None: silent) and images."""
+    fired = []
+    for t in times(start, end):
+        if vo is not None:
+            monitor.vo_odometry(t, vo_lost_reason(*vo))
+        if feed_image is not None:
+            monitor.image(t, feed_image)
+        monitor.check(t)
+        if back.update(t):
+            fired.append(round(t, 6))
+    return fired
+
+
+def test_vision_back_after_a_vo_loss_needs_the_whole_hold_once():
+    monitor = VisionLossMonitor({'vo_lost', 'vo_stall'}, debounce=0.5)
+    feed_vo(monitor, 0.0, 1.0, GOOD_VO)
+    assert len(feed_vo(monitor, 1.0, 4.0, LOST_VO)) == 1      # a 3 s loss
+    back = VisionBack(monitor, 1.0)
+    assert back_times(back, monitor, 1.5, 4.0, LOST_VO) == []
+    assert back_times(back, monitor, 4.0, 4.5, GOOD_VO) == []
+    assert back_times(back, monitor, 4.5, 4.8, LOST_VO) == []  # a relapse restarts the hold
+    assert back_times(back, monitor, 4.8, 7.0, GOOD_VO) == [5.8]
+
+
+def test_vision_is_not_back_while_a_watched_stream_is_silent():
+    monitor = VisionLossMonitor({'vo_stall', 'dark'}, vo_timeout=1.0, debounce=0.5)
+    feed_vo(monitor, 0.0, 1.0, GOOD_VO)
+    back = VisionBack(monitor, 0.5)
+    assert back_times(back, monitor, 1.0, 3.0, GOOD_VO) == []          # no image yet
+    assert monitor.unhealthy(3.0) == 'no image'
+    assert back_times(back, monitor, 3.0, 4.0, GOOD_VO, feed_image=0.0) == []   # dark
+    assert back_times(back, monitor, 4.0, 5.0, GOOD_VO, feed_image=100.0) == [4.5]
+    assert back_times(back, monitor, 5.0, 7.0, None) == []              # the VO stalls
+
+
+def test_vision_back_needs_a_watched_stream_and_a_positive_hold():
+    assert VisionLossMonitor({'manual'}).unhealthy(1.0) == 'no camera or visual-odometry stream watched'
+    with pytest.raises(ValueError, match='vision_back_time'):
+        VisionBack(VisionLossMonitor({'vo_lost'}), 0.0)

@@ -1,0 +1,124 @@
+"""Pauses of a return without ROS: bumper contacts and an operator's takeover.
+
+- :class:`Contacts`: the bumper contacts of one return (all its goals). A press
+  holds the robot (zero); ``contact_wait`` s after the release it goes on. The
+  return aborts at contact number ``max_contacts`` + 1 or when one press lasts
+  longer than ``contact_timeout``. Cliff and wheel drop are not contacts.
+- :class:`Takeover`: whether an operator holds the robot: another publisher's
+  command on the layer's own mux input (until ``takeover_wait`` s of silence)
+  or one of ``takeover_inputs`` announced active by the mux (until it is
+  released, then ``takeover_wait`` s). ``on_takeover``: ``resume`` or ``abort``.
+
+Both are fed times by their caller (any one clock) and answer each control
+cycle with :data:`PAUSE` (hold), ``None`` (drive) or an abort reason.
+docs/safety.md, "Contacts" and "Takeover", says why.
+"""
+
+CONTACT_DEFAULTS = {
+    'contact_wait': 2.0,        # s after a bumper release before the return goes on
+    'max_contacts': 3,          # bumper contacts one return survives; the next one aborts it
+    'contact_timeout': 10.0,    # s a bumper may stay pressed before the return aborts
+}
+TAKEOVER_DEFAULTS = {
+    'takeover_wait': 2.0,       # s of operator silence before the layer drives again
+    'on_takeover': 'resume',    # after a takeover: resume (re-track from the new pose) or abort
+    'takeover_inputs': ['Safe reactive controller'],  # cmd_vel_mux inputs (names on
+                                # cmd_vel_mux/active) above the layer's: active = a takeover
+}
+POLICIES = ('resume', 'abort')
+PAUSE = 'pause'
+IDLE = 'idle'
+
+
+def _positive(params, names):
+    for name in names:
+        if not float(getattr(params, name)) > 0:
+            raise ValueError('~%s must be positive, got %r' % (name, getattr(params, name)))
+
+
+class Contacts(object):
+    """Bumper contacts of one return (module docstring); ``params``: contact_wait,
+    max_contacts, contact_timeout."""
+
+    def __init__(self, params):
+        _positive(params, ('contact_timeout',))
+        self.wait, self.timeout = float(params.contact_wait), float(params.contact_timeout)
+        self.max = int(params.max_contacts)
+        if self.wait < 0 or self.max < 0:
+            raise ValueError('~contact_wait and ~max_contacts must not be negative')
+        self.count = 0
+        self.pressed_at = self.released_at = None   # of the contact under way
+
+    @property
+    def active(self):
+        return self.pressed_at is not None
+
+    def decide(self, pressed, now):
+        """This cycle: ``pressed`` (a bumper is, or was since the last cycle) ->
+        PAUSE, None (drive on) or the abort reason."""
+        if pressed and (self.pressed_at is None or self.released_at is not None):
+            if self.pressed_at is None:     # a new contact (a press during the wait is the same)
+                self.count += 1
+                if self.count > self.max:
+                    return 'bumper contact %d of at most %d (max_contacts)' % (self.count, self.max)
+            self.pressed_at, self.released_at = now, None
+        if self.pressed_at is None:
+            return None
+        if self.released_at is None and not pressed:
+            self.released_at = now
+        if self.released_at is None:
+            if now - self.pressed_at > self.timeout:
+                return 'bumper contact %d pressed for %.1f s, longer than contact_timeout %.1f s' % (
+                    self.count, now - self.pressed_at, self.timeout)
+            return PAUSE
+        if now - self.released_at < self.wait:
+            return PAUSE
+        self.pressed_at = self.released_at = None
+        return None
+
+    def describe(self):
+        return '%d of at most %d' % (self.count, self.max)
+
+
+class Takeover(object):
+    """Whether an operator holds the robot (module docstring); ``params``:
+    takeover_wait, on_takeover, takeover_inputs."""
+
+    def __init__(self, params):
+        _positive(params, ('takeover_wait',))
+        if params.on_takeover not in POLICIES:
+            raise ValueError('~on_takeover must be one of %s, got %r'
+                             % (', '.join(POLICIES), params.on_takeover))
+        self.wait, self.policy = float(params.takeover_wait), params.on_takeover
+        self.inputs = [str(name) for name in params.takeover_inputs]
+        self.last = None            # time of the operator's last sign (a command, a mux release)
+        self.by = None              # who: the foreign publisher or the mux input
+        self.holder = None          # one of takeover_inputs while the mux says it is active
+        self.total = 0.0            # s paused by takeovers so far (see paused())
+        self._since = None
+
+    def command(self, caller, now):
+        """Another publisher's command on the layer's own input."""
+        self.last, self.by = now, caller
+
+    def mux_active(self, name, now):
+        """The mux announced ``name`` active."""
+        if name in self.inputs:
+            self.holder, self.by = name, 'cmd_vel_mux input %s' % name
+        elif self.holder is not None:
+            self.holder, self.last = None, now
+
+    def active(self, now):
+        """Why the operator holds the robot now, or None."""
+        if self.holder is not None or (self.last is not None and now - self.last < self.wait):
+            if self._since is None:
+                self._since = now
+            return 'operator takeover by %s' % self.by
+        if self._since is not None:
+            self.total += now - self._since
+            self._since = None
+        return None
+
+    def paused(self, now):
+        """s paused by takeovers so far, the one under way included."""
+        return self.total + (now - self._since if self._since is not None else 0.0)

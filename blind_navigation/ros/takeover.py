@@ -1,0 +1,70 @@
+"""The operator's takeover, watched once per process (core/pause.Takeover).
+
+Listens on the layer's own mux input (names.CMD_VEL): a message whose
+publisher (its connection header's ``callerid``) is none of the layer's nodes
+is the operator's; and on the mux's ``cmd_vel_mux/active`` (std_msgs/String,
+as yocs_cmd_vel_mux announces the active input's name or ``idle``). While
+:meth:`TakeoverWatch.active` names a takeover, ros/motion.MotionOutput
+publishes nothing and ros/drive_loop.DriveLoop pauses its behaviour.
+"""
+import threading
+
+import rospy
+from geometry_msgs.msg import Twist
+from std_msgs.msg import String
+
+from .. import names
+from ..core.pause import Takeover
+from .common import subscribe
+
+#: The layer's nodes that publish on its mux input, in either layout (resolved in its namespace).
+LAYER_NODES = ('blind_navigation', 'back_travel_server', 'rotate_pi', 'calibrate_gyro')
+
+
+class TakeoverWatch(object):
+    """The process's takeover watch; ``params``: takeover_wait, on_takeover, takeover_inputs."""
+
+    def __init__(self, params, guard):
+        self._takeover = Takeover(params)
+        self.policy = self._takeover.policy
+        self._lock = threading.Lock()
+        self._own = set(rospy.resolve_name(node) for node in LAYER_NODES) | {rospy.get_name()}
+        subscribe(names.CMD_VEL, Twist, guard(self._on_command), queue_size=10)
+        subscribe(names.CMD_VEL_MUX_ACTIVE, String, guard(self._on_mux), queue_size=10)
+
+    def _on_command(self, msg):
+        caller = msg._connection_header.get('callerid', '?')
+        if caller not in self._own:
+            with self._lock:
+                self._takeover.command(caller, rospy.get_time())
+
+    def _on_mux(self, msg):
+        with self._lock:
+            self._takeover.mux_active(msg.data, rospy.get_time())
+
+    def active(self):
+        """Why an operator holds the robot now, or None."""
+        with self._lock:
+            return self._takeover.active(rospy.get_time())
+
+    def paused(self):
+        """s paused by takeovers so far."""
+        with self._lock:
+            self._takeover.active(rospy.get_time())
+            return self._takeover.paused(rospy.get_time())
+
+
+def after_unpaused(seconds, watch, callback):
+    """Call ``callback()`` once ``seconds`` of sim time passed, not counting the time
+    takeovers (``watch``, a TakeoverWatch) paused meanwhile (one-shot rospy Timers)."""
+    def check(paused):
+        more = watch.paused() - paused
+        if more > 0:
+            arm(more, paused + more)
+        else:
+            callback()
+
+    def arm(delay, paused):
+        rospy.Timer(rospy.Duration(delay), lambda _event: check(paused), oneshot=True)
+
+    arm(seconds, watch.paused())

@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""rostest: a bump is an event and an operator who takes over wins (issue 23 items 3, 4).
+
+On the fake TurtleBot (ideal profile, closed_loop, blind_navigation.launch as a user
+starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions per
+``~case``, each with a fresh layer (findings_rig.FindingMission):
+
+- ``bump``: the bumper pressed for 1 s mid-return: zero at once, the robot still
+  until ``contact_wait`` after the release, then it goes on and comes home within
+  2 % of the path; with ``max_contacts:=1`` the second contact ends ``aborted``
+  naming the contacts.
+- ``takeover``: this node drives on the layer's own mux input (teleop) for 2 s
+  mid-return: the layer publishes nothing meanwhile; it drives again once the
+  operator was silent ``takeover_wait`` s and comes home within 3 %; with
+  ``on_takeover:=abort`` the mission ends ``aborted`` naming the takeover.
+
+The .test's arg ``one_process:=false`` runs the paper's node layout instead.
+"""
+import os
+import sys
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import Twist
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from findings_rig import MISSION, FindingMission  # noqa: E402
+from mission_tools import HOME_WALK, TELEOP_TOPIC  # noqa: E402
+
+from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS  # noqa: E402
+from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
+
+#: m/s on ground truth: the robot is really driving back.
+MOVING = 0.05
+#: s of sim time: the press, and the operator's drive on teleop (the issue's numbers).
+PRESS, DRIVE = 1.0, 2.0
+#: s of sim time after the press the layer may still have a command in flight (two hops
+#: and a 50 Hz control cycle), and after which the base must stand still (ideal: at once).
+IN_FLIGHT, STOPPED = 0.1, 0.3
+#: m/s on ground truth that counts as still (mission_tools.STOPPED_SPEED).
+STILL = 0.005
+
+
+def moving(commands):
+    return [c for c in commands if c[1] != 0.0 or c[2] != 0.0]
+
+
+class RecoverCase(unittest.TestCase):
+
+    mission = None
+
+    def tearDown(self):
+        if self.mission is not None:
+            self.mission.close()        # the layer stops: the next test starts its own
+
+    def start_return(self, label, args=()):
+        """A fresh layer: the mission recorded, vision lost, the robot driving back."""
+        m = self.mission = FindingMission(label, args=args,
+                                          one_process=rospy.get_param('~one_process', True))
+        m.run.wait_for_layer()
+        m.run.play_mission(MISSION)
+        m.run.trigger_by_publisher()
+        m.wait_state('returning')
+        m.wait(lambda: len(m.run.goals.snapshot()) > 3 and m.run.truth.speed() > MOVING,
+               'the robot drives back after 3 goals')
+        return m
+
+    def commands_between(self, m, start, end):
+        """The layer's commands received from ``start`` to ``end`` (not this node's)."""
+        return [c for c in m.layer_commands()
+                if start <= c[0] <= end and c[3] != rospy.get_name()]
+
+    def assert_home_within(self, m, fraction):
+        final, _ = m.wait_final()
+        self.assertEqual(m.run.state_names(), HOME_WALK, m.final_reason())
+        m.wait_sim(1.0)
+        length = sum(landmark.d for landmark in m.run.recorded().landmarks)
+        error = m.run.error()
+        print('RECOVER %s: home %.4f m from the start, %.2f %% of %.3f m' % (
+            m.label, error, 100.0 * error / length, length))
+        self.assertLessEqual(error, fraction * length, '%s: home %.3f m from the start, more than '
+                             '%.0f %% of %.3f m' % (m.label, error, 100 * fraction, length))
+
+    def assert_aborted(self, m, text):
+        final, _ = m.wait_final()
+        reason = m.final_reason()
+        print('RECOVER %s: %s: %s' % (m.label, final, reason))
+        self.assertEqual(final, 'aborted', reason)
+        self.assertIn(text, reason)
+
+
+class BumpTest(RecoverCase):
+
+    def press(self, m, seconds):
+        """Press the center bumper for ``seconds`` of sim time; (pressed, released) sim times."""
+        bumper = m.keep(rospy.Publisher('/mobile_base/events/bumper', kobuki.BumperEvent,
+                                        queue_size=5))
+        m.wait(lambda: bumper.get_num_connections() >= 1, 'the layer subscribes the bumper')
+        pressed = rospy.get_time()
+        bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
+                                          state=kobuki.BumperEvent.PRESSED))
+        m.wait_sim(seconds)
+        released = rospy.get_time()
+        bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
+                                          state=kobuki.BumperEvent.RELEASED))
+        return pressed, released
+
+    def test_1_a_bump_waits_goes_on_and_comes_home(self):
+        m = self.start_return('bump')
+        pressed, released = self.press(m, PRESS)
+        m.wait_sim(STOPPED)
+        speed_after_release = m.run.truth.speed()
+        wait = CONTACT_DEFAULTS['contact_wait']
+        m.wait(lambda: moving(self.commands_between(m, released + wait, rospy.get_time())),
+               'the layer drives again after contact_wait')
+        held = moving(self.commands_between(m, pressed + IN_FLIGHT, released + wait - IN_FLIGHT))
+        again = moving(self.commands_between(m, released, rospy.get_time()))[0][0] - released
+        print('RECOVER bump: pressed %.1f s; drives again %.2f s after the release' % (
+            released - pressed, again))
+        self.assertEqual(held, [], 'motion commanded during the contact or its wait')
+        self.assertLess(speed_after_release, STILL, 'the base did not stop at the press')
+        self.assertGreaterEqual(again, wait - IN_FLIGHT)
+        self.assert_home_within(m, 0.02)
+
+    def test_2_more_than_max_contacts_aborts_naming_them(self):
+        m = self.start_return('contacts', ['max_contacts:=1'])
+        _, released = self.press(m, 0.5)
+        m.wait(lambda: moving(self.commands_between(m, released, rospy.get_time())),
+               'the layer drives again after the first contact')
+        m.wait_sim(0.5)
+        self.press(m, 0.5)
+        self.assert_aborted(m, 'bumper contact 2 of at most 1 (max_contacts)')
+
+
+class TakeoverTest(RecoverCase):
+
+    def drive(self, m, seconds):
+        """Drive on the layer's own input for ``seconds`` (10 Hz); sim times of the first and
+        the last command."""
+        teleop = m.keep(rospy.Publisher(TELEOP_TOPIC, Twist, queue_size=5))
+        m.wait(lambda: teleop.get_num_connections() >= 2, 'the mux and the layer subscribe teleop')
+        command = Twist()
+        command.linear.x, command.angular.z = 0.1, 0.3
+        first = last = rospy.get_time()
+        while last < first + seconds:
+            last = rospy.get_time()
+            teleop.publish(command)
+            rospy.sleep(0.1)
+        return first, last
+
+    def assert_silent(self, m, first, last):
+        during = self.commands_between(m, first + IN_FLIGHT, last)
+        print('RECOVER %s: layer commands while the operator drove %.1f s: %d (%s)' % (
+            m.label, last - first, len(during), sorted(set(c[3] for c in during))))
+        self.assertEqual(during, [], 'the layer published while the operator drove')
+
+    def test_1_the_layer_is_silent_and_resumes_home(self):
+        m = self.start_return('takeover')
+        first, last = self.drive(m, DRIVE)
+        wait = TAKEOVER_DEFAULTS['takeover_wait']
+        m.wait(lambda: moving(self.commands_between(m, last, rospy.get_time())),
+               'the layer drives again after takeover_wait')
+        self.assert_silent(m, first, last)
+        again = moving(self.commands_between(m, last, rospy.get_time()))[0][0] - last
+        print('RECOVER takeover: drives again %.2f s after the operator' % again)
+        self.assertGreaterEqual(again, wait - IN_FLIGHT)
+        self.assert_home_within(m, 0.03)
+
+    def test_2_on_takeover_abort_ends_aborted(self):
+        m = self.start_return('takeover_abort', ['on_takeover:=abort'])
+        first, last = self.drive(m, DRIVE)
+        self.assert_aborted(m, 'operator takeover by')
+        self.assert_silent(m, first, last)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_mission_recover')
+    case = rospy.get_param('~case')
+    rostest.rosrun('blind_navigation', 'mission_recover_' + case,
+                   {'bump': BumpTest, 'takeover': TakeoverTest}[case])
