@@ -88,12 +88,13 @@ class BackTravelClient(object):
         'heading_correction': REQUIRED,  # true: the landmarks in the heading-corrected frame
         'correction_timeout': 5.0,      # s the return waits for the heading correction (none: aborted)
         'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
-        'rotation_margin': 60.0,        # s added to the standstill's timeout: the rotation_timeout,
-                                        # (+ vision_back_grace) from vision loss to the turn's end
+        'rotation_margin': 60.0,        # s added to the standstill's timeout and vision_back_grace:
+                                        # the rotation_timeout, from vision loss to the turn's end
         'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
         'prune_loops': REQUIRED,        # true: cut loops from the route (core/pruning; closed_loop)
-        'vision_back_grace': 5.0,       # s after vision loss the pi turn waits for vision back
-                                        # without heading_correction (0: the paper's, at once)
+        'vision_back_grace': STANDSTILL_DEFAULTS['standstill_min'],  # s after vision loss the
+                                        # pi turn waits for vision back without heading_correction
+                                        # (0: the paper's, at once)
         'on_vision_back': 'home',       # vision back during the turn or return: home (go on) or
                                         # stop (state recovered)
     })
