@@ -20,7 +20,8 @@ import rospy
 from actionlib_msgs.msg import GoalID, GoalStatus
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool, Empty, String
+from rosgraph_msgs.msg import Log
+from std_msgs.msg import Bool, Empty, Float64, String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from recording_tools import Collector, subscribers_of  # noqa: E402
@@ -41,6 +42,8 @@ HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
 Outcome = namedtuple('Outcome', 'error speed loaded')
 TELEOP_TOPIC = '/cmd_vel_mux/input/teleop'
 MISSION_DONE_TOPIC = '/mission_driver/done'
+#: The fake base's clock pace (sim/nodes/fake_kobuki.py's ~rtf).
+RTF_TOPIC = '/mobile_base/rtf'
 #: The one process of blind_navigation.launch (its default): every role's params under it.
 ONE_PROCESS = '/blind_navigation'
 #: s of sim time: the operator has stopped sending; the base stops (paper profile's
@@ -195,6 +198,35 @@ class MissionRun(object):
         states = self.state_names()
         self.wait_sim(SETTLE, 'robot settling after the mission')
         return states
+
+    def record_mission(self, mission, record_rtf=0.0):
+        """Record ``mission`` (wait_for_layer, the operator, until it is done and the robot
+        stopped); with ``record_rtf``, the fake's clock runs at that rtf meanwhile and at the
+        launch's rtf again after. Returns the states seen when the operator was done."""
+        if record_rtf:
+            self.set_rtf(record_rtf)
+        self.wait_for_layer()
+        self.start_operator(mission)
+        states = self.wait_for_operator(mission)
+        if record_rtf:
+            self.set_rtf(rospy.get_param('/mobile_base/rtf'))
+        return states
+
+    def set_rtf(self, rtf):
+        """Run the fake's clock at ``rtf`` x real time from now on (its ~rtf topic), once the
+        fake says so on /rosout: a test runs what it does not time faster than the launch's rtf."""
+        rosout = Collector('/rosout', Log)
+        publisher = rospy.Publisher(RTF_TOPIC, Float64, queue_size=1, latch=True)
+        try:
+            self.wait(lambda: publisher.get_num_connections() >= 1,
+                      'the fake base does not subscribe %s' % RTF_TOPIC, STARTUP_TIMEOUT)
+            publisher.publish(Float64(rtf))
+            line = 'fake_kobuki: rtf %g from' % rtf
+            self.wait(lambda: any(line in msg.msg for msg in rosout.snapshot()),
+                      'the fake base never logged %r' % line, STARTUP_TIMEOUT)
+        finally:
+            rosout.sub.unregister()
+            publisher.unregister()
 
     def start_operator(self, mission):
         found = roslib.packages.find_node('blind_navigation', 'mission_driver.py')

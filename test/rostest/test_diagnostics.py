@@ -21,7 +21,7 @@ import waiting
 
 #: diagnostic_updater's placeholder when a status is added, before its first check ran
 STARTING = 'Node starting up'
-#: s of wall time for the mission (about 100 s of sim time at rtf 2)
+#: s of wall time for the mission (about 100 s of sim time, at rtf 4 in the .test files)
 MISSION_TIMEOUT = 200.0
 #: the node of each role in the paper's layout; in one process they are all blind_navigation
 PAPER_NODES = {'back_travel_client': 'back_travel_client', 'heading_correction': 'heading_correction',

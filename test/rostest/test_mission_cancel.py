@@ -8,6 +8,8 @@ velocity reaches the mux input (teleop) sooner than the base's own 0.6 s
 command timeout would stop it, no motion command follows (at most the one a
 control cycle already had in flight), the base stops and stays put, the
 client sends no further goal and the state ends ``aborted``.
+With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf,
+the rest (from the vision loss on) at the launch's rtf.
 """
 import os
 import sys
@@ -40,9 +42,7 @@ class CancelTest(unittest.TestCase):
         cls.mission_run = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
         cls.teleop = TimedTwists(TELEOP_TOPIC)
         try:
-            run.wait_for_layer()
-            run.start_operator(rospy.get_param('~mission'))
-            run.wait_for_operator(rospy.get_param('~mission'))
+            run.record_mission(rospy.get_param('~mission'), rospy.get_param('~record_rtf', 0.0))
             cls.landmarks = len(run.recorded().landmarks)
             run.trigger_by_publisher()
             cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL,

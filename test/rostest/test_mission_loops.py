@@ -12,6 +12,8 @@ pruned or not); the client logged its cuts; the latched return route
 ``~max_return_share`` of the recorded path; the return the robot really drove
 (ground truth after the pi turn) is shorter than ``~max_return_share`` of the
 path it drove while recording; it ends within ``~max_error`` m of its start.
+With ``~record_rtf`` the fake's clock runs at that rtf while the mission is
+recorded and at the launch's rtf from the vision loss on.
 """
 import math
 import os
@@ -47,9 +49,7 @@ class LoopMissionTest(HomeMission, unittest.TestCase):
         cls.route = Collector(names.RETURN_ROUTE, Path)
         cls.log = Collector('/rosout', Log)
         try:
-            cls.mission_run.wait_for_layer()
-            cls.mission_run.start_operator(cls.mission)
-            cls.mission_run.wait_for_operator(cls.mission)
+            cls.mission_run.record_mission(cls.mission, rospy.get_param('~record_rtf', 0.0))
             cls.mission_run.trigger_by_publisher()
             cls.error, _, cls.loaded = cls.mission_run.outcome()
         finally:

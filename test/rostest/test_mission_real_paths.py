@@ -22,7 +22,8 @@ held and that odometry came back after a hold as long as the gap minus its
 ``odom_timeout`` (it held for the gap, not for a hiccup of its own). With
 ``~expect_batched``: the layer's odometry feed logged that it took messages in
 batches before vision loss and every message as it arrived once the pi turn
-began (ros/odometry.py).
+began (ros/odometry.py). With ``~record_rtf`` the fake's clock runs at that rtf
+while the mission is recorded, at the launch's rtf from the vision loss on.
 """
 import math
 import os
@@ -130,11 +131,9 @@ class RealPathMissionTest(HomeMission, unittest.TestCase):
                 raise ValueError('~gap_state must be one of %s, got %r' % (', '.join(HOLDING_ROLE), state))
             cls.trigger = GapTrigger(cls.mission_run, cls.gap, state, float(rospy.get_param('~gap_after')))
         try:
-            cls.mission_run.wait_for_layer()
             if cls.trigger:
                 cls.trigger.wait_for_base()
-            cls.mission_run.start_operator(cls.mission)
-            cls.mission_run.wait_for_operator(cls.mission)
+            cls.mission_run.record_mission(cls.mission, rospy.get_param('~record_rtf', 0.0))
             cls.mission_run.trigger_by_publisher()
             cls.error, cls.speed, cls.loaded = cls.mission_run.outcome()
         finally:

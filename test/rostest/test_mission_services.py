@@ -13,6 +13,8 @@ zero on the mux input (teleop) comes within one control cycle of the server
 (1 / control_rate, sim s) of the call, the base's ground-truth stop at most
 one of its 50 Hz samples later; the
 state ends ``aborted`` with "cancelled by request" and no goal follows.
+With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf
+and the rest (from go_home on) runs at the launch's rtf again.
 """
 import os
 import sys
@@ -76,9 +78,7 @@ class ServicesTest(unittest.TestCase):
         cls.teleop, cls.speeds = TimedTwists(TELEOP_TOPIC), TimedSpeeds()
         go_home, cancel = trigger(names.GO_HOME), trigger(names.CANCEL)
         try:
-            run.wait_for_layer()
-            run.start_operator(rospy.get_param('~mission'))
-            run.wait_for_operator(rospy.get_param('~mission'))
+            run.record_mission(rospy.get_param('~mission'), rospy.get_param('~record_rtf', 0.0))
             cls.loaded = run.recorded()
             cls.go_home_recording = go_home()
             run.wait(lambda: 'returning' in run.state_names(),

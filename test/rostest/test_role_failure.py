@@ -16,6 +16,8 @@ reaches the mux input (teleop) within ZERO_WITHIN of the abort and nothing moves
 after it; the base, moving when the fault hit (server, rotate), stops and stays
 put (ground truth); /diagnostics shows the role failure and the mission as ERROR;
 the traceback is logged once, as FATAL.
+With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf,
+the rest (from the vision loss on) at the launch's rtf.
 """
 import math
 import os
@@ -107,9 +109,7 @@ class RoleFailureTest(unittest.TestCase):
         try:
             if cls.replace:
                 cls.replace_node(run)
-            run.wait_for_layer()
-            run.start_operator(mission)
-            run.wait_for_operator(mission)
+            run.record_mission(mission, rospy.get_param('~record_rtf', 0.0))
             run.trigger_by_publisher()
             run.wait(lambda: run.state_names()[-1:] in (['aborted'], ['home']),
                      'the mission never ended (home or aborted) after the %s fault' % cls.fault)

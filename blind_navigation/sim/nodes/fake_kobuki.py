@@ -25,7 +25,9 @@ computer or the base driver stalls; the base keeps moving and every other
 stream (IMU, joint states, ground truth, /clock) goes on. Odometry comes back
 with the pose the base reached meanwhile. 0 ends a running gap; a negative or
 non-finite length is refused with an error. Each gap is logged where it starts
-and ends.
+and ends. A std_msgs/Float64 on ``~rtf`` (``mobile_base/rtf``) sets the clock's
+real-time factor from the next tick on (> 0; refused with an error under
+``~wall_time`` or ``~clock`` false), so a test runs what it does not time faster.
 
 ``/clock`` is global, so on a master shared by several fakes (two robots in two
 namespaces) only one publishes it; the others run with ``~clock`` false and step
@@ -120,6 +122,8 @@ class FakeKobuki(object):
         subscribe('mobile_base/commands/motor_power', kobuki_msgs.MotorPower, self.on_motor_power)
         subscribe('mobile_base/commands/reset_odometry', Empty, self.on_reset_odometry)
         subscribe('~odometry_gap', Float64, self.on_odometry_gap)
+        self.new_rtf = None              # an rtf asked for on ~rtf, not yet in use
+        subscribe('~rtf', Float64, self.on_rtf)
 
     def _messages(self):
         """Build the periodic messages once; the loop only updates their fields."""
@@ -167,6 +171,14 @@ class FakeKobuki(object):
             self.odometry_gap_until = self.base.t + length
         rospy.logwarn('fake_kobuki: odometry gap: no odom and no odom TF for %.2f s from t %.2f s',
                       length, rospy.get_time())
+
+    def on_rtf(self, msg):
+        p = self.params
+        if not (math.isfinite(msg.data) and msg.data > 0.0) or p.wall_time or not p.clock:
+            rospy.logerr('fake_kobuki: ignored %s %r (needs > 0, and this node publishing /clock)',
+                         rospy.resolve_name('~rtf'), msg.data)
+            return
+        self.new_rtf = msg.data
 
     def _odometry_paused(self):
         """True while an odometry gap runs (called with the lock held); logs its end."""
@@ -256,6 +268,10 @@ class FakeKobuki(object):
         tick = 0
         stats_start, cpu_start = start, time.process_time()
         while not rospy.is_shutdown():
+            if self.new_rtf is not None:            # a new pace from now on
+                p.rtf, self.new_rtf = self.new_rtf, None
+                wall_period, start, tick = p.clock_period / p.rtf, time.monotonic(), 0
+                rospy.loginfo('fake_kobuki: rtf %g from t %.2f s', p.rtf, self.base.t)
             tick += 1
             if wall_offset is None:
                 self.clock_pub.publish(Clock(clock=self.step(0.0)))
