@@ -25,17 +25,14 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
-from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
-from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
-from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params
-from blind_navigation.core.route import ROUTE_DEFAULTS
-from blind_navigation.core.progress import PROGRESS_DEFAULTS, ReturnProgress
+from blind_navigation.core.gyro_bias import standstill_timeout
+from blind_navigation.core.landmark import Limits
+from blind_navigation.core.progress import ReturnProgress
+from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
-from blind_navigation.core.safety import SAFETY_DEFAULTS
 from blind_navigation.msg import MissionStatus, StorageUsage
 from blind_navigation.ros import wiring
-from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
+from blind_navigation.ros.common import shutting_down, subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
 from blind_navigation.ros.mission_services import MissionServices
@@ -44,50 +41,14 @@ from blind_navigation.ros.return_progress import ProgressKeeper
 from blind_navigation.ros.return_runner import ReturnRunner
 
 
-def _checked(p):
-    """The client's params ``p``; ValueError naming the first bad one."""
-    for name in ('odom_timeout', 'server_timeout', 'goal_timeout_factor', 'return_timeout_factor',
-                 'slowest_v', 'max_v', 'max_w', 'resume_timeout', 'resume_max_offset',
-                 'path_spacing', 'correction_timeout', 'rotation_margin', 'turn_tolerance'):
-        if not getattr(p, name) > 0:
-            raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
-    if not isinstance(p.prune_loops, bool):
-        raise ValueError('~prune_loops must be true or false, got %r' % (p.prune_loops,))
-    prune_params(p)                  # a bad pruning param fails now, not at the return
-    return p
-
-
 class BackTravelClient(object):
     """Mission state machine and goal sender (module docstring)."""
 
     ROLE = 'back_travel_client'
-    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **{
-        'landmark_file': '',            # the recorder's symlink (empty: under $ROS_HOME); only read
-        'odom_timeout': 0.5,            # s; older odometry counts as missing
-        'server_timeout': 10.0,         # s to wait for the back-travel server
-        'goal_timeout_factor': 5.0,     # a goal may go factor x its expected time ...
-        'goal_timeout_margin': 10.0,    # ... + margin, s without a result or feedback (a backstop
-                                        # for a silent server; a driving one reports feedback)
-        'return_timeout_factor': ALLOWANCE_DEFAULTS['return_timeout_factor'],
-        'return_timeout_margin': ALLOWANCE_DEFAULTS['return_timeout_margin'],
-        'slowest_v': SAFETY_DEFAULTS['slowest_v'],
-        'max_v': KOBUKI_MAX_V,          # m/s; a landmark faster than this is a bad file
-        'max_w': KOBUKI_MAX_W,          # rad/s; a landmark turning faster is a bad file
-        'resume_timeout': PROGRESS_DEFAULTS['resume_timeout'],
-        'resume_max_offset': PROGRESS_DEFAULTS['resume_max_offset'],
-        'path_spacing': 0.02,           # m between the poses of return_path
-        'heading_correction': REQUIRED,  # true: the landmarks in the heading-corrected frame
-        'correction_timeout': 5.0,      # s the return waits for the heading correction (none: aborted)
-        'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
-        'rotation_margin': 60.0,        # s added to the standstill's timeout: the rotation_timeout,
-                                        # from vision loss to the end of the pi turn
-        'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
-        'prune_loops': REQUIRED,        # true: cut loops from the route (core/pruning; closed_loop)
-    })
+    SCHEMA = BACK_TRAVEL_CLIENT
 
     def __init__(self, layer):
-        p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS,
-                                                shared=('standstill_time',)))
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
         self.layer = layer
         self.odometry = layer.odometry

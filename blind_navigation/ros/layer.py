@@ -3,7 +3,7 @@ its own node (launch/paper.launch) or with the others in one process
 (nodes/blind_navigation_node.py, the default). It finds here:
 
 - :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
-  with others (each role's DEFAULTS are the one source of its defaults);
+  with others, validated once against its schema (core/role_params.py);
 - :meth:`Layer.logger`: log lines that name the role;
 - :attr:`Layer.odometry` / :attr:`Layer.visual_odometry`: one shared
   subscription each (ros/odometry.py), held only while a role needs it;
@@ -26,7 +26,7 @@ from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
-from .common import cache_rosout_flag, load_params, subscribe
+from .common import cache_rosout_flag, subscribe
 from .diagnostics import Diagnostics
 from . import wiring
 from .faults import Faults
@@ -89,16 +89,19 @@ class Layer(object):
         self._correction = None
         self._correction_lock = threading.Lock()
 
-    def params(self, role, defaults, shared=()):
-        """The params of ``role`` (a name) with their ``defaults`` (a dict). Hosted with
-        other roles, a role's params are ``~<role>/name``, except the ``shared`` ones that
-        several roles read (e.g. ``straight_rate``): ``~name`` for the whole process."""
-        if not self.compact:
-            return load_params(defaults, '~')
-        own = load_params({k: v for k, v in defaults.items() if k not in shared}, '~%s/' % role)
-        for name in shared:
-            setattr(own, name, rospy.get_param('~' + name, defaults[name]))
-        return own
+    def params(self, role, schema):
+        """The params of ``role`` (a name), typed and frozen by its ``schema``
+        (core/params.Schema); a ParamError (ValueError) names a bad one. Hosted with
+        other roles, a role's params are ``~<role>/name``, except the schema's shared
+        ones that several roles read (e.g. ``straight_rate``): ``~name`` for the process."""
+        def prefix(name):
+            return '~' if not self.compact or name in schema.shared else '~%s/' % role
+        values = {p.name: rospy.get_param(prefix(p.name) + p.name) for p in schema.params
+                  if rospy.has_param(prefix(p.name) + p.name)}
+        typed = schema.validate(values, prefix)
+        rospy.loginfo('%s params%s: %s', rospy.get_name(), '' if prefix('') == '~' else ' ' + prefix(''),
+                      ', '.join('%s=%r' % (p.name, getattr(typed, p.name)) for p in schema.params))
+        return typed
 
     def guard(self, role):
         """``guard(fn)``: ``fn`` whose unexpected exception fails ``role``: zero velocity,

@@ -237,8 +237,10 @@ class DetectionTest(unittest.TestCase):
             cls.blind_warnings[name].append(msg.msg)
 
     def latency_bound(self, name):
+        defaults = VisionMonitor.SCHEMA.make()     # image_timeout: a constant, debounce: a param
+
         def param(key):
-            return rospy.get_param('/%s/%s' % (name, key), VisionMonitor.DEFAULTS[key])
+            return rospy.get_param('/%s/%s' % (name, key), getattr(defaults, key))
         timeout = param('image_timeout') if self.mode == 'stall' else 0.0
         return timeout + param('debounce') + LATENCY_MARGIN
 
