@@ -32,6 +32,9 @@ STRAIGHT_RATE = Param('straight_rate', SAMPLING_DEFAULTS['straight_rate'], 'Hz',
 STANDSTILL_TIME = Param('standstill_time', STANDSTILL_DEFAULTS['standstill_time'], 's',
                         'with heading correction: the longest standstill after vision loss '
                         '(0: none), which measures the gyro bias', lo=0.0, hi=3600.0)
+ODOM_TIMEOUT = Param('odom_timeout', ALLOWANCE_DEFAULTS['odom_timeout'], 's', 'older odometry is '
+                     'stale: the robot holds (zero velocity); a simulator at real-time factor N '
+                     'needs N x this', lo=0.01, hi=10.0)
 LANDMARK_FILE = Param('landmark_file', '', '', "the symlink to the mission's landmark file "
                       '(empty: blind_navigation/landmarks.yaml under $ROS_HOME); the client only reads it')
 
@@ -75,11 +78,12 @@ HEADING_CORRECTION = Schema('heading_correction', (
 ROTATE_PI = Schema('rotate_pi', (
     Param('wait_for_heading_correction', REQUIRED, '', 'true: turn once the heading correction is in'),
     STANDSTILL_TIME,
+    ODOM_TIMEOUT,
+    Param('recording_end_timeout', 1.0, 's', "(sim) the turn waits this long for the recorder's "
+          'final sample', lo=0.0, hi=60.0),
 ), fixed=dict(ROTATION_DEFAULTS,
               control_rate=50.0,          # Hz of the turn's control loop (the odometry's rate)
-              odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],
               odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],
-              recording_end_timeout=1.0,  # s (sim) the turn waits for the recorder's final sample
               correction_margin=25.0),    # s added to the standstill's timeout: the longest
               shared=SHARED)              # wait for the heading correction
 
@@ -89,7 +93,7 @@ BACK_TRAVEL_SERVER = Schema('back_travel_server', (
     Param('stop_lead', BACK_TRAVEL_DEFAULTS['stop_lead'], 's', 'closed_loop: the robot coasts '
           'this long after its last command', lo=0.0, hi=2.0),
     Param('max_v', BACK_TRAVEL_DEFAULTS['max_v'], 'm/s', 'hard clamp on |v|', lo=0.01, hi=KOBUKI_MAX_V),
-    Param('max_w', BACK_TRAVEL_DEFAULTS['max_w'], 'rad/s', 'hard clamp on |w|', lo=0.1, hi=KOBUKI_MAX_W),
+    ODOM_TIMEOUT,
 ), fixed=dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
               **ALLOWANCE_DEFAULTS,
               control_rate=50.0,          # Hz of the control loop (the odometry's rate)
@@ -104,13 +108,16 @@ BACK_TRAVEL_CLIENT = Schema('back_travel_client', (
     Param('heading_correction', REQUIRED, '', 'true: the landmarks in the heading-corrected frame'),
     Param('prune_loops', REQUIRED, '', 'true: cut loops from the route (core/pruning; closed_loop)'),
     STANDSTILL_TIME,
+    Param('odom_timeout', 0.5, 's', 'older odometry counts as missing (the client; simulator: '
+          'N x this at real-time factor N)', lo=0.01, hi=10.0),
+    Param('server_timeout', 10.0, 's', 'the wait for the back-travel server', lo=0.1, hi=600.0),
+    Param('return_timeout_factor', ALLOWANCE_DEFAULTS['return_timeout_factor'], '',
+          "the whole return's allowance: factor x its nominal time + margin", lo=0.01, hi=100.0),
+    Param('return_timeout_margin', ALLOWANCE_DEFAULTS['return_timeout_margin'], 's',
+          "added to the whole return's allowance", lo=0.0, hi=3600.0),
 ), fixed=dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **{
-    'odom_timeout': 0.5,            # s; older odometry counts as missing
-    'server_timeout': 10.0,         # s to wait for the back-travel server
     'goal_timeout_factor': 5.0,     # a goal may go factor x its expected time + margin s without
     'goal_timeout_margin': 10.0,    # a result or feedback: a backstop for a silent server
-    'return_timeout_factor': ALLOWANCE_DEFAULTS['return_timeout_factor'],
-    'return_timeout_margin': ALLOWANCE_DEFAULTS['return_timeout_margin'],
     'slowest_v': SAFETY_DEFAULTS['slowest_v'],
     'max_v': KOBUKI_MAX_V,          # m/s; a landmark faster than this is a bad file
     'max_w': KOBUKI_MAX_W,          # rad/s; a landmark turning faster is a bad file
@@ -129,9 +136,8 @@ VISION_MONITOR = Schema('vision_monitor', (
     Param('detect_vo_stall', True, '', 'detect a visual-odometry stall'),
     Param('detect_odom_info', True, '', "detect RTAB-Map's odom_info lost flag"),
     Param('detect_manual', True, '', "take a vision_lost published by another node (the paper's way)"),
-    Param('debounce', 0.5, 's', "a detector's condition must hold this long before it fires",
-          lo=0.0, hi=10.0),
 ), fixed={
+    'debounce': 0.5,             # s a detector's condition must hold before it fires
     'image_timeout': 1.0,        # s without a camera message: a stall (camera at >= 10 Hz)
     'vo_timeout': 1.0,           # s without visual odometry: a stall
     'dark_threshold': 10.0,      # mean intensity (0..255) below which an image is dark

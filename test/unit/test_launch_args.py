@@ -128,11 +128,18 @@ def node_params(path):
             if not tag.get('param') and (tag.text or '').strip():
                 names += list(yaml.safe_load(tag.text))
         out += [(node.get('type'), name) for name in names]
+    root = ElementTree.parse(path).getroot()
+    nested = {id(tag) for kind in ('node', 'test') for parent in root.iter(kind) for tag in parent.iter()}
+    for tag in root.iter('param'):      # a rig's ``$(arg roles)<role>/name`` for the whole layer
+        role, _, name = tag.get('name').replace('$(arg roles)', '').rpartition('/')
+        if id(tag) not in nested and role in SCHEMA_OF and name not in NODE_PARAMS:
+            out.append(('blind_navigation_node.py', role + '/' + name))
     return out
 
 
-@pytest.mark.parametrize('path', LAUNCH_FILES + sorted(glob.glob(os.path.join(REPO, 'test', 'rostest', '*.test'))),
-                         ids=os.path.basename)
+@pytest.mark.parametrize('path', LAUNCH_FILES + sorted(
+    glob.glob(os.path.join(REPO, 'test', 'rostest', '*.test'))
+    + glob.glob(os.path.join(REPO, 'test', 'rostest', '*.launch'))), ids=os.path.basename)
 def test_every_role_param_a_file_sets_is_one_a_user_can_set(path):
     ignored = []
     for node_type, name in node_params(path):
