@@ -12,7 +12,7 @@ sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
 the reason. Its services ``go_home``, ``cancel``: ros/mission_services.py. The
 progress (ros/return_progress.py) is written next to ``landmark_file`` at
 vision loss and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
-ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
+ros/mission_diagnostics.py. A fault of this process (ros/faults.py: a refused topic, a failed role)
 or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
 Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
@@ -31,7 +31,7 @@ from blind_navigation.core.progress import ReturnProgress
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.msg import MissionStatus, StorageUsage
-from blind_navigation.ros import wiring
+from blind_navigation.ros import faults
 from blind_navigation.ros.common import shutting_down, subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
@@ -72,7 +72,7 @@ class BackTravelClient(object):
         guard = self.guard = layer.guard(self.ROLE)
         self._start()
         layer.safety.on_trip(guard(self._on_trip))
-        wiring.on_fault(self._on_fault)
+        faults.on_fault(self._on_fault)
         self.odometry.on_reanchor(guard(self._on_reset))
         subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
         subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)

@@ -28,7 +28,7 @@ from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
 from .common import cache_rosout_flag, subscribe
 from .diagnostics import Diagnostics
-from . import wiring
+from . import faults
 from .faults import Faults
 from .mission import MissionStateView
 from .motion import SafetyMonitor
@@ -76,7 +76,7 @@ class Layer(object):
         self.diagnostics = Diagnostics(namespace or 'none')
         self.faults = Faults(self.diagnostics)
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
-        wiring.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
+        faults.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
         # what the roles share fails like a role, under its own name
         self.diagnostics.guard = self.guard('diagnostics')
         # one process: one feed; the paper's layout: the nodes share a reset's frame
