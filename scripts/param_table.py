@@ -52,6 +52,8 @@ def value(default):
     if isinstance(default, float):
         text = '%.6g' % default
         return text if any(c in text for c in '.en') else text + '.0'    # a float reads as one
+    if isinstance(default, tuple):
+        return '`[%s]`' % ', '.join(default)
     return '`%r`' % (default,) if isinstance(default, str) else str(default)
 
 
@@ -59,7 +61,9 @@ def allowed(param):
     if param.kind in (int, float):
         return '%s .. %s' % ('' if param.lo is None else value(param.lo),
                              '' if param.hi is None else value(param.hi))
-    return ', '.join(param.choices) if param.choices else param.kind.__name__
+    if param.choices:
+        return ('list of ' if param.kind is tuple else '') + ', '.join(param.choices)
+    return param.kind.__name__
 
 
 def table(all_rows):

@@ -21,7 +21,7 @@ class ParamError(ValueError):
 
 class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
     """One user param: ``lo``/``hi`` bound a number (inclusive, None: open),
-    ``choices`` lists the strings allowed."""
+    ``choices`` lists the strings allowed (a tuple default: a list of them)."""
 
     def __new__(cls, name, default, unit, doc, lo=None, hi=None, choices=None):
         return super(Param, cls).__new__(cls, name, default, unit, doc, lo, hi,
@@ -29,7 +29,7 @@ class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
 
     @property
     def kind(self):
-        """bool, int, float or str: the type of the default (a REQUIRED param: of its range)."""
+        """bool, int, float, str or tuple: the type of the default (a REQUIRED param: of its range)."""
         if self.default is not REQUIRED:
             return type(self.default)
         return str if self.choices else bool if self.lo is None else float
@@ -37,7 +37,7 @@ class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
     def allowed(self):
         """What the param accepts, as the docs and the errors say it."""
         if self.choices:
-            return 'one of ' + ', '.join(self.choices)
+            return ('a list of ' if self.kind is tuple else 'one of ') + ', '.join(self.choices)
         if self.kind is bool:
             return 'true or false'
         if self.kind is str:
@@ -52,10 +52,14 @@ class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
         kind, ok = self.kind, False
         if kind is float and isinstance(value, int) and not isinstance(value, bool):
             value = float(value)
+        if kind is tuple and isinstance(value, list):
+            value = tuple(value)
         if isinstance(value, kind) and not (kind is not bool and isinstance(value, bool)):
             if kind in (int, float):
                 ok = (math.isfinite(value) and (self.lo is None or value >= self.lo)
                       and (self.hi is None or value <= self.hi))
+            elif kind is tuple:
+                ok = all(item in self.choices for item in value) and len(set(value)) == len(value)
             else:
                 ok = self.choices is None or value in self.choices
         if not ok:

@@ -21,6 +21,7 @@ from .rotation import ROTATION_DEFAULTS
 from .route import ROUTE_DEFAULTS
 from .safety import SAFETY_DEFAULTS
 from .segment import SAMPLING_DEFAULTS
+from .vision import DETECTORS
 
 #: The params every role of a process reads as ``~name`` (not ``~<role>/name``).
 SHARED = ('straight_rate', 'standstill_time')
@@ -68,8 +69,6 @@ HEADING_CORRECTION = Schema('heading_correction', (
     Param('gyro_calibration_file', '', '', "calibrate_gyro.launch's YAML "
           '(empty: blind_navigation/gyro_calibration.yaml under $ROS_HOME)'),
     STANDSTILL_TIME,
-    Param('heading_budget', STANDSTILL_DEFAULTS['heading_budget'], 'rad', 'the standstill ends '
-          "as soon as the bias std x the recording's duration is within this", lo=1e-6, hi=1.0),
 ), fixed=dict(GYRO_FIT_DEFAULTS, **CORRECTION_DEFAULTS, **STANDSTILL_DEFAULTS,
               standstill_timeout=None,  # unset: core/gyro_bias.standstill_timeout
               vo_timeout=10.0),         # s without visual odometry before it warns
@@ -130,12 +129,11 @@ BACK_TRAVEL_CLIENT = Schema('back_travel_client', (
 }), shared=SHARED)
 
 VISION_MONITOR = Schema('vision_monitor', (
-    Param('detect_stall', True, '', 'detect a camera stall (camera_info, or images with detect_dark)'),
-    Param('detect_dark', False, '', 'detect dark images (reads every frame)'),
-    Param('detect_vo_lost', True, '', "detect visual odometry lost (RTAB-Map's null pose)"),
-    Param('detect_vo_stall', True, '', 'detect a visual-odometry stall'),
-    Param('detect_odom_info', True, '', "detect RTAB-Map's odom_info lost flag"),
-    Param('detect_manual', True, '', "take a vision_lost published by another node (the paper's way)"),
+    Param('detectors', ('stall', 'vo_lost', 'vo_stall', 'odom_info', 'manual'), '', 'the detectors '
+          'that run: stall (camera_info; the images with dark), dark (dark images: reads every '
+          "frame), vo_lost (RTAB-Map's null pose), vo_stall, odom_info (RTAB-Map's lost flag), "
+          "manual (a vision_lost another node publishes, the paper's way); docs/detection.md",
+          choices=DETECTORS),
 ), fixed={
     'debounce': 0.5,             # s a detector's condition must hold before it fires
     'image_timeout': 1.0,        # s without a camera message: a stall (camera at >= 10 Hz)

@@ -4,7 +4,7 @@
 Watches, through the debounced detectors of core/vision.py:
 
 - the camera: a stall of its sensor_msgs/CameraInfo (``camera/rgb/camera_info``,
-  read only until visual odometry arrives), or, with ``detect_dark``, the
+  read only until visual odometry arrives), or, with the ``dark`` detector, the
   images themselves (``camera/rgb/image_rect_color``: stall and dark images);
 - RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
   lost and stalled;
@@ -49,8 +49,7 @@ class VisionMonitor(object):
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        enabled = {name for name in ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
-                   if getattr(p, 'detect_' + name)}
+        enabled = set(p.detectors)
         self.monitor = VisionLossMonitor(enabled, p.image_timeout, p.vo_timeout, p.debounce,
                                          p.dark_threshold, p.dark_frames, p.host_stall_gap)
         self.layer = layer

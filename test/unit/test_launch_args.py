@@ -29,7 +29,6 @@ for _launch in ('blind_navigation', 'recording'):
     NODE_DEFAULTS[(_launch, 'curved_rate')] = (SAMPLING_PUBLISHER, 'curved_rate')
 NODE_DEFAULTS.update({
     ('blind_navigation', 'standstill_time'): (HEADING_CORRECTION, 'standstill_time'),
-    ('blind_navigation', 'heading_budget'): (HEADING_CORRECTION, 'heading_budget'),
     ('blind_navigation', 'stop_lead'): (BACK_TRAVEL_SERVER, 'stop_lead'),
     ('recording', 'fsync'): (LANDMARK_SAVING, 'fsync'),
     ('recording', 'min_subscribers'): (SAMPLING_PUBLISHER, 'min_subscribers'),

@@ -54,3 +54,13 @@ def test_every_schema_accepts_its_own_defaults():
         for param in schema.params:
             assert getattr(params, param.name) == required.get(param.name, param.default)
     assert BACK_TRAVEL_SERVER.make(control='time').control_rate == 50.0
+
+
+def test_a_list_param_takes_distinct_choices():
+    schema = Schema('probe', (Param('detectors', ('a', 'b'), '', 'which', choices=('a', 'b', 'c')),))
+    assert schema.validate({'detectors': ['c', 'a']}).detectors == ('c', 'a')
+    assert schema.validate({}).detectors == ('a', 'b') and schema.validate({'detectors': []}).detectors == ()
+    for bad in (['a', 'd'], ['a', 'a'], 'a', [1]):
+        with pytest.raises(ParamError) as error:
+            schema.validate({'detectors': bad})
+        assert 'a list of a, b, c' in str(error.value)
