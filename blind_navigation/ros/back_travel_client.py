@@ -14,7 +14,7 @@ sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
 the reason. Its services ``go_home``, ``cancel``, ``new_mission``: ros/mission_services.py. The
 progress (ros/return_progress.py) is written next to ``landmark_file`` when
 the turn begins and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
-ros/mission_diagnostics.py. A fault of this process (ros/wiring.py, ros/faults.py)
+ros/mission_diagnostics.py. A fault of this process (ros/faults.py: a refused topic, a failed role)
 or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
 Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
 """
@@ -27,18 +27,14 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
-from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
-from blind_navigation.core.landmark import KOBUKI_MAX_V, KOBUKI_MAX_W, Limits
-from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params
-from blind_navigation.core.route import ROUTE_DEFAULTS
-from blind_navigation.core.progress import PROGRESS_DEFAULTS
+from blind_navigation.core.gyro_bias import standstill_timeout
+from blind_navigation.core.landmark import Limits
+from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
-from blind_navigation.core.pause import TAKEOVER_DEFAULTS
-from blind_navigation.core.safety import SAFETY_DEFAULTS, is_contact
+from blind_navigation.core.safety import is_contact
 from blind_navigation.msg import MissionStatus, StorageUsage
-from blind_navigation.ros import wiring
-from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
+from blind_navigation.ros import faults
+from blind_navigation.ros.common import shutting_down, subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
 from blind_navigation.ros.mission_services import MissionServices
@@ -48,60 +44,14 @@ from blind_navigation.ros.return_runner import ReturnRunner
 from blind_navigation.ros.turn_start import TurnStart
 
 
-def _checked(p):
-    """The client's params ``p``; ValueError naming the first bad one."""
-    for name in ('odom_timeout', 'server_timeout', 'goal_timeout_factor', 'return_timeout_factor',
-                 'slowest_v', 'max_v', 'max_w', 'resume_timeout', 'resume_max_offset',
-                 'path_spacing', 'correction_timeout', 'rotation_margin', 'turn_tolerance'):
-        if not getattr(p, name) > 0:
-            raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
-    if not isinstance(p.prune_loops, bool):
-        raise ValueError('~prune_loops must be true or false, got %r' % (p.prune_loops,))
-    if not p.vision_back_grace >= 0:
-        raise ValueError('~vision_back_grace must not be negative, got %r' % (p.vision_back_grace,))
-    if p.on_vision_back not in state.ON_VISION_BACK:
-        raise ValueError('~on_vision_back must be one of %s, got %r'
-                         % (', '.join(state.ON_VISION_BACK), p.on_vision_back))
-    prune_params(p)                  # a bad pruning param fails now, not at the return
-    return p
-
-
 class BackTravelClient(object):
     """Mission state machine and goal sender (module docstring)."""
 
     ROLE = 'back_travel_client'
-    DEFAULTS = dict(ROUTE_DEFAULTS, **PRUNE_DEFAULTS, **TAKEOVER_DEFAULTS, **{
-        'landmark_file': '',            # the recorder's symlink (empty: under $ROS_HOME); only read
-        'odom_timeout': 0.5,            # s; older odometry counts as missing
-        'server_timeout': 10.0,         # s to wait for the back-travel server
-        'goal_timeout_factor': 5.0,     # a goal may go factor x its expected time ...
-        'goal_timeout_margin': 10.0,    # ... + margin, s without a result or feedback (a backstop
-                                        # for a silent server; a driving one reports feedback)
-        'return_timeout_factor': ALLOWANCE_DEFAULTS['return_timeout_factor'],
-        'return_timeout_margin': ALLOWANCE_DEFAULTS['return_timeout_margin'],
-        'slowest_v': SAFETY_DEFAULTS['slowest_v'],
-        'max_v': KOBUKI_MAX_V,          # m/s; a landmark faster than this is a bad file
-        'max_w': KOBUKI_MAX_W,          # rad/s; a landmark turning faster is a bad file
-        'resume_timeout': PROGRESS_DEFAULTS['resume_timeout'],
-        'resume_max_offset': PROGRESS_DEFAULTS['resume_max_offset'],
-        'path_spacing': 0.02,           # m between the poses of return_path
-        'heading_correction': REQUIRED,  # true: the landmarks in the heading-corrected frame
-        'correction_timeout': 5.0,      # s the return waits for the heading correction (none: aborted)
-        'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],
-        'rotation_margin': 60.0,        # s added to the standstill's timeout and vision_back_grace:
-                                        # the rotation_timeout, from vision loss to the turn's end
-        'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
-        'prune_loops': REQUIRED,        # true: cut loops from the route (core/pruning; closed_loop)
-        'vision_back_grace': STANDSTILL_DEFAULTS['standstill_min'],  # s after vision loss the
-                                        # pi turn waits for vision back without heading_correction
-                                        # (0: the paper's, at once)
-        'on_vision_back': 'home',       # vision back during the turn or return: home (go on) or
-                                        # stop (state recovered)
-    })
+    SCHEMA = BACK_TRAVEL_CLIENT
 
     def __init__(self, layer):
-        p = self.params = _checked(layer.params(self.ROLE, self.DEFAULTS, shared=(
-            'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs')))
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
         self.layer = layer
         self.odometry = layer.odometry
@@ -126,7 +76,7 @@ class BackTravelClient(object):
         self.turn = TurnStart(self)
         self._start()
         layer.safety.on_trip(guard(self._on_trip))
-        wiring.on_fault(self._on_fault)
+        faults.on_fault(self._on_fault)
         self.odometry.on_reanchor(guard(self._on_reset))
         subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
         subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)

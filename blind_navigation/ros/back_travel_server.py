@@ -26,18 +26,18 @@ import rospy
 
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
-from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
-from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, MODES
+from blind_navigation.core.allowance import OdomGrace
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.goal import CommandHold, make_goal
 from blind_navigation.core.landmark import landmark_from_values
-from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS, Contacts
+from blind_navigation.core.pause import Contacts
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
-from blind_navigation.core.segment import SAMPLING_DEFAULTS, period_of
+from blind_navigation.core.role_params import BACK_TRAVEL_SERVER
+from blind_navigation.core.segment import period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import REQUIRED, shutting_down
+from blind_navigation.ros.common import shutting_down
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.faults import describe
 from blind_navigation.ros.motion import MotionOutput
@@ -49,24 +49,11 @@ class BackTravelServer(object):
     """Drives one landmark per goal (module docstring)."""
 
     ROLE = mission_state.BACK_TRAVEL_ROLE
-    DEFAULTS = dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
-                    **ALLOWANCE_DEFAULTS, **CONTACT_DEFAULTS, **TAKEOVER_DEFAULTS,
-                    control=REQUIRED,           # time, distance or closed_loop (core/goal.py)
-                    straight_rate=SAMPLING_DEFAULTS['straight_rate'],  # Hz; a landmark with T >=
-                                                # 1 / straight_rate is a straight segment
-                    control_rate=50.0,          # Hz of the control loop
-                    feedback_rate=5.0,          # Hz of the action's feedback
-                    handover_timeout=0.1,       # s the last command holds after a goal published
-                                                # it, between goals; then zero velocity
-                    route_max_offset=0.5,       # m from where the route continues: a route is refused
-                    status_frequency=1.0)       # Hz of the action server's periodic status
+    SCHEMA = BACK_TRAVEL_SERVER
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=(
-            'straight_rate', 'takeover_wait', 'on_takeover', 'takeover_inputs'))
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        if p.control not in MODES:
-            raise ValueError('~control must be one of %s, got %r' % (', '.join(MODES), p.control))
         for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset',
                      'status_frequency'):
             if not getattr(p, name) > 0:
@@ -75,7 +62,7 @@ class BackTravelServer(object):
         self.contacts = Contacts(p)      # the return's bumper contacts (validates their params)
         self.straight_period = period_of(p.straight_rate, '~straight_rate')
         self.goal_params = types.SimpleNamespace(**dict(
-            {name: getattr(p, name) for name in self.DEFAULTS}, straight_period=self.straight_period))
+            p._asdict(), straight_period=self.straight_period))
         self.layer = layer
         self.odometry = layer.odometry
         self.takeover = layer.takeover(p)

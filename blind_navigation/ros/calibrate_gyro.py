@@ -25,10 +25,8 @@ import rospy
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
 from blind_navigation.core.geometry import yaw_from_quaternion
-from blind_navigation.core.gyro_calibration import (SPIN_DEFAULTS, CalibrationError, SpinCalibration,
-                                                    save_calibration)
-from blind_navigation.core.gyro_fit import GYRO_FIT_DEFAULTS
-from blind_navigation.core.heading_correction import CORRECTION_DEFAULTS
+from blind_navigation.core.gyro_calibration import CalibrationError, SpinCalibration, save_calibration
+from blind_navigation.core.role_params import CALIBRATE_GYRO
 from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.heading_correction import calibration_file
@@ -39,17 +37,11 @@ class CalibrateGyro(object):
     """The calibration routine on ROS (module docstring)."""
 
     ROLE = mission_state.CALIBRATION_ROLE
-    DEFAULTS = dict(SPIN_DEFAULTS, **GYRO_FIT_DEFAULTS, max_scale=CORRECTION_DEFAULTS['max_scale'],
-                    calibration_file='',    # the calibration YAML written (empty: under $ROS_HOME)
-                    control_rate=50.0,      # Hz of the spin's control loop
-                    odom_timeout=0.4,       # s; older odometry fails the calibration
-                    start_timeout=30.0)     # s (wall) to wait for odometry and visual odometry
+    SCHEMA = CALIBRATE_GYRO
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS)
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        if p.control_rate <= 0 or p.odom_timeout <= 0 or p.start_timeout <= 0:
-            raise ValueError('~control_rate, ~odom_timeout and ~start_timeout must be positive')
         self.path = calibration_file(p.calibration_file)
         self.spin = SpinCalibration(p)   # validates the spin and fit params
         self.layer = layer

@@ -10,9 +10,8 @@ from rospy.impl.paramserver import get_param_server_cache
 
 from . import subscription_watchdog, wiring
 from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
+from ..core.params import REQUIRED
 
-#: The default of a param that the launch file sets (its launch arg holds the default).
-REQUIRED = object()
 
 
 def shutting_down():

@@ -5,7 +5,7 @@ target and callback a role registers (docs/safety.md, "A role that fails").
 exception (any ``Exception`` not raised while the node shuts down), calls
 :meth:`Faults.fail` and returns None instead of raising. ``fail(role, error)``
 declares ``<role> failed: <Type>: <message>`` in the process's fault registry
-(ros/wiring.declare, as a refused topic is): every velocity output of the
+(:func:`declare`, as a refused topic is, ros/wiring.py): every velocity output of the
 process publishes zero at once and for good, the mission's owner ends the
 mission ``aborted`` with it (in its process; ros/layer.Layer publishes each
 fault on ``blind_navigation/role_failure`` for an owner in another process).
@@ -21,11 +21,53 @@ import traceback
 
 import rospy
 
-from . import diagnostics as diag, wiring
-from .common import shutting_down
+from . import common, diagnostics as diag     # common by module: it imports wiring, which imports this
 
 #: s (wall) between two log lines of a failure repeating at one place
 REPEAT_LOG_PERIOD = 5.0
+
+# The process's fault registry: a refused topic (ros/wiring.py) or a failed role.
+_lock = threading.Lock()
+_faults = {}          # key (a resolved topic, a role and place) -> the fault's text
+_listeners = []       # f(fault)
+
+
+def declare(key, fault):
+    """A fault of this process (``key``: where, e.g. a topic; ``fault``: its text):
+    once per key, every :func:`on_fault` listener is called. False if ``key`` had one."""
+    with _lock:
+        if key in _faults:
+            return False
+        _faults[key] = fault
+        listeners = list(_listeners)
+    for listener in listeners:      # each one: a failing listener must not keep an output moving
+        try:
+            listener(fault)
+        except Exception as error:
+            rospy.logerr('%s: while declaring %s: %s: %s', rospy.get_name(), fault,
+                         type(error).__name__, error)
+    return True
+
+
+def on_fault(callback):
+    """Call ``callback(fault)`` on every fault declared, at once for those declared already."""
+    with _lock:
+        _listeners.append(callback)
+        faults = list(_faults.values())
+    for fault in faults:
+        callback(fault)
+
+
+def fault():
+    """The first fault declared, None while there is none."""
+    with _lock:
+        return next(iter(_faults.values()), None)
+
+
+def faulty():
+    """True once a fault was declared (read without the lock: a velocity output asks it
+    at every command)."""
+    return bool(_faults)
 
 
 def describe(role, error):
@@ -54,7 +96,7 @@ class Faults(object):
                 try:
                     return fn(*args, **kwargs)
                 except Exception as error:  # noqa: B902 -- what this module is for
-                    if shutting_down():
+                    if common.shutting_down():
                         rospy.logdebug('%s: %s while shutting down', role, error)
                         return None
                     self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))
@@ -81,7 +123,7 @@ class Faults(object):
             return
         rospy.logfatal('%s: %s in %s; stopping the robot, ending the mission:\n%s',
                        rospy.get_name(), reason, place or '?', traceback.format_exc())
-        wiring.declare('%s in %s' % (role, place), reason)   # zero velocity, the owner aborts
+        declare('%s in %s' % (role, place), reason)   # zero velocity, the owner aborts
         self._diagnostics.now()
 
     def _status(self, stat):

@@ -27,12 +27,11 @@ import rospy
 from blind_navigation import names
 from blind_navigation.core import mission_state
 from blind_navigation.core.geometry import yaw_from_quaternion
-from blind_navigation.core.gyro_bias import (STANDSTILL_DEFAULTS, StandstillBias,
-                                              standstill_complete, standstill_timeout)
+from blind_navigation.core.gyro_bias import StandstillBias, standstill_complete, standstill_timeout
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
-from blind_navigation.core.gyro_fit import GYRO_FIT_DEFAULTS, GyroVisualFit
-from blind_navigation.core.heading_correction import (CORRECTION_DEFAULTS, estimate_correction,
-                                                       visual_bias)
+from blind_navigation.core.gyro_fit import GyroVisualFit
+from blind_navigation.core.heading_correction import estimate_correction, visual_bias
+from blind_navigation.core.role_params import HEADING_CORRECTION
 from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
@@ -53,14 +52,10 @@ class HeadingCorrectionRole(object):
     """Module docstring."""
 
     ROLE = 'heading_correction'
-    DEFAULTS = dict(GYRO_FIT_DEFAULTS, **CORRECTION_DEFAULTS, **STANDSTILL_DEFAULTS,
-                    gyro_calibration_file='',   # calibrate_gyro.launch's YAML (empty: under $ROS_HOME)
-                    standstill_timeout=None,    # s after vision loss the standstill ends at the latest
-                                                # (unset: core/gyro_bias.standstill_timeout)
-                    vo_timeout=10.0)            # s without visual odometry before it warns
+    SCHEMA = HEADING_CORRECTION
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('standstill_time',))
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
         self.fit = GyroVisualFit(p)   # validates the params
         self.standstill_time = float(p.standstill_time)

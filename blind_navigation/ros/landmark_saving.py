@@ -34,6 +34,7 @@ from blind_navigation.core.recorder import PathRecorder, storage_usage
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
+from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import StorageUsage
 from blind_navigation.srv import RecordedSamples
 from blind_navigation.ros import diagnostics
@@ -54,21 +55,12 @@ def landmark_file(param):
 class LandmarkSaving(object):
     """Latest odometry -> landmark -> mission file, storage and recorded path."""
 
-    DEFAULTS = {
-        'landmark_file': '',    # the symlink to the mission's file (empty: under $ROS_HOME)
-        'fsync': True,          # fsync every landmark (false: flush only)
-        'odom_timeout': 1.0,    # s (sim); a sample with older odometry is saved with a warning
-        'odom_wait': 0.2,       # s (wall) a sample waits for odometry covering its stamp
-        'catch_up_timeout': 3.0,  # s (wall) a restarted saver waits for the sampling publisher's
-                                  # record of the samples it missed
-    }
+    SCHEMA = LANDMARK_SAVING
 
     def __init__(self, layer, role, variant):
-        p = self.params = layer.params(role, self.DEFAULTS)
+        p = self.params = layer.params(role, self.SCHEMA)
         self.log = layer.logger(role)
         self.guard = layer.guard(role)      # the recorder's callbacks and threads
-        if not isinstance(p.fsync, bool):
-            raise ValueError('~fsync must be true or false, got %r' % (p.fsync,))
         self.odometry = layer.odometry
         self.odometry.acquire(role, batched=True)   # reads back: at a stamp, waiting for it
         self.odometry.on_reanchor(self.guard(self._on_reanchor))

@@ -3,7 +3,7 @@ its own node (launch/paper.launch) or with the others in one process
 (nodes/blind_navigation_node.py, the default). It finds here:
 
 - :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
-  with others (each role's DEFAULTS are the one source of its defaults);
+  with others, validated once against its schema (core/role_params.py);
 - :meth:`Layer.logger`: log lines that name the role;
 - :attr:`Layer.odometry` / :attr:`Layer.visual_odometry`: one shared
   subscription each (ros/odometry.py), held only while a role needs it;
@@ -27,9 +27,9 @@ from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
-from .common import cache_rosout_flag, load_params, subscribe
+from .common import cache_rosout_flag, subscribe
 from .diagnostics import Diagnostics
-from . import wiring
+from . import faults
 from .faults import Faults
 from .mission import MissionStateView
 from .motion import SafetyMonitor
@@ -78,7 +78,7 @@ class Layer(object):
         self.diagnostics = Diagnostics(namespace or 'none')
         self.faults = Faults(self.diagnostics)
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
-        wiring.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
+        faults.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
         # what the roles share fails like a role, under its own name
         self.diagnostics.guard = self.guard('diagnostics')
         # one process: one feed; the paper's layout: the nodes share a reset's frame
@@ -95,16 +95,19 @@ class Layer(object):
         self._correction_lock = threading.Lock()
         self._takeover = None
 
-    def params(self, role, defaults, shared=()):
-        """The params of ``role`` (a name) with their ``defaults`` (a dict). Hosted with
-        other roles, a role's params are ``~<role>/name``, except the ``shared`` ones that
-        several roles read (e.g. ``straight_rate``): ``~name`` for the whole process."""
-        if not self.compact:
-            return load_params(defaults, '~')
-        own = load_params({k: v for k, v in defaults.items() if k not in shared}, '~%s/' % role)
-        for name in shared:
-            setattr(own, name, rospy.get_param('~' + name, defaults[name]))
-        return own
+    def params(self, role, schema):
+        """The params of ``role`` (a name), typed and frozen by its ``schema``
+        (core/params.Schema); a ParamError (ValueError) names a bad one. Hosted with
+        other roles, a role's params are ``~<role>/name``, except the schema's shared
+        ones that several roles read (e.g. ``straight_rate``): ``~name`` for the process."""
+        def prefix(name):
+            return '~' if not self.compact or name in schema.shared else '~%s/' % role
+        values = {p.name: rospy.get_param(prefix(p.name) + p.name) for p in schema.params
+                  if rospy.has_param(prefix(p.name) + p.name)}
+        typed = schema.validate(values, prefix)
+        rospy.loginfo('%s params%s: %s', rospy.get_name(), '' if prefix('') == '~' else ' ' + prefix(''),
+                      ', '.join('%s=%r' % (p.name, getattr(typed, p.name)) for p in schema.params))
+        return typed
 
     def current_mission_id(self):
         """The mission id, read again: ``new_mission`` sets a new one before the roles see

@@ -25,7 +25,7 @@ from geometry_msgs.msg import Twist
 from .. import names
 from ..core import mission_state
 from ..core.safety import SafetyEvents, VelocityLimits
-from . import kobuki_msgs_compat as kobuki, wiring
+from . import faults, kobuki_msgs_compat as kobuki
 from .common import subscribe_checked, twist
 
 #: kind -> (message class, field naming the sensor)
@@ -97,7 +97,7 @@ class MotionOutput(object):
             safety.on_trip(lambda reason: self.halt('safety: ' + reason))
         if mission is not None:
             mission.on_change(self._on_state)
-        wiring.on_fault(self.halt)
+        faults.on_fault(self.halt)
         rospy.on_shutdown(lambda: self.halt('node shutdown'))
 
     @property
@@ -117,7 +117,7 @@ class MotionOutput(object):
 
     def publish(self, v, w):
         with self._lock:
-            moving = self.halted is None and self.allowed and not wiring.faulty()
+            moving = self.halted is None and self.allowed and not faults.faulty()
             self._send(*(self.limits.clamp(v, w) if moving else (0.0, 0.0)))
 
     def stop(self):

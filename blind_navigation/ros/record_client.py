@@ -10,6 +10,7 @@ between "still waiting for the server" messages).
 import rospy
 
 from blind_navigation import names
+from blind_navigation.core.role_params import RECORD_CLIENT
 from blind_navigation.msg import PathSample
 from blind_navigation.ros.common import subscribe
 from blind_navigation.srv import RecordLandmark
@@ -19,12 +20,10 @@ class RecordClient(object):
     """Forwards every PathSample to the record_landmark service."""
 
     ROLE = 'record_client'
-    DEFAULTS = {
-        'wait_log_period': 5.0,     # s between "still waiting for the server" messages
-    }
+    SCHEMA = RECORD_CLIENT
 
     def __init__(self, layer):
-        self.params = layer.params(self.ROLE, self.DEFAULTS)
+        self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
         self.guard = layer.guard(self.ROLE)
         self.calls = 0

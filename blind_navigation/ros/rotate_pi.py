@@ -24,13 +24,13 @@ from std_msgs.msg import Bool, Empty
 
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
-from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
-from blind_navigation.core.gyro_bias import STANDSTILL_DEFAULTS, standstill_timeout
-from blind_navigation.core.pause import TAKEOVER_DEFAULTS
-from blind_navigation.core.rotation import ROTATION_DEFAULTS, Rotation
+from blind_navigation.core.allowance import OdomGrace
+from blind_navigation.core.gyro_bias import standstill_timeout
+from blind_navigation.core.role_params import ROTATE_PI
+from blind_navigation.core.rotation import Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import REQUIRED, shutting_down, subscribe
+from blind_navigation.ros.common import shutting_down, subscribe
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.sampling_publisher import FINAL
@@ -40,19 +40,10 @@ class RotatePi(object):
     """Turns by ``angle`` when vision is lost (module docstring)."""
 
     ROLE = mission_state.ROTATION_ROLE
-    DEFAULTS = dict(ROTATION_DEFAULTS, **TAKEOVER_DEFAULTS,
-                    control_rate=50.0,          # Hz of the turn's control loop
-                    odom_timeout=ALLOWANCE_DEFAULTS['odom_timeout'],  # s; older odometry: hold (zero)
-                    odom_grace=ALLOWANCE_DEFAULTS['odom_grace'],  # s a hold may last before the turn fails
-                    recording_end_timeout=1.0,  # s (sim) the turn waits for the recorder's final sample
-                    wait_for_heading_correction=REQUIRED,  # true: turn once the heading correction is in
-                    standstill_time=STANDSTILL_DEFAULTS['standstill_time'],
-                    correction_margin=25.0)     # s added to the standstill's timeout: the longest
-                                                # wait for the heading correction
+    SCHEMA = ROTATE_PI
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=(
-            'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs'))
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
         if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
             raise ValueError('~control_rate must be positive, ~recording_end_timeout and '

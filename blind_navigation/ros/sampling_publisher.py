@@ -26,13 +26,14 @@ from std_msgs.msg import Empty
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
-from blind_navigation.core.motion_events import EVENT_DEFAULTS, EventSampler
+from blind_navigation.core.motion_events import EventSampler
 from blind_navigation.core.sample_log import SampleLog
-from blind_navigation.core.segment import SAMPLING_DEFAULTS, SamplingSchedule, period_of
+from blind_navigation.core.role_params import SAMPLING_PUBLISHER
+from blind_navigation.core.segment import SamplingSchedule, period_of
 from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordedSamplesResponse
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import REQUIRED, subscribe
+from blind_navigation.ros.common import subscribe
 
 #: PathSample.command values: a regular tick, and the last partial cycle.
 SAMPLE = 'sample'
@@ -40,24 +41,17 @@ FINAL = 'final'
 COMMANDS = (SAMPLE, FINAL)
 #: Shortest partial cycle worth a final landmark, s.
 MIN_FINAL_PERIOD = 1e-3
-YAW_SOURCES = ('odom', 'pose2d')
 
 
 class SamplingPublisher(object):
     """Two-rate sampling publisher (module docstring)."""
 
     ROLE = 'sampling_publisher'
-    DEFAULTS = dict(SAMPLING_DEFAULTS, **EVENT_DEFAULTS,
-                    yaw_source='odom',        # odom, or pose2d (geometry_msgs/Pose2D, as the paper)
-                    min_subscribers=1,        # recording starts once this many nodes take the samples
-                    event_sampling=REQUIRED)  # true: a sample at each motion event too
+    SCHEMA = SAMPLING_PUBLISHER
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS, shared=('straight_rate',))
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        if p.yaw_source not in YAW_SOURCES:
-            raise ValueError('~yaw_source must be one of %s, got %r' % (', '.join(YAW_SOURCES),
-                                                                          p.yaw_source))
         self._periods = (period_of(p.straight_rate, '~straight_rate'),
                          period_of(p.curved_rate, '~curved_rate'))
         if p.event_sampling and p.yaw_source != 'odom':

@@ -2,7 +2,7 @@
 ``blind_navigation/vision_lost``, through the debounced detectors of core/vision.py:
 
 - the camera: a stall of its sensor_msgs/CameraInfo (``camera/rgb/camera_info``,
-  read only until visual odometry arrives), or, with ``detect_dark``, the
+  read only until visual odometry arrives), or, with the ``dark`` detector, the
   images themselves (``camera/rgb/image_rect_color``: stall and dark images);
 - RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
   lost and stalled; optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
@@ -22,6 +22,7 @@ from std_msgs.msg import Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
+from blind_navigation.core.role_params import VISION_MONITOR
 from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
                                           numpy_module, odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
@@ -43,29 +44,12 @@ class VisionMonitor(object):
     """Debounced vision-loss detection (module docstring)."""
 
     ROLE = 'vision_monitor'
-    DEFAULTS = {
-        'detect_stall': True,        # detect a camera stall (camera_info, or images with detect_dark)
-        'detect_dark': False,        # detect dark images (reads every frame)
-        'detect_vo_lost': True,      # detect visual odometry lost (RTAB-Map's null pose)
-        'detect_vo_stall': True,     # detect a visual-odometry stall
-        'detect_odom_info': True,    # detect RTAB-Map's odom_info lost flag
-        'detect_manual': True,       # take a vision_lost published by another node (the paper's way)
-        'image_timeout': 1.0,        # s without a camera message: a stall
-        'vo_timeout': 1.0,           # s without visual odometry: a stall
-        'debounce': 0.5,             # s a detector's condition must hold before it fires
-        'dark_threshold': 10.0,      # mean intensity (0..255) below which an image is dark
-        'dark_frames': 3,            # consecutive dark images before it counts
-        'no_input_warning': 5.0,     # s with no camera or visual odometry before it warns
-        'host_stall_gap': 0.5,       # s without wheel odometry too: the host stalled, a silent
-                                     # camera or VO is then no vision loss (core/vision.HostFlow)
-        'vision_back_time': 1.0,     # s every detector must be healthy after a loss: vision back
-    }
+    SCHEMA = VISION_MONITOR
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.DEFAULTS)
+        p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        enabled = {name for name in ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
-                   if getattr(p, 'detect_' + name)}
+        enabled = set(p.detectors)
         self.enabled = enabled
         self.layer = layer
         self.lock = threading.Lock()

@@ -12,19 +12,15 @@ Kobuki events) takes raw bytes and deserialises them
 
 A mismatch is refused (:func:`refuse`): one FATAL line per topic and process
 naming the topic, the expected type and the type found; that connection's
-messages are dropped; the fault is declared (:func:`declare`, the process's
-one fault registry; a role's exception is declared too, ros/faults.py): every
-:func:`on_fault` listener is called: the process's velocity outputs stay at
-zero for good (ros/motion.py) and the mission owner ends the mission
-``aborted`` naming the fault (docs/safety.md).
+messages are dropped; the fault is declared in the process's one fault
+registry (ros/faults.declare, as a role's exception is): every listener is
+called: the process's velocity outputs stay at zero for good (ros/motion.py)
+and the mission owner ends the mission ``aborted`` naming the fault
+(docs/safety.md).
 """
-import threading
-
 import rospy
 
-_lock = threading.Lock()
-_faults = {}          # key (a resolved topic, ...) -> the fault's text
-_listeners = []       # f(fault)
+from . import faults
 
 
 class Expected(object):
@@ -67,51 +63,13 @@ class Expected(object):
 
 
 def refuse(topic, expected, found):
-    """``topic`` carries ``found``, not ``expected``: declared (every :func:`on_fault`
-    listener), then one FATAL line (per topic and process)."""
+    """``topic`` carries ``found``, not ``expected``: declared (every listener of
+    ros/faults.on_fault), then one FATAL line (per topic and process)."""
     topic = rospy.resolve_name(topic)
     fault = 'wrong wiring: %s carries %s, expected %s' % (topic, found, expected)
-    if declare(topic, fault):       # once per topic: the outputs stopped, the owner told
+    if faults.declare(topic, fault):    # once per topic: the outputs stopped, the owner told
         rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
                        rospy.get_name(), fault)
-
-
-def declare(key, fault):
-    """A fault of this process (``key``: where, e.g. a topic; ``fault``: its text):
-    once per key, every :func:`on_fault` listener is called. False if ``key`` had one."""
-    with _lock:
-        if key in _faults:
-            return False
-        _faults[key] = fault
-        listeners = list(_listeners)
-    for listener in listeners:      # each one: a failing listener must not keep an output moving
-        try:
-            listener(fault)
-        except Exception as error:
-            rospy.logerr('%s: while declaring %s: %s: %s', rospy.get_name(), fault,
-                         type(error).__name__, error)
-    return True
-
-
-def on_fault(callback):
-    """Call ``callback(fault)`` on every fault declared, at once for those declared already."""
-    with _lock:
-        _listeners.append(callback)
-        faults = list(_faults.values())
-    for fault in faults:
-        callback(fault)
-
-
-def fault():
-    """The first fault declared, None while there is none."""
-    with _lock:
-        return next(iter(_faults.values()), None)
-
-
-def faulty():
-    """True once a fault was declared (read without the lock: a velocity output asks it
-    at every command)."""
-    return bool(_faults)
 
 
 def check_types(topic_types, expected_by_topic):

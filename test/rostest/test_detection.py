@@ -5,7 +5,7 @@ and ignores a flicker shorter than its debounce.
 With ~source ``own`` (default) this node is its own small sensor rig under sim
 time: it publishes /clock (100 Hz ticks of 10 ms at real-time factor ~rtf), a
 20 Hz camera (sensor_msgs/Image rgb8) with its sensor_msgs/CameraInfo (what the
-camera-stall detector watches unless ``detect_dark`` makes the monitor read the
+camera-stall detector watches unless the ``dark`` detector makes the monitor read the
 images), RTAB-Map-like visual odometry
 (nav_msgs/Odometry with RTAB-Map's lost convention) and RTAB-Map-like odom_info
 (a runtime-generated rtabmap_msgs/OdomInfo, so no rtabmap package is needed).
@@ -237,8 +237,10 @@ class DetectionTest(unittest.TestCase):
             cls.blind_warnings[name].append(msg.msg)
 
     def latency_bound(self, name):
+        defaults = VisionMonitor.SCHEMA.make()     # image_timeout: a constant, debounce: a param
+
         def param(key):
-            return rospy.get_param('/%s/%s' % (name, key), VisionMonitor.DEFAULTS[key])
+            return rospy.get_param('/%s/%s' % (name, key), getattr(defaults, key))
         timeout = param('image_timeout') if self.mode == 'stall' else 0.0
         return timeout + param('debounce') + LATENCY_MARGIN
 

@@ -27,7 +27,7 @@ from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import (ONE_PROCESS, STOPPED_SPEED, TELEOP_TOPIC, MissionRun,  # noqa: E402
+from mission_tools import (STOPPED_SPEED, TELEOP_TOPIC, MissionRun,  # noqa: E402
                            TimedTwists)
 from recording_tools import Collector  # noqa: E402
 
@@ -100,9 +100,7 @@ class ServicesTest(unittest.TestCase):
                 cls.final_at = run.truth.position()
         finally:
             run.stop_operator()
-        cls.cycle = 1.0 / rospy.get_param(
-            '%s/back_travel_server/control_rate' % (ONE_PROCESS if run.compact else ''),
-            BackTravelServer.DEFAULTS['control_rate'])    # the server's control period, s
+        cls.cycle = 1.0 / BackTravelServer.SCHEMA.fixed['control_rate']   # the server's control period, s
 
     @classmethod
     def tearDownClass(cls):

@@ -1,6 +1,6 @@
 """ros/faults.py, without a master: a guarded callback or thread target that
 raises declares the role and the exception (type and message) in the process's
-fault registry (ros/wiring.declare: the listeners are the velocity outputs, zero
+fault registry (faults.declare: the listeners are the velocity outputs, zero
 for good, and the mission's owner), turns the diagnostics to ERROR and logs the
 traceback once; an exception while the node shuts down is not a failure."""
 import logging
@@ -10,15 +10,15 @@ import pytest
 
 rospy = pytest.importorskip('rospy')
 
-from blind_navigation.ros import diagnostics, faults, wiring  # noqa: E402
+from blind_navigation.ros import diagnostics, faults  # noqa: E402
 from blind_navigation.ros.motion import MotionOutput  # noqa: E402
 
 
 @pytest.fixture(autouse=True)
 def registry(monkeypatch):
-    """A fresh process fault registry (ros/wiring.py)."""
-    monkeypatch.setattr(wiring, '_faults', {})
-    monkeypatch.setattr(wiring, '_listeners', [])
+    """A fresh process fault registry (ros/faults.py)."""
+    monkeypatch.setattr(faults, '_faults', {})
+    monkeypatch.setattr(faults, '_listeners', [])
 
 
 class FakeDiagnostics(object):
@@ -49,7 +49,7 @@ class Rig(object):
         self.diagnostics = FakeDiagnostics()
         self.reported = []          # what the registry's listeners (outputs, owner) hear
         self.faults = faults.Faults(self.diagnostics)
-        wiring.on_fault(self.reported.append)
+        faults.on_fault(self.reported.append)
 
     def status(self):
         stat = Stat()
@@ -68,7 +68,7 @@ def test_a_failing_callback_halts_reports_and_diagnoses():
     rig = Rig()
     assert rig.status().level == diagnostics.OK
     assert rig.faults.guard('back_travel_client')(pruning)() is None
-    assert rig.reported == [REASON] and wiring.faulty() and wiring.fault() == REASON
+    assert rig.reported == [REASON] and faults.faulty() and faults.fault() == REASON
     assert rig.diagnostics.nows == 1
     stat = rig.status()
     assert (stat.level, stat.message, stat.values['failures']) == (diagnostics.ERROR, REASON, 1)
@@ -78,7 +78,7 @@ def test_a_guarded_callback_passes_arguments_and_result_through():
     rig = Rig()
     add = rig.faults.guard('rotate_pi')(lambda a, b=0: a + b)
     assert add(2, b=3) == 5
-    assert rig.reported == [] and not wiring.faulty()
+    assert rig.reported == [] and not faults.faulty()
 
 
 def test_a_dying_thread_is_reported_not_silent(caplog):
@@ -125,7 +125,7 @@ def test_a_failing_diagnostics_check_does_not_recurse():
 
 
 def test_a_failing_listener_does_not_stop_the_report():
-    wiring.on_fault(lambda reason: 1 / 0)
+    faults.on_fault(lambda reason: 1 / 0)
     rig = Rig()
     rig.faults.guard('rotate_pi')(pruning)()
     assert len(rig.reported) == 1
@@ -133,9 +133,9 @@ def test_a_failing_listener_does_not_stop_the_report():
 
 def test_an_exception_at_shutdown_is_not_a_failure(monkeypatch):
     rig = Rig()
-    monkeypatch.setattr(faults, 'shutting_down', lambda: True)
+    monkeypatch.setattr(faults.common, 'shutting_down', lambda: True)
     assert rig.faults.guard('rotate_pi')(pruning)() is None
-    assert rig.reported == [] and not wiring.faulty()
+    assert rig.reported == [] and not faults.faulty()
 
 
 def test_system_exit_is_not_caught():

@@ -10,7 +10,7 @@ import pytest
 import rospy
 from nav_msgs.msg import Odometry
 
-from blind_navigation.ros import kobuki_msgs_compat, wiring
+from blind_navigation.ros import faults as registry, kobuki_msgs_compat, wiring
 from blind_navigation.ros.vision_monitor import ODOM_INFO
 
 ODOMETRY = 'nav_msgs/Odometry'
@@ -18,9 +18,9 @@ ODOMETRY = 'nav_msgs/Odometry'
 
 @pytest.fixture
 def fatal(monkeypatch):
-    """A fresh process state of ros/wiring; the FATAL lines logged."""
-    monkeypatch.setattr(wiring, '_faults', {})
-    monkeypatch.setattr(wiring, '_listeners', [])
+    """A fresh process fault registry (ros/faults.py); the FATAL lines logged."""
+    monkeypatch.setattr(registry, '_faults', {})
+    monkeypatch.setattr(registry, '_listeners', [])
     lines = []
     monkeypatch.setattr(rospy, 'logfatal', lambda text, *args: lines.append(text % args))
     return lines
@@ -47,20 +47,20 @@ def test_odom_info_of_either_rtabmap_package_any_version():
 
 def test_a_wrong_connection_is_refused_with_one_fatal_line_per_topic(fatal):
     faults = []
-    wiring.on_fault(faults.append)
+    registry.on_fault(faults.append)
     expected = wiring.Expected.of(Odometry)
     right = header(ODOMETRY, Odometry._md5sum)
     assert expected.accepts('/odom', right) and expected.accepts('/odom', right)
-    assert fatal == [] and not wiring.faulty() and wiring.fault() is None
+    assert fatal == [] and not registry.faulty() and registry.fault() is None
     wrong = header('geometry_msgs/Twist', '9f195f881246fdfa2798d1d3eebca84a')
     for _ in range(3):
         assert not expected.accepts('/odom', wrong)
     assert len(fatal) == 1
     assert all(text in fatal[0] for text in ('/odom', ODOMETRY, 'geometry_msgs/Twist', 'nothing moves'))
-    assert wiring.faulty() and faults == [wiring.fault()]
+    assert registry.faulty() and faults == [registry.fault()]
     assert '/odom carries geometry_msgs/Twist, expected nav_msgs/Odometry' in faults[0]
     late = []
-    wiring.on_fault(late.append)                # a listener registered later hears of it at once
+    registry.on_fault(late.append)                # a listener registered later hears of it at once
     assert late == faults
 
 
@@ -94,8 +94,8 @@ def test_a_failing_listener_does_not_keep_the_others_from_hearing(fatal, monkeyp
 
     def broken(_fault):
         raise RuntimeError('broken listener')
-    wiring.on_fault(broken)
-    wiring.on_fault(heard.append)
+    registry.on_fault(broken)
+    registry.on_fault(heard.append)
     wiring.refuse('/mobile_base/events/cliff', wiring.Expected(('kobuki_msgs/CliffEvent',)), 'std_msgs/String')
     assert len(fatal) == 1 and len(heard) == 1
     assert errors and 'RuntimeError: broken listener' in errors[0]
