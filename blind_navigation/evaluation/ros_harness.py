@@ -53,7 +53,8 @@ NOTE = ('\nError: ground-truth distance from the start to where the robot stoppe
         'a goal\'s result to the next goal sent; turn point: where the ROS run\'s robot truly was at '
         'vision loss, m from the harness\'s (the same path driven, or not: the operator\'s commands '
         'arrive late under load); stops: how often the layer\'s return commands fell to '
-        'zero and then moved again. Load: the 1-minute load average as the run started (2 cores).\n'
+        'zero and then moved again; final hold: from the last non-zero return command to the zero '
+        'after it (the harness: handover_timeout 0.1 s). Load: the 1-minute load average as the run started (2 cores).\n'
         % REALISATIONS)
 
 
@@ -106,6 +107,15 @@ def handover_stops(result):
     return stops
 
 
+def final_hold(result):
+    """Sim s from the layer's last non-zero return command to the zero after it (the harness
+    holds the last command ``handover_timeout``), from a ROS run's probe; None without them."""
+    commands = result.get('return_commands') or []
+    moving = [t for t, v, w in commands if v != 0.0 or w != 0.0]
+    zeros = [t for t, v, w in commands if moving and t > moving[-1] and v == 0.0 and w == 0.0]
+    return zeros[0] - moving[-1] if zeros else None
+
+
 def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse):
     """The probe's result of one ROS run (run_ros) with the machine's 1-minute load average at
     its start (``load``); with ``reuse`` an earlier run's probe.json."""
@@ -155,7 +165,7 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False):
         row.update({tag + 'state': ros['state'], tag + 'length': ros['length'], tag + 'error': ros['error'],
                     tag + 'error_pct': 100.0 * ros['error'] / ros['length'], tag + 'rtf': ros['rtf'],
                     tag + 'gap_median': median(gaps), tag + 'gap_max': max(gaps) if gaps else None,
-                    tag + 'stops': handover_stops(ros), tag + 'goals': len(ros.get('goal_stamps') or [])})
+                    tag + 'stops': handover_stops(ros), tag + 'final_hold': final_hold(ros), tag + 'goals': len(ros.get('goal_stamps') or [])})
         lead = max(0.0, ros['mission_start'] - ros['recording_state']) \
             if ros.get('mission_start') and ros.get('recording_state') else 0.0
         row[tag + 'as_ros_error_pct'] = harness_run(mission, seed, median(gaps) if gaps else 0.0,
@@ -197,8 +207,10 @@ def table(rows, rtf=5.0):
                       num(r.get(fast + 'as_ros_error_pct'), 2), num(r.get(fast + 'error_pct'), 2),
                       _within(r, fast), num(_ratio(r, fast), 2), num(r.get(slow + 'error_pct'), 2),
                       num(_ratio(r, slow), 2), num(r.get(fast + 'rtf'), 1),
+                      '%s / %s' % (num(r.get(fast + 'offset'), 2), num(r.get(slow + 'offset'), 2)),
                       '%s / %s' % (num(r.get(fast + 'gap_median'), 2), num(r.get(fast + 'gap_max'), 2)),
                       '%s of %s' % (r.get(fast + 'stops', '—'), r.get(fast + 'goals', '—')),
+                      '%s / %s' % (num(r.get(fast + 'final_hold'), 2), num(r.get(slow + 'final_hold'), 2)),
                       '%s / %s' % (num(r.get(slow + 'gap_median'), 2), num(r.get(slow + 'gap_max'), 2)),
                       num(r.get(fast + 'load'), 1), r.get(fast + 'failed') or r.get(fast + 'state', '')])
 
@@ -207,7 +219,7 @@ def table(rows, rtf=5.0):
     paired = [r for r in rows if r.get(slow + 'error_pct') is not None]
     lines.append(['**median**', '', '', med('harness_error_pct'), '', med(fast + 'as_ros_error_pct'),
                   med(fast + 'error_pct'), '', num(median([_ratio(r, fast) for r in rows]), 2),
-                  med(slow + 'error_pct'), num(median([_ratio(r, slow) for r in rows]), 2)] + [''] * 7)
+                  med(slow + 'error_pct'), num(median([_ratio(r, slow) for r in rows]), 2)] + [''] * 8)
     text = markdown_table(['path', 'seed', 'length m', 'harness error %',
                            'harness, %d other noise realisations: range %%' % REALISATIONS,
                            'harness as the ROS run: its start lead and median gap, error %',
@@ -215,6 +227,7 @@ def table(rows, rtf=5.0):
                            'ROS rtf 1 error %', 'rtf 1 / harness', 'achieved rtf',
                            'turn point from the harness\'s m, rtf %g / 1' % rtf,
                            'hand-over gap median / max s', 'hand-over stops of goals',
+                           'final hold s, rtf %g / 1' % rtf,
                            'rtf 1 gap median / max s', 'load (1 min)', 'ROS state'], lines)
     ros = [r for r in rows if r.get(fast + 'error_pct') is not None]
     text += ('\n%d ROS runs at rtf %g: median error %s %% (harness, same paths and seeds: %s %%), median '
