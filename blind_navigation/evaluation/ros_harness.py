@@ -51,8 +51,10 @@ NOTE = ('\nError: ground-truth distance from the start to where the robot stoppe
         'calibration; the standstill at its end longer), the return\'s noise draws shifted: how far one run\'s error moves with the draws '
         'alone. ROS cannot replay the harness\'s draws (docs/evaluation.md). Hand-over gap: sim s from '
         'a goal\'s result to the next goal sent; turn point: where the ROS run\'s robot truly was at '
-        'vision loss, m from the harness\'s (the same path driven, or not: the operator\'s commands '
-        'arrive late under load); stops: how often the layer\'s return commands fell to '
+        'vision loss, m from the harness\'s (the operator\'s commands are open loop: another noise '
+        'realisation, and commands arriving late under load, drive another path); harness as the ROS '
+        'run: recording the ROS run\'s lead before the operator starts (the samples\' phase on the '
+        'path) and with its median hand-over gap; stops: how often the layer\'s return commands fell to '
         'zero and then moved again; final hold: from the last non-zero return command to the zero '
         'after it (the harness: handover_timeout 0.1 s). Load: the 1-minute load average as the run started (2 cores).\n'
         % REALISATIONS)
