@@ -1,7 +1,7 @@
 """ROS beside the harness, run by run: the same paths, seeds and settings.
 
     /usr/bin/python3 -m blind_navigation.evaluation.ros_harness [--rtf 5] [--seeds 2]
-        [--rtf1-runs 3] [--out results/ros_harness]
+        [--rtf1-runs 3] [--events KEY ...] [--reuse] [--out results/ros_harness]
 
 Paths: :data:`PATHS`, the real trajectories of config/paths and short real-like
 paths (sim/random_paths.py), written as mission files for the fake's
@@ -80,15 +80,17 @@ def handover_gaps(result):
     return gaps
 
 
-def harness_run(mission, seed, latency=0.0, shift=0, lead=0.0):
+def harness_run(mission, seed, latency=0.0, shift=0, lead=0.0, events=False):
     """The harness's closed_loop row of ``mission`` on ``seed``, ``latency`` s per hand-over,
-    ``lead`` s recording before the operator starts (``start_delay``);
+    ``lead`` s recording before the operator starts (``start_delay``), with the motion-event
+    samples if ``events``;
     ``shift`` control steps more of standing still before vision is lost: the same robot (its
     per-run draws) with the later noise draws shifted, another realisation of the same run."""
     launched = settings_for(PROFILE, seed)
     settle = SIMULATION_DEFAULTS['settle_time'] + shift * SIMULATION_DEFAULTS['control_dt']
     result = run_modes(mission, PROFILE, (MODE,), seed, settings_of=lambda mode: dict(
-        launched(mode), handover_latency=latency, settle_time=settle, start_delay=lead))[MODE]
+        launched(mode), handover_latency=latency, settle_time=settle, start_delay=lead,
+        event_sampling=events))[MODE]
     return {'status': result.status, 'length': result.distance, 'error': result.position_error,
             'error_pct': 100.0 * result.position_error / result.distance, 'samples': result.samples,
             'floor_pct': 100.0 * result.floor_error / result.distance, 'turn_point': result.forward_path[-1]}
@@ -118,7 +120,7 @@ def final_hold(result):
     return zeros[0] - moving[-1] if zeros else None
 
 
-def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse):
+def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=False):
     """The probe's result of one ROS run (run_ros) with the machine's 1-minute load average at
     its start (``load``); with ``reuse`` an earlier run's probe.json."""
     name = os.path.join(label, 'rtf%g' % rtf)
@@ -132,29 +134,31 @@ def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse):
         return result
     load = os.getloadavg()[0]
     result = run_ros(out_dir, label, MODE, seed, rtf, start_delay=START_DELAY,
-                     gyro_calibration_file=calibration, name=name, mission=mission_file)
+                     gyro_calibration_file=calibration, name=name, mission=mission_file,
+                     launch_args=('event_sampling:=%s' % str(events).lower(),))
     with open(load_file, 'w') as stream:
         json.dump({'load': load}, stream)
     return dict(result, load=load)
 
 
-def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False):
-    """One path and seed: the harness, and ROS at each of ``rtfs``; a row dict."""
+def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=False):
+    """One path and seed: the harness, and ROS at each of ``rtfs``; a row dict. ``events``:
+    both record with the motion-event samples (blind_navigation.launch's default)."""
     mission = mission_of(group, key, path_seed)
-    label = '%s_p%d_s%d' % (key, path_seed, seed)
+    label = '%s_p%d_s%d%s' % (key, path_seed, seed, '_events' if events else '')
     run_dir = os.path.join(out_dir, label)
     os.makedirs(run_dir, exist_ok=True)
     mission_file = write_mission(mission, os.path.join(run_dir, 'mission.yaml'))
     calibration = os.path.join(run_dir, 'gyro_calibration.yaml')
     save_calibration(calibration, gyro_calibration_for(PROFILE, seed), SPIN_DEFAULTS['turns'])
-    row = {'path': group, 'path_seed': path_seed, 'seed': seed}
-    row.update({'harness_' + k: v for k, v in harness_run(mission, seed).items()})
-    shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k)['error_pct']
+    row = {'path': group + (' +events' if events else ''), 'path_seed': path_seed, 'seed': seed}
+    row.update({'harness_' + k: v for k, v in harness_run(mission, seed, events=events).items()})
+    shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k, events=events)['error_pct']
                                             for k in range(1, REALISATIONS + 1)]
     row.update(harness_min=min(shifted), harness_max=max(shifted))
     for rtf in rtfs:
         log('ROS %s at rtf %g (load %.2f now)' % (label, rtf, os.getloadavg()[0]))
-        ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse)
+        ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events)
         tag = 'ros%g_' % rtf
         row[tag + 'load'] = ros.get('load')
         if 'failed' in ros:
@@ -171,17 +175,20 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False):
         lead = max(0.0, ros['mission_start'] - ros['recording_state']) \
             if ros.get('mission_start') and ros.get('recording_state') else 0.0
         row[tag + 'as_ros_error_pct'] = harness_run(mission, seed, median(gaps) if gaps else 0.0,
-                                                    lead=lead)['error_pct']
+                                                    lead=lead, events=events)['error_pct']
     return row
 
 
-def run(out_dir, rtf=5.0, seeds=2, rtf1_runs=3, log=print, reuse=False):
-    """Rows of every path x seed (seeds: the path seed and the next ones)."""
+def run(out_dir, rtf=5.0, seeds=2, rtf1_runs=3, log=print, reuse=False, events=()):
+    """Rows of every path x seed (seeds: the path seed and the next ones); the paths whose key
+    is in ``events`` once more with the motion-event samples, at ``rtf``."""
     rows, out_dir = [], os.path.abspath(out_dir)     # roslaunch's nodes run in ROS_HOME
     for index, (group, key, path_seed) in enumerate(PATHS):
         for k in range(seeds):
             rtfs = (rtf, 1.0) if k == 0 and index < rtf1_runs else (rtf,)
             rows.append(pair(out_dir, group, key, path_seed, path_seed + k, rtfs, log, reuse))
+    rows += [pair(out_dir, group, key, path_seed, path_seed + k, (rtf,), log, reuse, True)
+             for group, key, path_seed in PATHS if key in events for k in range(seeds)]
     fields = []
     for row in rows:
         fields += [k for k in row if k not in fields]
@@ -249,13 +256,15 @@ def main(argv=None):
     parser.add_argument('--rtf', type=float, default=5.0)
     parser.add_argument('--seeds', type=int, default=2, help='seeds per path')
     parser.add_argument('--rtf1-runs', type=int, default=3, help='pairs also run at rtf 1 (shortest paths)')
+    parser.add_argument('--events', nargs='*', default=[], metavar='KEY',
+                        help='these paths (keys of PATHS) also with the motion-event samples')
     parser.add_argument('--reuse', action='store_true', help='reuse the ROS runs found in --out')
     parser.add_argument('--out', default='results/ros_harness')
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     started = time.time()
     rows = run(args.out, args.rtf, args.seeds, args.rtf1_runs,
-               lambda message: print('ros_harness: %s' % message, flush=True), args.reuse)
+               lambda message: print('ros_harness: %s' % message, flush=True), args.reuse, args.events)
     text = table(rows, args.rtf)
     with open(os.path.join(args.out, 'ros_harness.md'), 'w') as stream:
         stream.write(text)

@@ -86,13 +86,14 @@ def calibrate_ros(out_dir, seed=0, rtf=10.0, timeout=300.0):
 
 
 def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', start_delay=None,
-            bag=True, timeout=600.0, return_timeout=400.0, gyro_calibration_file='', name=None, mission=None):
+            bag=True, timeout=600.0, return_timeout=400.0, gyro_calibration_file='', name=None, mission=None, launch_args=()):
     """One bench.launch run, the mode in its launch configuration
     (montecarlo.recording_settings; the heading correction, when on, with
     ``gyro_calibration_file``); returns the probe's result dict (+ 'bag',
     'wall_s', 'log') or {'failed': reason, ...} if the launch produced no result. ``scenario``: a
     mission name (or a label, with ``mission`` an absolute mission file's path); ``name``: the
-    run's directory under ``out_dir`` (default from the rest)."""
+    run's directory under ``out_dir`` (default from the rest); ``launch_args``: more
+    ``name:=value`` for bench.launch."""
     name = name or '%s_%s_s%d_%s' % (scenario, control, seed, vision_failure)
     run_dir = os.path.join(out_dir, name)
     os.makedirs(run_dir, exist_ok=True)
@@ -109,6 +110,7 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
                'return_timeout:=%g' % return_timeout, 'bag:=%s' % (bag_path if bag else '')]
     if mission:
         command.append('mission:=%s' % mission)
+    command.extend(launch_args)
     settings = recording_settings(control)
     if 'deadband' in settings:
         command.append('deadband:=%g' % settings['deadband'])
