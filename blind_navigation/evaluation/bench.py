@@ -4,6 +4,7 @@
         [--real-like-paths 60] [--real-like-seed 1000] [--no-real-like-events]
         [--loops-paths 40] [--loops-seed 2000] [--physics-paths 100] [--physics-table6-seeds 3]
         [--physics-trajectory-seeds 2] [--physics-loop-paths 12] [--no-ros] [--ros-seeds 2] [--rtf 4]
+        [--ros-harness-seeds 2] [--ros-harness-rtf 5] [--ros-harness-rtf1-runs 3]
         [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--out results]
 
 Sections (docs/evaluation.md says what each number means):
@@ -19,7 +20,8 @@ Sections (docs/evaluation.md says what each number means):
 7. physics base (evaluation/physics.py): the default launch on the MuJoCo Kobuki
    (sim/mujoco_kobuki.py) beside the kinematic one, same missions and seeds;
 8. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
-   the landmark file vs the bag of the same run, detection and rotation latency;
+   the landmark file vs the bag of the same run, detection and rotation latency,
+   and run by run on real trajectories and real-like paths (evaluation/ros_harness.py);
 9. the layer's running cost in real time (evaluation/cost.py, launch/cost.launch):
    CPU and peak RSS per process at rtf 1 beside ``rosbag record /odom``, the
    default launch and the paper's layout, while recording and during the
@@ -227,6 +229,13 @@ def ros_section(args, mc_rows):
     text += disk_table(ok)
     text += '\n### Latency (sim time, ROS runs on the fake TurtleBot)\n\n'
     text += latency_table(ok)
+    if args.ros_harness_seeds > 0:
+        from . import ros_harness
+        rows = ros_harness.run(os.path.join(args.out, 'ros_harness'), args.ros_harness_rtf,
+                               args.ros_harness_seeds, args.ros_harness_rtf1_runs, log)
+        text += ('\n### ROS beside the harness run by run: real trajectories and real-like paths '
+                 '(evaluation/ros_harness.py)\n\n' + ros_harness.table(rows, args.ros_harness_rtf)
+                 + ros_harness.NOTE)
     return text, runs
 
 
@@ -313,6 +322,10 @@ def main(argv=None):
     parser.add_argument('--no-ros', action='store_true', help='skip the ROS runs')
     parser.add_argument('--ros-seeds', type=int, default=2)
     parser.add_argument('--rtf', type=float, default=4.0, help='real-time factor of the agreement runs')
+    parser.add_argument('--ros-harness-seeds', type=int, default=2,
+                        help='seeds per path of the ROS-beside-the-harness runs (evaluation/ros_harness.py; 0: none)')
+    parser.add_argument('--ros-harness-rtf', type=float, default=5.0, help='their real-time factor')
+    parser.add_argument('--ros-harness-rtf1-runs', type=int, default=3, help='of them, how many also at rtf 1')
     parser.add_argument('--latency-rtf', type=float, default=2.0, help='real-time factor of the latency runs')
     parser.add_argument('--no-cost', action='store_true', help='skip the real-time cost section')
     parser.add_argument('--cost-reps', type=int, default=3,

@@ -95,6 +95,8 @@ SIMULATION_DEFAULTS = {
     'curved_period': 1.0,      # s, on curves (paper: 1 Hz)
     'deadband': 0.01,          # rad, classifier dead-band (core/segment.py)
     'settle_time': 2.0,        # s between the mission's end and the vision loss
+    'start_delay': 0.0,        # s the robot stands recording before the operator's first command
+                               # (ROS: the layer records from its start, the operator starts later)
     'handover_timeout': 0.1,   # s the last command holds after the last goal (and at most
                                # this long after a goal last published, between goals)
     'handover_latency': 0.0,   # s from one goal's end to the next goal's start (ROS: the
@@ -238,16 +240,16 @@ def _record(run, mission, settings, store_path):
                 last_tick = take(state, event_period)
             return last_tick
 
-        k, finished_at = 0, None
+        k, finished_at = -int(round(settings['start_delay'] / dt)), None     # k: operator steps
         while finished_at is None or k < finished_at + settle_steps:
             command = None
-            if finished_at is None and k % operator_every == 0:
+            if finished_at is None and k >= 0 and k % operator_every == 0:
                 command = (mission.command_at(k * dt) if operator is None else operator.command(k * dt))
                 if command is None:
                     finished_at, command = k, (0.0, 0.0)
             run.advance(command)
             k += 1
-            if operator is not None:
+            if operator is not None and k > 0:
                 operator.observe(k * dt, base.true_pose)
             if events is not None:
                 history.append(base.odom)

@@ -52,3 +52,19 @@ def test_odometry_gone_longer_than_odom_grace_aborts():
     result = run_mission(MISSION, 'paper', 'closed_loop', 3, floor=False, odometry_gaps=((15.0, 60.0),),
                          **SETTINGS)
     assert result.status == 'aborted' and 'odom_grace' in result.reason
+
+
+def test_start_delay_records_standing_landmarks_before_the_operator_starts():
+    """start_delay: the robot stands recording (as over ROS, where the layer records before
+    the operator's first command); the path driven and recorded after it is the same."""
+    plain = run_mission(MISSION, 'ideal', 'closed_loop', 0, floor=False, **SETTINGS)
+    delayed = run_mission(MISSION, 'ideal', 'closed_loop', 0, floor=False, start_delay=4.0, **SETTINGS)
+    first = delayed.landmarks[:3]              # 4 s standing at the 2 s straight period, then moving
+    assert [(lm.d, lm.T) for lm in first[:2]] == [(0.0, 2.0), (0.0, 2.0)] and first[2].d > 0.1, first
+    assert len(delayed.landmarks) == len(plain.landmarks) + 2
+    assert delayed.distance == pytest.approx(plain.distance, abs=1e-3)
+    assert delayed.forward_path[-1] == pytest.approx(plain.forward_path[-1], abs=1e-3)
+    before = [p for p, t in zip(delayed.forward_path, delayed.forward_times) if t <= 4.0 + 1e-9]
+    assert before and all(math.hypot(*p) < 1e-9 for p in before), before[-3:]
+    assert max(t for t in delayed.forward_times if t <= 4.1) > 4.0   # and moving right after
+    assert delayed.status == 'home' and delayed.position_error < 0.05 * delayed.distance

@@ -14,6 +14,9 @@ wait for home/aborted, row + plot) and also measures:
   recording phase (state ``recording`` -> vision failure); then stops the
   recorder with SIGINT so its bag covers the same mission;
 * the achieved real-time factor;
+* the back-travel goals' hand-overs: sim time from each goal's result (its
+  header stamp) to the next goal (its goal id's stamp), as the action sends them,
+  and the layer's commands while returning (sim time, v, w);
 * how the recording lines up with the mission: sim time of the mission's
   first command (mission_driver on the teleop topic) and of the layer's
   ``recording`` state, and the landmarks of ``landmark_file`` taken before
@@ -42,6 +45,7 @@ from blind_navigation.core.geometry import distance
 from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.evaluation.observer import DemoObserver, main as observe
+from blind_navigation.msg import BackTravelActionGoal, BackTravelActionResult
 
 #: The layer as blind_navigation.launch starts it by default: every role in one node, so the
 #: pi turn's commands and the vision monitor's ~loss come from that node (with
@@ -67,6 +71,11 @@ class BenchProbe(DemoObserver):
         rospy.Subscriber(names.VISION_LOST, Empty, self._on_vision_lost)
         rospy.Subscriber(p.cmd_vel_topic, Twist, self._on_cmd_vel)
         rospy.Subscriber(p.monitor_node + '/loss', String, self._on_loss)
+        self.goal_stamps, self.result_stamps, self.return_commands = [], [], []
+        rospy.Subscriber(names.BACK_TRAVEL + '/goal', BackTravelActionGoal,
+                         lambda msg: self.goal_stamps.append(msg.goal_id.stamp.to_sec()))
+        rospy.Subscriber(names.BACK_TRAVEL + '/result', BackTravelActionResult,
+                         lambda msg: self.result_stamps.append(msg.header.stamp.to_sec()))
 
     def _stamp(self, key):
         if key not in self.times:
@@ -84,6 +93,8 @@ class BenchProbe(DemoObserver):
             self._stamp('mission_start')
         if caller == self.params.rotation_node and msg.angular.z != 0.0 and 'trigger' in self.times:
             self._stamp('rotation')
+        if caller == self.params.rotation_node and self.state == 'returning':
+            self.return_commands.append((rospy.Time.now().to_sec(), msg.linear.x, msg.angular.z))
 
     # ------------------------------------------------------------ processes
     def find_processes(self):
@@ -186,6 +197,8 @@ class BenchProbe(DemoObserver):
             'trigger_to_rotation': t['rotation'] - t['trigger'] if 'rotation' in t and 'trigger' in t else None,
             'recording_wall_s': wall, 'recording_sim_s': sim, 'rtf': sim / wall if wall > 0 else None,
             'nodes': nodes, 'forward_path': forward, 'return_path': back,
+            'goal_stamps': sorted(self.goal_stamps), 'result_stamps': sorted(self.result_stamps),
+            'return_commands': self.return_commands,
         }
         with open(p.out, 'w') as stream:
             json.dump(result, stream)
