@@ -106,7 +106,7 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
                'start_delay:=%g' % start_delay, 'out:=%s' % out, 'results_dir:=%s' % run_dir,
                'landmark_file:=%s' % os.path.join(run_dir, 'landmarks', 'landmarks.yaml'),
                'return_timeout:=%g' % return_timeout, 'bag:=%s' % (bag_path if bag else ''),
-               'case:=%s' % case]
+               'case:=%s' % (case or 'none')]
     settings = recording_settings(control)
     if 'deadband' in settings:
         command.append('deadband:=%g' % settings['deadband'])
