@@ -5,7 +5,9 @@
         [--loops-paths 40] [--loops-seed 2000] [--physics-paths 100] [--physics-table6-seeds 3]
         [--physics-trajectory-seeds 2] [--physics-loop-paths 12] [--no-ros] [--ros-seeds 2] [--rtf 4]
         [--ros-harness-seeds 2] [--ros-harness-rtf 5] [--ros-harness-rtf1-runs 3]
-        [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--out results]
+        [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--survival-seeds 5]
+        [--survival-rtf 5] [--only-survival]
+        [--out results]
 
 Sections (docs/evaluation.md says what each number means):
 1. Tables III-VI re-measured on the plain-Python harness (paper profile, every
@@ -25,7 +27,9 @@ Sections (docs/evaluation.md says what each number means):
 9. the layer's running cost in real time (evaluation/cost.py, launch/cost.launch):
    CPU and peak RSS per process at rtf 1 beside ``rosbag record /odom``, the
    default launch and the paper's layout, while recording and during the
-   return; detection latency of the default and the image-based detectors.
+   return; detection latency of the default and the image-based detectors;
+10. recovery survival (evaluation/survival.py, bench.launch): a brief vision loss
+   mid-mission and a bump mid-return, over seeds: survival % and home error.
 """
 import argparse
 import os
@@ -35,7 +39,7 @@ import time
 
 from ..core.back_travel import MODES
 from ..sim.mission import load_mission
-from . import cost, loops, paper, physics, plots, real_like, tables
+from . import cost, loops, paper, physics, plots, real_like, survival, tables
 from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
@@ -49,6 +53,7 @@ TABLE6 = sorted(paper.TABLE6)
 ROS_AGREEMENT = [(m, mode) for m in ('table6_test1', 'table6_test3') for mode in ('time', 'closed_loop')]
 LATENCY_MISSION = 'table3_test5'
 DETECTORS = ('dark', 'stall', 'lost')
+SURVIVAL_TITLE = 'Recovery survival: a brief vision loss and a bump (ROS runs, evaluation/survival.py)'
 COST_TITLE = ('The layer\'s running cost: real time, beside `rosbag record /odom` '
               '(evaluation/cost.py, docs/cost.md)')
 
@@ -239,6 +244,15 @@ def ros_section(args, mc_rows):
     return text, runs
 
 
+def survival_section(args):
+    """Recovery survival (evaluation/survival.py): writes survival.md; its text."""
+    text, _ = survival.section(args.out, args.survival_seeds, args.survival_rtf, log)
+    with open(os.path.join(args.out, 'survival.md'), 'w') as stream:
+        stream.write('## %s\n\n%s' % (SURVIVAL_TITLE, text))
+    log('wrote %s' % os.path.join(args.out, 'survival.md'))
+    return text
+
+
 def agreement_table(ros, mc_rows):
     harness = {(r['mission'], r['mode'], r['seed']): r for r in mc_rows}
     lines = []
@@ -332,9 +346,16 @@ def main(argv=None):
                         help='real-time cost runs of each configuration (evaluation/cost.py)')
     parser.add_argument('--cost-latency-seeds', type=int, default=3,
                         help='seeds of the real-time detection latency runs (0: none)')
+    parser.add_argument('--survival-seeds', type=int, default=5,
+                        help='seeds per case of the recovery survival section (0: skip; --no-ros skips it too)')
+    parser.add_argument('--survival-rtf', type=float, default=5.0, help='real-time factor of the survival runs')
+    parser.add_argument('--only-survival', action='store_true', help='run only the recovery survival section')
     parser.add_argument('--out', default='results')
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
+    if args.only_survival:
+        survival_section(args)
+        return
     started = time.time()
     timings = {}
 
@@ -364,6 +385,9 @@ def main(argv=None):
         ros_text, _ = timed('ROS runs', ros_section, args, rows)
         with open(os.path.join(args.out, 'ros.md'), 'w') as stream:
             stream.write('## ROS runs\n\n' + ros_text)
+    survival_text = ''
+    if not args.no_ros and args.survival_seeds > 0:
+        survival_text = timed('recovery survival', survival_section, args)
     cost_text = ''
     if not args.no_cost:
         cost_dir = os.path.join(args.out, 'cost')
@@ -416,12 +440,14 @@ def main(argv=None):
             stream.write('## %s\n\n%s\n' % (title, text))
         if ros_text:
             stream.write('## ROS runs\n\n' + ros_text)
+        if survival_text:
+            stream.write('\n## %s\n\n%s' % (SURVIVAL_TITLE, survival_text))
         if cost_text:
             stream.write('\n## %s\n\n%s' % (COST_TITLE, cost_text))
         stream.write('\nFigures: fig12_straight.png, fig13_curved.png, error_vs_length.png (= headline.png). '
                      'Trajectories (TUM): trajectories/<mission>/{ground_truth,odometry,landmarks}.tum. '
                      'CSV: montecarlo.csv, reconstruction.csv, storage.csv, real_like.csv, loops.csv, '
-                     'physics.csv, ros_runs.csv.\n')
+                     'physics.csv, ros_runs.csv, survival.csv.\n')
     print(open(os.path.join(args.out, 'report.md')).read())
     log('wrote %s/report.md in %.0f s' % (args.out, total))
 

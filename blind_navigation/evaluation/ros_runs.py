@@ -86,15 +86,17 @@ def calibrate_ros(out_dir, seed=0, rtf=10.0, timeout=300.0):
 
 
 def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', start_delay=None,
-            bag=True, timeout=600.0, return_timeout=400.0, gyro_calibration_file='', name=None, mission=None, launch_args=()):
+            bag=True, timeout=600.0, return_timeout=400.0, gyro_calibration_file='', name=None,
+            mission=None, launch_args=(), case=''):
     """One bench.launch run, the mode in its launch configuration
     (montecarlo.recording_settings; the heading correction, when on, with
     ``gyro_calibration_file``); returns the probe's result dict (+ 'bag',
     'wall_s', 'log') or {'failed': reason, ...} if the launch produced no result. ``scenario``: a
     mission name (or a label, with ``mission`` an absolute mission file's path); ``name``: the
     run's directory under ``out_dir`` (default from the rest); ``launch_args``: more
-    ``name:=value`` for bench.launch."""
-    name = name or '%s_%s_s%d_%s' % (scenario, control, seed, vision_failure)
+    ``name:=value`` for bench.launch; ``case``: bench_probe's (evaluation/survival.py)."""
+    name = name or '%s_%s_s%d_%s%s' % (scenario, control, seed, vision_failure,
+                                       '_' + case if case else '')
     run_dir = os.path.join(out_dir, name)
     os.makedirs(run_dir, exist_ok=True)
     out, bag_path, log = (os.path.join(run_dir, f) for f in ('probe.json', 'odom.bag', 'launch.log'))
@@ -107,7 +109,8 @@ def run_ros(out_dir, scenario, control, seed=0, rtf=5.0, vision_failure='dark', 
                'rtf:=%g' % rtf, 'vision_failure:=%s' % vision_failure,
                'start_delay:=%g' % start_delay, 'out:=%s' % out, 'results_dir:=%s' % run_dir,
                'landmark_file:=%s' % os.path.join(run_dir, 'landmarks', 'landmarks.yaml'),
-               'return_timeout:=%g' % return_timeout, 'bag:=%s' % (bag_path if bag else '')]
+               'return_timeout:=%g' % return_timeout, 'bag:=%s' % (bag_path if bag else ''),
+               'case:=%s' % (case or 'none')]
     if mission:
         command.append('mission:=%s' % mission)
     command.extend(launch_args)

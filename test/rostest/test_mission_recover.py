@@ -29,6 +29,7 @@ from findings_rig import MISSION, FindingMission  # noqa: E402
 from mission_tools import HOME_WALK, TELEOP_TOPIC  # noqa: E402
 
 from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS  # noqa: E402
+from blind_navigation.evaluation.survival import press_bumper  # noqa: E402
 from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
 
 #: m/s on ground truth: the robot is really driving back.
@@ -98,13 +99,8 @@ class BumpTest(RecoverCase):
                                         queue_size=5))
         m.wait(lambda: bumper.get_num_connections() >= 1, 'the layer subscribes the bumper')
         pressed = rospy.get_time()
-        bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
-                                          state=kobuki.BumperEvent.PRESSED))
-        m.wait_sim(seconds)
-        released = rospy.get_time()
-        bumper.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER,
-                                          state=kobuki.BumperEvent.RELEASED))
-        return pressed, released
+        press_bumper(bumper, seconds, m.wait_sim)
+        return pressed, rospy.get_time()
 
     def test_1_a_bump_waits_goes_on_and_comes_home(self):
         m = self.start_return('bump')

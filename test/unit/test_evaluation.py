@@ -180,3 +180,29 @@ def test_loops_rows_pair_the_pruned_return_with_the_unpruned_one():
     assert '| dead_end | 1 | 0 / 0 |' in text and '**all loop paths**' in text
     verdict, met = loops.verdict(rows)
     assert 'none aborted: met' in verdict and isinstance(met, bool)
+
+
+def test_survival_table_counts_survivors_and_errors_of_those_home():
+    from blind_navigation.evaluation.survival import table
+    runs = [dict(case='brief', seed=0, survived=True, state='home', error=0.02, error_pct=1.0, contacts=0),
+            dict(case='brief', seed=1, survived=False, state='home', error=0.5, error_pct=25.0),
+            dict(case='bump', seed=0, survived=True, state='home', error=0.04, error_pct=2.0,
+                 speed_at_release=0.001, contacts=1),
+            dict(case='bump', seed=1, survived=False, state='aborted', abort_reason='stall',
+                 error=0.9, error_pct=45.0, speed_at_release=0.2, contacts=4),
+            dict(case='bump', seed=2, failed='no result')]
+    lines = table(runs, 3, 5.0).splitlines()
+    brief = next(l for l in lines if l.startswith('| brief'))
+    bump = next(l for l in lines if l.startswith('| bump'))
+    assert brief == '| brief | 2 | 1 (50 %) | 0 | — | 1 | 1.00 (1.00) | 0.020 (0.020) | 0, 1 (home) |'
+    assert bump == ('| bump | 3 | 1 (33 %) | 2 | 0.101 (0.200) | 1 | 2.00 (2.00) | 0.040 (0.040) | '
+                    '0, 1 (stall), 2 (no result) |')
+
+
+def test_logged_contacts_counts_the_servers_contact_lines(tmp_path):
+    from blind_navigation.evaluation.survival import logged_contacts
+    log = tmp_path / 'launch.log'
+    log.write_text('[WARN] back_travel_server: goal 9: bumper contact 1 (bumper center pressed): holding\n'
+                   '[ERROR] SAFETY STOP: bumper center pressed\n'
+                   '[WARN] back_travel_server: goal 11: bumper contact 2 (bumper left pressed): holding\n')
+    assert logged_contacts(str(log)) == 2

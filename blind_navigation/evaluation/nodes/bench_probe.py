@@ -26,7 +26,8 @@ wait for home/aborted, row + plot) and also measures:
 Writes everything as JSON to ``out``. Params (DEFAULTS): those of DemoObserver
 plus ``out`` (JSON path, '' = none), ``layer_nodes`` (names), ``bag_node``
 (name of the rosbag recorder, '' = none), ``cmd_vel_topic``, ``rotation_node``,
-``monitor_node``, ``landmark_file``, ``seed``.
+``monitor_node``, ``landmark_file``, ``seed``, ``case`` ('' = the above; ``brief`` or
+``bump``: evaluation/survival.py drives the mission instead of the single vision failure).
 """
 import json
 import os
@@ -44,6 +45,7 @@ from blind_navigation import names
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.core.store import load_landmarks
+from blind_navigation.evaluation import survival
 from blind_navigation.evaluation.observer import DemoObserver, main as observe
 from blind_navigation.msg import BackTravelActionGoal, BackTravelActionResult
 
@@ -59,7 +61,7 @@ class BenchProbe(DemoObserver):
     DEFAULTS = dict(DemoObserver.DEFAULTS, out='', layer_nodes=LAYER_NODES, bag_node='odom_bag',
                     cmd_vel_topic='/cmd_vel_mux/input/teleop', rotation_node=LAYER_NODE,
                     monitor_node=LAYER_NODE, mission_node='/mission_driver',
-                    landmark_file='', seed=0)
+                    landmark_file='', seed=0, case='')
 
     def __init__(self):
         super(BenchProbe, self).__init__()
@@ -68,6 +70,9 @@ class BenchProbe(DemoObserver):
         self.detector = ''
         self.processes = {}
         self.peak_rss = {}
+        self.states = []
+        self.speed = None
+        self.case_findings = {}
         rospy.Subscriber(names.VISION_LOST, Empty, self._on_vision_lost)
         rospy.Subscriber(p.cmd_vel_topic, Twist, self._on_cmd_vel)
         rospy.Subscriber(p.monitor_node + '/loss', String, self._on_loss)
@@ -80,6 +85,16 @@ class BenchProbe(DemoObserver):
     def _stamp(self, key):
         if key not in self.times:
             self.times[key] = rospy.Time.now().to_sec()
+
+    def _on_state(self, msg):
+        super(BenchProbe, self)._on_state(msg)
+        if not self.states or self.states[-1] != msg.data:
+            self.states.append(msg.data)
+
+    def _on_truth(self, msg):
+        super(BenchProbe, self)._on_truth(msg)
+        twist = msg.twist.twist
+        self.speed = (twist.linear.x ** 2 + twist.linear.y ** 2) ** 0.5
 
     def _on_vision_lost(self, _msg):
         self._stamp('trigger')
@@ -139,15 +154,21 @@ class BenchProbe(DemoObserver):
         self.find_processes()
         rss_timer = rospy.Timer(rospy.Duration(0.5), self._sample_all_rss)
         cpu_start, wall_start, sim_start = self.cpu_snapshot(), time.time(), rospy.Time.now().to_sec()
-        self.wait(lambda: self.mission_done, 3600.0, 'the scripted mission to finish')
-        rospy.sleep(p.settle)
-        cpu_end, wall_end = self.cpu_snapshot(), time.time()
-        self.times['recording_start'], self.times['failure'] = sim_start, rospy.Time.now().to_sec()
-        self.stop_bag()
         rospy.wait_for_service(names.SET_VISION, timeout=30.0)
         from std_srvs.srv import SetBool
-        rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
-        self.wait(lambda: self.state in TERMINAL, p.timeout, 'state home or aborted')
+        set_vision = rospy.ServiceProxy(names.SET_VISION, SetBool)
+        if p.case:      # its own script (the loss may come mid-mission): no one failure, no latency
+            self.case_findings = survival.run_case(self, set_vision)
+            self.times.pop('trigger', None)
+        else:
+            self.wait(lambda: self.mission_done, 3600.0, 'the scripted mission to finish')
+            rospy.sleep(p.settle)
+        cpu_end, wall_end = self.cpu_snapshot(), time.time()
+        self.times['recording_start'], self.times['failure'] = sim_start, rospy.Time.now().to_sec()
+        if not p.case:
+            self.stop_bag()
+            set_vision(False)
+            self.wait(lambda: self.state in TERMINAL, p.timeout, 'state home or aborted')
         rss_timer.shutdown()
         rospy.sleep(p.settle)
         self.report()
@@ -200,6 +221,7 @@ class BenchProbe(DemoObserver):
             'goal_stamps': sorted(self.goal_stamps), 'result_stamps': sorted(self.result_stamps),
             'return_commands': self.return_commands,
         }
+        result.update(self.case_findings)
         with open(p.out, 'w') as stream:
             json.dump(result, stream)
         rospy.loginfo('bench_probe: wrote %s', p.out)
