@@ -27,7 +27,6 @@ TAKEOVER_DEFAULTS = {
 }
 POLICIES = ('resume', 'abort')
 PAUSE = 'pause'
-IDLE = 'idle'
 
 
 def _positive(params, names):

@@ -42,7 +42,7 @@ ODOM_TIMEOUT = Param('odom_timeout', ALLOWANCE_DEFAULTS['odom_timeout'], 's', 'o
 TAKEOVER = (
     Param('takeover_wait', TAKEOVER_DEFAULTS['takeover_wait'], 's', "of operator silence after a "
           'takeover (another publisher on the layer\'s mux input, or a takeover_inputs input '
-          'active) before the layer drives again', lo=0.0, hi=600.0),
+          'active) before the layer drives again', lo=0.01, hi=600.0),
     Param('on_takeover', TAKEOVER_DEFAULTS['on_takeover'], '', 'after a takeover: resume '
           '(re-track from the new pose) or abort (the mission ends aborted)', choices=POLICIES),
     Param('takeover_inputs', tuple(TAKEOVER_DEFAULTS['takeover_inputs']), '', 'cmd_vel_mux inputs '
@@ -110,7 +110,7 @@ BACK_TRAVEL_SERVER = Schema('back_travel_server', (
     Param('max_contacts', CONTACT_DEFAULTS['max_contacts'], '', 'bumper contacts one return '
           'survives; the next one ends it aborted', lo=0, hi=1000),
     Param('contact_timeout', CONTACT_DEFAULTS['contact_timeout'], 's', 'a bumper may stay pressed '
-          'this long before the return ends aborted', lo=0.0, hi=3600.0),
+          'this long before the return ends aborted', lo=0.01, hi=3600.0),
 ) + TAKEOVER, fixed=dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
               **ALLOWANCE_DEFAULTS,
               control_rate=50.0,          # Hz of the control loop (the odometry's rate)
@@ -160,7 +160,7 @@ VISION_MONITOR = Schema('vision_monitor', (
           "manual (a vision_lost another node publishes, the paper's way); docs/detection.md",
           choices=DETECTORS),
     Param('vision_back_time', 1.0, 's', 'every detector healthy this long after a loss: vision '
-          'back (a brief loss; on_vision_back)', lo=0.0, hi=600.0),
+          'back (a brief loss; on_vision_back)', lo=0.01, hi=600.0),
 ), fixed={
     'debounce': 0.5,             # s a detector's condition must hold before it fires
     'image_timeout': 1.0,        # s without a camera message: a stall (camera at >= 10 Hz)
