@@ -28,7 +28,7 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 
 from blind_navigation import names
-from blind_navigation.core.geometry import OdomState, quaternion_from_yaw
+from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder, storage_usage
 from blind_navigation.core.sample_log import START, answer_problem
@@ -38,7 +38,7 @@ from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import StorageUsage
 from blind_navigation.srv import RecordedSamples
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import ros_home_file
+from blind_navigation.ros.common import ros_home_file, set_pose
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
 #: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
@@ -311,10 +311,7 @@ def path_message(poses, stamp, frame_id):
     path = Path()
     path.header.stamp, path.header.frame_id = stamp, frame_id
     for index in range(0, len(poses), 3):
-        pose = PoseStamped()
-        pose.header = path.header
-        pose.pose.position.x, pose.pose.position.y = poses[index], poses[index + 1]
-        q = pose.pose.orientation
-        q.x, q.y, q.z, q.w = quaternion_from_yaw(poses[index + 2])
+        pose = PoseStamped(header=path.header)
+        set_pose(pose.pose, *poses[index:index + 3])
         path.poses.append(pose)
     return path

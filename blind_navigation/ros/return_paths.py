@@ -7,15 +7,13 @@ from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 
 from blind_navigation import names
-from blind_navigation.core.geometry import distance, quaternion_from_yaw
+from blind_navigation.core.geometry import distance
+from blind_navigation.ros.common import set_pose
 
 
 def _pose(header, x, y, yaw):
-    pose = PoseStamped()
-    pose.header = header
-    pose.pose.position.x, pose.pose.position.y = x, y
-    q = pose.pose.orientation
-    q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)
+    pose = PoseStamped(header=header)
+    set_pose(pose.pose, x, y, yaw)
     return pose
 
 
