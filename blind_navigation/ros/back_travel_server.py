@@ -183,7 +183,8 @@ class BackTravelServer(object):
 
     def _on_cancel(self, handle):
         with self._lock:
-            ours = handle in (self._active, self._pending)
+            # actionlib's ServerGoalHandle.__eq__ raises on None: compare only with a goal held
+            ours = any(held is not None and held == handle for held in (self._active, self._pending))
         if ours:
             self.output.halt('cancel')  # at once, not at the next control cycle
 
