@@ -27,6 +27,7 @@ RESET_DEFAULTS = {
     'reset_position_tolerance': 0.02,   # m the predicted position may be off
     'reset_yaw_tolerance': 0.02,        # rad the predicted yaw may be off
     'reset_twist_margin': 0.1,          # fraction of the chain's motion its twist may miss by
+    'reset_speed_noise': 0.015,         # m/s a silence's two v samples may miss its mean speed by
 }
 
 #: How every untrusted reset's reason begins (a recorder's gap entry, an abort).
@@ -163,7 +164,9 @@ class ResetCarrier(object):
     def _after_silence(self, before, state):
         """None, or the untrusted ResetEstimate of a state the gate accepted after more
         than ``reset_max_gap`` of silence that is not where the twists say (a driver
-        restarted within what the base could have driven meanwhile)."""
+        restarted within what the base could have driven meanwhile). The two v samples
+        are noisy (wheel speed ripple, encoder ticks), also turning in place where v is
+        about 0: the position may be off their mean by ``reset_speed_noise`` x the gap more."""
         if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
             return None
         p = {name: _param(self.params, name) for name in RESET_DEFAULTS}
@@ -173,7 +176,8 @@ class ResetCarrier(object):
         off, off_yaw = math.hypot(state.x - x, state.y - y), abs(wrap_angle(state.yaw - yaw))
         mean_v, mean_w = 0.5 * abs(before.v + state.v), 0.5 * abs(before.w + state.w)
         if (off <= p['reset_position_tolerance'] + (0.5 * abs(before.v - state.v)
-                                                     + p['reset_twist_margin'] * mean_v) * dt
+                                                     + p['reset_twist_margin'] * mean_v
+                                                     + p['reset_speed_noise']) * dt
                 and off_yaw <= p['reset_yaw_tolerance'] + (0.5 * abs(before.w - state.w)
                                                            + p['reset_twist_margin'] * mean_w) * dt):
             return None

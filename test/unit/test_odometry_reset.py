@@ -34,7 +34,11 @@ def drive(command, duration=8.0, reset_at=4.0, silent=None, profile='paper', see
 
 
 def carry(states):
-    carrier = ResetCarrier(OdometryGate())
+    return carry_with(None, states)
+
+
+def carry_with(params, states):
+    carrier = ResetCarrier(OdometryGate(), params)
     taken, resets = [], []
     for state in states:
         result = carrier.take(state)
@@ -130,6 +134,52 @@ def test_a_silence_without_a_reset_is_not_a_reset(command, stop):
             states.append(base.odom)
     taken, resets, _ = carry(states)
     assert resets == [] and len(taken) == len(states)
+
+
+def _pi_turn_gap(after):
+    """The failing mission_gap_in_turn run: turning in place at 0.6 rad/s when a 3 s
+    odometry gap starts at 59.82 s (held still 1 s into it); ``after`` comes at 62.82 s."""
+    heading = 0.9       # the gap's 0.024 m of odometry (wheel speed ripple) went this way
+    before = OdomState(2.302 - 0.024 * math.cos(heading), 1.964 - 0.024 * math.sin(heading),
+                       0.563, 0.0, 0.6, 59.82)
+    return [before._replace(yaw=0.563 - 0.6 * 0.02, stamp=59.80), before, after]
+
+
+def test_the_pi_turn_gap_that_aborted_a_mission_is_continuous_a_reset_is_not():
+    back = OdomState(2.302, 1.964, 1.327, 0.0, 0.0, 62.82)
+    # before reset_speed_noise: 0.024 m off its twists' mean (v ~ 0), over the 0.02 m tolerance
+    _, resets, _ = carry_with({'reset_speed_noise': 0.0}, _pi_turn_gap(back))
+    assert len(resets) == 1 and '0.024 m and 0.136 rad from where its twist says' in resets[0].reason
+    # now: within 0.02 m + 0.015 m/s x 3 s
+    taken, resets, carrier = carry(_pi_turn_gap(back))
+    assert resets == [] and taken[-1] == back and carrier.frame == IDENTITY
+    # a real reset there (pose and heading zeroed, standing or still turning) is still flagged
+    for origin in (OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 62.82), OdomState(0.0, 0.0, 0.0, 0.0, 0.6, 62.82)):
+        chain = [origin._replace(yaw=origin.w * 0.02 * i, stamp=62.82 + 0.02 * i) for i in range(60)]
+        _, resets, _ = carry(_pi_turn_gap(chain[0])[:2] + chain)
+        assert len(resets) == 1 and resets[0].frame is None and is_untrusted_reset(resets[0].reason)
+    # and one the gate lets through (within the base's reach in 3 s): 1.14 m off
+    near = [OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 62.82)]
+    gap = [s._replace(x=s.x - 2.302 + 1.0, y=s.y - 1.964 + 0.6) for s in _pi_turn_gap(near[0])[:2]]
+    _, resets, _ = carry(gap + near)
+    assert len(resets) == 1 and 'after 3.000 s without odometry' in resets[0].reason, resets
+    assert '1.144 m and' in resets[0].reason, resets
+
+
+@pytest.mark.parametrize('hold_at', [None, 4.5], ids=['turning on', 'held 1 s into it'])
+def test_a_silence_while_turning_in_place_is_not_a_reset(hold_at):
+    """The paper base's wheel speed ripple moves its odometry a few cm while it turns
+    in place (v ~ 0): seed 21 turning on was 0.037 m off before reset_speed_noise."""
+    for seed in range(25):
+        base = SimulatedKobuki(load_profile('paper'), seed=seed)
+        states = []
+        while base.t < 8.0:
+            base.command(0.0, 0.0 if hold_at is not None and base.t >= hold_at else 0.3)
+            base.step(SENSOR_PERIOD)
+            if not 3.5 <= base.t < 6.5:     # a 3 s odometry gap
+                states.append(base.odom)
+        taken, resets, _ = carry(states)
+        assert resets == [] and len(taken) == len(states), (seed, resets)
 
 
 def test_a_carrier_not_listening_at_the_reset_adopts_the_frame_another_made():
