@@ -4,7 +4,9 @@
 Counts every case of the pytest unit results (pytest-*.xml), of the package
 lint (lint-*.xml, scripts/catkin_lint_junit.py) and of each rostest test node
 (rosunit-*.xml); a rostest <test> node that wrote no results counts as
-its rostest-*.xml entry (a failure). Exits 1 when a test failed or none ran.
+its rostest-*.xml entry (a failure), and errors a suite counts outside its
+test cases (a setUpClass that raised: errors="1" and no case) count as one
+failure. Exits 1 when a test failed or none ran.
 """
 import glob
 import os
@@ -18,6 +20,24 @@ def cases(path):
     for suite in suites:
         for case in suite.iter('testcase'):
             yield suite, case
+        unclaimed = _unclaimed_problems(suite)
+        if unclaimed:
+            # e.g. a rosunit suite whose setUpClass raised: errors="1", no test case
+            case = ET.Element('testcase', classname=suite.get('name', '?'), name='(outside any test case)')
+            ET.SubElement(case, 'error', message='%d error(s)/failure(s) the suite counts outside its test '
+                          'cases (setUpClass or tearDownClass?): see the test\'s log' % unclaimed)
+            yield suite, case
+
+
+def _unclaimed_problems(suite):
+    """Errors and failures a testsuite element counts beyond those of its own test cases."""
+    try:
+        counted = int(suite.get('errors') or 0) + int(suite.get('failures') or 0)
+    except ValueError:
+        return 0
+    own = sum(1 for case in suite.findall('testcase')
+              if case.find('error') is not None or case.find('failure') is not None)
+    return max(0, counted - own)
 
 
 def outcome(case):
