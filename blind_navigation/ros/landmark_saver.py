@@ -3,9 +3,10 @@
 On each blind_navigation/PathSample on ``blind_navigation/sample`` whose
 command is ``sample`` or ``final``, saves one path landmark from the odometry
 at the tick (ros/landmark_saving.py: the same saving code as the service
-variant's record server). Restarted within the mission, it first catches up
-on the samples it missed (LandmarkSaving.start_catch_up); samples that arrive
-meanwhile wait. Params: those of
+variant's record server). It subscribes once its odometry feed has a state:
+it takes samples only when it can save them. Restarted within the mission, it
+first catches up on the samples it missed (LandmarkSaving.start_catch_up);
+samples that arrive meanwhile wait. Params: those of
 :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
 from blind_navigation import names
@@ -22,6 +23,10 @@ class LandmarkSaver(object):
 
     def __init__(self, layer):
         self.saving = LandmarkSaving(layer, self.ROLE, 'topic')
+        self.sample_sub = None
+        self.saving.when_ready(self._take_samples)
+
+    def _take_samples(self):
         if self.saving.resuming:
             self.saving.start_catch_up()
         self.sample_sub = subscribe(names.SAMPLE, PathSample, self.saving.guard(self.on_sample),

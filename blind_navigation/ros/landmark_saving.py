@@ -52,6 +52,30 @@ def landmark_file(param):
     return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(LANDMARK_FILE)))
 
 
+def when_odometry(odometry, log, guard, log_period, start):
+    """Call ``start()`` at once if the feed ``odometry`` has a state, else from a thread when
+    it has one, warning every ``log_period`` s (wall) meanwhile. The sampling publisher waits
+    for its subscribers, so it starts no recording that a recorder whose /odom subscription
+    is still connecting would refuse the first samples of."""
+    if odometry.latest() is not None:
+        start()
+        return
+
+    def run():
+        waited = False
+        while not rospy.is_shutdown():
+            odometry.state_at(0.0, wait=log_period)
+            if odometry.latest() is not None:
+                if waited:
+                    log.info('odometry on %s: taking samples', rospy.resolve_name(names.ODOM))
+                start()
+                return
+            waited = True
+            log.warn('no odometry on %s yet: not taking samples until it comes',
+                     rospy.resolve_name(names.ODOM))
+    threading.Thread(target=guard(run), name='recorder ready', daemon=True).start()
+
+
 class LandmarkSaving(object):
     """Latest odometry -> landmark -> mission file, storage and recorded path."""
 
@@ -73,6 +97,11 @@ class LandmarkSaving(object):
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         layer.mission.on_new_mission(self.guard(self._new_mission))
         layer.diagnostics.add('%s: recording' % role, self._diagnose)
+
+    def when_ready(self, start):
+        """Call ``start()`` (it subscribes to the samples, or serves them) once the feed has
+        odometry (:func:`when_odometry`): a recorder takes samples only when it can save them."""
+        when_odometry(self.odometry, self.log, self.guard, self.params.ready_log_period, start)
 
     def _open(self):
         """Open the mission's file (continued within the mission, else a new one) and start

@@ -1,9 +1,11 @@
 """The record server: the paper's service server (service variant of the
 recorder, section 3.3.3, Figure 4).
 
-Serves ``blind_navigation/record_landmark`` (blind_navigation/RecordLandmark):
-for each request it reads the odometry itself and saves one path landmark with
-exactly the saving code of the topic variant (ros/landmark_saving.py). The
+Serves ``blind_navigation/record_landmark`` (blind_navigation/RecordLandmark)
+once its odometry feed has a state (the record client subscribes to the
+samples only when the service is up): for each request it reads the odometry
+itself and saves one path landmark with exactly the saving code of the topic
+variant (ros/landmark_saving.py). The
 response says whether it was saved, its label in the file, or why not.
 Params: those of :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
@@ -21,6 +23,10 @@ class RecordServer(object):
 
     def __init__(self, layer):
         self.saving = LandmarkSaving(layer, self.ROLE, 'service')
+        self.service = None
+        self.saving.when_ready(self._serve)
+
+    def _serve(self):
         self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
                                      self.saving.guard(self.on_request))
 

@@ -81,6 +81,11 @@ class SimWorld(object):
         msg.twist.twist.linear.x, msg.twist.twist.angular.z = state.v, state.w
         return msg
 
+    def publish_now(self):
+        """/clock and /odom at the current time, without advancing it."""
+        self.clock_pub.publish(Clock(clock=rospy.Time.from_sec(SIM_BASE + self.t)))
+        self.odom_pub.publish(self.odometry())
+
     def run_until(self, path_time, events=()):
         """Advance sim time to ``path_time`` s into the path, firing ``events``
         [(path time, callable)] when reached."""
@@ -113,6 +118,13 @@ class RecordingTestBase(unittest.TestCase):
         cls.samples = Collector(names.SAMPLE, PathSample)
         cls.storage_msgs = Collector(names.STORAGE, StorageUsage)
         cls.paths = Collector(names.RECORDED_PATH, Path)
+        # /odom first: a recorder takes the samples only once it has odometry (docs/recording.md,
+        # "Ready"), so the world's first state goes out before the samples' subscribers are awaited
+        odom_nodes = dict(cls.expected_subscribers).get('/odom', ())
+        wait_for(lambda: set(odom_nodes) <= subscribers_of('/odom')
+                 and cls.world.odom_pub.get_num_connections() >= len(odom_nodes),
+                 '%s not all subscribed and connected to /odom' % ', '.join(odom_nodes))
+        cls.world.publish_now()
         for topic, nodes in cls.expected_subscribers:
             wait_for(lambda: set(nodes) <= subscribers_of(topic),
                      '%s not all subscribed to %s' % (', '.join(nodes), topic))
