@@ -3,7 +3,8 @@
 test, back_travel_server with max_v 0.15 launched by the .test, a fresh
 back_travel_client per case, each the mission's owner the server obeys): every
 command within the configured and the recorded speed; odometry cut -> zero
-within 0.5 s (timed with sim time slowed, so the machine's load barely counts),
+within 0.5 s (timed with sim time slowed, so the machine's load barely counts;
+sim time runs at 3x real time elsewhere),
 and aborted only if it stays away longer than odom_grace (back sooner: the
 return continues and ends home); a bumper event -> zero at once, aborted
 naming it once pressed longer than contact_timeout (2 s here), and a new
@@ -39,6 +40,13 @@ ODOM_GRACE = ALLOWANCE_DEFAULTS['odom_grace']   # s the server holds without odo
 #: at 1x a loaded machine's wake-up and delivery delays (0.13-0.17 s seen on the CI machine)
 #: came on top of the 0.42 s the design takes, at 0.2x they count a fifth.
 CUT_RTF = 0.2
+#: Sim time's pace (x real time) elsewhere: nothing else is timed against the machine (the
+#: bumper and cancel cases freeze the clock, the cut and the shutdown slow it to CUT_RTF),
+#: and the clock and the base share this process, so a stall of it stalls both alike.
+BASE_RTF = 3.0
+#: s of wall time a command computed for the previous goal may still be in flight after a
+#: goal switch (test_1): 0.1 s of sim time at rtf 1, as before, and the same wall time at BASE_RTF.
+IN_FLIGHT_WALL = 0.1
 #: The client's node name: the mission owner the server takes goals from (its default).
 CLIENT = '/back_travel_client'
 
@@ -48,7 +56,7 @@ class SafetyStopsTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         rospy.init_node('test_safety_stops')
-        cls.clock = SimClock(rtf=1.0)
+        cls.clock = SimClock(rtf=BASE_RTF)
         cls.root = rospy.get_param('~directory')
         shutil.rmtree(cls.root, ignore_errors=True)   # no progress file of an earlier run
         cls.base = FakeBase()
@@ -70,7 +78,8 @@ class SafetyStopsTest(unittest.TestCase):
         link, self.recorded = write_mission(os.path.join(self.root, case), self.landmarks)
         self.base.x, self.base.y, self.base.yaw = path_length(self.landmarks), 0.0, 0.0
         since, self.log_since = len(self.layer.states), len(self.layer.rosout)
-        params.update(CLIENT_PARAMS, landmark_file=link)
+        # the client's wait for the action server (10 s) held in wall time, as mission_rig.launch does
+        params.update(CLIENT_PARAMS, landmark_file=link, server_timeout=str(10.0 * BASE_RTF))
         self.client = Node('back_travel_client.py', CLIENT.lstrip('/'), params)
         self.layer.walk_to_returning(since, self.base)
         if expect_motion:
@@ -125,10 +134,10 @@ class SafetyStopsTest(unittest.TestCase):
         self.assertEqual(self.layer.wait_final(since), 'home', self.abort_reason())
         goals = [(t, g.goal) for t, g in self.goals.items[goal_index:]]
         self.assertEqual(len(goals), 6)
-        checked = 0
+        checked, in_flight = 0, IN_FLIGHT_WALL * self.clock.rtf
         for t, v, w in self.commands_after(goals[0][0]):
             active = [goal for start, goal in goals if start <= t]
-            settled = [goal for start, goal in goals if start <= t - 0.1]
+            settled = [goal for start, goal in goals if start <= t - in_flight]
             if not settled or active[-1] is not settled[-1]:
                 continue        # just after a goal switch: the previous goal's command may be in flight
             limit = min(MAX_V, recorded_speed(active[-1]))
@@ -229,9 +238,12 @@ class SafetyStopsTest(unittest.TestCase):
 
     def test_9_server_shutdown_publishes_zero(self):
         self.start_return('server_shutdown', [0.1] * 5)
-        stopped = rospy.get_time()
-        killed, failed = rosnode.kill_nodes(['/back_travel_server'])   # its shutdown API, as rosnode kill
-        self.assertEqual((killed, failed), (['/back_travel_server'], []))
+        with self.clock.slowed(CUT_RTF):    # the shutdown's zero is timed in sim time
+            stopped = rospy.get_time()
+            killed, failed = rosnode.kill_nodes(['/back_travel_server'])   # its shutdown API, as rosnode kill
+            self.assertEqual((killed, failed), (['/back_travel_server'], []))
+            wait_for(lambda: first_zero_after(list(self.base.commands), stopped),
+                     'a zero velocity command after the server shutdown')
         self.assert_stopped_after(stopped, 0.1, 'the server shutdown')
 
 
