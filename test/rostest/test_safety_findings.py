@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """rostest: issue 16's findings 1-7, each bullet reproduced on the fake TurtleBot
-(ideal profile, rtf 4, closed_loop, blind_navigation.launch as a user starts it,
+(ideal profile, rtf 6, closed_loop, blind_navigation.launch as a user starts it,
 the 2.3 m mission config/missions/test_safety.yaml) and checked to end with the
 robot still or ``home`` within the normal accuracy, no motion commanded after a
 terminal state, and the record intact or its loss reported.
