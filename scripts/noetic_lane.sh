@@ -55,6 +55,9 @@ if [ "$part" != rostests ]; then
   for rig in fake_kobuki.py fake_vision.py; do
     sed -i '1s|^#!.*|#!/usr/bin/python3|' "$ws/devel/lib/blind_navigation/$rig"
   done
+  # as scripts/build.sh does for Debian's Python: the nodes' modules compiled once
+  "$venv/bin/python3" -m compileall -q "$repo/blind_navigation" "$repo/test/rostest" "$repo/test/noetic" \
+    > /dev/null
   echo "noetic_lane: $("$venv/bin/python3" --version) ($python38), workspace $ws"
   setup_case 0
 

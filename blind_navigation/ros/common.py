@@ -39,6 +39,26 @@ def cache_rosout_flag():
         get_param_server_cache().set(rospy.resolve_name(ROSOUT_TOPICS_FLAG), False)
 
 
+def exit_promptly():
+    """Let this process end as soon as rospy's shutdown hooks have run, once per process.
+
+    After the hooks (where every node publishes its zero velocity and closes its
+    files), rospy joins its master API server thread, a daemon that has nothing
+    left to do, for up to 0.5 s (rospy/core.py ``signal_shutdown``). A hook of
+    our own empties that list, which rospy copies only after all the hooks ran:
+    Ctrl-C, ``rosnode kill`` and roslaunch's teardown take 0.1 s instead of 0.6 s
+    (docs/testing.md, "Where the time goes"). A rospy without that list is left
+    as it is.
+    """
+    global _exiting_promptly
+    if not _exiting_promptly and isinstance(getattr(rospy.core, '_shutdown_threads', None), list):
+        rospy.on_shutdown(lambda: rospy.core._shutdown_threads.clear())
+        _exiting_promptly = True
+
+
+_exiting_promptly = False
+
+
 def load_params(defaults, namespace='~'):
     """Read each param ``namespace + name`` (private ``~name`` by default, ``~role/name``
     for a role hosted with others in one process), falling back to ``defaults[name]``;
@@ -104,6 +124,7 @@ def start_node(name, node_class, *args):
     """``rospy.init_node(name)`` then ``node_class(*args)``; a ValueError from the
     constructor (a bad param) is logged as fatal and exits with status 1."""
     rospy.init_node(name)
+    exit_promptly()
     try:
         return node_class(*args)
     except ValueError as error:

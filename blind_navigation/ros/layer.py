@@ -27,7 +27,7 @@ from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
-from .common import cache_rosout_flag, subscribe
+from .common import cache_rosout_flag, exit_promptly, subscribe
 from .diagnostics import Diagnostics
 from . import faults
 from .faults import Faults
@@ -67,6 +67,7 @@ class Layer(object):
 
     def __init__(self, compact=False):
         cache_rosout_flag()
+        exit_promptly()
         self.compact = compact
         self.node = rospy.get_name()
         owner = self.node if compact else rospy.get_param('~mission_owner', MISSION_OWNER)

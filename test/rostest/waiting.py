@@ -4,6 +4,11 @@ import time
 
 import rospy
 
+from blind_navigation.ros.common import exit_promptly
+
+# every test node imports this module: it ends as soon as its results are written
+exit_promptly()
+
 
 def wait_for(condition, what, timeout=30.0, poll=0.01):
     """Poll ``condition()`` until true; AssertionError naming ``what`` after ``timeout`` s wall

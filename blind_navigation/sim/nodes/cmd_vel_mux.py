@@ -15,7 +15,7 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
 from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
-from blind_navigation.ros.common import load_params, subscribe
+from blind_navigation.ros.common import exit_promptly, load_params, subscribe
 
 
 class CmdVelMuxNode(object):
@@ -58,6 +58,7 @@ class CmdVelMuxNode(object):
 
 def main():
     rospy.init_node('cmd_vel_mux')
+    exit_promptly()
     CmdVelMuxNode()
     rospy.spin()
 

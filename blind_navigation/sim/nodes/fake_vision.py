@@ -34,7 +34,7 @@ from blind_navigation import names
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.odom_info import OdomInfo
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
-from blind_navigation.ros.common import load_params, set_pose, subscribe
+from blind_navigation.ros.common import exit_promptly, load_params, set_pose, subscribe
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 MODES = ('dark', 'stall', 'lost')
@@ -174,6 +174,7 @@ class FakeVision(object):
 
 def main():
     rospy.init_node('fake_vision')
+    exit_promptly()
     try:
         FakeVision()
     except ValueError as error:
