@@ -35,8 +35,8 @@ def _unclaimed_problems(suite):
         counted = int(suite.get('errors') or 0) + int(suite.get('failures') or 0)
     except ValueError:
         return 0
-    own = sum(1 for case in suite.findall('testcase')
-              if case.find('error') is not None or case.find('failure') is not None)
+    own = sum(len(case.findall('error')) + len(case.findall('failure'))
+              for case in suite.findall('testcase'))
     return max(0, counted - own)
 
 

@@ -62,17 +62,16 @@ def when_odometry(odometry, log, guard, log_period, start):
         return
 
     def run():
-        waited = False
+        topic, waited = rospy.resolve_name(names.ODOM), False
         while not rospy.is_shutdown():
             odometry.state_at(0.0, wait=log_period)
             if odometry.latest() is not None:
                 if waited:
-                    log.info('odometry on %s: taking samples', rospy.resolve_name(names.ODOM))
+                    log.info('odometry on %s: taking samples', topic)
                 start()
                 return
             waited = True
-            log.warn('no odometry on %s yet: not taking samples until it comes',
-                     rospy.resolve_name(names.ODOM))
+            log.warn('no odometry on %s yet: not taking samples until it comes', topic)
     threading.Thread(target=guard(run), name='recorder ready', daemon=True).start()
 
 

@@ -5,8 +5,8 @@ Serves ``blind_navigation/record_landmark`` (blind_navigation/RecordLandmark)
 once its odometry feed has a state (the record client subscribes to the
 samples only when the service is up): for each request it reads the odometry
 itself and saves one path landmark with exactly the saving code of the topic
-variant (ros/landmark_saving.py). The
-response says whether it was saved, its label in the file, or why not.
+variant (ros/landmark_saving.py). The response says whether it was saved, its
+label in the file, or why not.
 Params: those of :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
 import rospy

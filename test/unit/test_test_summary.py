@@ -38,3 +38,11 @@ def test_failures_of_cases_are_counted_once(tmp_path, capsys):
     status, lines = summarise(tmp_path, {'rosunit-y.xml': TWO_CASES}, capsys)
     assert status == 1
     assert lines == ['FAILED rosunit-y.xml c.b: off by one', '1 passed, 1 failed']
+
+
+def test_a_case_with_a_failure_and_an_error_is_not_counted_again(tmp_path, capsys):
+    both = ('<testsuite errors="1" failures="1" name="s" tests="1"><testcase classname="c" name="a">'
+            '<failure message="assert"/><error message="teardown"/></testcase></testsuite>')
+    status, lines = summarise(tmp_path, {'pytest-z.xml': both}, capsys)
+    assert status == 1
+    assert lines == ['FAILED pytest-z.xml c.a: assert', '0 passed, 1 failed']
