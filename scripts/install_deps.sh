@@ -23,7 +23,7 @@ DEBIAN_ROS=(catkin ros-message-generation ros-message-runtime
             ros-std-srvs python3-std-srvs ros-rosgraph-msgs python3-rosgraph-msgs
             python3-rosbag python3-tf2-ros python3-roslib python3-rosnode python3-rostest
             librostest-dev python3-rosmaster python3-rosparam python3-rostopic
-            python3-rosservice python3-rosmsg rospack-tools)
+            python3-rosservice python3-rosmsg python3-rosunit rospack-tools)
 NOETIC_ROS=(ros-noetic-catkin ros-noetic-message-generation ros-noetic-message-runtime
             ros-noetic-std-msgs ros-noetic-geometry-msgs ros-noetic-nav-msgs
             ros-noetic-sensor-msgs ros-noetic-actionlib-msgs ros-noetic-diagnostic-msgs
@@ -32,7 +32,7 @@ NOETIC_ROS=(ros-noetic-catkin ros-noetic-message-generation ros-noetic-message-r
             # the test rig
             ros-noetic-std-srvs ros-noetic-rosgraph-msgs ros-noetic-rosbag ros-noetic-tf2-ros
             ros-noetic-roslib ros-noetic-rosnode ros-noetic-rostest ros-noetic-rostopic
-            ros-noetic-rosservice ros-noetic-rospack)
+            ros-noetic-rosservice ros-noetic-rospack ros-noetic-rosunit)
 
 if [ -f /opt/ros/noetic/setup.bash ]; then
   wanted=("${COMMON[@]}" "${NOETIC_ROS[@]}")

@@ -6,12 +6,16 @@ lint (lint-*.xml, scripts/catkin_lint_junit.py) and of each rostest test node
 (rosunit-*.xml); a rostest <test> node that wrote no results counts as
 its rostest-*.xml entry (a failure), and errors a suite counts outside its
 test cases (a setUpClass that raised: errors="1" and no case) count as one
-failure. Exits 1 when a test failed or none ran.
+failure, shown with the fixtures' error lines of the suite's system-err.
+Exits 1 when a test failed or none ran.
 """
 import glob
 import os
 import sys
 import xml.etree.ElementTree as ET
+
+#: test/rostest/waiting.py's mark of a class fixture's error line in system-err
+FIXTURE_ERROR = 'CLASS FIXTURE ERROR'
 
 
 def cases(path):
@@ -25,8 +29,19 @@ def cases(path):
             # e.g. a rosunit suite whose setUpClass raised: errors="1", no test case
             case = ET.Element('testcase', classname=suite.get('name', '?'), name='(outside any test case)')
             ET.SubElement(case, 'error', message='%d error(s)/failure(s) the suite counts outside its test '
-                          'cases (setUpClass or tearDownClass?): see the test\'s log' % unclaimed)
+                          'cases (setUpClass or tearDownClass?): %s' % (unclaimed, _fixture_errors(suite)))
             yield suite, case
+
+
+def _fixture_errors(suite):
+    """The class fixtures' error lines in the suite's system-err (as the rostest nodes
+    print them: test/rostest/waiting.py), else its last line, else a pointer to the log."""
+    text = (suite.findtext('system-err') or '').replace('<![CDATA[', '').replace(']]>', '')
+    lines = [line.strip() for line in text.splitlines() if line.strip()]
+    marked = [line[len(FIXTURE_ERROR):].strip() for line in lines if line.startswith(FIXTURE_ERROR)]
+    if marked:
+        return '; '.join(marked)
+    return lines[-1] if lines else "see the test's log"
 
 
 def _unclaimed_problems(suite):

@@ -46,3 +46,19 @@ def test_a_case_with_a_failure_and_an_error_is_not_counted_again(tmp_path, capsy
     status, lines = summarise(tmp_path, {'pytest-z.xml': both}, capsys)
     assert status == 1
     assert lines == ['FAILED pytest-z.xml c.a: assert', '0 passed, 1 failed']
+
+
+def test_a_class_fixture_error_is_shown_with_its_message(tmp_path, capsys):
+    """The shape rosunit writes when a setUpClass raised in a node that imports
+    test/rostest/waiting.py: the error's line in system-err, escaped CDATA and all."""
+    fixture_error = ('<testsuite errors="1" failures="0" name="unittest.suite.TestSuite" tests="1">'
+                     '<testcase classname="__main__.TestY" name="test_b" time="0.0000" />'
+                     '<system-out>&lt;![CDATA[\n\n]]&gt;</system-out><system-err>&lt;![CDATA[\n'
+                     'CLASS FIXTURE ERROR setUpClass (__main__.TestX): AssertionError: gave up after 90 s\n'
+                     'Traceback (most recent call last):\n  File "x.py", line 9, in setUpClass\n'
+                     'AssertionError: gave up after 90 s\n\n]]&gt;</system-err></testsuite>')
+    status, lines = summarise(tmp_path, {'rosunit-x.xml': fixture_error}, capsys)
+    assert status == 1
+    assert lines == ['FAILED rosunit-x.xml unittest.suite.TestSuite.(outside any test case): 1 error(s)/failure(s) '
+                     'the suite counts outside its test cases (setUpClass or tearDownClass?): setUpClass '
+                     '(__main__.TestX): AssertionError: gave up after 90 s', '1 passed, 1 failed']
