@@ -28,6 +28,7 @@ RESET_DEFAULTS = {
     'reset_yaw_tolerance': 0.02,        # rad the predicted yaw may be off
     'reset_twist_margin': 0.1,          # fraction of the chain's motion its twist may miss by
     'reset_speed_noise': 0.015,         # m/s a silence's two v samples may miss its mean speed by
+    'reset_yaw_rate_noise': 0.006,      # rad/s its two w samples may miss its mean turn rate by
 }
 
 #: How every untrusted reset's reason begins (a recorder's gap entry, an abort).
@@ -166,7 +167,9 @@ class ResetCarrier(object):
         than ``reset_max_gap`` of silence that is not where the twists say (a driver
         restarted within what the base could have driven meanwhile). The two v samples
         are noisy (wheel speed ripple, encoder ticks), also turning in place where v is
-        about 0: the position may be off their mean by ``reset_speed_noise`` x the gap more."""
+        about 0: the position may be off their mean by ``reset_speed_noise`` x the gap more;
+        so are the two w samples (the gyro's rate noise, also standing still): the yaw by
+        ``reset_yaw_rate_noise`` x the gap."""
         if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
             return None
         p = {name: _param(self.params, name) for name in RESET_DEFAULTS}
@@ -179,7 +182,8 @@ class ResetCarrier(object):
                                                      + p['reset_twist_margin'] * mean_v
                                                      + p['reset_speed_noise']) * dt
                 and off_yaw <= p['reset_yaw_tolerance'] + (0.5 * abs(before.w - state.w)
-                                                           + p['reset_twist_margin'] * mean_w) * dt):
+                                                           + p['reset_twist_margin'] * mean_w
+                                                           + p['reset_yaw_rate_noise']) * dt):
             return None
         return ResetEstimate(None, '%s at %.3f s: after %.3f s without odometry it is at (%.3f, '
                              '%.3f, %.3f), %.3f m and %.3f rad from where its twist says (a '

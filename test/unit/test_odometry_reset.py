@@ -182,6 +182,38 @@ def test_a_silence_while_turning_in_place_is_not_a_reset(hold_at):
         assert resets == [] and len(taken) == len(states), (seed, resets)
 
 
+def _standing_through_a_silence(seed, silence):
+    """The paper base standing still, its odometry silent for ``silence`` s from 3.5 s."""
+    base = SimulatedKobuki(load_profile('paper'), seed=seed)
+    states = []
+    while base.t < 5.5 + silence:
+        base.command(0.0, 0.0)
+        base.step(SENSOR_PERIOD)
+        if not 3.5 <= base.t < 3.5 + silence:
+            states.append(base.odom)
+    return states
+
+
+def test_a_silence_standing_still_is_not_a_reset_on_yaw():
+    """The gyro's rate noise (0.003 rad/s a sample) makes the silence's two w samples
+    miss the mean rate: seed 155 standing through a 5 s silence was 0.065 rad off on yaw
+    before reset_yaw_rate_noise."""
+    _, resets, _ = carry_with({'reset_yaw_rate_noise': 0.0}, _standing_through_a_silence(155, 5.0))
+    assert len(resets) == 1 and '0.000 m and 0.0' in resets[0].reason, resets
+    for seed in range(150, 170):
+        for silence in (5.0, 10.0):
+            states = _standing_through_a_silence(seed, silence)
+            taken, resets, _ = carry(states)
+            assert resets == [] and len(taken) == len(states), (seed, silence, resets)
+    # a driver restarted there (pose and heading zeroed) is still flagged, also near the origin
+    states = _standing_through_a_silence(155, 5.0)
+    after = states.index(next(s for s in states if s.stamp >= 8.5))
+    for x, yaw in ((1.0, 0.0), (0.01, 0.5)):
+        moved = [s._replace(x=s.x + x, yaw=s.yaw + yaw) for s in states[:after]] + states[after:]
+        _, resets, _ = carry(moved)
+        assert len(resets) == 1 and is_untrusted_reset(resets[0].reason), (x, yaw, resets)
+
+
 def test_a_carrier_not_listening_at_the_reset_adopts_the_frame_another_made():
     published, unreset = drive((0.3, 0.0))
     _, resets, first = carry(published)
