@@ -1,5 +1,6 @@
 """The one polling wait of the rostest nodes: wall-clock bounded, so a stalled sim
-clock fails the test with a message instead of hanging it."""
+clock fails the test with a message instead of hanging it. Imported, it also makes the
+node end promptly and keeps a class fixture's error message in its results."""
 import sys
 import time
 import unittest.suite
