@@ -5,8 +5,8 @@ command is ``sample`` or ``final``, saves one path landmark from the odometry
 at the tick (ros/landmark_saving.py: the same saving code as the service
 variant's record server). It subscribes once its odometry feed has a state:
 it takes samples only when it can save them. Restarted within the mission, it
-first catches up on the samples it missed (LandmarkSaving.start_catch_up);
-samples that arrive meanwhile wait. Params: those of
+first catches up on the samples it missed (LandmarkSaving.start_catch_up),
+once its subscription is connected; samples that arrive meanwhile wait. Params: those of
 :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
 """
 from blind_navigation import names
@@ -28,7 +28,8 @@ class LandmarkSaver(object):
 
     def _take_samples(self):
         if self.saving.resuming:
-            self.saving.start_catch_up()
+            self.saving.start_catch_up(
+                lambda: self.sample_sub is not None and self.sample_sub.get_num_connections() > 0)
         self.sample_sub = subscribe(names.SAMPLE, PathSample, self.saving.guard(self.on_sample),
                                     queue_size=20)
 

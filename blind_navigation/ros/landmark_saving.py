@@ -21,6 +21,7 @@ opens the next mission's file. Why: docs/recording.md ("Saving", "File").
 import math
 import os
 import threading
+import time
 from array import array
 
 import rospy
@@ -216,13 +217,17 @@ class LandmarkSaving(object):
         """True if this saver continued the mission's file and may catch up."""
         return self.writer.resumed is not None and not self.finished
 
-    def start_catch_up(self):
+    def start_catch_up(self, subscribed):
         """Take the lock now and catch up in a thread, so samples that arrive meanwhile
-        wait for it: call before subscribing to them."""
+        wait for it: call before subscribing to them. The thread asks for the record once
+        ``subscribed()`` (connected to the publisher) or after ``catch_up_timeout``."""
         self._lock.acquire()
 
         def run():
             try:
+                deadline = time.monotonic() + self.params.catch_up_timeout
+                while not subscribed() and time.monotonic() < deadline and not rospy.is_shutdown():
+                    time.sleep(0.01)
                 self._catch_up()
             finally:
                 self._lock.release()
