@@ -34,7 +34,7 @@ from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
 from blind_navigation.msg import MissionStatus, StorageUsage
 from blind_navigation.ros import faults
-from blind_navigation.ros.common import shutting_down, subscribe
+from blind_navigation.ros.common import shutting_down, subscribe, wait_wall
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
 from blind_navigation.ros.mission_services import MissionServices
@@ -247,7 +247,5 @@ class BackTravelClient(object):
     def _wait_for_position(self):
         """The robot's odometry [x, y], waiting (wall-bounded) for it; None if none came."""
         self.odometry.acquire(self.ROLE)
-        deadline = time.monotonic() + self.params.server_timeout
-        while self.position() is None and time.monotonic() < deadline and not rospy.is_shutdown():
-            time.sleep(0.05)
+        wait_wall(lambda: self.position() is not None, self.params.server_timeout)
         return self.position()

@@ -1,7 +1,9 @@
 """Small rospy glue shared by every node (the layer's and the fake TurtleBot's):
-params, watched (and type-checked) subscriptions, message conversions, Twist."""
+params, watched (and type-checked) subscriptions, message conversions, Twist, a
+wall-bounded wait."""
 import math
 import os
+import time
 
 import rospkg
 import rospy
@@ -19,6 +21,15 @@ def shutting_down():
     ``rospy.on_shutdown`` hooks before ``rospy.is_shutdown()`` turns true, so a
     thread woken by such a hook must ask this, or it takes the wake-up for work."""
     return rospy.core.is_shutdown_requested()
+
+
+def wait_wall(condition, timeout, poll=0.05):
+    """Poll ``condition()`` every ``poll`` s until it is true, ``timeout`` s (wall) passed
+    or the node shuts down; returns its last value."""
+    deadline = time.monotonic() + timeout
+    while not condition() and time.monotonic() < deadline and not rospy.is_shutdown():
+        time.sleep(poll)
+    return condition()
 
 
 #: Asked by rospy before every log line it sends to /rosout (rospy/impl/rosout.py).

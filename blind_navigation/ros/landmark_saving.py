@@ -21,7 +21,6 @@ opens the next mission's file. Why: docs/recording.md ("Saving", "File").
 import math
 import os
 import threading
-import time
 from array import array
 
 import rospy
@@ -39,7 +38,7 @@ from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import StorageUsage
 from blind_navigation.srv import RecordedSamples
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import ros_home_file, set_pose
+from blind_navigation.ros.common import ros_home_file, set_pose, wait_wall
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
 #: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
@@ -225,9 +224,7 @@ class LandmarkSaving(object):
 
         def run():
             try:
-                deadline = time.monotonic() + self.params.catch_up_timeout
-                while not subscribed() and time.monotonic() < deadline and not rospy.is_shutdown():
-                    time.sleep(0.01)
+                wait_wall(subscribed, self.params.catch_up_timeout, poll=0.01)
                 self._catch_up()
             finally:
                 self._lock.release()

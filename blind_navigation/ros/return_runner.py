@@ -20,6 +20,7 @@ from blind_navigation.core.return_plan import (gaps_warning, plan_route, recordi
 from blind_navigation.core.safety import expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal
+from blind_navigation.ros.common import wait_wall
 from blind_navigation.ros.goal_runner import GoalRunner
 from blind_navigation.ros.route_wire import set_return_route
 
@@ -180,10 +181,7 @@ class ReturnRunner(object):
         receiver = self.mission.correction
         if receiver is None:
             return landmarks, None
-        deadline = time.monotonic() + self.params.correction_timeout
-        while not receiver.received and time.monotonic() < deadline and not rospy.is_shutdown():
-            time.sleep(0.05)
-        if not receiver.received:
+        if not wait_wall(lambda: receiver.received, self.params.correction_timeout):
             return None, ('no heading correction on %s within %.0f s (is heading_correction '
                           'running?)' % (rospy.resolve_name(names.HEADING_CORRECTION),
                                          self.params.correction_timeout))
