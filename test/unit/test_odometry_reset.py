@@ -33,6 +33,19 @@ def drive(command, duration=8.0, reset_at=4.0, silent=None, profile='paper', see
     return published, unreset
 
 
+def with_a_silence(seed, command_at, silence=3.0, end=8.0):
+    """States of the paper base (``seed``) commanded ``command_at(t)`` (v, w) until ``end``
+    s, its odometry silent for ``silence`` s from 3.5 s (the base goes on counting)."""
+    base = SimulatedKobuki(load_profile('paper'), seed=seed)
+    states = []
+    while base.t < end:
+        base.command(*command_at(base.t))
+        base.step(SENSOR_PERIOD)
+        if not 3.5 <= base.t < 3.5 + silence:
+            states.append(base.odom)
+    return states
+
+
 def carry(states):
     return carry_with(None, states)
 
@@ -125,13 +138,8 @@ def test_a_far_jump_after_a_long_silence_re_anchors_untrusted():
 @pytest.mark.parametrize('command, stop', [((0.3, 0.4), False), ((0.3, 0.0), True)],
                          ids=['driving on', 'stopping'])
 def test_a_silence_without_a_reset_is_not_a_reset(command, stop):
-    base = SimulatedKobuki(load_profile('paper'), seed=5)
-    states = []
-    while base.t < 8.0:
-        base.command(*((0.0, 0.0) if stop and base.t >= 4.0 else command))
-        base.step(SENSOR_PERIOD)
-        if not 3.5 <= base.t < 6.5:         # a 3 s host stall: the base goes on counting
-            states.append(base.odom)
+    # a 3 s host stall: the base goes on counting
+    states = with_a_silence(5, lambda t: (0.0, 0.0) if stop and t >= 4.0 else command)
     taken, resets, _ = carry(states)
     assert resets == [] and len(taken) == len(states)
 
@@ -171,27 +179,14 @@ def test_a_silence_while_turning_in_place_is_not_a_reset(hold_at):
     """The paper base's wheel speed ripple moves its odometry a few cm while it turns
     in place (v ~ 0): seed 21 turning on was 0.037 m off before reset_speed_noise."""
     for seed in range(25):
-        base = SimulatedKobuki(load_profile('paper'), seed=seed)
-        states = []
-        while base.t < 8.0:
-            base.command(0.0, 0.0 if hold_at is not None and base.t >= hold_at else 0.3)
-            base.step(SENSOR_PERIOD)
-            if not 3.5 <= base.t < 6.5:     # a 3 s odometry gap
-                states.append(base.odom)
+        states = with_a_silence(seed, lambda t: (0.0, 0.0 if hold_at is not None and t >= hold_at else 0.3))
         taken, resets, _ = carry(states)
         assert resets == [] and len(taken) == len(states), (seed, resets)
 
 
 def _standing_through_a_silence(seed, silence):
     """The paper base standing still, its odometry silent for ``silence`` s from 3.5 s."""
-    base = SimulatedKobuki(load_profile('paper'), seed=seed)
-    states = []
-    while base.t < 5.5 + silence:
-        base.command(0.0, 0.0)
-        base.step(SENSOR_PERIOD)
-        if not 3.5 <= base.t < 3.5 + silence:
-            states.append(base.odom)
-    return states
+    return with_a_silence(seed, lambda t: (0.0, 0.0), silence, end=5.5 + silence)
 
 
 def test_a_silence_standing_still_is_not_a_reset_on_yaw():
