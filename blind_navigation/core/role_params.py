@@ -70,7 +70,8 @@ LANDMARK_SAVING = Schema('landmark_saver', (
 ), fixed={
     'odom_timeout': 1.0,        # s (sim); a sample with older odometry is saved with a warning
     'odom_wait': 0.2,           # s (wall) a sample waits for odometry covering its stamp
-    'catch_up_timeout': 3.0,    # s (wall) a restarted saver waits for the publisher's sample record
+    'catch_up_timeout': 3.0,    # s (wall) a restarted saver waits for its sample subscription's
+                                # connection, then again for the publisher's sample record
     'ready_log_period': 5.0,    # s (wall) between "no odometry yet: not taking samples" warnings
 })
 
