@@ -15,6 +15,8 @@ ODOM = 'odom'
 CMD_VEL = 'cmd_vel_mux/input/teleop'
 #: std_msgs/String, the mux's active input (its name, or ``idle``): a takeover (ros/takeover.py)
 CMD_VEL_MUX_ACTIVE = 'cmd_vel_mux/active'
+#: geometry_msgs/Twist the mux forwards to the base: a command the layer did not send is a takeover
+MUX_OUTPUT = 'mobile_base/commands/velocity'
 #: geometry_msgs/Pose2D, the paper's yaw source (sampling_publisher with yaw_source pose2d)
 POSE2D = 'pose2d'
 #: sensor_msgs/Image of the RGB camera (vision-loss detection, the dark detector only)

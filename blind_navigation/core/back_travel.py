@@ -39,6 +39,10 @@ BACK_TRAVEL_DEFAULTS = {
     'align_tolerance': 0.1,   # rad; a smaller heading error at a corner is left to the pursuit
     'aim_distance': 0.1,      # m; a turn in place faces the route point this far ahead
     'correction_w': SAFETY_DEFAULTS['correction_w'],  # rad/s a section may turn beyond its recorded rate
+    'route_max_offset': 0.5,  # m off the route (closed_loop): farther, the return does not rejoin it
+    'finish_tolerance': 0.1,  # m from the route's end where the follower plans to stop (closed_loop)
+    'home_tolerance': 0.25,   # m from the start, the robot stopped (closed_loop): else not home
+    'paused_move': 0.05,      # m moved while paused (time, distance): the replay cannot go on from there
 }
 
 
@@ -66,13 +70,30 @@ def replay_command(landmark, straight_period):
 class Odometer(object):
     """What a drive travelled on odometry since its start (``travelled``, ``_last``),
     and whether it ended (``done`` / ``failed``): shared by every controller and
-    core/route_follower.RouteFollower."""
+    core/route_follower.RouteFollower. What moved the robot while the drive was
+    paused (an operator's takeover, a push) is ``displaced``, not ``travelled``."""
+
+    displaced = 0.0
+    _resync = False
+
+    def pause_ended(self):
+        """A pause (a takeover, a bumper contact) ended: the next step's motion is not the drive's."""
+        self._resync = True
 
     def _count_step(self, odom_state):
         """Count the step to ``odom_state``; True once the drive is done or failed."""
-        self.travelled += distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
+        step = distance(self._last.x, self._last.y, odom_state.x, odom_state.y)
+        if self._resync:
+            self._resync = False
+            self.displaced += step
+            self.moved_while_paused(step)
+        else:
+            self.travelled += step
         self._last = odom_state
         return self.done or self.failed
+
+    def moved_while_paused(self, metres):
+        """The robot moved ``metres`` while the drive was paused (subclasses decide)."""
 
 
 class _Controller(Odometer):
@@ -85,14 +106,24 @@ class _Controller(Odometer):
         self.straight_period = _param(params, 'straight_period')
         self.allowance = (_param(params, 'timeout_factor') * self.expected_duration(params)
                           + _param(params, 'timeout_margin'))
+        self.paused_move = _param(params, 'paused_move')
         self.travelled = 0.0
         self.done = False
         self.failed = False
+        self.reason = ''
         self.started = None
         self._last = None
 
     def expected_duration(self, params):
         return self.landmark.T
+
+    def moved_while_paused(self, metres):
+        """A replay goes on only from where it paused: moved farther, it fails."""
+        if metres > self.paused_move:
+            self.failed = True
+            self.reason = ('the robot was moved %.2f m while the return was paused (a takeover or a '
+                           'contact): the %s mode replays landmarks and cannot rejoin the path from '
+                           'there' % (metres, self.MODE))
 
     def elapsed(self, odom_state):
         return odom_state.stamp - self.started
@@ -123,6 +154,8 @@ class _Controller(Odometer):
 class TimeController(_Controller):
     """The paper's sampled-time control: the replayed velocity for ``T`` seconds."""
 
+    MODE = 'time'
+
     def command(self, odom_state):
         if self.elapsed(odom_state) >= self.landmark.T - 1e-9:
             self.done = True
@@ -136,6 +169,8 @@ class DistanceController(_Controller):
     ``d`` > 0, which could never be covered: ``|v|`` is raised to ``min_v``
     (sign kept). Goals with ``d < min_d`` end at once.
     """
+
+    MODE = 'distance'
 
     def __init__(self, landmark, params):
         self.min_v = _param(params, 'min_v')

@@ -41,6 +41,10 @@ class Behaviour(object):
     def hold(self, seconds):
         """The robot was held still ``seconds`` for stale odometry."""
 
+    def resumed(self, seconds):
+        """A pause of ``seconds`` (a takeover, a bumper contact) ended; the robot may have moved."""
+        self.hold(seconds)
+
     def step(self, odom, now):
         raise NotImplementedError
 

@@ -12,6 +12,7 @@ both the same interface::
     v, w = goal.step(odom_state)     # until goal.done or goal.failed (goal.reason says why)
     goal.travelled                   # m of odometry driven during this goal
     goal.hold(seconds)               # the robot was held (paused) that long: not driving time
+    goal.resumed(seconds)            # a takeover or contact of that long ended (the robot may have moved)
 
 The back_travel server and the simulation harness both drive goals through it,
 and both hold the output between two goals with :class:`CommandHold`.
@@ -44,6 +45,11 @@ class SectionGoal(object):
         """Nothing to do: the follower re-tracks from the pose, its progress watch skips
         gaps longer than max_step_gap."""
 
+    def resumed(self, seconds):
+        """A pause (takeover, contact) of ``seconds`` ended: what moved the robot meanwhile
+        is not the follower's distance; it re-tracks from the pose (or fails, off the route)."""
+        self.follower.pause_ended()
+
     def step(self, odom_state):
         command = self.follower.step(odom_state)
         self.failed, self.reason = self.follower.failed, self.follower.reason
@@ -65,6 +71,8 @@ class ControllerGoal(object):
     def reason(self):
         if not self.controller.failed:
             return ''
+        if self.controller.reason:
+            return self.controller.reason
         return 'time allowance %.1f s exceeded after %.3f m of %.3f m' % (
             self.controller.allowance, self.controller.travelled, self.controller.landmark.d)
 
@@ -75,6 +83,12 @@ class ControllerGoal(object):
         """The controller's clock skips the ``seconds`` held (time: T is driving time)."""
         if self.controller.started is not None:
             self.controller.started += seconds
+
+    def resumed(self, seconds):
+        """A pause (takeover, contact) of ``seconds`` ended: held time, and a replay that
+        fails if the robot was moved meanwhile."""
+        self.hold(seconds)
+        self.controller.pause_ended()
 
     def step(self, odom_state):
         return self.controller.step(odom_state)

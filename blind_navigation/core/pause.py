@@ -11,8 +11,11 @@
 
 Both are fed times by their caller (any one clock) and answer each control
 cycle with :data:`PAUSE` (hold), ``None`` (drive) or an abort reason.
-docs/safety.md, "Contacts" and "Takeover", says why.
+docs/safety.md, "Contacts" and "Takeover", says why. :class:`PauseLog`: what the
+pauses of a return were, for the mission's status and final reason.
 """
+import collections
+import math
 
 CONTACT_DEFAULTS = {
     'contact_wait': 2.0,        # s after a bumper release before the return goes on
@@ -27,6 +30,8 @@ TAKEOVER_DEFAULTS = {
 }
 POLICIES = ('resume', 'abort')
 PAUSE = 'pause'
+#: s a command the layer sent is remembered, to recognise it on the mux's output (Takeover.at_base)
+SENT_MEMORY = 1.0
 
 
 def _positive(params, names):
@@ -95,6 +100,30 @@ class Takeover(object):
         self.holder = None          # one of takeover_inputs while the mux says it is active
         self.total = 0.0            # s paused by takeovers so far (see paused())
         self._since = None
+        self._sent = collections.deque()    # (time, v, w) the layer sent, the last SENT_MEMORY s
+        self._echoed = None         # when the mux's output last carried one of them
+
+    def sent(self, v, w, now):
+        """The layer sent (v, w) on its mux input (before it is published: the mux may echo it at once)."""
+        self._forget(now)
+        self._sent.append((now, v, w))
+
+    def _forget(self, now):
+        while self._sent and not now - SENT_MEMORY <= self._sent[0][0] <= now:
+            self._sent.popleft()      # too old, or the clock moved back
+
+    def at_base(self, v, w, now, output):
+        """The mux forwarded (v, w) to the base (on ``output``): a moving command the layer did
+        not send, while the layer drives and the output echoes its commands (no smoother
+        between), is an operator's, whether or not the layer hears the operator yet."""
+        self._forget(now)
+        if any((v, w) == (sent_v, sent_w) for _, sent_v, sent_w in self._sent):
+            self._echoed = now
+            return
+        driving = any(sent_v or sent_w for _, sent_v, sent_w in self._sent)
+        echoing = self._echoed is not None and 0.0 <= now - self._echoed <= SENT_MEMORY
+        if driving and echoing and (v or w):
+            self.command('a command on %s the layer did not send' % output, now)
 
     def command(self, caller, now):
         """Another publisher's command on the layer's own input."""
@@ -121,3 +150,59 @@ class Takeover(object):
     def paused(self, now):
         """s paused by takeovers so far, the one under way included."""
         return self.total + (now - self._since if self._since is not None else 0.0)
+
+
+class PauseLog(object):
+    """The pauses of one return as the mission's owner sees them, for its status and
+    final reason: operator takeovers (how many, how long, how far the robot was
+    moved meanwhile) and bumper contacts (how many, how long; presses less than
+    ``contact_wait`` s apart are one contact)."""
+
+    def __init__(self, contact_wait):
+        self.wait = float(contact_wait)
+        self.takeovers = []         # [start s, end s or None, moved m or None]
+        self.contacts = []          # [first press s, last release s or None]
+        self._taken_at = None       # the position [x, y] where the takeover under way began
+
+    def update(self, now, taken, pressed, position):
+        """This moment: ``taken`` (a takeover under way), ``pressed`` (a bumper is);
+        ``position()`` gives the odometry [x, y] or None (read only when a takeover
+        starts or ends). True when a pause started or ended."""
+        changed = False
+        open_takeover = bool(self.takeovers) and self.takeovers[-1][1] is None
+        if taken and not open_takeover:
+            self.takeovers.append([now, None, None])
+            self._taken_at = position()
+            changed = True
+        elif not taken and open_takeover:
+            here = position()
+            moved = None if here is None or self._taken_at is None else math.hypot(
+                here[0] - self._taken_at[0], here[1] - self._taken_at[1])
+            self.takeovers[-1][1:] = [now, moved]
+            changed = True
+        last = self.contacts[-1] if self.contacts else None
+        if pressed:
+            if last is None or (last[1] is not None and now - last[1] >= self.wait):
+                self.contacts.append([now, None])
+                changed = True
+            else:
+                last[1] = None
+        elif last is not None and last[1] is None:
+            last[1] = now
+        return changed
+
+    def describe(self, now):
+        """'' or e.g. '1 operator takeover (90.0 s, moved the robot 4.50 m); 2 bumper
+        contacts (3.1 s)'."""
+        parts = []
+        if self.takeovers:
+            moved = [t[2] for t in self.takeovers if t[2] is not None]
+            parts.append('%d operator takeover%s (%.1f s%s)' % (
+                len(self.takeovers), '' if len(self.takeovers) == 1 else 's',
+                sum((t[1] if t[1] is not None else now) - t[0] for t in self.takeovers),
+                ', moved the robot %.2f m' % sum(moved) if moved else ''))
+        if self.contacts:
+            parts.append('%d bumper contact%s (%.1f s)' % (
+                len(self.contacts), '' if len(self.contacts) == 1 else 's',
+                sum((c[1] if c[1] is not None else now) - c[0] for c in self.contacts)))
+        return '; '.join(parts)

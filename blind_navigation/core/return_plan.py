@@ -4,7 +4,10 @@ its gaps (:func:`gaps_warning`), the route (:func:`plan_route`: core/route,
 pruned by core/pruning with ``prune_loops``) and the goals in return order
 (:func:`return_goals`). The back-travel client's return runner
 (ros/return_runner.py) sends the goals; docs/back_travel.md tells the why.
+:func:`nothing_to_retrace`: a return asked for before the robot moved.
 """
+import math
+
 from .odometry_reset import is_untrusted_reset
 from .pruning import prune_route
 from .route import build_route
@@ -48,3 +51,17 @@ def plan_route(landmarks, anchor, params, prune, correction=None):
         return route, []
     result = prune_route(route, landmarks, correction, params)
     return result.route, result.describe()
+
+
+def nothing_to_retrace(recorded, start, here, tolerance):
+    """Why a return would have nothing to retrace, or None: the recording holds at most
+    ``tolerance`` m of path (``recorded``) and the robot's odometry ``here`` [x, y] is
+    within ``tolerance`` of where the recording began (``start``); the mission is then
+    home without a turn (docs/safety.md, "home"). ``start`` or ``here`` None: unknown."""
+    if start is None or here is None or recorded > tolerance:
+        return None
+    off = math.hypot(here[0] - start[0], here[1] - start[1])
+    if off > tolerance:
+        return None
+    return ('nothing to retrace: %.3f m recorded, the robot %.3f m from where the mission began '
+            '(within %.2f m); no turn' % (recorded, off, tolerance))

@@ -118,7 +118,6 @@ BACK_TRAVEL_SERVER = Schema('back_travel_server', (
               control_rate=50.0,          # Hz of the control loop (the odometry's rate)
               feedback_rate=5.0,          # Hz of the action's feedback
               handover_timeout=0.1,       # s the last command holds after a goal, between goals
-              route_max_offset=0.5,       # m from where the route continues: a route is refused
               status_frequency=1.0),      # Hz of the action server's periodic status
     shared=SHARED)
 

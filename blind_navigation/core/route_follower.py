@@ -43,7 +43,8 @@ class RouteFollower(Odometer):
         self.params = params
         for name in ('max_v', 'max_w', 'lookahead', 'min_v', 'stop_lead', 'lookahead_time',
                      'brake_decel', 'stopped_v', 'stopped_w', 'stop_timeout', 'align_tolerance',
-                     'aim_distance', 'correction_w', 'timeout_factor', 'timeout_margin', 'creep_v'):
+                     'aim_distance', 'correction_w', 'timeout_factor', 'timeout_margin', 'creep_v',
+                     'route_max_offset', 'finish_tolerance'):
             setattr(self, name, _param(params, name))
         self.limits = [section_limits(sec, self.max_v, self.max_w, self.correction_w, self.creep_v)
                        for sec in route.sections]
@@ -117,7 +118,7 @@ class RouteFollower(Odometer):
         self._section_started = self.watch.active
         self._advance(mark)
         if route.vertices == 1 or vertex >= route.vertices - 1:
-            self._finish()
+            self._finish(odom_state)
             return
         self._piece = route.piece_of(vertex)
         self._segment = vertex
@@ -140,16 +141,34 @@ class RouteFollower(Odometer):
         else:
             command, heading_error = self._turn(odom_state)
         why = self.watch.update(odom_state.stamp, self._mark[0], heading_error)
-        if why and not self.done:
-            self.failed, self.reason = True, why
+        if why and not self.done and not self.failed:
+            self._fail(why)
         if self.done or self.failed:
             return 0.0, 0.0
         return self._limit().clamp(*command)
 
-    def _finish(self):
+    def _finish(self, odom):
+        """The route's end reached: finished if the robot, coasting ``stop_lead`` s from
+        ``odom``, stops within ``finish_tolerance`` of the end point (the mission's start),
+        else failed (docs/safety.md, "home")."""
+        off = self.off_end(odom)
+        if off > self.finish_tolerance:
+            self._fail('the route ends %.2f m from where the robot stops (finish_tolerance %.2f m)'
+                       % (off, self.finish_tolerance))
+            return
         self.mode = FINISHED
         self._advance((self.route.length, 1.0))
         self.done = True
+
+    def off_end(self, odom):
+        """m from where the robot stops, coasting ``stop_lead`` s from ``odom``, to the
+        route's end point (the mission's start)."""
+        coast = max(odom.v, 0.0) * self.stop_lead
+        return distance(odom.x + coast * math.cos(odom.yaw), odom.y + coast * math.sin(odom.yaw),
+                        self.route.x[-1], self.route.y[-1])
+
+    def _fail(self, reason):
+        self.failed, self.reason = True, reason
 
     def _piece_end(self):
         return self.route.corners[self._piece + 1]
@@ -174,18 +193,23 @@ class RouteFollower(Odometer):
                     segment, t, gap = later, t_later, gap_later
         self._segment = segment
         t = max(0.0, min(1.0, t))
-        return route.s[segment] + t * (route.s[segment + 1] - route.s[segment])
+        return route.s[segment] + t * (route.s[segment + 1] - route.s[segment]), math.sqrt(gap)
 
     def _drive(self, odom):
         route = self.route
-        along = self._locate(odom.x, odom.y)
+        along, off = self._locate(odom.x, odom.y)
+        if off > self.route_max_offset:
+            # pushed or driven off (a takeover): never across space the robot has not driven
+            self._fail('the robot is %.2f m off the route at %.2f m along it (route_max_offset '
+                       '%.2f m): not rejoining it' % (off, along, self.route_max_offset))
+            return (0.0, 0.0), None
         end_vertex = self._piece_end()
         remaining = route.s[end_vertex] - along
         if remaining <= max(odom.v, 0.0) * self.stop_lead:
-            self._advance((route.s[end_vertex], 0.0))
             if end_vertex >= route.vertices - 1:
-                self._finish()
+                self._finish(odom)
                 return (0.0, 0.0), None
+            self._advance((route.s[end_vertex], 0.0))
             self.mode, self._stop_since = STOPPING, odom.stamp
             return (0.0, 0.0), None
         self._advance((along, 0.0))

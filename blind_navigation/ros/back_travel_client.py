@@ -27,8 +27,10 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
+from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Limits
+from blind_navigation.core.return_plan import nothing_to_retrace
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
@@ -66,6 +68,8 @@ class BackTravelClient(object):
         self.takeover = layer.takeover(p)    # its pauses count against no allowance
         self.lost = None           # an untrusted odometry reset during the turn or the return
         self.turn_start = None          # raw odometry yaw where recording stopped
+        self.recorded = 0.0             # m of path the recorder has stored (its StorageUsage)
+        self.start_position = None      # odometry [x, y] where the recording began
         self.correction = layer.heading_correction() if p.heading_correction else None
         self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
@@ -116,18 +120,22 @@ class BackTravelClient(object):
                                                      self.position()))  # before it is announced
         (self.log.error if new_state == state.ABORTED else self.log.info)(
             'state %s -> %s%s', old, new_state, ': ' + reason if reason else '')
+        if new_state == state.IDLE:
+            self.recorded, self.start_position = 0.0, None     # a new mission
         self.layer.mission.set_local(new_state)
         self.state_pub.publish(String(data=new_state))
         self.publish_status()
-        if new_state in (state.RECORDING, state.ROTATING, state.RETURNING):
-            # while recording it only reads the odometry where vision is lost
-            self.odometry.acquire(self.ROLE, batched=new_state == state.RECORDING)
+        if new_state in (state.IDLE, state.RECORDING, state.ROTATING, state.RETURNING):
+            # idle and recording: it only reads where the recording began and where vision is lost
+            self.odometry.acquire(self.ROLE, batched=new_state in (state.IDLE, state.RECORDING))
         elif new_state in state.TERMINAL:
             self.odometry.release(self.ROLE)
         self.layer.diagnostics.now()
 
     def publish_status(self):
-        msg = MissionStatus(state=self.state or '', reason=self.reason, warnings=self.warnings,
+        pauses = self.runner.pauses.describe(rospy.get_time()) if self.state == state.RETURNING else ''
+        msg = MissionStatus(state=self.state or '', reason=self.reason,
+                            warnings='; '.join(text for text in (self.warnings, pauses) if text),
                             landmarks=self.keeper.progress.landmarks if self.keeper.progress else 0,
                             completed=self.keeper.progress.completed if self.keeper.progress else 0)
         msg.header.stamp = rospy.Time.now()
@@ -156,6 +164,7 @@ class BackTravelClient(object):
                 self.log.error('%s', warning)
                 self.publish_status()
                 self.layer.diagnostics.now()
+        self.recorded = msg.distance
         self.move(state.IDLE, state.RECORDING)
 
     def _on_vision_lost(self, msg):
@@ -169,7 +178,14 @@ class BackTravelClient(object):
 
     def begin_return(self, reason, vision=False):
         """Recording -> rotating for ``reason`` (``vision``: a vision loss; go_home otherwise):
-        the turn begins when ros/turn_start.py commits it. True if it moved."""
+        the turn begins when ros/turn_start.py commits it; ``home`` at once if the robot has
+        not moved (core/return_plan.nothing_to_retrace). True if it moved."""
+        here = self.odometry.latest()
+        nothing = nothing_to_retrace(self.recorded, self.start_position,
+                                     [here.x, here.y] if here is not None else None,
+                                     BACK_TRAVEL_DEFAULTS['finish_tolerance'])
+        if nothing:
+            return self.move(state.RECORDING, state.HOME, '%s: %s' % (reason, nothing))
         return self.turn.begin(reason, vision)
 
     def _on_rotation_done(self, msg):
@@ -220,6 +236,8 @@ class BackTravelClient(object):
             self.lost = reason
 
     def _on_odom(self, raw):
+        if self.state == state.RECORDING and self.start_position is None:
+            self.start_position = [raw.x, raw.y]     # the frame of odometry.latest()
         if self.state != state.RETURNING:
             return
         odom = self.odometry.fresh(self.params.odom_timeout)

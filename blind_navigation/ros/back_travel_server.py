@@ -103,17 +103,20 @@ class BackTravelServer(object):
             route, landmarks = self._read_route(request)
         except ValueError as error:
             self.log.error('return route refused: %s', error)
-            return SetReturnRouteResponse(ok=False, message=str(error))
+            return SetReturnRouteResponse(ok=False, message=str(error), control=self.params.control)
         with self._lock:
             if self._active is not None or self._pending is not None:
-                return SetReturnRouteResponse(ok=False, message='a goal is being driven')
+                return SetReturnRouteResponse(ok=False, message='a goal is being driven',
+                                              control=self.params.control)
             self.route, self.landmarks, self.next_goal = route, landmarks, request.completed
             self.contacts = Contacts(self.params)      # counted over the whole return
             self.follower = RouteFollower(route, self.goal_params) \
                 if self.params.control == 'closed_loop' else None
         self.log.info('return route of %d landmarks (%.2f m) in %s, %d completed',
                       len(landmarks), route.length, request.header.frame_id or '?', request.completed)
-        return SetReturnRouteResponse(ok=True, message='')
+        closed = self.params.control == 'closed_loop'
+        return SetReturnRouteResponse(ok=True, message='', control=self.params.control,
+                                      home_tolerance=self.params.home_tolerance if closed else 0.0)
 
     def _read_route(self, request):
         """(Route, landmarks) of a SetReturnRoute request; ValueError naming what is wrong."""
@@ -302,6 +305,9 @@ class _Goal(drive.Behaviour):
 
     def hold(self, seconds):
         self.goal.hold(seconds)
+
+    def resumed(self, seconds):
+        self.goal.resumed(seconds)
 
     def step(self, odom, now):
         v, w = self.goal.step(odom)

@@ -81,7 +81,7 @@ class DriveLoop(object):
         taken, self.taken = self.taken, None
         if taken and self.takeover.policy == 'abort':
             return Outcome(TAKEN_OVER, '%s (on_takeover abort)' % taken)
-        behaviour.hold(paused)          # paused time is not driving time
+        behaviour.resumed(paused)       # paused time is not driving time, its motion not the drive's
         self.log.warn('%s: going on after %.1f s paused%s', label, paused,
                       ' (%s ended)' % taken if taken else '')
         self.output.release()

@@ -136,6 +136,8 @@ class MotionOutput(object):
     def _send(self, v, w):
         if self.takeover is not None and self.takeover.active():
             return                  # the operator drives: never fight a person for the robot
+        if self.takeover is not None:
+            self.takeover.sent(v, w)    # before it is sent: the mux may echo it at once
         try:
             self._pub.publish(twist(v, w))
         except rospy.ROSException:

@@ -12,7 +12,10 @@ import rospy
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
+from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
+from blind_navigation.core.geometry import distance
 from blind_navigation.core.heading_correction import correct_landmarks
+from blind_navigation.core.pause import CONTACT_DEFAULTS, PauseLog
 from blind_navigation.core.plausibility import RouteBudget
 from blind_navigation.core.progress import file_digest, kept_route
 from blind_navigation.core.return_plan import (gaps_warning, plan_route, recording_problem,
@@ -26,6 +29,8 @@ from blind_navigation.ros.route_wire import set_return_route
 
 #: How often the goal wait checks safety events and allowances, s.
 WAIT_SLICE = 0.02
+#: s (sim) the home check waits for the robot to stop after the last goal.
+SETTLE = 2.0
 
 
 class ReturnRunner(object):
@@ -39,6 +44,8 @@ class ReturnRunner(object):
         # subscribing while the server registers can leave feedback/result unconnected.
         self.client = None
         self.paused = 0.0
+        self.pauses = PauseLog(CONTACT_DEFAULTS['contact_wait'])   # the return's takeovers, contacts
+        self.home_tolerance = 0.0   # the server's (set with the route); 0: position not checked
         self._left = None       # the landmarks not driven yet, while a return drives
 
     def distance_left(self):
@@ -55,7 +62,16 @@ class ReturnRunner(object):
 
     def travel_back(self):
         """Figure 6: load, reverse, send goal by goal (from the first landmark not
-        completed yet). Returns (ok, reason)."""
+        completed yet), then check the robot is home. Returns (ok, reason), the
+        reason naming the return's takeovers and contacts."""
+        self.pauses = PauseLog(CONTACT_DEFAULTS['contact_wait'])
+        ok, reason = self._travel_back()
+        m = self.mission
+        self.pauses.update(rospy.get_time(), False, False, m.position)   # the pauses end with the return
+        pauses = self.pauses.describe(rospy.get_time())
+        return ok, '%s; %s' % (reason, pauses) if pauses else reason
+
+    def _travel_back(self):
         m = self.mission
         resuming = m.keeper.progress.status == state.RETURNING
         loaded, digest, problem = self._load(m.keeper.progress.landmark_file, resuming)
@@ -84,7 +100,27 @@ class ReturnRunner(object):
         problem = self._connect(route, [landmark for _, landmark in goals], done)
         if problem:
             return False, problem
-        return self._drive(goals, done, route, RouteBudget(landmarks))
+        ok, reason = self._drive(goals, done, route, RouteBudget(landmarks))
+        return self._home(route, reason) if ok else (ok, reason)
+
+    def _home(self, route, reason):
+        """(ok, reason) once every goal is done: home only if the odometry, once the robot
+        stopped, is within the server's home tolerance of the route's end (the start)."""
+        p = self.params
+        odometry = self.mission.odometry
+        wait_wall(lambda: _stopped(odometry.fresh(p.odom_timeout)), SETTLE)
+        odom = odometry.fresh(p.odom_timeout)
+        if odom is None:
+            return False, 'every goal done, but no odometry to check the robot is home (%s)' % (
+                odometry.describe_missing(p.odom_timeout))
+        off = distance(odom.x, odom.y, route.x[-1], route.y[-1])
+        if not self.home_tolerance:
+            return True, '%s; %.2f m from the start by odometry (not checked in this mode)' % (
+                reason, off)
+        if off > self.home_tolerance:
+            return False, ('every goal done, but the robot is %.2f m from the start by odometry '
+                           '(home_tolerance %.2f m): not home' % (off, self.home_tolerance))
+        return True, '%s; %.3f m from the start by odometry' % (reason, off)
 
     def _load(self, path, resuming):
         """(loaded landmarks, the file's digest, problem) of the recorded file."""
@@ -140,8 +176,9 @@ class ReturnRunner(object):
         if not self.client.wait_for_server(rospy.Duration(p.server_timeout)):
             return ('action server %s not available after %.0f s (is back_travel_server '
                     'running?)' % (rospy.resolve_name(names.BACK_TRAVEL), p.server_timeout))
-        return set_return_route(route, landmarks, done, self.mission.keeper.progress.frame_id or '',
-                                p.server_timeout)
+        problem, self.home_tolerance = set_return_route(
+            route, landmarks, done, self.mission.keeper.progress.frame_id or '', p.server_timeout)
+        return problem
 
     def _drive(self, goals, done, route, budget):
         """Send ``goals[done:]`` one at a time; (ok, reason)."""
@@ -199,7 +236,10 @@ class ReturnRunner(object):
         paused = None                   # a takeover or a bumper pressed: no allowance counts
         while not self.client.wait(WAIT_SLICE):
             now = rospy.get_time()
-            if m.takeover.active() or m.layer.safety.pressed:
+            taken, pressed = m.takeover.active(), m.layer.safety.pressed
+            if self.pauses.update(now, taken, pressed, m.position):
+                m.publish_status()
+            if taken or pressed:
                 self.paused += now - paused if paused is not None else 0.0
                 self.client.heard, paused = now, now
             else:
@@ -223,3 +263,9 @@ class ReturnRunner(object):
             self.client.cancel()
             return problem
         return None
+
+
+def _stopped(odom):
+    """True once ``odom`` shows the robot standing (core/back_travel's stopped_v, stopped_w)."""
+    return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
+        abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']

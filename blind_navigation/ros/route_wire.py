@@ -34,7 +34,8 @@ def route_of(request):
 
 
 def set_return_route(route, landmarks, completed, frame_id, timeout):
-    """Set the route on the back-travel server; None if it took it, else why not."""
+    """Set the route on the back-travel server: (why not or None, the server's home
+    tolerance, m; 0: its mode does not check the position, docs/safety.md "home")."""
     service = rospy.resolve_name(names.SET_RETURN_ROUTE)
     try:
         rospy.wait_for_service(names.SET_RETURN_ROUTE, timeout)
@@ -44,5 +45,6 @@ def set_return_route(route, landmarks, completed, frame_id, timeout):
                         landmarks=[value for lm in landmarks for value in lm.as_list()],
                         completed=completed)
     except (rospy.ROSException, rospy.ServiceException) as error:
-        return 'cannot set the return route on %s: %s' % (service, error)
-    return None if response.ok else 'return route refused: %s' % response.message
+        return 'cannot set the return route on %s: %s' % (service, error), 0.0
+    return (None if response.ok else 'return route refused: %s' % response.message,
+            response.home_tolerance)

@@ -2,8 +2,11 @@
 
 Listens on the layer's own mux input (names.CMD_VEL): a message whose
 publisher (its connection header's ``callerid``) is none of the layer's nodes
-is the operator's; and on the mux's ``cmd_vel_mux/active`` (std_msgs/String,
-as yocs_cmd_vel_mux announces the active input's name or ``idle``). While
+is the operator's; on the mux's ``cmd_vel_mux/active`` (std_msgs/String,
+as yocs_cmd_vel_mux announces the active input's name or ``idle``); and, while
+this process drives, on the mux's output to the base: a moving command there
+that this process did not send is an operator's, seen even before the
+subscription above has connected to a new publisher. While
 :meth:`TakeoverWatch.active` names a takeover, ros/motion.MotionOutput
 publishes nothing and ros/drive_loop.DriveLoop pauses its behaviour.
 """
@@ -31,6 +34,17 @@ class TakeoverWatch(object):
         self._own = set(rospy.resolve_name(node) for node in LAYER_NODES) | {rospy.get_name()}
         subscribe(names.CMD_VEL, Twist, guard(self._on_command), queue_size=10)
         subscribe(names.CMD_VEL_MUX_ACTIVE, String, guard(self._on_mux), queue_size=10)
+        subscribe(names.MUX_OUTPUT, Twist, guard(self._on_output), queue_size=10)
+
+    def sent(self, v, w):
+        """This process publishes (v, w) on the mux input (ros/motion.MotionOutput)."""
+        with self._lock:
+            self._takeover.sent(v, w, rospy.get_time())
+
+    def _on_output(self, msg):
+        with self._lock:
+            self._takeover.at_base(msg.linear.x, msg.angular.z, rospy.get_time(),
+                                   rospy.resolve_name(names.MUX_OUTPUT))
 
     def _on_command(self, msg):
         caller = msg._connection_header.get('callerid', '?')

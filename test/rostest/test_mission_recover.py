@@ -13,6 +13,11 @@ starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions per
   mid-return: the layer publishes nothing meanwhile; it drives again once the
   operator was silent ``takeover_wait`` s and comes home within 3 %; with
   ``on_takeover:=abort`` the mission ends ``aborted`` naming the takeover.
+- ``edges`` (issue 28): an operator who starts publishing without waiting for the
+  layer's connection overlaps it by at most a control cycle at the base; one who
+  pushes the robot 4 m on past the start, or wanders 90 s, never gets a ``home``
+  farther than 3 % of the path from the start; ``go_home`` before the robot moved
+  ends ``home`` without a turn.
 
 The .test's arg ``one_process:=false`` runs the paper's node layout instead.
 """
@@ -23,11 +28,14 @@ import unittest
 import rospy
 import rostest
 from geometry_msgs.msg import Twist
+from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from findings_rig import MISSION, FindingMission  # noqa: E402
 from mission_tools import HOME_WALK, TELEOP_TOPIC  # noqa: E402
+from recording_tools import Collector  # noqa: E402
 
+from blind_navigation import names  # noqa: E402
 from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS  # noqa: E402
 from blind_navigation.evaluation.survival import press_bumper  # noqa: E402
 from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
@@ -100,6 +108,35 @@ class RecoverCase(unittest.TestCase):
         self.assertIn(text, reason)
 
 
+    def operate(self, m, seconds, v, w, wait_for_layer=True):
+        """Drive on the layer's own input at (v, w) for ``seconds`` of sim time (10 Hz); with
+        ``wait_for_layer`` false, from the first instant (the layer's subscription may connect
+        late). Sim times of the first and the last command."""
+        teleop = m.keep(rospy.Publisher(TELEOP_TOPIC, Twist, queue_size=5))
+        m.wait(lambda: teleop.get_num_connections() >= (2 if wait_for_layer else 1),
+               'the mux%s subscribes teleop' % (' and the layer' if wait_for_layer else ''))
+        command = Twist()
+        command.linear.x, command.angular.z = v, w
+        first = last = rospy.get_time()
+        while last < first + seconds:
+            last = rospy.get_time()
+            teleop.publish(command)
+            rospy.sleep(0.1)
+        return first, last
+
+    def assert_never_home_far(self, m, fraction, *names_in_reason):
+        """Home within ``fraction`` of the path, or aborted naming ``names_in_reason``."""
+        final, _ = m.wait_final()
+        if final == 'home':
+            self.assert_home_within(m, fraction)
+            return final
+        reason = m.final_reason()
+        print('RECOVER %s: aborted %.3f m from the start: %s' % (m.label, m.run.error(), reason))
+        for text in names_in_reason:
+            self.assertIn(text, reason)
+        return final
+
+
 class BumpTest(RecoverCase):
 
     def press(self, m, seconds):
@@ -143,16 +180,7 @@ class TakeoverTest(RecoverCase):
     def drive(self, m, seconds):
         """Drive on the layer's own input for ``seconds`` (10 Hz); sim times of the first and
         the last command."""
-        teleop = m.keep(rospy.Publisher(TELEOP_TOPIC, Twist, queue_size=5))
-        m.wait(lambda: teleop.get_num_connections() >= 2, 'the mux and the layer subscribe teleop')
-        command = Twist()
-        command.linear.x, command.angular.z = 0.1, 0.3
-        first = last = rospy.get_time()
-        while last < first + seconds:
-            last = rospy.get_time()
-            teleop.publish(command)
-            rospy.sleep(0.1)
-        return first, last
+        return self.operate(m, seconds, 0.1, 0.3)
 
     def assert_silent(self, m, first, last):
         during = self.commands_between(m, first + in_flight(), last)
@@ -182,8 +210,58 @@ class TakeoverTest(RecoverCase):
         self.assert_silent(m, first, last)
 
 
+class EdgesTest(RecoverCase):
+    """Issue 28: takeovers that move the robot, a late connection, nothing to retrace."""
+
+    def test_1_a_late_connection_overlaps_the_operator_at_most_one_cycle(self):
+        m = self.start_return('takeover_late')
+        base = Collector(names.MUX_OUTPUT, Twist)
+        try:
+            m.wait(lambda: base.sub.get_num_connections() >= 1, 'this node hears the base commands')
+            first, last = self.operate(m, DRIVE, 0.1, 0.3, wait_for_layer=False)
+            at_base = [stamp for stamp, msg in list(base.items)
+                       if (msg.linear.x, msg.angular.z) == (0.1, 0.3)]
+        finally:
+            base.sub.unregister()
+        self.assertTrue(at_base, "none of the operator's commands reached the base")
+        cycle = 1.0 / 50.0          # the layer's control rate
+        overlap = moving(self.commands_between(m, at_base[0] + cycle + in_flight(), last))
+        print('RECOVER takeover_late: operator first at the base %.2f s after its first command; '
+              'layer moving commands later than a cycle + in flight: %d' % (at_base[0] - first,
+                                                                            len(overlap)))
+        self.assertEqual(overlap, [], 'the layer drove on beside the operator')
+        self.assert_home_within(m, 0.03)
+
+    def test_2_pushed_on_past_the_start_is_never_home_far_from_it(self):
+        m = self.start_return('takeover_push')
+        self.operate(m, 90.0, 0.05, 0.0)
+        self.assert_never_home_far(m, 0.03, 'operator takeover', 'moved the robot')
+
+    def test_3_a_wandering_takeover_is_home_or_aborted_naming_it(self):
+        m = self.start_return('takeover_wander')
+        self.operate(m, 90.0, 0.05, 0.1)
+        self.assert_never_home_far(m, 0.03, 'operator takeover')
+
+    def test_4_go_home_before_moving_is_home_without_a_turn(self):
+        m = self.mission = FindingMission('nothing', one_process=rospy.get_param('~one_process', True))
+        m.run.wait_for_layer()
+        rospy.wait_for_service(names.GO_HOME, 30.0)
+        asked = rospy.get_time()
+        answer = rospy.ServiceProxy(names.GO_HOME, Trigger)()
+        final, at = m.wait_final()
+        reason = m.final_reason()
+        late, moved, turned = m.still_after(asked - 1.0, 1.0)
+        print('RECOVER nothing: go_home answered %r; %s: %s; moved %.4f m, turned %.4f rad' % (
+            answer.message, final, reason, moved, turned))
+        self.assertTrue(answer.success, answer.message)
+        self.assertEqual((final, m.run.state_names()), ('home', ['idle', 'recording', 'home']), reason)
+        self.assertIn('nothing to retrace', reason)
+        self.assertEqual(late, [], 'motion commanded')
+        self.assertLess(turned, 0.01, 'the robot turned')
+
+
 if __name__ == '__main__':
     rospy.init_node('test_mission_recover')
     case = rospy.get_param('~case')
     rostest.rosrun('blind_navigation', 'mission_recover_' + case,
-                   {'bump': BumpTest, 'takeover': TakeoverTest}[case])
+                   {'bump': BumpTest, 'takeover': TakeoverTest, 'edges': EdgesTest}[case])

@@ -104,3 +104,44 @@ def test_takeover_params_are_checked():
         takeover(on_takeover='fight')
     with pytest.raises(ValueError):
         takeover(takeover_wait=0.0)
+
+
+def _driving(watch, until, step=0.02):
+    """The layer sends (0.2, 0.1) every ``step`` s up to ``until`` and the mux echoes each."""
+    t = 0.0
+    while t < until:
+        watch.sent(0.2, 0.1, t)
+        watch.at_base(0.2, 0.1, t + 0.005, '/mobile_base/commands/velocity')
+        t += step
+    return t
+
+
+def test_an_operators_command_at_the_base_takes_over_before_the_layer_hears_it():
+    # the layer's own subscription has not connected to the new publisher: only the base shows it
+    watch = takeover()
+    t = _driving(watch, 1.0)
+    assert watch.active(t) is None
+    watch.at_base(0.05, 0.0, t + 0.01, '/mobile_base/commands/velocity')
+    assert 'did not send' in watch.active(t + 0.02)
+    assert watch.active(t + 0.01 + TAKEOVER_DEFAULTS['takeover_wait'] + 0.01) is None
+
+
+def test_the_base_echoing_the_layer_or_zero_or_a_stranger_while_standing_is_no_takeover():
+    watch = takeover()
+    t = _driving(watch, 1.0)
+    watch.at_base(0.0, 0.0, t, 'out')              # someone's zero cannot fight the layer
+    assert watch.active(t) is None
+    standing = takeover()
+    standing.sent(0.0, 0.0, 0.0)
+    standing.at_base(0.0, 0.0, 0.001, 'out')
+    standing.at_base(0.3, 0.0, 0.01, 'out')        # the layer does not drive: not its business
+    assert standing.active(0.02) is None
+
+
+def test_a_base_that_never_echoes_the_layer_is_no_takeover():
+    # a velocity smoother between the mux and the base changes every command
+    watch = takeover()
+    for i in range(100):
+        watch.sent(0.2, 0.1, i * 0.02)
+        watch.at_base(0.19, 0.09, i * 0.02 + 0.005, 'out')
+    assert watch.active(2.0) is None
