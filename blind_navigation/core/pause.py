@@ -1,9 +1,11 @@
 """Pauses of a return without ROS: bumper contacts and an operator's takeover.
 
 - :class:`Contacts`: the bumper contacts of one return (all its goals). A press
-  holds the robot (zero); ``contact_wait`` s after the release it goes on. The
-  return aborts at contact number ``max_contacts`` + 1 or when one press lasts
-  longer than ``contact_timeout``. Cliff and wheel drop are not contacts.
+  holds the robot (zero); ``contact_wait`` s after the release it goes on. A
+  press during that wait (a bounce) is the same contact. The return aborts at
+  contact number ``max_contacts`` + 1 or when the bumper is pressed more than
+  ``contact_timeout`` after the contact's first press (held, or bouncing).
+  Cliff and wheel drop are not contacts.
 - :class:`Takeover`: whether an operator holds the robot: another publisher's
   command on the layer's own mux input (until ``takeover_wait`` s of silence)
   or one of ``takeover_inputs`` announced active by the mux (until it is
@@ -20,7 +22,7 @@ import math
 CONTACT_DEFAULTS = {
     'contact_wait': 2.0,        # s after a bumper release before the return goes on
     'max_contacts': 3,          # bumper contacts one return survives; the next one aborts it
-    'contact_timeout': 10.0,    # s a bumper may stay pressed before the return aborts
+    'contact_timeout': 10.0,    # s a contact may last from its first press, bounces included
 }
 TAKEOVER_DEFAULTS = {
     'takeover_wait': 2.0,       # s of operator silence before the layer drives again
@@ -42,7 +44,8 @@ def _positive(params, names):
 
 class Contacts(object):
     """Bumper contacts of one return (module docstring); ``params``: contact_wait,
-    max_contacts, contact_timeout."""
+    max_contacts, contact_timeout. ``sensors``: the bumpers the contact under way
+    pressed (as given to :meth:`decide`); ``presses``: its presses, bounces included."""
 
     def __init__(self, params):
         _positive(params, ('contact_timeout',))
@@ -51,33 +54,50 @@ class Contacts(object):
         if self.wait < 0 or self.max < 0:
             raise ValueError('~contact_wait and ~max_contacts must not be negative')
         self.count = 0
-        self.pressed_at = self.released_at = None   # of the contact under way
+        self.first = self.released_at = None    # of the contact under way: its first press, last release
+        self.presses = 0
+        self.sensors = []
 
     @property
     def active(self):
-        return self.pressed_at is not None
+        return self.first is not None
 
-    def decide(self, pressed, now):
+    def decide(self, pressed, now, presses=None, sensors=()):
         """This cycle: ``pressed`` (a bumper is, or was since the last cycle) ->
-        PAUSE, None (drive on) or the abort reason."""
-        if pressed and (self.pressed_at is None or self.released_at is not None):
-            if self.pressed_at is None:     # a new contact (a press during the wait is the same)
-                self.count += 1
-                if self.count > self.max:
-                    return 'bumper contact %d of at most %d (max_contacts)' % (self.count, self.max)
-            self.pressed_at, self.released_at = now, None
-        if self.pressed_at is None:
+        PAUSE, None (drive on) or the abort reason. ``presses``: the presses since
+        the last cycle (None: one if the last cycle was released); ``sensors``:
+        names of the bumpers pressed."""
+        if not pressed:
+            return self._released(now)
+        new = self.first is None
+        if new:
+            self.count += 1
+            self.first, self.presses, self.sensors = now, 0, []
+        if presses is None:
+            presses = 1 if new or self.released_at is not None else 0
+        self.presses += max(presses, 1 if new else 0)
+        self.released_at = None
+        for name in sensors:
+            if name not in self.sensors:
+                self.sensors.append(name)
+        if new and self.count > self.max:
+            return 'bumper contact %d of at most %d (max_contacts)' % (self.count, self.max)
+        if now - self.first > self.timeout:
+            how = 'pressed for %.1f s' % (now - self.first) if self.presses == 1 else (
+                'lasted %.1f s from its first press (%d presses, each within contact_wait %.1f s '
+                'of a release)' % (now - self.first, self.presses, self.wait))
+            return 'bumper contact %d %s, longer than contact_timeout %.1f s' % (
+                self.count, how, self.timeout)
+        return PAUSE
+
+    def _released(self, now):
+        if self.first is None:
             return None
-        if self.released_at is None and not pressed:
-            self.released_at = now
         if self.released_at is None:
-            if now - self.pressed_at > self.timeout:
-                return 'bumper contact %d pressed for %.1f s, longer than contact_timeout %.1f s' % (
-                    self.count, now - self.pressed_at, self.timeout)
-            return PAUSE
+            self.released_at = now
         if now - self.released_at < self.wait:
             return PAUSE
-        self.pressed_at = self.released_at = None
+        self.first = self.released_at = None
         return None
 
     def describe(self):

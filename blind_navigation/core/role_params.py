@@ -111,8 +111,9 @@ BACK_TRAVEL_SERVER = Schema('back_travel_server', (
           'the return goes on (docs/safety.md, Contacts)', lo=0.0, hi=600.0),
     Param('max_contacts', CONTACT_DEFAULTS['max_contacts'], '', 'bumper contacts one return '
           'survives; the next one ends it aborted', lo=0, hi=1000),
-    Param('contact_timeout', CONTACT_DEFAULTS['contact_timeout'], 's', 'a bumper may stay pressed '
-          'this long before the return ends aborted', lo=0.01, hi=3600.0),
+    Param('contact_timeout', CONTACT_DEFAULTS['contact_timeout'], 's', 'a bumper contact may last '
+          'this long from its first press (bounces included) before the return ends aborted',
+          lo=0.01, hi=3600.0),
 ) + TAKEOVER, fixed=dict({k: v for k, v in BACK_TRAVEL_DEFAULTS.items() if k != 'straight_period'},
               **ALLOWANCE_DEFAULTS,
               control_rate=50.0,          # Hz of the control loop (the odometry's rate)

@@ -11,7 +11,8 @@ jumps and the return's distance budget, core/plausibility.py.)
   the commanded curvature (the path's shape) is kept.
 - :class:`SafetyEvents`: Kobuki bumper, cliff and wheel-drop events
   (kobuki_msgs/BumperEvent, CliffEvent, WheelDropEvent fields) -> which
-  conditions are active and why the robot must stop.
+  conditions are active and why the robot must stop; whether an event
+  continues one under way (a bumper's bounce: logged once per contact).
 - :func:`expected_duration` / :func:`return_allowance`: time allowances.
 - :func:`landmarks_from_flat`: the completed landmarks of a SetReturnRoute
   request, validated.
@@ -98,8 +99,9 @@ class SafetyEvents(object):
 
     def __init__(self):
         self._active = {}       # (kind, index) -> reason
+        self._released = {}     # kind -> time (update's ``now``) a sensor of it was last released
 
-    def update(self, kind, index, sensor_state):
+    def update(self, kind, index, sensor_state, now=None):
         if kind not in EVENT_LAYOUT:
             raise ValueError('unknown safety event kind %r (expected one of %s)'
                              % (kind, ', '.join(sorted(EVENT_LAYOUT))))
@@ -107,11 +109,19 @@ class SafetyEvents(object):
         name = names[index] if 0 <= index < len(names) else 'sensor %d' % index
         key = (kind, index)
         if sensor_state != stop_value:
-            self._active.pop(key, None)
+            if self._active.pop(key, None) is not None and now is not None:
+                self._released[kind] = now
             return None
         reason = '%s %s %s' % (kind.replace('_', ' '), name, word)
         self._active[key] = reason
         return reason
+
+    def continues(self, kind, now, window):
+        """True when an event of ``kind`` at ``now`` continues one under way: a sensor
+        of that kind is active, or one was released less than ``window`` s before."""
+        released = self._released.get(kind)
+        return any(active == kind for active, _ in self._active) or (
+            released is not None and 0.0 <= now - released < window)
 
     @property
     def active(self):

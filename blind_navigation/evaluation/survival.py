@@ -18,12 +18,33 @@ MISSION = 'test_left_arc'
 FAIL_AFTER, LOSS, PRESS_AFTER, PRESS = 5.0, 3.0, 5.0, 1.0
 
 
+def bumper_event(publisher, pressed):
+    """Publish the center bumper ``pressed`` (or released) on ``publisher``."""
+    from blind_navigation.ros import kobuki_msgs_compat as kobuki
+    publisher.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER, state=kobuki.BumperEvent.PRESSED
+                                         if pressed else kobuki.BumperEvent.RELEASED))
+
+
 def press_bumper(publisher, seconds, sleep):
     """Press the center bumper on ``publisher`` for ``seconds`` (``sleep``: sim-time sleep)."""
-    from blind_navigation.ros import kobuki_msgs_compat as kobuki
-    publisher.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER, state=kobuki.BumperEvent.PRESSED))
+    bumper_event(publisher, True)
     sleep(seconds)
-    publisher.publish(kobuki.BumperEvent(bumper=kobuki.BumperEvent.CENTER, state=kobuki.BumperEvent.RELEASED))
+    bumper_event(publisher, False)
+
+
+def chatter_bumper(publisher, seconds, rate, now, until):
+    """Press and release the center bumper on ``publisher`` ``rate`` times a second for
+    ``seconds``, pressed half of each period, on a schedule of sim times from the first
+    press (``now()``: sim time; ``until(t)``: waits until sim time ``t``). Returns the
+    sim times of the presses."""
+    start, presses = now(), []
+    for k in range(int(round(seconds * rate))):
+        until(start + k / rate)
+        presses.append(now())
+        bumper_event(publisher, True)
+        until(start + (k + 0.5) / rate)
+        bumper_event(publisher, False)
+    return presses
 
 
 def run_case(probe, set_vision):

@@ -60,6 +60,7 @@ class BackTravelServer(object):
                 raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
         OdomGrace(p)                     # validates the odometry params now
         self.contacts = Contacts(p)      # the return's bumper contacts (validates their params)
+        layer.safety.contact_wait = p.contact_wait     # its bounces log once per contact
         self.straight_period = period_of(p.straight_rate, '~straight_rate')
         self.goal_params = types.SimpleNamespace(**dict(
             p._asdict(), straight_period=self.straight_period))

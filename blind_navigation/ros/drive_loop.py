@@ -12,6 +12,8 @@ an operator's takeover (ros/takeover.py: nothing published; ``on_takeover``
 abort ends the run TAKEN_OVER once the operator is silent). Why:
 docs/back_travel.md, "The drive loop"; docs/safety.md.
 """
+from collections import deque
+
 import rospy
 
 from blind_navigation.core.allowance import HOLD
@@ -30,13 +32,13 @@ class DriveLoop(object):
         self.output, self.odometry, self.safety = output, odometry, safety
         self.params, self.log, self.grace, self.takeover = params, log, grace, takeover
         self.tripped = self.contacts = None
-        self.bumped = False
+        self.bumps = deque()            # bumper presses (reasons) since the last cycle
         self.taken = None               # the takeover of the pause under way
         safety.on_trip(guard(self._on_trip))
 
     def _on_trip(self, reason):
         if self.contacts is not None and is_contact(reason):
-            self.bumped = True          # counted by the run's contacts (a press between cycles too)
+            self.bumps.append(reason)   # counted by the run's contacts (a press between cycles too)
         else:
             self.tripped = reason
 
@@ -45,7 +47,8 @@ class DriveLoop(object):
         before starting; ``cancelled()``: True to stop; ``inactive()``: why the
         mission no longer lets it move, or None; ``contacts``: core/pause.Contacts
         (a bumper press pauses), None (it stops the run); ``label`` prefixes the log."""
-        self.tripped, self.bumped, self.taken, self.contacts = None, False, None, contacts
+        self.tripped, self.taken, self.contacts = None, None, contacts
+        self.bumps.clear()
         try:
             outcome = self._drive(behaviour, label, wait, cancelled or (lambda: False),
                                   inactive or (lambda: None))
@@ -67,13 +70,16 @@ class DriveLoop(object):
             return taken
         if self.contacts is None:
             return None
-        bumped, self.bumped = self.bumped, False
-        decision = self.contacts.decide(bumped or self.safety.pressed, now)
+        bumps = []
+        while self.bumps:               # one consumer: popleft cannot find it empty
+            bumps.append(self.bumps.popleft())
+        pressed = [reason for reason in self.safety.active if is_contact(reason)]
+        decision = self.contacts.decide(bool(bumps or pressed), now, len(bumps), bumps + pressed)
         if decision == PAUSE:
             return 'bumper contact %d (%s): holding' % (self.contacts.count,
                                                         ', '.join(self.safety.active) or 'released')
         if decision:
-            return Outcome(SAFETY_STOP, '%s: %s' % (', '.join(self.safety.active) or 'bumper', decision))
+            return Outcome(SAFETY_STOP, '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision))
         return None
 
     def _resumed(self, behaviour, label, paused):

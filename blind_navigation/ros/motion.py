@@ -3,8 +3,9 @@ output every moving role uses (the pi turn, the back travel, the calibration).
 
 :class:`SafetyMonitor` watches the Kobuki's bumper, cliff and wheel-drop events
 (core/safety.SafetyEvents) once per process and calls every registered
-output's halt from the event callback, at once; an event topic of another type
-is refused (ros/wiring.py).
+output's halt from the event callback, at once (a bumper's bounces are logged at
+DEBUG: one ERROR per contact); an event topic of another type is refused
+(ros/wiring.py).
 
 :class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
 name, remappable) for one role, only when that role may move in the mission
@@ -24,7 +25,8 @@ from geometry_msgs.msg import Twist
 
 from .. import names
 from ..core import mission_state
-from ..core.safety import SafetyEvents, VelocityLimits
+from ..core.pause import CONTACT_DEFAULTS
+from ..core.safety import CONTACT, SafetyEvents, VelocityLimits
 from . import faults, kobuki_msgs_compat as kobuki
 from .common import subscribe_checked, twist
 
@@ -36,9 +38,12 @@ EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffE
 class SafetyMonitor(object):
     """The Kobuki's safety events (names.SAFETY_EVENTS) for this process;
     ``active`` lists the conditions active now; :meth:`on_trip` registers
-    ``callback(reason)``, called from the event's thread when a sensor becomes active."""
+    ``callback(reason)``, called from the event's thread when a sensor becomes active;
+    ``contact_wait``: s after a bumper release in which a press is a bounce (the
+    back travel server sets its own)."""
 
     def __init__(self, guard=None):
+        self.contact_wait = CONTACT_DEFAULTS['contact_wait']
         self._events = SafetyEvents()
         self._lock = threading.Lock()
         self._callbacks = []
@@ -52,10 +57,13 @@ class SafetyMonitor(object):
 
     def _on_event(self, msg, args):
         kind, index_field = args
+        now = rospy.get_time()
         with self._lock:
-            reason = self._events.update(kind, getattr(msg, index_field), msg.state)
+            bounce = kind == CONTACT and self._events.continues(kind, now, self.contact_wait)
+            reason = self._events.update(kind, getattr(msg, index_field), msg.state, now)
         if reason:
-            rospy.logerr('%s: SAFETY STOP: %s', rospy.get_name(), reason)
+            (rospy.logdebug if bounce else rospy.logerr)(
+                '%s: SAFETY STOP: %s%s', rospy.get_name(), reason, ' (a bounce)' if bounce else '')
             for callback in list(self._callbacks):
                 callback(reason)
 

@@ -8,7 +8,10 @@ starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions per
 - ``bump``: the bumper pressed for 1 s mid-return: zero at once, the robot still
   until ``contact_wait`` after the release, then it goes on and comes home within
   2 % of the path; with ``max_contacts:=1`` the second contact ends ``aborted``
-  naming the contacts.
+  naming the contacts; a 10 Hz chatter of the bumper for 40 s (issue 28 item 5) is
+  one contact: the mission ends ``aborted`` naming the bumper within
+  ``contact_timeout`` + 1 s of the first press, the robot still from the first press
+  on, and /rosout has one line per contact (not per bounce) of each layer node.
 - ``takeover``: this node drives on the layer's own mux input (teleop) for 2 s
   mid-return: the layer publishes nothing meanwhile; it drives again once the
   operator was silent ``takeover_wait`` s and comes home within 3 %; with
@@ -31,13 +34,14 @@ from geometry_msgs.msg import Twist
 from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from findings_rig import MISSION, FindingMission  # noqa: E402
+from findings_rig import MISSION, STILL_DISTANCE, STILL_TURN, FindingMission  # noqa: E402
 from mission_tools import HOME_WALK, TELEOP_TOPIC  # noqa: E402
-from recording_tools import Collector  # noqa: E402
+from recording_tools import Collector, subscribers_of  # noqa: E402
+from waiting import wait_for  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS  # noqa: E402
-from blind_navigation.evaluation.survival import press_bumper  # noqa: E402
+from blind_navigation.evaluation.survival import chatter_bumper, press_bumper  # noqa: E402
 from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
 
 #: m/s on ground truth: the robot is really driving back.
@@ -58,6 +62,14 @@ def in_flight():
     return max(IN_FLIGHT, HOPS_WALL * float(rospy.get_param('/mobile_base/rtf', 1.0)))
 #: m/s on ground truth that counts as still (mission_tools.STOPPED_SPEED).
 STILL = 0.005
+BUMPER = '/mobile_base/events/bumper'
+#: The chatter of a broken bumper switch (the issue's numbers): Hz, s of sim time.
+CHATTER_RATE, CHATTER = 10.0, 40.0
+#: s of sim time the mission may end after contact_timeout from the first press (the issue's).
+ABORT_WITHIN = 1.0
+#: s of wall time between the polls of the chatter's schedule (a 10 Hz chatter at rtf 4
+#: presses every 25 ms of wall time).
+CHATTER_POLL = 0.002
 
 
 def moving(commands):
@@ -139,11 +151,17 @@ class RecoverCase(unittest.TestCase):
 
 class BumpTest(RecoverCase):
 
+    def bumper(self, m):
+        """A publisher of the bumper's events, once every node of the layer that subscribes
+        them is connected (a node connected late heard a press seconds late)."""
+        bumper = m.keep(rospy.Publisher(BUMPER, kobuki.BumperEvent, queue_size=50))
+        m.wait(lambda: bumper.get_num_connections() >= max(1, len(subscribers_of(BUMPER))),
+               'every subscriber of the bumper is connected')
+        return bumper
+
     def press(self, m, seconds):
         """Press the center bumper for ``seconds`` of sim time; (pressed, released) sim times."""
-        bumper = m.keep(rospy.Publisher('/mobile_base/events/bumper', kobuki.BumperEvent,
-                                        queue_size=5))
-        m.wait(lambda: bumper.get_num_connections() >= 1, 'the layer subscribes the bumper')
+        bumper = self.bumper(m)
         pressed = rospy.get_time()
         press_bumper(bumper, seconds, m.wait_sim)
         return pressed, rospy.get_time()
@@ -168,11 +186,44 @@ class BumpTest(RecoverCase):
     def test_2_more_than_max_contacts_aborts_naming_them(self):
         m = self.start_return('contacts', ['max_contacts:=1'])
         _, released = self.press(m, 0.5)
-        m.wait(lambda: moving(self.commands_between(m, released, rospy.get_time())),
+        # after contact_wait: a layer node that heard the press late still drove just after it
+        wait = CONTACT_DEFAULTS['contact_wait']
+        m.wait(lambda: moving(self.commands_between(m, released + wait, rospy.get_time())),
                'the layer drives again after the first contact')
         m.wait_sim(0.5)
         self.press(m, 0.5)
         self.assert_aborted(m, 'bumper contact 2 of at most 1 (max_contacts)')
+
+    def test_3_a_chattering_bumper_is_one_contact_bounded_by_contact_timeout(self):
+        m = self.start_return('chatter')
+        bumper = self.bumper(m)
+
+        def until(stamp):
+            wait_for(lambda: rospy.get_time() >= stamp, 'sim time %.2f s (the chatter)' % stamp,
+                     10.0, poll=CHATTER_POLL)
+        presses = chatter_bumper(bumper, CHATTER, CHATTER_RATE, rospy.get_time, until)
+        first, end = presses[0], rospy.get_time()
+        final, at = m.wait_final()
+        reason = m.final_reason()
+        timeout = CONTACT_DEFAULTS['contact_timeout']
+        moved, turned = m.track.motion(first + STOPPED, end)
+        drove = moving(self.commands_between(m, first + in_flight(), end))
+        lines = [(msg.name, msg.msg) for msg in m.rosout.snapshot() if 'bumper' in msg.msg]
+        stops = [name for name, text in lines if 'SAFETY STOP: bumper' in text]
+        print('RECOVER chatter: %d presses in %.1f s; %s %.2f s after the first press: %s; moved '
+              '%.4f m, turned %.4f rad after it; %d bumper lines on /rosout:\n  %s' % (
+                  len(presses), end - first, final, at - first, reason, moved, turned, len(lines),
+                  '\n  '.join('%s: %s' % line for line in lines)))
+        self.assertEqual(final, 'aborted', reason)
+        self.assertIn('bumper center pressed', reason)
+        self.assertIn('longer than contact_timeout', reason)
+        self.assertLessEqual(at - first, timeout + ABORT_WITHIN)
+        self.assertGreater(at - first, timeout, 'aborted before contact_timeout')
+        self.assertEqual(drove, [], 'motion commanded during the chatter')
+        self.assertLess(moved, STILL_DISTANCE, 'the robot moved after the first press')
+        self.assertLess(turned, STILL_TURN, 'the robot turned after the first press')
+        self.assertEqual(len(stops), len(set(stops)), 'a node logged more than one SAFETY STOP')
+        self.assertEqual(len(lines), len(set(lines)), 'a bumper line repeated (one per bounce?)')
 
 
 class TakeoverTest(RecoverCase):
