@@ -29,6 +29,7 @@ from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Limits
+from blind_navigation.core.return_plan import NO_LOSS, WriteLoss
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
@@ -59,7 +60,8 @@ class BackTravelClient(object):
         self.rotation_timeout = standstill_timeout(p) + p.rotation_margin + p.vision_back_grace
         self.limits = Limits(p.max_v, p.max_w)
         self.machine = state.MissionState()
-        self.warnings = ''
+        self.warnings = ''              # the recording's: damaged, gaps bridged
+        self.space_warning = ''         # the recorder's: little free space left
         self.losses = {}                # real path of a landmark file -> its last storage with a loss
         self._return = threading.Event()
         self.trip = None
@@ -67,7 +69,8 @@ class BackTravelClient(object):
         self.lost = None           # an untrusted odometry reset during the turn or the return
         self.turn_start = None          # raw odometry yaw where recording stopped
         self.correction = layer.heading_correction() if p.heading_correction else None
-        self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log)
+        self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log,
+                                     changed=self.publish_status)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=1, latch=True)
         self.paths = ReturnPaths(p.path_spacing)
@@ -126,8 +129,13 @@ class BackTravelClient(object):
             self.odometry.release(self.ROLE)
         self.layer.diagnostics.now()
 
+    def all_warnings(self):
+        """What is degraded though the mission goes on: the recording, the free space, the
+        progress file."""
+        return '; '.join(w for w in (self.warnings, self.space_warning, self.keeper.warning) if w)
+
     def publish_status(self):
-        msg = MissionStatus(state=self.state or '', reason=self.reason, warnings=self.warnings,
+        msg = MissionStatus(state=self.state or '', reason=self.reason, warnings=self.all_warnings(),
                             landmarks=self.keeper.progress.landmarks if self.keeper.progress else 0,
                             completed=self.keeper.progress.completed if self.keeper.progress else 0)
         msg.header.stamp = rospy.Time.now()
@@ -145,17 +153,28 @@ class BackTravelClient(object):
         return [odom.x, odom.y] if odom is not None else None
 
     # --- events --------------------------------------------------------------------------------
+    def loss_of(self, path):
+        """The core/return_plan.WriteLoss the recorder of the landmark file ``path`` reported."""
+        msg = self.losses.get(os.path.realpath(path))
+        if msg is None:
+            return NO_LOSS
+        return WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn, msg.error)
+
     def _on_storage(self, msg):
         if msg.lost:
             self.losses[os.path.realpath(msg.file)] = msg
         if msg.lost or msg.error:
-            warning = 'RECORDING DAMAGED: %d landmark(s) could not be written to %s: %s' % (
-                msg.lost, msg.file, msg.error)
+            warning = ('RECORDING DAMAGED: %d landmark(s) (%.3f m, %.2f rad of the path) could not '
+                       'be written to %s: %s' % (msg.lost, msg.lost_distance, msg.lost_turn,
+                                                 msg.file, msg.error))
             if warning != self.warnings:
                 self.warnings = warning
                 self.log.error('%s', warning)
                 self.publish_status()
                 self.layer.diagnostics.now()
+        if msg.space_warning != self.space_warning:
+            self.space_warning = msg.space_warning
+            self.publish_status()
         self.move(state.IDLE, state.RECORDING)
 
     def _on_vision_lost(self, msg):
