@@ -10,6 +10,7 @@ import os
 from collections import namedtuple
 
 from .files import StorageError, fsync_directory, write_all
+from .geometry import wrap_angle
 from .landmark import FIELDS, Limits
 from .landmark_format import (FINISHED_KEY, FORMAT_VERSION, METADATA_KEY, LandmarkFileError,
                               flow_line, format_entry, label_for)
@@ -27,8 +28,10 @@ class LandmarkWriter(object):
     ``LandmarkWriter(path, metadata, fsync)`` creates a new file (it must not
     exist: an earlier mission is never overwritten; FileExistsError);
     :meth:`resume` continues an existing one. Attributes: ``path``, ``count``
-    (landmarks in the file), ``lost`` (appends that failed), ``total_distance``
-    (sum of d in the file, m), ``bytes``, ``finished``, ``resumed`` (a
+    (landmarks in the file), ``lost`` (appends that failed), ``lost_distance``
+    and ``lost_turn`` (what the lost landmarks covered: the sum of their d, m, and
+    of their heading changes, rad: :meth:`append`), ``total_distance`` (sum of d
+    in the file, m), ``bytes``, ``finished``, ``resumed`` (a
     :class:`ResumeInfo`, or None for a new file), ``sample`` (the
     :class:`SampleMark` of the last landmark, when known), ``pending_gap`` (the
     reason of a gap entry to write before the next landmark, or None).
@@ -65,6 +68,9 @@ class LandmarkWriter(object):
         self.fsync = fsync
         self.count = 0
         self.lost = 0
+        self.lost_distance = 0.0
+        self.lost_turn = 0.0
+        self._psi = None            # psi of the last landmark appended, written or lost
         self.total_distance = 0.0
         self.finished = False
         self.resumed = None
@@ -96,6 +102,7 @@ class LandmarkWriter(object):
         loaded = load_landmarks(writer.path, limits, allow_empty=True, follow_symlinks=False)
         writer.count = len(loaded.landmarks)
         writer.total_distance = loaded.total_distance
+        writer._psi = loaded.landmarks[-1].psi if loaded.landmarks else None
         writer._next_index = loaded.last_index + 1
         writer._gaps = loaded.gap_entries
         writer._samples_entries = loaded.samples_entries
@@ -148,10 +155,15 @@ class LandmarkWriter(object):
         """Write ``landmark`` (taken at ``sample``, a :class:`SampleMark`, if known)
         durably, after the pending gap entry and the ``samples_`` entry it needs, in
         one write; return its label. StorageError if the write fails (the label is
-        used up, ``lost`` counts it; the entries before it are written with the next)."""
+        used up, ``lost`` counts it, ``lost_distance`` adds its d, ``lost_turn`` its heading
+        change: from the previous landmark's psi, or its w x T for the first; the entries
+        before it are written with the next)."""
         label = self.next_label
         self._check_open('append %s' % label)
         self._next_index += 1
+        turn = (abs(wrap_angle(landmark.psi - self._psi)) if self._psi is not None
+                else abs(landmark.w) * landmark.T)
+        self._psi = landmark.psi
         lines, gap_key, offset = [], None, self._offset
         if self.pending_gap is not None:
             gap_key = 'gap_%d' % (self._gaps + 1)
@@ -165,6 +177,8 @@ class LandmarkWriter(object):
             self._write_line(''.join(lines))
         except OSError as error:
             self.lost += 1
+            self.lost_distance += landmark.d
+            self.lost_turn += turn
             raise StorageError(self.path, error, 'append %s to' % label, lost=self.lost)
         if gap_key is not None:
             self._gaps += 1

@@ -12,7 +12,7 @@ import stat
 
 import yaml
 
-from .files import describe_mode, read_regular_file, replace_with_symlink
+from .files import StorageError, describe_mode, read_regular_file, replace_with_symlink
 from .landmark import Limits
 from .landmark_format import MAX_FILE_BYTES, METADATA_KEY, OWN_LINES, LandmarkFileError, parse
 from .landmark_writer import LandmarkWriter
@@ -87,17 +87,29 @@ def start_mission_file(landmark_file, when=None):
     ``landmark_file`` is kept by renaming it to a time-stamped name first; an
     existing symlink is replaced atomically (core/files.replace_with_symlink). Anything else at
     ``landmark_file`` is refused (:func:`inspect_landmark_file`). Nothing
-    recorded is deleted.
+    recorded is deleted. :func:`open_mission_file` creates the file before it
+    points the symlink at it.
     """
+    target = _new_target(landmark_file, when)
+    _point_at(landmark_file, target)
+    return target
+
+
+def _new_target(landmark_file, when):
+    """The unused time-stamped name of a new mission file (``landmark_file`` inspected)."""
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
-    directory = os.path.dirname(landmark_file)
-    os.makedirs(directory, exist_ok=True)
+    os.makedirs(os.path.dirname(landmark_file), exist_ok=True)
+    inspect_landmark_file(landmark_file)
+    return _unused(mission_file_name(landmark_file, when))
+
+
+def _point_at(landmark_file, target):
+    """``landmark_file`` a symlink to ``target`` (an old layout's regular file there archived)."""
+    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
     if inspect_landmark_file(landmark_file) == 'regular':
         mtime = datetime.datetime.fromtimestamp(os.path.getmtime(landmark_file))
         os.rename(landmark_file, _unused(mission_file_name(landmark_file, mtime)))
-    target = _unused(mission_file_name(landmark_file, when))
     replace_with_symlink(landmark_file, os.path.basename(target))
-    return target
 
 
 def read_mission(path):
@@ -130,10 +142,13 @@ def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, li
     header carries that same ``mission``, the recorder restarted mid-mission:
     that file is continued (:meth:`LandmarkWriter.resume`: validated, a torn
     last entry cut off, labels continued, a gap entry pending; a finished
-    recording is not appended to). Otherwise a new file is started
-    (:func:`start_mission_file`) with ``metadata`` and ``mission`` in its
-    header. Without a ``mission`` id a file is never continued: appending a
-    new mission to an old one would send the return along the old path.
+    recording is not appended to). Otherwise a new file is started with
+    ``metadata`` and ``mission`` in its header, and only once it holds its
+    header is ``landmark_file`` pointed at it (:func:`start_mission_file`'s
+    rules): a storage that cannot hold a file leaves ``landmark_file`` as it
+    was, never a symlink to nothing. Without a ``mission`` id a file is never
+    continued: appending a new mission to an old one would send the return
+    along the old path.
 
     Raises LandmarkFileError (a ``landmark_file`` that is not a regular file or
     a symlink to one; the current mission's file is corrupt) or StorageError.
@@ -148,7 +163,22 @@ def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, li
     header = dict(metadata or {})
     if mission is not None:
         header['mission'] = mission
-    return LandmarkWriter(start_mission_file(landmark_file, when), header, fsync)
+    writer = LandmarkWriter(_new_target(landmark_file, when), header, fsync)
+    try:
+        _point_at(landmark_file, writer.path)
+    except OSError as error:
+        writer.close()
+        _remove(writer.path)
+        raise StorageError(landmark_file, error, 'make a symlink to %s at'
+                           % os.path.basename(writer.path))
+    return writer
+
+
+def _remove(path):
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
 
 
 def _unused(path):

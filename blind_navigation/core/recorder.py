@@ -12,6 +12,7 @@ per metre), shared by the ROS nodes and the evaluation.
 """
 import bisect
 import itertools
+import os
 from collections import deque, namedtuple
 
 from .geometry import distance, wrap_angle
@@ -22,10 +23,73 @@ PathStorage.__doc__ = ('Storage used by a recorded path: landmark count, file by
                      '(sum of d, m) and bytes per metre (0 until the robot has moved).')
 
 
+#: Minutes of recording the free space must hold, at the recording's rate, before the
+#: recorder warns (why this many: docs/safety.md, "Decide before the turn").
+LOW_SPACE_MINUTES = 10.0
+#: Bytes per minute assumed until the recording has measured its own: an 80-byte landmark
+#: line every second (the paper's curved rate, its fastest).
+ASSUMED_BYTES_PER_MINUTE = 80.0 * 60
+#: s of recording after which its own rate replaces the assumed one.
+RATE_WINDOW = 60.0
+
+
 def storage_usage(landmarks, size_bytes, total_distance):
     """Storage of ``landmarks`` landmarks stored in ``size_bytes`` bytes over ``total_distance`` m."""
     per_metre = size_bytes / total_distance if total_distance > 0.0 else 0.0
     return PathStorage(int(landmarks), int(size_bytes), float(total_distance), per_metre)
+
+
+def recording_rate(recorded_bytes, seconds):
+    """Bytes per minute of a recording that wrote ``recorded_bytes`` in ``seconds``: measured
+    once it has run RATE_WINDOW s, ASSUMED_BYTES_PER_MINUTE before."""
+    if seconds < RATE_WINDOW or recorded_bytes <= 0:
+        return ASSUMED_BYTES_PER_MINUTE
+    return recorded_bytes * 60.0 / seconds
+
+
+def space_warning(free_bytes, rate, where, minutes=LOW_SPACE_MINUTES):
+    """'' if ``free_bytes`` (on ``where``) hold ``minutes`` of recording at ``rate`` bytes
+    per minute, else the warning saying how many they hold."""
+    if rate <= 0 or free_bytes >= minutes * rate:
+        return ''
+    return ('LOW SPACE: %d bytes free on %s hold %.1f min of recording at %.0f bytes/min (less '
+            'than %g min): free space or end the mission' % (free_bytes, where, free_bytes / rate,
+                                                            rate, minutes))
+
+
+def free_bytes(directory):
+    """Bytes an unprivileged writer may still use on ``directory``'s file system (None if
+    it cannot be asked)."""
+    try:
+        info = os.statvfs(directory)
+    except OSError:
+        return None
+    return info.f_bavail * info.f_frsize
+
+
+class SpaceWatch(object):
+    """The low-space warning of one recording into ``directory``: :meth:`update` measures
+    its rate from its first landmark on and keeps ``warning`` (:func:`space_warning`, ''
+    when the space holds enough); ``free`` is :func:`free_bytes` (replaceable in tests)."""
+
+    def __init__(self, directory, free=free_bytes):
+        self.directory = directory
+        self.free = free
+        self.warning = ''
+        self._start = None          # (s, bytes) of the first update with a landmark
+
+    def update(self, now, size, landmarks):
+        """The warning for a file of ``size`` bytes holding ``landmarks`` at ``now`` (s); True
+        as the second value when it has just appeared (the caller says so once)."""
+        if self._start is None and landmarks:
+            self._start = (now, size)
+        start, start_size = self._start or (now, size)
+        free = self.free(self.directory)
+        rate = recording_rate(size - start_size, now - start)
+        warning = space_warning(free, rate, self.directory) if free is not None else ''
+        appeared = bool(warning) and not self.warning
+        self.warning = warning
+        return warning, appeared
 
 
 class OdometryHistory(object):

@@ -1,26 +1,53 @@
 """What a return drives, decided before the first goal (no ROS): whether the
-recorded file allows a way back (:func:`recording_problem`), the warning for
-its gaps (:func:`gaps_warning`), the route (:func:`plan_route`: core/route,
+recorded file allows a way back (:func:`recording_problem`, asked before the pi
+turn and when the return starts; a loss of landmarks taken standing still,
+:func:`still_loss`, is bridged), the warning for its gaps and such losses
+(:func:`return_warning`), the route (:func:`plan_route`: core/route,
 pruned by core/pruning with ``prune_loops``) and the goals in return order
 (:func:`return_goals`). The back-travel client's return runner
 (ros/return_runner.py) sends the goals; docs/back_travel.md tells the why.
 :func:`nothing_to_retrace`: a return asked for before the robot moved.
 """
 import math
+from collections import namedtuple
 
 from .odometry_reset import is_untrusted_reset
 from .pruning import prune_route
 from .route import build_route
 
+#: A loss of landmarks to write failures that the return bridges: every lost landmark
+#: taken standing still, their d summing to at most STILL_LOSS_DISTANCE (m) and their
+#: heading changes to at most STILL_LOSS_TURN (rad). Why these: docs/safety.md,
+#: "Decide before the turn".
+STILL_LOSS_DISTANCE = 0.005
+STILL_LOSS_TURN = 0.1
 
-def recording_problem(loaded, reported_lost=None, loss_error=''):
-    """Why the recording (core/store.LoadedLandmarks) gives no way back, or None:
-    landmarks lost at its end (``reported_lost``: the recorder's count, None when
-    it reported none or the return resumes) or an odometry reset it could not carry."""
-    lost_tail = loaded.lost_after_end(reported_lost) if reported_lost is not None else 0
-    if lost_tail:
-        return ('the last %d landmark(s) of the recording could not be written (%s): '
-                'the way back from here is unknown; not travelling back' % (lost_tail, loss_error))
+WriteLoss = namedtuple('WriteLoss', 'count distance turn error')
+WriteLoss.__doc__ = ('What a recorder could not write (blind_navigation/StorageUsage): ``count`` '
+                     'landmarks, covering ``distance`` m (their d) and ``turn`` rad (their heading '
+                     'changes); ``error``: the last write failure.')
+NO_LOSS = WriteLoss(0, 0.0, 0.0, '')
+
+
+def still_loss(loss):
+    """True if the landmarks of ``loss`` (a WriteLoss) were all taken standing still."""
+    return loss.distance <= STILL_LOSS_DISTANCE and loss.turn <= STILL_LOSS_TURN
+
+
+def recording_problem(loaded, loss=None):
+    """Why the recording (core/store.LoadedPath, possibly still growing) gives no way
+    back, or None: the question asked before the pi turn and again when the return
+    starts. ``loss`` (a WriteLoss; None when the return resumes: it was judged before
+    it started): landmarks lost to write failures that were not all taken standing
+    still (:func:`still_loss`); or an odometry reset the recording could not carry."""
+    if loss is not None and loss.count and not still_loss(loss):
+        tail = loaded.lost_after_end(loss.count)
+        what, where = (('the last %d landmark(s) of the recording' % tail, 'from here') if tail else
+                       ('%d landmark(s) within the recording' % loss.count, 'across them'))
+        return ('%s could not be written (%s): %.3f m and %.2f rad of the path are in no file (a '
+                'standstill is at most %.3f m and %.2f rad): the way back %s is unknown; not '
+                'travelling back' % (what, loss.error, loss.distance, loss.turn,
+                                     STILL_LOSS_DISTANCE, STILL_LOSS_TURN, where))
     resets = [gap for gap in loaded.gaps if is_untrusted_reset(gap.reason)]
     if resets:
         return ('the recording crossed an odometry reset it could not carry across '
@@ -35,6 +62,17 @@ def gaps_warning(loaded):
         return ''
     return 'the recording has %d gap(s) (%d landmark(s) lost): the return bridges them' % (
         len(loaded.gaps), loaded.missing)
+
+
+def return_warning(loaded, loss=None):
+    """The mission's warning for a return over ``loaded`` after ``loss`` (a WriteLoss or
+    None) that :func:`recording_problem` let pass: its gaps, the landmarks lost standing still."""
+    parts = [gaps_warning(loaded)]
+    if loss is not None and loss.count:
+        parts.append('%d landmark(s) could not be written (%s) while the robot stood still '
+                     '(%.3f m, %.2f rad): the return bridges them' % (loss.count, loss.error,
+                                                                      loss.distance, loss.turn))
+    return '; '.join(part for part in parts if part)
 
 
 def return_goals(labels, landmarks):

@@ -30,7 +30,7 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Limits
-from blind_navigation.core.return_plan import nothing_to_retrace
+from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, nothing_to_retrace
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
@@ -61,7 +61,8 @@ class BackTravelClient(object):
         self.rotation_timeout = standstill_timeout(p) + p.rotation_margin + p.vision_back_grace
         self.limits = Limits(p.max_v, p.max_w)
         self.machine = state.MissionState()
-        self.warnings = ''
+        self.warnings = ''              # the recording's: damaged, gaps bridged
+        self.space_warning = ''         # the recorder's: little free space left
         self.losses = {}                # real path of a landmark file -> its last storage with a loss
         self._return = threading.Event()
         self.trip = None
@@ -71,7 +72,8 @@ class BackTravelClient(object):
         self.recorded = 0.0             # m of path the recorder has stored (its StorageUsage)
         self.start_position = None      # odometry [x, y] where the recording began
         self.correction = layer.heading_correction() if p.heading_correction else None
-        self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log)
+        self.keeper = ProgressKeeper(self.landmark_file, self.correction, self.log,
+                                     changed=self.publish_status)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=1, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=1, latch=True)
         self.paths = ReturnPaths(p.path_spacing)
@@ -132,10 +134,15 @@ class BackTravelClient(object):
             self.odometry.release(self.ROLE)
         self.layer.diagnostics.now()
 
-    def publish_status(self):
+    def all_warnings(self):
+        """What is degraded or paused though the mission goes on: the recording, the free
+        space, the progress file, the return's takeovers and contacts."""
         pauses = self.runner.pauses.describe(rospy.get_time()) if self.state == state.RETURNING else ''
-        msg = MissionStatus(state=self.state or '', reason=self.reason,
-                            warnings='; '.join(text for text in (self.warnings, pauses) if text),
+        return '; '.join(w for w in (self.warnings, self.space_warning, self.keeper.warning, pauses)
+                         if w)
+
+    def publish_status(self):
+        msg = MissionStatus(state=self.state or '', reason=self.reason, warnings=self.all_warnings(),
                             landmarks=self.keeper.progress.landmarks if self.keeper.progress else 0,
                             completed=self.keeper.progress.completed if self.keeper.progress else 0)
         msg.header.stamp = rospy.Time.now()
@@ -153,18 +160,29 @@ class BackTravelClient(object):
         return [odom.x, odom.y] if odom is not None else None
 
     # --- events --------------------------------------------------------------------------------
+    def loss_of(self, path):
+        """The core/return_plan.WriteLoss the recorder of the landmark file ``path`` reported."""
+        msg = self.losses.get(os.path.realpath(path))
+        if msg is None:
+            return NO_LOSS
+        return WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn, msg.error)
+
     def _on_storage(self, msg):
         if msg.lost:
             self.losses[os.path.realpath(msg.file)] = msg
         if msg.lost or msg.error:
-            warning = 'RECORDING DAMAGED: %d landmark(s) could not be written to %s: %s' % (
-                msg.lost, msg.file, msg.error)
+            warning = ('RECORDING DAMAGED: %d landmark(s) (%.3f m, %.2f rad of the path) could not '
+                       'be written to %s: %s' % (msg.lost, msg.lost_distance, msg.lost_turn,
+                                                 msg.file, msg.error))
             if warning != self.warnings:
                 self.warnings = warning
                 self.log.error('%s', warning)
                 self.publish_status()
                 self.layer.diagnostics.now()
         self.recorded = msg.distance
+        if msg.space_warning != self.space_warning:
+            self.space_warning = msg.space_warning
+            self.publish_status()
         self.move(state.IDLE, state.RECORDING)
 
     def _on_vision_lost(self, msg):

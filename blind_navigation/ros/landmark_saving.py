@@ -3,8 +3,7 @@ the paper's recorder variants (section 3.3.3, Figure 4).
 
 - topic variant: ros/landmark_saver.py calls :meth:`LandmarkSaving.save` for
   each blind_navigation/PathSample;
-- service variant: ros/record_server.py calls it for each RecordLandmark
-  request (sent by ros/record_client.py).
+- service variant: ros/record_server.py calls it for each RecordLandmark (ros/record_client.py).
 
 Either way the saver reads odometry itself from the process's shared feed (the
 state at the tick's stamp), makes the landmark with core/recorder.PathRecorder
@@ -12,8 +11,9 @@ and appends it durably with core/landmark_writer.LandmarkWriter to the mission's
 behind the ``landmark_file`` symlink (core/mission_files.open_mission_file). After each
 landmark it publishes the storage used (``blind_navigation/storage``) and, when
 someone listens, the recorded path (``blind_navigation/recorded_path``). A
-write failure is an ERROR and a lost landmark; an odometry reset the feed
-could not carry across is a gap (one it carried across changes nothing).
+write failure is an ERROR and a lost landmark (its d and turn counted); little
+free space a WARN (core/recorder.SpaceWatch); an odometry reset the feed could
+not carry across is a gap (one it carried across changes nothing).
 A saver restarted within the mission catches up on the samples it missed from
 the sampling publisher (:meth:`LandmarkSaving.start_catch_up`); ``new_mission``
 opens the next mission's file. Why: docs/recording.md ("Saving", "File").
@@ -30,7 +30,7 @@ from nav_msgs.msg import Path
 from blind_navigation import names
 from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.files import StorageError
-from blind_navigation.core.recorder import PathRecorder, storage_usage
+from blind_navigation.core.recorder import PathRecorder, SpaceWatch, storage_usage
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
@@ -95,7 +95,7 @@ class LandmarkSaving(object):
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         layer.mission.on_new_mission(self.guard(self._new_mission))
-        layer.diagnostics.add('%s: recording' % role, self._diagnose)
+        layer.diagnostics.add('%s: recording' % role, lambda stat: diagnose(self, stat))
 
     def when_ready(self, start):
         """Call ``start()`` (it subscribes to the samples, or serves them) once the feed has
@@ -115,6 +115,8 @@ class LandmarkSaving(object):
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
         self.finished = self.writer.finished   # a continued mission file may be finished already
         path = self.writer.path
+        self.space = SpaceWatch(os.path.dirname(path))
+        self._check_space(rospy.Time.now())
         if self.writer.resumed is not None:
             self.log.warn('restarted within the mission: continuing %s after its %d landmarks%s',
                           path, self.writer.count, ' (%d torn entries dropped)'
@@ -135,19 +137,6 @@ class LandmarkSaving(object):
             self.writer.close()
             self._open()
             self.path_pub.publish(path_message(self._poses, rospy.Time.now(), self.odometry.frame_id))
-
-    def _diagnose(self, stat):
-        stat.add('file', self.writer.path)
-        stat.add('landmarks', self.writer.count)
-        stat.add('bytes', self.writer.bytes)
-        stat.add('lost', self.writer.lost)
-        if self.error:
-            stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (self.writer.lost, self.error))
-        elif self.finished:
-            stat.summary(diagnostics.OK, 'recording finished: %d landmarks' % self.writer.count)
-        else:
-            stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
-                         % (self.writer.count, self.writer.total_distance))
 
     def save(self, command, yaw, period, stamp, sample=None):
         """Save the landmark of the tick at ``stamp`` (s), the publisher's ``sample``
@@ -319,18 +308,44 @@ class LandmarkSaving(object):
             self.path_pub.publish(path_message(self._poses, now, self.odometry.frame_id))
 
     def _publish_storage(self, now):
-        msg, used = storage_message(self.writer, self.error, now)
+        msg, used = storage_message(self.writer, self.error, now, self._check_space(now))
         self.storage_pub.publish(msg)
         return used
 
+    def _check_space(self, now):
+        """The low-space warning now (core/recorder.SpaceWatch), logged when it appears."""
+        warning, appeared = self.space.update(now.to_sec(), self.writer.bytes, self.writer.count)
+        if appeared:
+            self.log.warn('%s', warning)
+        return warning
 
-def storage_message(writer, error, stamp):
+
+def diagnose(saving, stat):
+    """The recording's diagnostics of ``saving`` (a LandmarkSaving)."""
+    writer = saving.writer
+    stat.add('file', writer.path)
+    stat.add('landmarks', writer.count)
+    stat.add('bytes', writer.bytes)
+    stat.add('lost', writer.lost)
+    if saving.error:
+        stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (writer.lost, saving.error))
+    elif saving.space.warning:
+        stat.summary(diagnostics.WARN, saving.space.warning)
+    elif saving.finished:
+        stat.summary(diagnostics.OK, 'recording finished: %d landmarks' % writer.count)
+    else:
+        stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
+                     % (writer.count, writer.total_distance))
+
+
+def storage_message(writer, error, stamp, space_warning=''):
     """(blind_navigation/StorageUsage, core/recorder storage_usage) of ``writer``'s file."""
     used = storage_usage(writer.count, writer.bytes, writer.total_distance)
     mark = writer.sample
     msg = StorageUsage(file=writer.path, landmarks=used.landmarks, bytes=used.bytes,
                        distance=used.distance, bytes_per_metre=used.bytes_per_metre,
-                       lost=writer.lost, error=error,
+                       lost=writer.lost, lost_distance=writer.lost_distance,
+                       lost_turn=writer.lost_turn, error=error, space_warning=space_warning,
                        recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
     msg.header.stamp = stamp
     return msg, used

@@ -28,16 +28,17 @@ def _mission_status(client, stat):
     if progress is not None:
         stat.add('landmarks', progress.landmarks)
         stat.add('completed', progress.completed)
-    if client.warnings:
-        stat.add('warnings', client.warnings)
+    warnings = client.all_warnings()
+    if warnings:
+        stat.add('warnings', warnings)
     if client.state == state.ROTATING:
         stat.add('pi turn', 'begun' if client.turn.begun else 'waiting (vision may come back)')
     if client.state == state.ABORTED:
         stat.summary(diagnostics.ERROR, 'aborted: %s' % client.reason)
     elif client.state == state.RECOVERED:     # stopped away from home: someone takes the robot
         stat.summary(diagnostics.WARN, 'recovered: %s' % client.reason)
-    elif client.warnings:
-        stat.summary(diagnostics.WARN, '%s: %s' % (client.state, client.warnings))
+    elif warnings:
+        stat.summary(diagnostics.WARN, '%s: %s' % (client.state, warnings))
     else:
         stat.summary(diagnostics.OK, '%s%s' % (client.state,
                                                ': ' + client.reason if client.reason else ''))

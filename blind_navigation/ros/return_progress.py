@@ -3,7 +3,9 @@ to the landmark file: kept and written atomically at each step
 (:meth:`ProgressKeeper.save`), read at start-up to decide the first state
 (:meth:`ProgressKeeper.first_state`: resume, abort or idle), and the route and
 heading correction a restarted layer needs (:meth:`~ProgressKeeper.route_data`,
-:meth:`~ProgressKeeper.restore_heading`). Errors are logged, never raised.
+:meth:`~ProgressKeeper.restore_heading`). Errors are logged, never raised: a
+progress that cannot be written is a warning (``warning``; the stale file is
+removed, so a crash is not resumed from it), not a reason to stop.
 """
 import os
 import time
@@ -18,19 +20,41 @@ class ProgressKeeper(object):
     """The progress of the returns recorded in ``landmark_file``; ``correction``: the
     layer's heading-correction receiver (None without the correction)."""
 
-    def __init__(self, landmark_file, correction, log):
+    def __init__(self, landmark_file, correction, log, changed=None):
         self.path = progress_path(landmark_file)
         self.correction = correction
         self.log = log
         self.progress = None
+        self.warning = ''           # why the progress cannot be written, or ''
+        self._changed = changed     # called when ``warning`` changes
 
     def save(self, progress):
-        """Keep and persist ``progress`` (atomically, next to the landmark file)."""
+        """Keep and persist ``progress`` (atomically, next to the landmark file). If it
+        cannot be written the mission goes on: ``warning`` says so (WARN, once) and the
+        stale file is removed, so a restart does not resume from an older step."""
         self.progress = progress
         try:
             save_progress(self.path, progress)
+            warning = ''
         except (OSError, ProgressError) as error:
-            self.log.error('cannot write the return progress %s: %s', self.path, error)
+            warning = ('the return progress cannot be written (%s): no resume after a crash%s'
+                       % (error, self._remove_stale()))
+        if warning != self.warning:
+            self.warning = warning
+            if warning:
+                self.log.warn('%s', warning)
+            if self._changed is not None:
+                self._changed()
+
+    def _remove_stale(self):
+        """Remove the progress file an earlier step left; '' or what is left over."""
+        try:
+            os.unlink(self.path)
+        except FileNotFoundError:
+            pass
+        except OSError as error:
+            return ' (and the older %s cannot be removed: %s)' % (self.path, error.strerror)
+        return ''
 
     def first_state(self, position, mission_id, params, limits):
         """(state, reason): ``returning`` to resume an unfinished return of this

@@ -6,6 +6,7 @@ within each goal's backstop, the whole return's allowance and its distance
 budget; the progress is persisted after each goal. The mission's state stays
 with the client (ros/back_travel_client.py), which owns this runner.
 """
+import os
 import time
 
 import rospy
@@ -18,8 +19,8 @@ from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.pause import CONTACT_DEFAULTS, PauseLog
 from blind_navigation.core.plausibility import RouteBudget
 from blind_navigation.core.progress import file_digest, kept_route
-from blind_navigation.core.return_plan import (gaps_warning, plan_route, recording_problem,
-                                               return_goals)
+from blind_navigation.core.return_plan import (plan_route, recording_problem, return_goals,
+                                               return_warning)
 from blind_navigation.core.safety import expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal
@@ -74,15 +75,17 @@ class ReturnRunner(object):
     def _travel_back(self):
         m = self.mission
         resuming = m.keeper.progress.status == state.RETURNING
-        loaded, digest, problem = self._load(m.keeper.progress.landmark_file, resuming)
+        loss = None if resuming else m.loss_of(m.keeper.progress.landmark_file)
+        loaded, digest, problem = self._load(m.keeper.progress.landmark_file, loss, resuming)
         if problem:
             return False, problem
         landmarks, problem = self._in_corrected_frame(loaded.landmarks)
         if problem:
             return False, problem
         goals = return_goals(loaded.labels, landmarks)
-        if loaded.gaps:
-            m.warnings = gaps_warning(loaded)
+        warning = return_warning(loaded, loss)
+        if warning:
+            m.warnings = warning
             self.log.warn('%s: %s', m.keeper.progress.landmark_file, m.warnings)
         if resuming:
             route, problem = self._kept_route(digest, len(goals))
@@ -122,8 +125,19 @@ class ReturnRunner(object):
                            '(home_tolerance %.2f m): not home' % (off, self.home_tolerance))
         return True, '%s; %.3f m from the start by odometry' % (reason, off)
 
-    def _load(self, path, resuming):
-        """(loaded landmarks, the file's digest, problem) of the recorded file."""
+    def recording_problem(self):
+        """Why the recording as it is now gives no way back, or None: asked before the pi
+        turn (ros/turn_start.py), while the recording may still grow (the final landmark)."""
+        path = os.path.realpath(self.mission.landmark_file)
+        try:
+            loaded = load_landmarks(path, limits=self.mission.limits, allow_empty=True)
+        except LandmarkFileError as error:
+            return 'landmark file unusable: %s' % error
+        return recording_problem(loaded, self.mission.loss_of(path))
+
+    def _load(self, path, loss, resuming):
+        """(loaded landmarks, the file's digest, problem) of the recorded file; ``loss``:
+        the recorder's core/return_plan.WriteLoss (None when ``resuming``)."""
         m = self.mission
         try:
             loaded = load_landmarks(path, limits=m.limits)
@@ -134,11 +148,8 @@ class ReturnRunner(object):
             return None, None, 'landmark file unusable: %s' % error
         for warning in loaded.warnings:
             self.log.warn('%s', warning)
-        loss = m.losses.get(path)
-        reported = loss.lost if loss is not None and not resuming else None
         problem = m.keeper.restore_heading() if resuming else None    # the layer restarted mid-return
-        return loaded, digest, problem or recording_problem(
-            loaded, reported, loss.error if loss is not None else '')
+        return loaded, digest, problem or recording_problem(loaded, loss)
 
     def _kept_route(self, digest, goals):
         """(route, problem): the route of the return this one resumes."""
@@ -203,10 +214,11 @@ class ReturnRunner(object):
             progress = m.keeper.progress.goal_done(number, time.time(), m.position(), travelled)
             m.keeper.save(progress._replace(route=m.keeper.route_data(route)).checked())
             m.publish_status()
+        warnings = m.all_warnings()
         return True, 'travelled %.3f m over %d landmarks%s%s' % (
             travelled, len(goals) - done,
             ' (resumed after %d)' % done if done else '',
-            '; ' + m.warnings if m.warnings else '')
+            '; ' + warnings if warnings else '')
 
     def _goal_distance(self):
         """m driven by the current goal so far (its last feedback)."""

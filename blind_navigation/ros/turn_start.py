@@ -3,13 +3,16 @@
 Vision lost or ``go_home`` while recording: the mission becomes ``rotating``
 but the recording goes on. The turn is committed once the gyro bias standstill
 is over (with ``heading_correction``) or, without it, ``vision_back_grace`` s
-after a vision loss: the anchor and the progress are saved and the latched
-``blind_navigation/recording_end`` (std_msgs/Empty) tells the sampling
-publisher to end the recording and rotate_pi to turn. Vision back
+after a vision loss. What already ends the mission (the odometry's frame lost,
+a recording that gives no way back: core/return_plan.recording_problem) ends it
+standing still: it is asked at the loss, before the standstill, and again at
+the commit, before the turn. At the commit the anchor and the progress are
+saved and the latched ``blind_navigation/recording_end`` (std_msgs/Empty)
+tells the sampling publisher to end the recording and rotate_pi to turn. Vision back
 (``blind_navigation/vision_back``) before that: ``recording`` again, in the
 same mission file; during the turn or the return: ``on_vision_back``
 (core/mission_state.vision_back_state). The turn's timeout is armed per loss.
-Reasons: docs/safety.md, "Vision back".
+Reasons: docs/safety.md, "Vision back" and "Decide before the turn".
 """
 import threading
 import time
@@ -45,9 +48,9 @@ class TurnStart(object):
         with self.lock:
             if c.state != state.RECORDING:
                 return False
-            if c.odometry.lost:
-                c.move(state.RECORDING, state.ABORTED, '%s, but %s: the way back is unknown; not '
-                       'travelling back' % (reason, c.odometry.lost))
+            problem = self._problem()
+            if problem:
+                c.move(state.RECORDING, state.ABORTED, '%s, but %s' % (reason, problem))
                 return False
             if not c.move(state.RECORDING, state.ROTATING, reason):
                 return False
@@ -82,6 +85,10 @@ class TurnStart(object):
                 if rospy.is_shutdown() or episode != self.episode or c.state != state.ROTATING:
                     return
                 if self._ready():
+                    problem = self._problem()
+                    if problem:
+                        c.move(state.ROTATING, state.ABORTED, 'before the pi turn: %s' % problem)
+                        return
                     self.begun = True
                     self._save_anchor()
                     break
@@ -91,6 +98,16 @@ class TurnStart(object):
                 return
         self.end_pub.publish(Empty())
         c.log.info('the pi turn begins: recording ended')
+
+    def _problem(self):
+        """What already ends the mission, asked before the standstill and again before the
+        turn (lock held): the odometry's frame lost, or a recording that gives no way back
+        (core/return_plan.recording_problem); None if the return can go on."""
+        c = self.client
+        lost = c.lost or c.odometry.lost
+        if lost:
+            return '%s: the way back is unknown; not travelling back' % lost
+        return c.runner.recording_problem()
 
     def _save_anchor(self):
         """Where the recording stopped: the return's anchor, the turn's start yaw (lock held)."""

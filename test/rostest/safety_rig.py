@@ -167,11 +167,12 @@ class Layer(object):
         base.turn(math.pi)
         self.finish_rotation(since, timeout)
 
-    def walk_to_rotating(self, since, timeout=60.0):
-        """idle -> recording (a storage message) -> rotating (vision_lost)."""
+    def walk_to_rotating(self, since, timeout=60.0, target='rotating'):
+        """idle -> recording (a storage message) -> ``target`` (vision_lost): rotating, or
+        aborted where the client refuses the return before the turn."""
         wait_for(lambda: 'idle' in self.state_list(since), 'the new client publishes idle', timeout)
         self._publish_until(self.storage, StorageUsage(file='x'), 'recording', since, timeout)
-        self._publish_until(self.vision_lost, Empty(), 'rotating', since, timeout)
+        self._publish_until(self.vision_lost, Empty(), target, since, timeout)
 
     def finish_rotation(self, since, timeout=60.0):
         """rotating -> returning: rotation_done true (after the base really turned)."""

@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
-"""rostest: each bad landmark file is refused when the return starts: state
-``aborted``, the reason names the file and the entry, no goal is sent and no
-velocity is published. One client per case (topics remapped under /bad_<case>),
-all in parallel, against one back_travel_server and the ideal base, which the
-test turns by pi once every client has moved to rotating (each client checks
+"""rostest: each bad landmark file is refused: state ``aborted``, the reason
+names the file and the entry, no goal is sent and no velocity is published.
+A file that already gives no way back is refused at the vision loss, before the
+pi turn (issue 28: no ``rotating``, no progress file); one that holds no landmark
+yet (the final landmark comes when the turn begins) when the return starts.
+One client per case (topics remapped under /bad_<case>), all in parallel,
+against one back_travel_server and the ideal base, which the test turns by pi
+once every client that waits for it has moved to rotating (each client checks
 the real turn before it returns)."""
 import math
 import os
@@ -49,6 +52,8 @@ CASES = {
                 ['landmark_000002', 'd = 1e+06 m is farther than the base can go in T = 2 s']),
 }
 TOPICS = ('state', 'storage', 'vision_lost', 'rotation_done')
+#: Cases whose file holds no landmark yet: judged when the return starts, after the turn.
+NO_LANDMARK_YET = ('empty', 'truncated')
 
 
 class BadFilesTest(unittest.TestCase):
@@ -73,13 +78,16 @@ class BadFilesTest(unittest.TestCase):
                               dict(CLIENT_PARAMS, landmark_file=files[case]),
                               {'/blind_navigation/' + t: prefix + '/' + t for t in TOPICS}))
         try:
-            for layer in layers.values():
-                layer.walk_to_rotating(0, timeout=90.0)
+            for case, layer in layers.items():
+                layer.walk_to_rotating(0, timeout=90.0, target='rotating' if case in NO_LANDMARK_YET
+                                       else 'aborted')
             base.turn(math.pi)
-            for layer in layers.values():
-                layer.finish_rotation(0, timeout=90.0)
+            for case in NO_LANDMARK_YET:
+                layers[case].finish_rotation(0, timeout=90.0)
             for case, layer in layers.items():
                 self.assertEqual(layer.wait_final(0, timeout=60.0), 'aborted', case)
+                if case not in NO_LANDMARK_YET:
+                    self.assertEqual(layer.state_list(0), ['idle', 'recording', 'aborted'], case)
                 reason = layer.abort_reason('/client_' + case)
                 print('BAD FILE %s: %s' % (case, reason), flush=True)
                 for text in [files[case]] + CASES[case][1]:
@@ -90,11 +98,12 @@ class BadFilesTest(unittest.TestCase):
         self.assertEqual(len(goals), 0, 'a goal was sent for a bad file')
         self.assertEqual(base.commands, [], 'a velocity was published for a bad file')
         # (the turn by pi is the test's own, inside the fake base: no command)
-        progress = {case + '.progress.yaml' for case in CASES}      # next to each landmark file
+        # a return refused before the turn never began: no progress to resume
+        progress = {case + '.progress.yaml' for case in NO_LANDMARK_YET}    # next to the landmark file
         recorded = {os.path.basename(f) for c, f in files.items() if CASES[c][0] is not None}
         self.assertEqual(set(os.listdir(directory)), recorded | progress,
                          'the layer wrote something besides its progress files')
-        for case in CASES:
+        for case in NO_LANDMARK_YET:
             self.assertEqual(load_progress(progress_path(files[case])).status, 'aborted', case)
 
 

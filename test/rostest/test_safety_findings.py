@@ -56,6 +56,7 @@ from blind_navigation import names  # noqa: E402
 from blind_navigation.core.landmark import Limits  # noqa: E402
 from blind_navigation.core.plausibility import RouteBudget  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
+from blind_navigation.core.return_plan import STILL_LOSS_DISTANCE  # noqa: E402
 from blind_navigation.core.route import build_route  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.ros.route_wire import route_message  # noqa: E402
@@ -611,21 +612,21 @@ class TestE_WriteFailure(MissionCase):
     """Mid-recording, the layer process may not grow a file beyond the landmark file's size
     (RLIMIT_FSIZE set on the running process: every later append fails with EFBIG, the
     path of ENOSPC). The layer logs to /rosout and its stream only (no log file, which the
-    limit would hit first)."""
+    limit would hit first). Issue 28: the mission that cannot come back ends at the vision
+    loss, standing still: no standstill, no pi turn (ground truth)."""
 
     @classmethod
     def play(cls):
-        config = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'stream_logging.conf')
-        m = cls.mission = FindingMission('write_failure', env={'ROS_PYTHON_LOG_CONFIG_FILE': config})
+        m = cls.mission = file_limited_mission('write_failure')
         run = m.run
         run.wait_for_layer()
         run.start_operator(MISSION)
         m.wait(lambda: saved(m) >= 6, 'the saver saved 6 landmarks')
         cls.file = os.path.realpath(m.landmark_file)
-        size = os.path.getsize(cls.file)
-        resource.prlimit(node_pid(m.owner), resource.RLIMIT_FSIZE, (size, size))
+        limit_file_size(node_pid(m.owner), os.path.getsize(cls.file))
         cls.limited_at, cls.saved_before = rospy.get_time(), saved(m)
         run.wait_for_operator(MISSION)
+        cls.lost_at = rospy.get_time()
         run.trigger_by_rostopic()
         cls.final, cls.final_at = m.wait_final()
         m.wait_sim(1.5)     # a diagnostics period
@@ -638,20 +639,25 @@ class TestE_WriteFailure(MissionCase):
         cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
         cls.level = (m.diagnostics.level('%s: landmark_saver: recording' % m.owner.lstrip('/')),
                      m.diagnostics.level('%s: mission' % m.owner.lstrip('/')))
-        cls.displaced = m.track.motion(m.state_time('rotating'), cls.final_at + WATCH)[0]
+        cls.displaced, cls.turned = m.track.motion(cls.lost_at, cls.final_at + WATCH)
+        cls.turns = turn_lines(m)
 
     def test_finding6b_write_failure_is_reported_and_nothing_drives_on_a_lost_end(self):
         m, loaded = self.mission, self.loaded
         late, moved, turned = self.still
-        report('6b', 'writes refused after %d landmarks: storage lost=%d error %r; %d ERROR log '
-               'line(s) %r; diagnostics levels (saver, mission) %s, saver %r; mission warnings %r; '
-               'the file holds %d whole landmarks (torn: %s); %s: %r; moved %.3f m since vision loss; '
+        report('6b', 'writes refused after %d landmarks: storage lost=%d (%.3f m, %.2f rad) error %r; '
+               '%d ERROR log line(s) %r; diagnostics levels (saver, mission) %s, saver %r; mission '
+               'warnings %r; the file holds %d whole landmarks (torn: %s); states %s: %r %.1f s (sim) '
+               'after the vision loss; since the loss moved %.4f m, turned %.4f rad (%d turn lines); '
                'after it %d motion commands, moved %.4f m', self.saved_before, self.storage.lost,
-               self.storage.error, len(self.lost_lines), (self.lost_lines or [''])[0].split(': ', 1)[-1],
+               self.storage.lost_distance, self.storage.lost_turn, self.storage.error,
+               len(self.lost_lines), (self.lost_lines or [''])[0].split(': ', 1)[-1],
                self.level, self.saver_status and self.saver_status[0], (self.warnings or [''])[-1],
-               len(loaded.landmarks), [w for w in loaded.warnings if 'torn' in w], self.final,
-               m.final_reason(), self.displaced, len(late), moved)
+               len(loaded.landmarks), [w for w in loaded.warnings if 'torn' in w], m.run.state_names(),
+               m.final_reason(), self.final_at - self.lost_at, self.displaced, self.turned,
+               len(self.turns), len(late), moved)
         self.assertGreater(self.storage.lost, 0, 'no landmark was lost: the limit did not bite')
+        self.assertGreater(self.storage.lost_distance, 0.1, 'the lost landmarks were not driven')
         self.assertIn(self.file, self.storage.error)
         self.assertTrue(self.lost_lines, 'no ERROR in the log')
         self.assertIn('lost', self.saver_status[0])
@@ -659,13 +665,199 @@ class TestE_WriteFailure(MissionCase):
         self.assertTrue(self.warnings and 'RECORDING DAMAGED' in self.warnings[-1])
         self.assertEqual(len(loaded.landmarks), self.storage.landmarks, 'the file lost whole landmarks')
         self.assertEqual([w for w in loaded.warnings if 'torn' in w], [])
-        # the end of the path is lost: the way back from where the robot is is unknown
+        # the end of the path is lost: the way back from where the robot is is unknown, and the
+        # mission ends where vision was lost, before the standstill and the pi turn
         self.assertEqual(self.final, 'aborted', 'it drove on what is left of the record')
         for text in ('could not be written', 'not travelling back', self.file):
             self.assertIn(text, m.final_reason())
+        self.assertLess(self.turned, 0.1, 'the robot turned after the vision loss')
         self.assertLess(self.displaced, 0.05, 'the robot drove after vision loss')
+        self.assertEqual(self.turns, [], 'rotate_pi began a turn')
         self.assertEqual(late, [])
         self.assertLess(moved, 0.005)
+
+
+def file_limited_mission(label):
+    """A FindingMission whose layer logs to /rosout and its stream only (no log file, which
+    a file size limit, :func:`limit_file_size`, would hit first)."""
+    config = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'stream_logging.conf')
+    return FindingMission(label, env={'ROS_PYTHON_LOG_CONFIG_FILE': config})
+
+
+def limit_file_size(pid, size):
+    """No file of process ``pid`` may grow beyond ``size`` bytes (RLIMIT_FSIZE, soft; None:
+    no limit again): its writes beyond fail with EFBIG, as on a full disk with ENOSPC."""
+    hard = resource.prlimit(pid, resource.RLIMIT_FSIZE)[1]
+    resource.prlimit(pid, resource.RLIMIT_FSIZE, (resource.RLIM_INFINITY if size is None else size, hard))
+
+
+# --- issue 28: a write failure only while the robot stands still is bridged ------------------
+
+class TestK_StillWriteFailure(MissionCase):
+    """The disk refuses writes only while the robot stands still: at the start, before the
+    operator drives (then accepts again), and at the end, from when the operator is done
+    through the vision loss, the standstill and the return (the file, the progress file:
+    RLIMIT_FSIZE as in TestE). Every lost landmark was taken standing still: a gap the return
+    bridges, with a warning; the progress that cannot be written is a warning too."""
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = file_limited_mission('still_write_failure')
+        run = m.run
+        run.wait_for_layer()
+        pid = node_pid(m.owner)
+        m.wait(lambda: saved(m) >= 1, 'the saver saved a landmark')
+        cls.file = os.path.realpath(m.landmark_file)
+        limit_file_size(pid, os.path.getsize(cls.file))
+        m.wait(lambda: lost(m) >= 2, 'two landmarks lost while standing still')
+        limit_file_size(pid, None)
+        cls.lost_at_start = lost(m)
+        run.play_mission(MISSION)
+        limit_file_size(pid, os.path.getsize(cls.file))
+        cls.limited_at = rospy.get_time()
+        run.trigger_by_rostopic()
+        cls.final, cls.final_at = m.wait_final()
+        m.wait_sim(1.0)
+        cls.error = run.error()
+        cls.still = m.still_after(cls.final_at, WATCH)
+        cls.storage = run.storage_msgs.snapshot()[-1]
+        cls.loaded = load_landmarks(cls.file)
+        cls.driven = m.track.length(m.state_time('recording'), cls.limited_at)
+        cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
+        cls.progress_lines = m.logged('the return progress cannot be written')
+
+    def test_issue28_a_loss_while_standing_still_is_bridged_and_comes_home(self):
+        m, loaded, storage = self.mission, self.loaded, self.storage
+        late, moved, turned = self.still
+        report('28 still', '%d landmarks lost standing still at the start, %d in all (%.4f m, %.4f rad); '
+               'the file holds %d landmarks, %.3f m of %.3f m driven, gaps %s; progress warnings %d; '
+               '%s %.3f m from the start: %r; after it %d motion commands, moved %.4f m',
+               self.lost_at_start, storage.lost, storage.lost_distance, storage.lost_turn,
+               len(loaded.landmarks), loaded.total_distance, self.driven,
+               [gap.before for gap in loaded.gaps], len(self.progress_lines), self.final, self.error,
+               m.final_reason(), len(late), moved)
+        self.assertGreaterEqual(self.lost_at_start, 2)
+        self.assertGreater(storage.lost, self.lost_at_start, 'nothing was lost at the end')
+        self.assertLessEqual(storage.lost_distance, STILL_LOSS_DISTANCE)
+        self.assertEqual(len(loaded.gaps), 1, 'the start\'s loss is not one hole')
+        self.assertLess(self.driven - loaded.total_distance, 0.02, 'driven path missing from the file')
+        self.assert_home('a loss while standing still')
+        self.assertIn('while the robot stood still', m.final_reason())
+        self.assertTrue(any('while the robot stood still' in w for w in self.warnings), self.warnings)
+        self.assertEqual(late, [])
+        self.assertLess(moved, 0.005)
+
+
+def lost(mission):
+    """Landmarks the recorder reported lost so far (its last storage message)."""
+    messages = mission.run.storage_msgs.snapshot()
+    return messages[-1].lost if messages else 0
+
+
+# --- issue 28: a storage that cannot hold a file, or holds few minutes, at start -------------
+
+class SmallDisk(MissionCase):
+    """The landmark directory is a tmpfs of SIZE KiB (mounted by the test: root only; skipped
+    where mounting is not allowed), filled with FILL KiB before the layer starts."""
+
+    SIZE = FILL = 0
+
+    @classmethod
+    def setUpClass(cls):
+        try:
+            super(SmallDisk, cls).setUpClass()
+        except BaseException:
+            cls.unmount()
+            raise
+
+    @classmethod
+    def tearDownClass(cls):
+        super(SmallDisk, cls).tearDownClass()
+        cls.unmount()
+
+    @classmethod
+    def prepare(cls, directory):
+        mounted = subprocess.run(['mount', '-t', 'tmpfs', '-o', 'size=%dk' % cls.SIZE, 'tmpfs', directory],
+                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True)
+        if mounted.returncode != 0:
+            raise unittest.SkipTest('cannot mount a tmpfs here: %s' % mounted.stdout.strip())
+        cls.mounted = directory
+        if cls.FILL:
+            with open(os.path.join(directory, 'filler'), 'wb') as stream:
+                try:
+                    stream.write(b'\0' * (cls.FILL << 10))
+                except OSError:
+                    pass                # full
+        info = os.statvfs(directory)
+        cls.free = info.f_bavail * info.f_frsize
+
+    @classmethod
+    def unmount(cls):
+        directory = getattr(cls, 'mounted', None)
+        if directory:
+            subprocess.run(['umount', directory], check=False)
+            shutil.rmtree(directory, ignore_errors=True)
+            cls.mounted = None
+
+
+class TestL_FullAtStart(SmallDisk):
+    """The landmark directory's file system is full when the layer starts: it cannot hold a
+    mission file. The layer ends with one FATAL line naming the file and the error, and
+    leaves no symlink to nothing."""
+
+    SIZE = FILL = 16
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('full_at_start', prepare=cls.prepare)
+        m.wait(lambda: m.layer.process.poll() is not None, 'the layer exits')
+        cls.output = m.layer.output()
+        cls.fatal = [line for line in cls.output.splitlines() if '[FATAL]' in line]
+        cls.link = m.landmark_file
+        cls.entries = sorted(os.listdir(m.directory))
+        cls.commands = [c for c in m.layer_commands() if c[1] or c[2]]
+        cls.uncaught = [line for line in cls.output.splitlines() if line.startswith('Traceback')]
+
+    def test_issue28_a_full_storage_at_start_is_one_fatal_line_and_no_dangling_symlink(self):
+        report('28 full', '%d bytes free: %d FATAL line(s) %r; directory then %s; %d motion commands; '
+               'traceback: %s', self.free, len(self.fatal), self.fatal, self.entries, len(self.commands),
+               bool(self.uncaught))
+        self.assertEqual(len(self.fatal), 1, self.output[-3000:])
+        for text in (self.mission.directory, 'No space left on device (ENOSPC)'):
+            self.assertIn(text, self.fatal[0])
+        self.assertFalse(os.path.islink(self.link) and not os.path.exists(self.link),
+                         'a symlink to nothing at %s' % self.link)
+        self.assertEqual(self.entries, ['filler'])
+        self.assertEqual(self.commands, [])
+        self.assertEqual(self.uncaught, [], self.output[-3000:])
+
+
+class TestM_LowSpaceAtStart(SmallDisk):
+    """The landmark directory's file system holds 32 KiB: fewer than LOW_SPACE_MINUTES of
+    recording at the rate assumed before one is measured. The saver warns when it opens the
+    file, and the mission status carries the warning from the first landmark on."""
+
+    SIZE = 32
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('low_space', prepare=cls.prepare)
+        m.run.wait_for_layer()
+        cls.warned = m.wait_logged('LOW SPACE')
+        m.wait(lambda: [msg for msg in m.status.snapshot() if 'LOW SPACE' in msg.warnings],
+               'the mission status carries the low-space warning')
+        cls.status = [msg for msg in m.status.snapshot() if 'LOW SPACE' in msg.warnings][0]
+        cls.storage = m.run.storage_msgs.snapshot()[0]
+        cls.states = m.run.state_names()
+
+    def test_issue28_low_space_is_warned_at_start(self):
+        report('28 low space', '%d bytes free: %r; status %s: %r', self.free, self.warned,
+               self.status.state, self.status.warnings)
+        self.assertIn(self.mission.directory, self.warned)
+        self.assertIn('min of recording', self.warned)
+        self.assertIn(self.status.state, ('idle', 'recording'))     # with the first storage report
+        self.assertIn('LOW SPACE', self.storage.space_warning, 'not warned with the first storage report')
+        self.assertEqual(self.states[-1], 'recording')
 
 
 # --- finding 6c: a landmark_file that is a directory -------------------------------------------

@@ -14,6 +14,7 @@ from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, Retur
                                             file_digest, kept_heading, kept_route, load_progress,
                                             progress_path, route_record, save_progress)
 from blind_navigation.core.route import build_route
+from blind_navigation.ros.return_progress import ProgressKeeper
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
                                           settle_abort)
 
@@ -142,6 +143,34 @@ def test_a_failed_write_keeps_the_old_progress_and_names_the_file(mission, tmp_p
     monkeypatch.undo()
     assert load_progress(path).completed == 4
     assert sorted(p.name for p in tmp_path.iterdir() if p.name.startswith('.')) == []
+
+
+def test_a_progress_that_cannot_be_written_is_a_warning_and_no_stale_file_is_left(mission, monkeypatch):
+    # issue 28: a full disk makes the progress unwritable; the return goes on (no resume after
+    # a crash), and an older step's file is removed so a restart cannot resume from it
+    link, path, digest = mission
+    warned, changes = [], []
+    log = type('Log', (), {'warn': lambda self, *args: warned.append(args[0] % args[1:])})()
+    keeper = ProgressKeeper(link, None, log, changed=lambda: changes.append(keeper.warning))
+    keeper.save(returning(link, digest, completed=4))
+    assert load_progress(path).completed == 4 and keeper.warning == '' and changes == []
+    real_write = os.write
+
+    def full(fd, data):
+        if os.readlink('/proc/self/fd/%d' % fd).startswith(os.path.dirname(path)):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real_write(fd, data)
+    monkeypatch.setattr(os, 'write', full)
+    keeper.save(returning(link, digest, completed=5))
+    keeper.save(returning(link, digest, completed=6))
+    assert keeper.progress.completed == 6                   # kept in memory: the return goes on
+    assert not os.path.lexists(path)
+    assert len(warned) == 1 and len(changes) == 1 and warned[0] == keeper.warning
+    assert keeper.warning.startswith('the return progress cannot be written (cannot write %s' % path)
+    assert keeper.warning.endswith('No space left on device (ENOSPC)): no resume after a crash')
+    monkeypatch.undo()
+    keeper.save(returning(link, digest, completed=7))
+    assert load_progress(path).completed == 7 and keeper.warning == '' and changes[-1] == ''
 
 
 # --- the resume decision -------------------------------------------------------

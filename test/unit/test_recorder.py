@@ -1,5 +1,6 @@
 """PathRecorder and the plain-Python recording loop: the paper's two sampling
-rates switching along a straight/arc/straight path, the +-pi seam, distances."""
+rates switching along a straight/arc/straight path, the +-pi seam, distances;
+the low-space warning against the recording's rate."""
 import math
 import os
 import sys
@@ -7,7 +8,9 @@ import sys
 import pytest
 
 from blind_navigation.core.geometry import OdomState, distance, wrap_angle
-from blind_navigation.core.recorder import OdometryHistory, PathRecorder, record_path, storage_usage
+from blind_navigation.core.recorder import (ASSUMED_BYTES_PER_MINUTE, LOW_SPACE_MINUTES, RATE_WINDOW,
+                                           OdometryHistory, PathRecorder, SpaceWatch, free_bytes,
+                                           record_path, recording_rate, space_warning, storage_usage)
 from blind_navigation.core.segment import SamplingSchedule
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
@@ -165,3 +168,33 @@ def test_odometry_history_reads_the_state_at_a_stamp():
     assert history.latest is None and history.after(0.0) == []
     with pytest.raises(ValueError):
         OdometryHistory(span=0.0)
+
+
+# --- the low-space warning ---------------------------------------------------------------
+
+def test_the_rate_is_assumed_until_the_recording_measured_it():
+    assert recording_rate(0, 0.0) == recording_rate(5000, RATE_WINDOW - 1) == ASSUMED_BYTES_PER_MINUTE
+    assert recording_rate(2100, RATE_WINDOW) == pytest.approx(2100.0)
+    assert recording_rate(4200, 2 * RATE_WINDOW) == pytest.approx(2100.0)
+
+
+def test_space_warning_says_how_many_minutes_the_free_space_holds():
+    rate = 2000.0
+    assert space_warning(LOW_SPACE_MINUTES * rate, rate, '/d') == ''
+    warning = space_warning(5000, rate, '/d')
+    assert warning.startswith('LOW SPACE: 5000 bytes free on /d hold 2.5 min of recording at '
+                              '2000 bytes/min (less than 10 min)')
+    assert space_warning(0, rate, '/d').startswith('LOW SPACE: 0 bytes free')
+
+
+def test_space_watch_warns_early_and_once_then_measures():
+    free = [5 * ASSUMED_BYTES_PER_MINUTE]
+    watch = SpaceWatch('/d', free=lambda directory: free[0])
+    warning, appeared = watch.update(0.0, 200, 0)        # at start, before any landmark: assumed
+    assert appeared and 'hold 5.0 min of recording at %.0f bytes/min' % ASSUMED_BYTES_PER_MINUTE in warning
+    assert watch.update(1.0, 270, 1) == (warning, False)     # said once
+    # measured from the first landmark: 70 bytes every 2 s = 2100 bytes/min: 11.7 min, enough
+    assert watch.update(1.0 + RATE_WINDOW, 270 + 70 * 30, 31) == ('', False)
+    free[0] = 1000
+    assert watch.update(2.0 + RATE_WINDOW, 270 + 70 * 31, 32)[1]
+    assert free_bytes(os.path.dirname(__file__)) > 0 and free_bytes('/nonexistent/dir') is None

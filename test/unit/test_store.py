@@ -301,6 +301,59 @@ def test_lost_after_end_tells_a_lost_tail_from_holes(tmp_path, monkeypatch):
             loaded.lost_after_end(bad)
 
 
+def test_the_writer_sums_what_the_lost_landmarks_covered(tmp_path, monkeypatch):
+    # a return bridges a loss only when the robot stood still (core/return_plan.still_loss):
+    # the writer knows the d of each landmark it could not write, and its heading change
+    path = str(tmp_path / 'lm.yaml')
+    writer = LandmarkWriter(path, fsync=False)
+    disk = FailingDisk(monkeypatch, None)
+    disk.fd, disk.write_error = writer._fd, errno.ENOSPC
+    with pytest.raises(StorageError):
+        writer.append(PATH[0])              # the first: its turn is |w| T (no psi before it)
+    disk.write_error = None
+    writer.append(PATH[1])
+    disk.write_error = errno.ENOSPC
+    for landmark in PATH[2:]:
+        with pytest.raises(StorageError):
+            writer.append(landmark)
+    assert writer.lost == 3
+    assert writer.lost_distance == pytest.approx(PATH[0].d + PATH[2].d + PATH[3].d)
+    turns = [abs(PATH[0].w) * PATH[0].T, abs(-3.1 - 0.061 + 2 * math.pi), abs(-3.14159 + 3.1)]
+    assert writer.lost_turn == pytest.approx(sum(turns))
+    writer.close()
+    resumed = LandmarkWriter.resume(path, fsync=False)      # a restart: counts afresh, psi kept
+    assert (resumed.lost, resumed.lost_distance, resumed.lost_turn) == (0, 0.0, 0.0)
+    disk.fd, disk.write_error = resumed._fd, errno.ENOSPC
+    with pytest.raises(StorageError):
+        resumed.append(PATH[1])             # the same heading as the file's last landmark
+    assert (resumed.lost, resumed.lost_turn) == (1, 0.0)
+    resumed.close()
+
+
+def test_a_storage_that_cannot_hold_a_file_leaves_the_symlink_as_it_was(tmp_path, monkeypatch):
+    # a full disk at start: the new mission file is not made, landmark_file still points at
+    # the earlier mission's (or is missing), never at nothing
+    link = str(tmp_path / 'landmarks.yaml')
+    real_write = os.write
+
+    def full(fd, data):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+    monkeypatch.setattr(os, 'write', full)
+    with pytest.raises(StorageError, match=r'cannot create .*landmarks-.*\.yaml: No space left '
+                                           r'on device \(ENOSPC\)'):
+        open_mission_file(link, mission='m1', fsync=False)
+    assert os.listdir(str(tmp_path)) == []
+    monkeypatch.setattr(os, 'write', real_write)
+    first = open_mission_file(link, mission='m1', fsync=False)
+    first.append(PATH[0])
+    first.close()
+    monkeypatch.setattr(os, 'write', full)
+    with pytest.raises(StorageError):
+        open_mission_file(link, mission='m2', fsync=False, when=datetime.datetime(2030, 1, 1))
+    assert os.path.realpath(link) == first.path and load_landmarks(link).landmarks == PATH[:1]
+    assert sorted(os.listdir(str(tmp_path))) == sorted(['landmarks.yaml', os.path.basename(first.path)])
+
+
 def test_a_failed_fsync_removes_the_line(tmp_path, monkeypatch):
     path = str(tmp_path / 'lm.yaml')
     writer = LandmarkWriter(path)
