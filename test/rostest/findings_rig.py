@@ -228,6 +228,21 @@ class FindingMission(object):
         self.nodes.append(node)
         return node
 
+    def nudge(self, distance=0.3, speed=0.2):
+        """Drive ``distance`` m straight ahead on teleop (this node as the operator) and let the
+        robot stop: a recording the return has something to retrace on (core/return_plan.
+        nothing_to_retrace ends a mission asked home before the robot moved ``home`` at once)."""
+        teleop = self.keep(rospy.Publisher(TELEOP_TOPIC, Twist, queue_size=5))
+        self.wait(lambda: teleop.get_num_connections() >= 1, 'the mux subscribes teleop')
+        command = Twist()
+        command.linear.x = speed
+        until = rospy.get_time() + distance / speed
+        while rospy.get_time() < until:
+            teleop.publish(command)
+            rospy.sleep(0.05)
+        teleop.publish(Twist())
+        self.wait_sim(1.0)
+
     # --- waits -----------------------------------------------------------------------------
     def wait(self, condition, what, timeout=WALL_TIMEOUT):
         wait_for(condition, '%s: %s (states %s)' % (self.label, what, self.run.state_names()), timeout)

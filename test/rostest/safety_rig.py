@@ -171,7 +171,9 @@ class Layer(object):
         """idle -> recording (a storage message) -> ``target`` (vision_lost): rotating, or
         aborted where the client refuses the return before the turn."""
         wait_for(lambda: 'idle' in self.state_list(since), 'the new client publishes idle', timeout)
-        self._publish_until(self.storage, StorageUsage(file='x'), 'recording', since, timeout)
+        # a recording of 1 m: asked home before the robot moved, the client ends home at once
+        self._publish_until(self.storage, StorageUsage(file='x', distance=1.0), 'recording', since,
+                            timeout)
         self._publish_until(self.vision_lost, Empty(), target, since, timeout)
 
     def finish_rotation(self, since, timeout=60.0):

@@ -52,7 +52,7 @@ class TriggerTest(unittest.TestCase):
         rospy.Subscriber('/blind_navigation/return_path', Path, paths.append)
         storage = rospy.Publisher('/blind_navigation/storage', StorageUsage, queue_size=1, latch=True)
         self.wait_for(lambda: states[-1:] == ['idle'], 'client publishes idle')
-        storage.publish(StorageUsage(file=path, landmarks=N))
+        storage.publish(StorageUsage(file=path, landmarks=N, distance=N * V * T))
         self.wait_for(lambda: states[-1:] == ['recording'], 'state recording after a storage')
         time.sleep(1.0)  # rotate_pi has seen the latched state
         subprocess.check_call(['rostopic', 'pub', '-1', '/blind_navigation/vision_lost',

@@ -498,6 +498,7 @@ class TestC_RotationDoneFalse(MissionCase):
         m = cls.mission = FindingMission('rotation_false')
         run = m.run
         run.wait_for_layer()
+        m.nudge()
         m.wait_sim(2.0)
         done = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
         wait_connected(done, m.owner, 'rotation_done')
@@ -912,6 +913,7 @@ class TestG_RotatePiRestart(MissionCase):
         m = cls.mission = FindingMission('rotate_pi_restart', one_process=False)
         run = m.run
         run.wait_for_layer()
+        m.nudge()
         m.wait_sim(2.0)
         run.trigger_by_publisher()
         cls.rotating_at = m.wait_state('rotating')
