@@ -33,7 +33,7 @@ from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
 from blind_navigation.msg import MissionStatus, StorageUsage
-from blind_navigation.ros import faults
+from blind_navigation.ros import clock, faults
 from blind_navigation.ros.common import shutting_down, subscribe, wait_wall
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
@@ -78,6 +78,7 @@ class BackTravelClient(object):
         layer.safety.on_trip(guard(self._on_trip))
         faults.on_fault(self._on_fault)
         self.odometry.on_reanchor(guard(self._on_reset))
+        clock.on_moved_back(guard(self._on_time_moved_back))
         subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
         subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
         subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
@@ -218,6 +219,18 @@ class BackTravelClient(object):
         (the feed is never fresh again: the server and rotate_pi hold)."""
         if not trusted and self.state in (state.ROTATING, state.RETURNING):
             self.lost = reason
+
+    def _on_time_moved_back(self, jump, before, now):
+        """The ROS time moved back: a turn or a return cannot go on (their times and
+        odometry stamps are of the old clock)."""
+        current = self.state
+        if current not in (state.ROTATING, state.RETURNING):
+            return
+        self.lost = '%s during %s' % (clock.describe(jump, before, now), 'the pi turn'
+                                      if current == state.ROTATING else 'the return')
+        if self.move(current, state.ABORTED, '%s: its times and odometry are of the old clock; '
+                     'not travelling back' % self.lost) and current == state.RETURNING:
+            self.runner.cancel()
 
     def _on_odom(self, raw):
         if self.state != state.RETURNING:
