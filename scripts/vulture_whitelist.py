@@ -2,8 +2,6 @@
 reports unused at 60 % confidence that are used where it cannot see."""
 # pylint: disable=undefined-variable,pointless-statement
 # ROS handles kept on self so that the timer, subscriber or service stays alive
-_._timer            # ros/diagnostics.py: the updater's rospy.Timer
-_._vo_timer         # ros/heading_correction.py: the visual-odometry watchdog's rospy.Timer
 _.sample_sub        # ros/landmark_saver.py, ros/record_client.py: the sample subscriber
 _.manual_sub        # ros/vision_monitor.py: the manual vision_lost subscriber, kept across missions
 _.samples_service   # ros/sampling_publisher.py: the RecordedSamples service

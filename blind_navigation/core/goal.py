@@ -117,8 +117,9 @@ class CommandHold(object):
         self.last = now
 
     def remaining(self, now):
-        """s the last command still holds at ``now`` (0: zero velocity is due)."""
-        if self.last is None:
+        """s the last command still holds at ``now`` (0: zero velocity is due; also when
+        ``now`` is before the command: the clock moved back, how long it held is unknown)."""
+        if self.last is None or now < self.last:
             return 0.0
         return max(0.0, self.last + self.handover_timeout - now)
 

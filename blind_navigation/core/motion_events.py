@@ -96,14 +96,17 @@ class EventSampler(object):
     ticks (module docstring). Feed every odometry state to :meth:`odometry`;
     before taking the periodic tick stamped ``t`` (``latency`` s after it), take
     the samples :meth:`before` gives, then the tick itself with the period
-    :meth:`tick` gives."""
+    :meth:`tick` gives. Stamps going back (the clock restarted) start the events
+    again from there; a tick is never given a negative period."""
 
     def __init__(self, params=None):
+        self._params = params
         self.events = MotionEvents(params)
         self.latency = self.events.event_latency
         self.pending = []          # event stamps not taken yet
         self.last = None           # stamp of the last sample taken (event or tick)
         self._split = False        # an event sample was taken since the last tick
+        self._fed = None           # stamp of the last odometry state fed
 
     def start(self, stamp):
         """The recording starts at ``stamp`` (s)."""
@@ -111,6 +114,9 @@ class EventSampler(object):
 
     def odometry(self, state):
         """One odometry state (every one, in order)."""
+        if self._fed is not None and state.stamp < self._fed:   # the clock went back
+            self.events, self.pending = MotionEvents(self._params), []
+        self._fed = state.stamp
         event = self.events.update(state)
         if event is not None:
             self.pending.append(event)
@@ -131,7 +137,7 @@ class EventSampler(object):
     def tick(self, stamp, period):
         """The period to record for the periodic tick at ``stamp`` whose own period
         is ``period``: the time since the last event sample if one came between."""
-        if self._split:
+        if self._split and stamp > self.last:
             period = stamp - self.last
         self.last, self._split = stamp, False
         return period

@@ -97,7 +97,8 @@ def estimate_reset(before, chain, params=None):
         return untrusted('nothing before it was confirmed by a second state')
     gap = first.stamp - before.stamp
     if gap < 0.0:
-        return untrusted('the stamps went back %.3f s (sim time reset?)' % -gap)
+        return untrusted('the stamps went back %.3f s (the ROS time moved back: a restarted '
+                         'simulator, or a clock set back?)' % -gap)
     if gap > p['reset_max_gap']:
         return untrusted('no odometry for %.3f s (more than %g s) while the robot may have moved'
                          ' (a restarted driver?)' % (gap, p['reset_max_gap']))

@@ -35,7 +35,7 @@ from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
 from blind_navigation.msg import MissionStatus, StorageUsage
-from blind_navigation.ros import faults
+from blind_navigation.ros import clock, faults
 from blind_navigation.ros.common import shutting_down, subscribe, wait_wall
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
@@ -84,6 +84,7 @@ class BackTravelClient(object):
         layer.safety.on_trip(guard(self._on_trip))
         faults.on_fault(self._on_fault)
         self.odometry.on_reanchor(guard(self._on_reset))
+        clock.on_moved_back(guard(self._on_time_moved_back))
         subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
         subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
         subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
@@ -195,14 +196,11 @@ class BackTravelClient(object):
         self.begin_return('vision lost (%s)' % sender, vision=True)
 
     def begin_return(self, reason, vision=False):
-        """Recording -> rotating for ``reason`` (``vision``: a vision loss; go_home otherwise):
-        the turn begins when ros/turn_start.py commits it; ``home`` at once if the robot has
-        not moved (core/return_plan.nothing_to_retrace). True if it moved."""
+        """Recording -> rotating for ``reason`` (``vision``: a vision loss; go_home otherwise),
+        the turn begun by ros/turn_start.py; ``home`` if the robot has not moved. True if it moved."""
         here = self.odometry.latest()
-        nothing = nothing_to_retrace(self.recorded, self.start_position,
-                                     [here.x, here.y] if here is not None else None,
-                                     BACK_TRAVEL_DEFAULTS['finish_tolerance'])
-        if nothing:
+        if nothing := nothing_to_retrace(self.recorded, self.start_position, here and [here.x, here.y],
+                                         BACK_TRAVEL_DEFAULTS['finish_tolerance']):
             return self.move(state.RECORDING, state.HOME, '%s: %s' % (reason, nothing))
         return self.turn.begin(reason, vision)
 
@@ -252,6 +250,18 @@ class BackTravelClient(object):
         (the feed is never fresh again: the server and rotate_pi hold)."""
         if not trusted and self.state in (state.ROTATING, state.RETURNING):
             self.lost = reason
+
+    def _on_time_moved_back(self, jump, before, now):
+        """The ROS time moved back: a turn or a return cannot go on (their times and
+        odometry stamps are of the old clock)."""
+        current = self.state
+        if current not in (state.ROTATING, state.RETURNING):
+            return
+        self.lost = '%s during %s' % (clock.describe(jump, before, now), 'the pi turn'
+                                      if current == state.ROTATING else 'the return')
+        if self.move(current, state.ABORTED, '%s: its times and odometry are of the old clock; '
+                     'not travelling back' % self.lost) and current == state.RETURNING:
+            self.runner.cancel()
 
     def _on_odom(self, raw):
         if self.state == state.RECORDING and self.start_position is None:

@@ -37,6 +37,7 @@ from blind_navigation.core.role_params import BACK_TRAVEL_SERVER
 from blind_navigation.core.segment import period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros import diagnostics
+from blind_navigation.ros.clock import after, every
 from blind_navigation.ros.common import shutting_down
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.faults import describe
@@ -87,9 +88,12 @@ class BackTravelServer(object):
         self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction,
                                              guard(self._on_goal), guard(self._on_cancel),
                                              auto_start=False)
-        # actionlib reads it in start(), searching from the node's private namespace first
-        rospy.set_param('~actionlib_status_frequency', p.status_frequency)
+        # actionlib reads it in start(), searching from the node's private namespace first:
+        # 0, no rospy.Timer of its own (the ROS time moving back ends one with a traceback);
+        # the status is published every 1/status_frequency s by ros/clock.every instead
+        rospy.set_param('~actionlib_status_frequency', 0.0)
         self.server.start()
+        every(1.0 / p.status_frequency, guard(self.server.publish_status), 'action status', self.log)
         rospy.on_shutdown(self._wake.set)
         threading.Thread(target=guard(self._work), name='back_travel_goals', daemon=True).start()
         self.last_abort = ''
@@ -216,12 +220,11 @@ class BackTravelServer(object):
         """Zero velocity once the last command no longer holds (core/goal.CommandHold)."""
         remaining = self.hold.remaining(rospy.get_time())
         if remaining > 0:
-            rospy.Timer(rospy.Duration(remaining), self.guard(self._on_handover_timeout),
-                        oneshot=True)
+            after(remaining, self.guard(self._on_handover_timeout), 'hand-over', self.log)
         else:
-            self._on_handover_timeout(None)
+            self._on_handover_timeout()
 
-    def _on_handover_timeout(self, _event):
+    def _on_handover_timeout(self):
         with self._lock:
             if self.hold.expired(rospy.get_time()):
                 self.output.stop()

@@ -21,6 +21,8 @@ import diagnostic_updater
 import rospy
 from diagnostic_msgs.msg import DiagnosticStatus
 
+from .clock import every
+
 #: s between two publications when ``~diagnostic_period`` is not set (diagnostic_updater's default)
 DEFAULT_PERIOD = 1.0
 
@@ -40,7 +42,7 @@ class Diagnostics(object):
         if isinstance(period, bool) or not isinstance(period, (int, float)) or not period > 0:
             raise ValueError('~diagnostic_period must be a positive number of seconds, got %r'
                              % (period,))
-        self._timer = rospy.Timer(rospy.Duration(period), self._update, reset=True)
+        every(period, self.now, 'diagnostics')     # on across the ROS time moving back
 
     def add(self, name, check):
         """Publish the status ``name`` filled by ``check(stat)`` at every update."""
@@ -55,9 +57,6 @@ class Diagnostics(object):
             self.updater.force_update()
         except rospy.ROSException:
             pass  # shutting down
-
-    def _update(self, _event):
-        self.now()
 
 
 def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR, listening=None):

@@ -5,10 +5,11 @@ cycle core/drive.DriveCycle decides (its end, a Kobuki event, a cancel, the
 mission leaving the behaviour's state, the odometry grace), then the
 behaviour's ``step`` gives the command, published through ros/motion.MotionOutput.
 It returns a typed core/drive.Outcome; every exit but success halts the
-output (zero velocity). Two pauses hold the behaviour without ending it
-(its ``hold`` gets the paused time): a bumper contact when the run is given
-core/pause.Contacts (zero velocity; too many or too long: a safety stop), and
-an operator's takeover (ros/takeover.py: nothing published; ``on_takeover``
+output (zero velocity); the ROS time moving back ends it (ros/clock.py: its
+times and odometry stamps are of the old clock). Two pauses hold the
+behaviour without ending it (its ``hold`` gets the paused time): a bumper
+contact when the run is given core/pause.Contacts (zero velocity; too many
+or too long: a safety stop), and an operator's takeover (ros/takeover.py: nothing published; ``on_takeover``
 abort ends the run TAKEN_OVER once the operator is silent). Why:
 docs/back_travel.md, "The drive loop"; docs/safety.md.
 """
@@ -17,10 +18,11 @@ from collections import deque
 import rospy
 
 from blind_navigation.core.allowance import HOLD
-from blind_navigation.core.drive import (CANCELLED, ODOMETRY_LOST, PREEMPTED, SAFETY_STOP,
+from blind_navigation.core.drive import (CANCELLED, FAILED, ODOMETRY_LOST, PREEMPTED, SAFETY_STOP,
                                          TAKEN_OVER, DriveCycle, Outcome)
 from blind_navigation.core.pause import PAUSE
 from blind_navigation.core.safety import is_contact
+from blind_navigation.ros.clock import LoopClock, describe
 
 
 class DriveLoop(object):
@@ -103,10 +105,16 @@ class DriveLoop(object):
         behaviour.start(odom)
         self.output.release()
         cycle = DriveCycle(behaviour, p if self.grace else None, p.odom_timeout)
-        rate = rospy.Rate(p.control_rate)
+        clock = LoopClock(label, self.log, then='the %s ends (its times and odometry are of the old '
+                          'clock)' % label)
+        rate = clock.rate(p.control_rate)
         paused_at = None
+        first = True
         try:
             while True:
+                if not first and rate.sleep():
+                    return Outcome(FAILED, describe(*clock.last_jump))
+                first = False
                 now, age = rospy.get_time(), odometry.age()
                 pause = self._pause(now)
                 if isinstance(pause, Outcome):
@@ -120,7 +128,6 @@ class DriveLoop(object):
                         self.log.warn('%s: %s', label, pause)
                     if pause != self.taken:
                         self.output.stop()      # a contact: zero (a takeover: nothing)
-                    rate.sleep()
                     continue
                 if paused_at is not None:
                     ended = self._resumed(behaviour, label, now - paused_at)
@@ -140,13 +147,11 @@ class DriveLoop(object):
                     return self._lost(Outcome(ODOMETRY_LOST, ''))
                 if odom is None:        # stale (or the frame was just lost): hold still
                     self.output.stop()
-                    rate.sleep()
                     continue
                 command = behaviour.step(odom, now)
                 if isinstance(command, Outcome):
                     return command
                 self.output.publish(*command)
-                rate.sleep()
         except rospy.ROSInterruptException:
             return Outcome(CANCELLED, 'node shutdown')
 

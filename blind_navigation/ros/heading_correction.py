@@ -35,6 +35,7 @@ from blind_navigation.core.role_params import HEADING_CORRECTION
 from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
+from blind_navigation.ros.clock import after
 from blind_navigation.ros.common import ros_home_file
 
 #: How to make the gyro calibration file (the warning when it is missing says so).
@@ -81,8 +82,7 @@ class HeadingCorrectionRole(object):
         layer.mission.on_new_mission(guard(self._new_mission))
         layer.diagnostics.add('heading correction: visual odometry', self._vo_status)
         layer.diagnostics.add('heading correction: gyro calibration', self._calibration_status)
-        self._vo_timer = rospy.Timer(rospy.Duration(p.vo_timeout), guard(self._check_vo),
-                                    oneshot=True)
+        after(p.vo_timeout, guard(self._check_vo), 'visual odometry watch', self.log)
         self.log.info('calibrating the gyro against %s until vision is lost, then standing still '
                       'up to %.0f s to measure its bias', rospy.resolve_name(names.VO_ODOM),
                       self.standstill_time)
@@ -128,7 +128,7 @@ class HeadingCorrectionRole(object):
             if self.standstill is None and self.result is None:
                 self.fit.add_visual(wire.stamp, yaw)
 
-    def _check_vo(self, _event):
+    def _check_vo(self):
         if self._vo_last is None and not self._vo_warned:
             self._vo_warned = True
             self.log.warn('no visual odometry on %s within %.0f s: the gyro bias will be measured '

@@ -22,6 +22,7 @@ import threading
 import rospy
 
 from .. import names
+from ..core.mission_state import IDLE, RECORDING
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
@@ -88,9 +89,13 @@ class Layer(object):
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
-        # a new mission starts on the odometry as it finds it (ros/odometry.py)
+        # a new mission starts on the odometry as it finds it (ros/odometry.py), and so does
+        # its recording: a reset while idle (a restarted simulator's clock) loses nothing
         self.mission.on_new_mission(self.guard('odometry feed')(
             lambda: self.odometry.set_correction(None, None)))
+        self.mission.on_change(self.guard('odometry feed')(
+            lambda old, new: self.odometry.set_correction(None, None)
+            if (old, new) == (IDLE, RECORDING) else None))
         self.safety = SafetyMonitor(self.guard('safety monitor'))
         self._correction = None
         self._correction_lock = threading.Lock()

@@ -29,6 +29,7 @@ from ..core.odometry_reset import ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
+from .clock import LoopClock
 from .common import subscribe
 from .odometry_batches import Batches
 from .shared_frame import SharedFrame
@@ -263,13 +264,13 @@ class OdometryFeed(object):
         return state._replace(stamp=now)
 
     def wait_fresh(self, timeout, wait=0.0):
-        """:meth:`fresh`, waiting at most ``wait`` s (ROS time) for it; None after
-        that or at shutdown."""
-        deadline = ros_time() + wait
-        state = self.fresh(timeout)
+        """:meth:`fresh`, waiting at most ``wait`` s (ROS time, moving back with it:
+        ros/clock.py) for it; None after that or at shutdown."""
+        clock, state = LoopClock('waiting for odometry'), self.fresh(timeout)
+        deadline = clock.now() + wait
         try:
-            while state is None and ros_time() < deadline and not rospy.is_shutdown():
-                rospy.sleep(0.02)
+            while state is None and rospy.get_time() < deadline and not rospy.is_shutdown():
+                deadline -= clock.sleep(0.02)
                 state = self.fresh(timeout)
         except rospy.ROSInterruptException:
             return None

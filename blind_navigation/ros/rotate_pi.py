@@ -6,8 +6,9 @@ odometry, driving ``cmd_vel`` (ros/motion.MotionOutput: it may move only while
 the mission is ``rotating``), then publishes std_msgs/Bool on
 ``blind_navigation/rotation_done``: true when turned within the tolerance,
 false when the turn failed (time allowance, odometry gone for longer than
-``odom_grace``, a Kobuki bumper/cliff/wheel-drop event). When the mission
-leaves ``rotating`` for any reason the output is halted at once.
+``odom_grace``, a Kobuki bumper/cliff/wheel-drop event, the ROS time moving
+back: ros/clock.py). When the mission leaves ``rotating`` for any reason the
+output is halted at once.
 
 Before turning it waits, with ``wait_for_heading_correction``, for the heading
 correction (then turns on the corrected odometry; none in time: no turn,
@@ -30,10 +31,14 @@ from blind_navigation.core.role_params import ROTATE_PI
 from blind_navigation.core.rotation import Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
+from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import shutting_down, subscribe
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.sampling_publisher import FINAL
+
+#: What a wait before the turn does when the ROS time moves back.
+NO_TURN = 'no pi turn: its times and odometry are of the old clock'
 
 
 class RotatePi(object):
@@ -132,16 +137,19 @@ class RotatePi(object):
 
     def _wait_for_recording_end(self):
         """Until the owner ends the recording (False: the mission left rotating first), then
-        until the recorder's final sample or ``recording_end_timeout`` (sim) passes."""
-        while not self._turn_begins.is_set():
-            if rospy.is_shutdown() or not self.rotating:
-                return False
-            rospy.sleep(0.01)
-        deadline = rospy.get_time() + self.params.recording_end_timeout
-        while not self._recording_ended.is_set() and rospy.get_time() < deadline:
-            if rospy.is_shutdown() or not self.rotating:
-                return False
-            rospy.sleep(0.01)
+        until the recorder's final sample or ``recording_end_timeout`` (sim) passes. False
+        too if the ROS time moves back meanwhile."""
+        clock = LoopClock('waiting for the end of the recording', self.log, then=NO_TURN)
+        try:
+            while not self._turn_begins.is_set():
+                if rospy.is_shutdown() or not self.rotating or clock.sleep(0.01):
+                    return False
+            deadline = rospy.get_time() + self.params.recording_end_timeout
+            while not self._recording_ended.is_set() and rospy.get_time() < deadline:
+                if rospy.is_shutdown() or not self.rotating or clock.sleep(0.01):
+                    return False
+        except rospy.ROSInterruptException:
+            return False
         if not self._recording_ended.is_set():
             self.log.warn('no final sample from the recorder within %.1f s; turning anyway',
                           self.params.recording_end_timeout)
@@ -149,10 +157,11 @@ class RotatePi(object):
 
     def _wait_for_heading_correction(self):
         """True once the heading correction is installed in the odometry (or none is
-        awaited); False after ``correction_timeout`` s of sim time, at shutdown or when
-        the mission left rotating. Commands nothing meanwhile."""
+        awaited); False after ``correction_timeout`` s of sim time, at shutdown, when
+        the mission left rotating or the ROS time moved back. Commands nothing meanwhile."""
         if self.correction is None or self.correction.received:
             return True
+        clock = LoopClock('waiting for the heading correction', self.log, then=NO_TURN)
         self.log.info('standing still while heading_correction measures the gyro bias (waiting '
                       'at most %.0f s for %s)', self.correction_timeout,
                       rospy.resolve_name(names.HEADING_CORRECTION))
@@ -167,7 +176,8 @@ class RotatePi(object):
                                    rospy.resolve_name(names.HEADING_CORRECTION),
                                    self.correction_timeout)
                     return False
-                rospy.sleep(0.02)
+                if clock.sleep(0.02):
+                    return False
         except rospy.ROSInterruptException:
             return False
         return True

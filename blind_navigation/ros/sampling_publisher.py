@@ -15,7 +15,8 @@ mission stops recording, with one ``final`` sample for the partial cycle;
 ``new_mission`` (the state back to ``idle``) starts a new recording.
 It logs what each sample's landmark needs (core/sample_log.SampleLog) and
 serves it on ``blind_navigation/recorded_samples`` to a restarted saver.
-Details and reasons: docs/recording.md ("Roles"), docs/cost.md.
+It goes on across the ROS time moving back (ros/clock.py). Details and
+reasons: docs/recording.md ("Roles"), docs/cost.md.
 """
 import math
 import threading
@@ -33,6 +34,7 @@ from blind_navigation.core.segment import SamplingSchedule, period_of
 from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordedSamplesResponse
 from blind_navigation.ros import diagnostics
+from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe
 
 #: PathSample.command values: a regular tick, and the last partial cycle.
@@ -156,7 +158,9 @@ class SamplingPublisher(object):
                 elapsed = (now - self._last_tick).to_sec()
                 if elapsed >= MIN_FINAL_PERIOD:
                     self._publish(FINAL, self._yaw(now.to_sec()), elapsed, now)
-                self.log.info('%s: recording stopped (final partial cycle %.3f s)', reason, elapsed)
+                self.log.info('%s: recording stopped (%s)', reason, 'final partial cycle %.3f s'
+                              % elapsed if elapsed >= 0 else 'no final sample: the ROS time moved '
+                              'back since the last tick')
         if self.params.yaw_source == 'odom':
             self.layer.odometry.release(self.ROLE)
 
@@ -219,7 +223,7 @@ class SamplingPublisher(object):
         for state, period in self.events.before(before, self.layer.odometry.state_at):
             self._publish(SAMPLE, state.yaw, period, rospy.Time.from_sec(state.stamp))
 
-    def _wait_for_start(self):
+    def _wait_for_start(self, clock):
         """Until a valid yaw arrives and the state allows recording; False if stopped."""
         logged = False
         while not rospy.is_shutdown():
@@ -243,7 +247,10 @@ class SamplingPublisher(object):
                 self.log.info('waiting for a valid yaw on %s and %d subscriber(s) of %s', self.source,
                               self.params.min_subscribers, rospy.resolve_name(names.SAMPLE))
                 logged = True
-            rospy.sleep(0.05)
+            try:
+                clock.sleep(0.05)
+            except rospy.ROSInterruptException:
+                return False
         return False
 
     def run(self):
@@ -256,17 +263,19 @@ class SamplingPublisher(object):
 
     def _record(self, generation):
         """The sampling loop of one recording (until it stops, a new one starts, or shutdown)."""
-        if not self._wait_for_start():
+        clock = LoopClock('sampling', self.log, then='the sampling goes on')
+        if not self._wait_for_start(clock):
             return
         period = self.schedule.period
         self.log.info('recording started; %s segment, period %.3g s', self.schedule.segment, period)
-        rate = rospy.Rate(1.0 / period)
+        rate = clock.rate(1.0 / period)
         while not rospy.is_shutdown():
             try:
                 rate.sleep()
                 tick = rospy.Time.now()
                 if self.events is not None:   # taken late: motion events before the tick first
-                    rospy.sleep(self.events.latency)
+                    if clock.sleep(self.events.latency):
+                        tick = rospy.Time.now()     # the time moved back meanwhile: the tick is now
             except rospy.ROSInterruptException:
                 return
             with self._lock:
@@ -284,16 +293,8 @@ class SamplingPublisher(object):
             if next_period != period:
                 self.log.info('%s segment: period %.3g s -> %.3g s', self.schedule.segment, period,
                               next_period)
-                rate = switched(rate, next_period)
+                rate.switch(1.0 / next_period)    # the next cycle: exactly next_period from this tick
                 period = next_period
-
-
-def switched(rate, period):
-    """A Rate of the new period that keeps the old one's tick phase, so the
-    next cycle lasts exactly ``period`` from this tick."""
-    result = rospy.Rate(1.0 / period)
-    result.last_time = rate.last_time
-    return result
 
 
 def add_logged(response, logged):

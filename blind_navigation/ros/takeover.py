@@ -18,6 +18,7 @@ from std_msgs.msg import String
 
 from .. import names
 from ..core.pause import Takeover
+from .clock import after
 from .common import subscribe
 
 #: The layer's nodes that publish on its mux input, in either layout (resolved in its namespace).
@@ -68,9 +69,10 @@ class TakeoverWatch(object):
             return self._takeover.paused(rospy.get_time())
 
 
-def after_unpaused(seconds, watch, callback):
+def after_unpaused(seconds, watch, callback, name):
     """Call ``callback()`` once ``seconds`` of sim time passed, not counting the time
-    takeovers (``watch``, a TakeoverWatch) paused meanwhile (one-shot rospy Timers)."""
+    takeovers (``watch``, a TakeoverWatch) paused meanwhile (one-shot ros/clock.after
+    timers named ``name``: the ROS time moving back does not end them)."""
     def check(paused):
         more = watch.paused() - paused
         if more > 0:
@@ -79,6 +81,6 @@ def after_unpaused(seconds, watch, callback):
             callback()
 
     def arm(delay, paused):
-        rospy.Timer(rospy.Duration(delay), lambda _event: check(paused), oneshot=True)
+        after(delay, lambda: check(paused), name)
 
     arm(seconds, watch.paused())

@@ -23,6 +23,7 @@ from std_msgs.msg import Empty, String
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.progress import ReturnProgress
+from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.takeover import after_unpaused
 
@@ -60,7 +61,8 @@ class TurnStart(object):
         threading.Thread(target=c.guard(self._commit_when_ready), args=(episode,),
                          name='turn_start', daemon=True).start()
         # the turn's timeout counts no time an operator's takeover paused it
-        after_unpaused(c.rotation_timeout, c.takeover, c.guard(lambda: self._check_rotation(episode)))
+        after_unpaused(c.rotation_timeout, c.takeover, c.guard(lambda: self._check_rotation(episode)),
+                       'the pi turn timeout')
         return True
 
     def forget(self):
@@ -80,6 +82,7 @@ class TurnStart(object):
         """Wait (sim time) until the turn may begin, then commit it: the anchor and the
         progress saved, the recording ended. Void if the mission left this rotating."""
         c = self.client
+        clock = LoopClock('waiting for the pi turn to begin', c.log)
         while True:
             with self.lock:
                 if rospy.is_shutdown() or episode != self.episode or c.state != state.ROTATING:
@@ -93,7 +96,7 @@ class TurnStart(object):
                     self._save_anchor()
                     break
             try:
-                rospy.sleep(POLL)
+                clock.sleep(POLL)   # the time moving back ends the mission (BackTravelClient)
             except rospy.ROSInterruptException:
                 return
         self.end_pub.publish(Empty())

@@ -26,6 +26,7 @@ from blind_navigation.core.role_params import VISION_MONITOR
 from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
                                           numpy_module, odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
+from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.odometry import ros_time
 from blind_navigation.ros.wiring import Expected
@@ -184,6 +185,8 @@ class VisionMonitor(object):
     def watch_stalls(self, generation):
         """Check the stall detectors whenever one of them could fire next, and warn once
         about a stream that never came; until the monitor stops watching this mission."""
+        clock = LoopClock('vision stall checks', self.log,
+                          then='watching on (the detectors start again from the new time)')
         while not rospy.is_shutdown() and not self.done and self.generation == generation:
             now = rospy.get_time()
             if now > 0.0:                 # zero: sim time has not started
@@ -191,9 +194,7 @@ class VisionMonitor(object):
                 self.warn_missing_inputs(now - self.started)
                 self.feed(self.monitor.check)
             try:
-                rospy.sleep(max(self.next_check(now) - now, MIN_CHECK_WAIT))
-            except rospy.ROSTimeMovedBackwardsException:
-                continue                  # a restarted sim clock: the detectors reset themselves
+                clock.sleep(max(self.next_check(now) - now, MIN_CHECK_WAIT))
             except rospy.ROSInterruptException:
                 return
 

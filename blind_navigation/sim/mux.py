@@ -68,6 +68,8 @@ class CmdVelMux(object):
         """Apply the timeouts at ``now``: returns 'idle' if the holder lost the output, else None."""
         if self.allowed is None:
             return None
+        if now < self._last[self.allowed]:     # the clock moved back: the timeout runs from now
+            self._last[self.allowed] = now
         if now - self._last[self.allowed] > self.inputs[self.allowed].timeout:
             self.allowed = None
             return IDLE

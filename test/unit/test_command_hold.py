@@ -32,6 +32,13 @@ def test_only_publishing_renews_the_hold():
     assert not hold.expired(10.75)
 
 
+def test_a_clock_that_moved_back_ends_the_hold():
+    hold = CommandHold(HANDOVER)
+    hold.published(60.0)
+    # a restarted /clock: how long the command held is unknown, so it holds no longer
+    assert hold.expired(0.05) and hold.remaining(0.05) == 0.0
+
+
 def test_a_bad_timeout_is_refused():
     with pytest.raises(ValueError, match='handover_timeout'):
         CommandHold(0.0)

@@ -4,8 +4,10 @@ raw speed left the old state; none on steady motion or wheel-ripple noise."""
 import math
 import random
 
+import pytest
+
 from blind_navigation.core.geometry import OdomState
-from blind_navigation.core.motion_events import MotionEvents
+from blind_navigation.core.motion_events import EventSampler, MotionEvents
 
 DT = 0.02
 
@@ -53,3 +55,22 @@ def test_steady_motion_and_ripple_give_no_events():
     assert events_of([(0.0, 0.0)] + [(0.2, 0.05)] * 500) == [DT]     # only setting off
     assert events_of([(0.0, 0.0)] * 500, noise=0.003) == []
     assert len(events_of(lagged([(0.2, 0.0, 10.0)]), noise=0.01)) == 1   # only setting off
+
+
+def test_a_clock_that_moved_back_starts_the_events_again_with_no_negative_period():
+    sampler = EventSampler()
+    sampler.start(0.0)
+    for k, (v, w) in enumerate(lagged([(0.0, 0.0, 1.0), (0.2, 0.0, 3.0)])):   # sets off at 1 s
+        sampler.odometry(OdomState(0, 0, 0, v, w, k * DT))
+    state_at = lambda t: OdomState(0, 0, 0, 0.2, 0.0, t)   # noqa: E731
+    assert [round(state.stamp, 1) for state, _ in sampler.before(3.5, state_at)] == [1.0]
+    assert sampler.tick(3.5, 0.5) == pytest.approx(2.5)     # since the event sample
+    # the clock restarts from 0 while the robot drives on, then it stops (time constant 0.25 s)
+    assert sampler.tick(0.5, 0.5) == 0.5                     # the tick's own period, not -3.0
+    for k in range(100):
+        sampler.odometry(OdomState(0, 0, 0, 0.2 * math.exp(-max(0.0, k * DT - 0.5) / 0.25), 0.0,
+                                   k * DT))
+    taken = sampler.before(2.0, state_at)
+    stop = 0.5 + 0.25 * math.log(0.2 / 0.005)               # below event_speed / 2
+    assert [round(state.stamp, 1) for state, _ in taken] == [round(stop, 1)]
+    assert taken[0][1] == pytest.approx(taken[0][0].stamp - 0.5)    # since the tick at 0.5

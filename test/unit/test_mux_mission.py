@@ -21,6 +21,14 @@ def test_higher_priority_takes_over_lower_is_ignored_until_timeout():
     assert mux.offer(NAVI, 1.4) == (True, 'Navigation')
 
 
+def test_a_clock_that_moved_back_times_the_holder_out_from_then():
+    mux = CmdVelMux(TURTLEBOT_INPUTS)
+    mux.offer(TELEOP, 60.0)
+    assert mux.expire(0.1) is None and mux.active_name == 'Teleoperation'   # restarted: from 0.1 on
+    assert mux.expire(1.1) is None            # the teleop timeout (1 s) from then
+    assert mux.expire(1.11) == IDLE
+
+
 def test_safety_controller_short_timeout():
     mux = CmdVelMux(TURTLEBOT_INPUTS)
     mux.offer(TELEOP, 0.0)

@@ -109,6 +109,7 @@ def test_untrusted_twist_jump_stamps_back_chain_and_unconfirmed_before():
     jump = OdomState(1.0, 1.0, 0.5, -0.4, 0.0, 9.82)
     assert 'twist changed' in estimate_reset(jump, chain).reason
     assert 'went back' in estimate_reset(moving._replace(stamp=20.0), chain).reason
+    assert 'ROS time moved back' in estimate_reset(moving._replace(stamp=20.0), chain).reason
     assert 'confirmed' in estimate_reset(None, chain).reason
     # poses that do not follow the twist (a twist of zero while the pose moves)
     frozen = [s._replace(v=0.0) for s in chain]

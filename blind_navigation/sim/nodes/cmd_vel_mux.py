@@ -15,6 +15,7 @@ from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
 from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
+from blind_navigation.ros.clock import every
 from blind_navigation.ros.common import exit_promptly, load_params, subscribe
 
 
@@ -34,7 +35,7 @@ class CmdVelMuxNode(object):
         self.subscribers = [subscribe('~input/' + entry.topic, Twist,
                                              functools.partial(self.on_command, index), queue_size=10)
                             for index, entry in enumerate(inputs)]
-        self.timer = rospy.Timer(rospy.Duration(1.0 / p.check_rate), self.on_check)
+        every(1.0 / p.check_rate, self.on_check, 'cmd_vel_mux timeouts')   # on across a clock jump back
 
     def on_command(self, index, msg):
         if not all(math.isfinite(x) for x in (msg.linear.x, msg.angular.z)):
@@ -51,7 +52,7 @@ class CmdVelMuxNode(object):
             if not rospy.core.is_shutdown_requested():   # topics close in a pre-shutdown hook
                 raise       # at shutdown the outputs close first: a last command is dropped
 
-    def on_check(self, _event):
+    def on_check(self):
         if self.mux.expire(rospy.Time.now().to_sec()) == IDLE:
             self.active.publish(String(IDLE))
 

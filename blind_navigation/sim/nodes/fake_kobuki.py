@@ -28,6 +28,11 @@ non-finite length is refused with an error. Each gap is logged where it starts
 and ends. A std_msgs/Float64 on ``~rtf`` (``mobile_base/rtf``) sets the clock's
 real-time factor from the next tick on (> 0; refused with an error under
 ``~wall_time`` or ``~clock`` false), so a test runs what it does not time faster.
+A std_msgs/Empty on ``~restart`` (``mobile_base/restart``) is a restart of this
+node, as a kill and relaunch: ``/clock`` (and every stamp) from 0 again and the
+odometry from the origin (as ``reset_odometry``); the robot stays where it
+stands (the ground truth goes on). Refused with an error where this node
+publishes no /clock.
 
 ``/clock`` is global, so on a master shared by several fakes (two robots in two
 namespaces) only one publishes it; the others run with ``~clock`` false and step
@@ -53,6 +58,7 @@ from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
+from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import exit_promptly, load_params, set_pose, subscribe
 
 DBL_MAX = sys.float_info.max
@@ -103,6 +109,7 @@ class FakeKobuki(object):
                           engine_name(), p.physics_world, p.payload_mass, p.payload_x, p.payload_y)
         self.lock = threading.Lock()
         self.ticks = 0
+        self.clock_zero = 0.0            # base time (s) the clock last (re)started from
         self.odometry_gap_until = None   # base time (s) a running odometry gap ends, or None
         publishes_clock = p.clock and not p.wall_time
         self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS) if publishes_clock else None
@@ -124,6 +131,7 @@ class FakeKobuki(object):
         subscribe('~odometry_gap', Float64, self.on_odometry_gap)
         self.new_rtf = None              # an rtf asked for on ~rtf, not yet in use
         subscribe('~rtf', Float64, self.on_rtf)
+        subscribe('~restart', Empty, self.on_restart)
 
     def _messages(self):
         """Build the periodic messages once; the loop only updates their fields."""
@@ -179,6 +187,19 @@ class FakeKobuki(object):
                          rospy.resolve_name('~rtf'), msg.data)
             return
         self.new_rtf = msg.data
+
+    def on_restart(self, _msg):
+        p = self.params
+        if p.wall_time or not p.clock:
+            rospy.logerr('fake_kobuki: ignored %s (this node publishes no /clock)',
+                         rospy.resolve_name('~restart'))
+            return
+        with self.lock:
+            was = self.base.t - self.clock_zero
+            self.clock_zero = self.base.t
+            self.base.reset_odometry()
+        rospy.logwarn('fake_kobuki: restarted at t %.2f s: /clock from 0, odometry from the origin '
+                      '(the robot stays where it is)', was)
 
     def _odometry_paused(self):
         """True while an odometry gap runs (called with the lock held); logs its end."""
@@ -248,7 +269,7 @@ class FakeKobuki(object):
         with self.lock:
             self.base.step(self.params.clock_period)
             self.ticks += 1
-            now = rospy.Time.from_sec(start + self.base.t)
+            now = rospy.Time.from_sec(start + self.base.t - self.clock_zero)
             if self.ticks % self.sensor_every == 0:
                 self.publish_sensors(now)
         return now
@@ -294,12 +315,13 @@ class FakeKobuki(object):
         while not rospy.is_shutdown() and rospy.get_rostime().is_zero():
             time.sleep(0.01)
         start = p.clock_period * int(rospy.get_time() / p.clock_period)
+        clock = LoopClock('fake_kobuki (following /clock)', then='the base goes on from where it was')
         while not rospy.is_shutdown():
             target = rospy.get_time() - start
             while self.base.t + p.clock_period <= target + 1e-9 and not rospy.is_shutdown():
                 self.step(start)
             try:
-                rospy.sleep(p.clock_period)
+                start -= clock.sleep(p.clock_period)    # a jump back: stamps go on from the new time
             except rospy.ROSInterruptException:
                 return
 

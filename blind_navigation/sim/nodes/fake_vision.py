@@ -90,7 +90,7 @@ class FakeVision(object):
         self.truth = Pose2D(msg.pose.pose.position.x, msg.pose.pose.position.y,
                             yaw_from_quaternion(q.x, q.y, q.z, q.w))
         now = msg.header.stamp.to_sec()
-        if self.next_frame is None:
+        if self.next_frame is None or now < self.next_frame - self.period:   # first, or the clock went back
             self.next_frame = now
         while self.next_frame <= now + 1e-9:
             try:

@@ -11,6 +11,8 @@ zero velocity and latches ``~done`` true. Zero velocity also on shutdown. A miss
 watches the true pose on ``ground_truth`` (nav_msgs/Odometry, remap to
 ``/ground_truth/odom``) and ends when the person sees the robot at the end of
 the route; the same core runs in the plain-Python harness (sim/harness.py).
+If the clock moves back (a restarted fake), the script goes on where it was
+(ros/clock.py).
 """
 import threading
 
@@ -24,6 +26,7 @@ from blind_navigation import names
 from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.sim.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
+from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import exit_promptly, load_params, odom_state_from_msg, subscribe, twist
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
@@ -45,7 +48,7 @@ class MissionDriver(object):
         self.done = rospy.Publisher('~done', Bool, queue_size=1, latch=True)
         self.done.publish(Bool(False))
         self.operator = self.mission.make_operator()
-        self.start = None
+        self.start = None           # sim s the script started (moved back with the clock)
         self.latest_pose = None
         self.go = threading.Event()
         if p.wait_for_go:
@@ -60,7 +63,7 @@ class MissionDriver(object):
         state = odom_state_from_msg(msg)
         self.latest_pose = Pose2D(state.x, state.y, state.yaw)
         if self.start is not None and self.operator.started:
-            self.operator.observe((msg.header.stamp - self.start).to_sec(), self.latest_pose)
+            self.operator.observe(msg.header.stamp.to_sec() - self.start, self.latest_pose)
 
     def stop(self):
         self.cmd.publish(Twist())
@@ -85,16 +88,18 @@ class MissionDriver(object):
                 rospy.sleep(0.05)
             start = rospy.Time.now()
             self.operator.start(self.latest_pose)
-        self.start = start
-        rate = rospy.Rate(self.mission.rate)
+        self.start = start = start.to_sec()
+        rate = LoopClock('mission_driver', then='the script goes on where it was').rate(self.mission.rate)
         while not rospy.is_shutdown():
-            t = max(0.0, (rospy.Time.now() - start).to_sec())
+            t = max(0.0, rospy.get_time() - start)
             command = self.mission.command_at(t) if self.operator is None else self.operator.command(t)
             if command is None:
                 break
             v, w = command
             self.cmd.publish(twist(clamp(v, self.params.max_v), clamp(w, self.params.max_w)))
-            rate.sleep()
+            moved_back = rate.sleep()
+            if moved_back:
+                start = self.start = start - moved_back
         for _ in range(STOP_MESSAGES):
             self.stop()
             rate.sleep()

@@ -1,0 +1,181 @@
+"""ROS time that moves back, and loops and timers that go on across it.
+
+Under use_sim_time the ROS clock is what ``/clock`` says, and a restarted
+simulator starts it again from 0. rospy.sleep and rospy.Rate.sleep then raise
+ROSTimeMovedBackwardsException, a ROSInterruptException that a loop takes for
+shutdown; a rospy.Timer's thread re-raises it ("Exception in thread").
+
+- :class:`LoopClock`: one loop's view of the ROS clock. Its :meth:`~LoopClock.sleep`
+  and :meth:`~LoopClock.rate` sleep as rospy's do, but a jump back ends the sleep
+  early and returns how far the time went back (0.0: it did not), warned once per
+  jump as a WARN naming the loop; they raise (ROSInterruptException) only at shutdown.
+- :func:`every`, :func:`after`: rospy.Timer's periodic and one-shot timers on a
+  LoopClock, each in a daemon thread.
+- :func:`on_moved_back`: ``callback(jump, before, now)`` once per jump in this process.
+
+Rules and measurements: docs/safety.md, "Time that moves back".
+"""
+import threading
+import time
+
+import rospy
+
+#: wall s: a loop warns at most once in this long (a clock that keeps jumping: the next
+#: warning counts the jumps it did not warn about)
+WARN_PERIOD = 10.0
+
+
+def describe(jump, before, now):
+    """The words every warning and abort uses for a jump back of ``jump`` s."""
+    return ('the ROS time moved back %.3f s (from %.3f s to %.3f s: a restarted simulator, or '
+            'a clock set back?)' % (jump, before, now))
+
+
+class _ProcessClock(object):
+    """The newest ROS time any loop of this process saw, and the jump listeners."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.seen = None
+        self.listeners = []
+
+    def look(self):
+        """rospy.get_time(); if it went back, tells each listener in a thread of its own
+        (the looking loop may hold a lock the listener takes)."""
+        with self.lock:
+            now = rospy.get_time()
+            before, self.seen = self.seen, now
+            listeners = list(self.listeners) if before is not None and now < before else []
+        for callback in listeners:
+            threading.Thread(target=callback, args=(before - now, before, now),
+                             name='clock moved back', daemon=True).start()
+        return now
+
+
+_PROCESS = _ProcessClock()
+
+
+def on_moved_back(callback):
+    """Call ``callback(jump, before, now)`` (s) once for every jump back of the ROS time
+    that a loop of this process notices (they all look at least once a second)."""
+    with _PROCESS.lock:
+        _PROCESS.listeners.append(callback)
+
+
+class LoopClock(object):
+    """The ROS clock as the loop ``loop`` (a name for the warning) sees it; ``log``:
+    a ros/layer.RoleLog, or None (rospy's); ``then``: what the loop does after a jump."""
+
+    def __init__(self, loop, log=None, then='going on'):
+        self.loop, self.then = loop, then
+        self._warn = log.warn if log is not None else rospy.logwarn
+        self._seen = None           # ROS time (s) this loop last looked
+        self._warned_at = None      # wall time of its last warning
+        self._unwarned = 0          # jumps since then not warned about
+        self.moved_back = 0.0       # s the time moved back in all, as this loop saw it
+        self.last_jump = None       # (jump, before, now) of the last jump back, s
+
+    def now(self):
+        """rospy.get_time(), noting a jump back since this loop last looked."""
+        return self._look()[0]
+
+    def _look(self):
+        """(now, s the time moved back since the last look: 0.0 if it did not)."""
+        now = _PROCESS.look()
+        before, self._seen = self._seen, now
+        if before is None or now >= before:
+            return now, 0.0
+        jump = before - now
+        self.moved_back += jump
+        self.last_jump = (jump, before, now)
+        wall = time.monotonic()
+        if self._warned_at is not None and wall - self._warned_at < WARN_PERIOD:
+            self._unwarned += 1
+        else:
+            more = ' (%d more jump(s) back before this one)' % self._unwarned if self._unwarned else ''
+            self._warn('%s: %s%s; %s', self.loop, describe(jump, before, now), more, self.then)
+            self._warned_at, self._unwarned = wall, 0
+        return now, jump
+
+    def sleep(self, seconds):
+        """rospy.sleep(``seconds``); a jump back ends it early. Returns how far the time
+        moved back since the last look (0.0: it did not)."""
+        jump = self._look()[1]
+        try:
+            rospy.sleep(seconds)
+        except rospy.ROSTimeMovedBackwardsException:
+            pass                    # measured from the last look, just below
+        return jump + self._look()[1]
+
+    def wait(self, seconds):
+        """Sleep until ``seconds`` of ROS time passed on this clock; the time a sleep
+        ran before a jump back (unmeasured) does not count."""
+        left, start = seconds, self.now()
+        while left > 0:
+            jump = self.sleep(left)
+            now, later = self._look()
+            left -= now - start + jump + later
+            start = now
+
+    def rate(self, hz):
+        """A :class:`Rate` of ``hz`` on this clock."""
+        return Rate(self, hz)
+
+
+class Rate(object):
+    """rospy.Rate on a LoopClock: :meth:`sleep` returns how far the time moved back
+    (0.0: it did not) instead of raising; the next tick is then a period from now."""
+
+    def __init__(self, clock, hz):
+        self.clock = clock
+        self._rate = rospy.Rate(hz)
+
+    def sleep(self):
+        jump = self.clock._look()[1]
+        try:
+            self._rate.sleep()
+        except rospy.ROSTimeMovedBackwardsException:
+            self._rate.last_time = rospy.get_rostime()
+        return jump + self.clock._look()[1]
+
+    def switch(self, hz):
+        """``hz`` from now on, keeping the tick phase: the next tick comes one new
+        period after the last one."""
+        last = self._rate.last_time
+        self._rate = rospy.Rate(hz)
+        self._rate.last_time = last
+
+
+def every(period, callback, loop, log=None):
+    """Call ``callback()`` every ``period`` s of ROS time in a daemon thread named
+    ``loop``, until shutdown or until the returned threading.Event is set."""
+    stop = threading.Event()
+
+    def run():
+        rate = LoopClock(loop, log).rate(1.0 / period)
+        while not stop.is_set() and not rospy.is_shutdown():
+            rate.sleep()
+            if not stop.is_set():
+                callback()
+    threading.Thread(target=_until_shutdown(run), name=loop, daemon=True).start()
+    return stop
+
+
+def after(seconds, callback, loop, log=None):
+    """Call ``callback()`` once, ``seconds`` of ROS time from now (:meth:`LoopClock.wait`),
+    in a daemon thread named ``loop``; not at all if the node shuts down first."""
+    def run():
+        LoopClock(loop, log).wait(seconds)
+        if not rospy.is_shutdown():
+            callback()
+    threading.Thread(target=_until_shutdown(run), name=loop, daemon=True).start()
+
+
+def _until_shutdown(run):
+    """``run`` that ends quietly when a sleep raises at shutdown."""
+    def target():
+        try:
+            run()
+        except rospy.ROSInterruptException:
+            pass
+    return target
