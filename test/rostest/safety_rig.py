@@ -199,7 +199,12 @@ class Layer(object):
         """/rosout lines of ``node`` containing ``text`` (from the ``since``-th line on)."""
         return [m.msg for m in self.rosout.snapshot(since) if m.name == node and text in m.msg]
 
-    def abort_reason(self, node, since=0):
+    def abort_reason(self, node, since=0, timeout=10.0):
+        """``node``'s last abort line; its /rosout line may come after the state (another
+        connection): wait at most ``timeout`` s (wall) for it, '' if none came."""
+        deadline = time.monotonic() + timeout
+        while not self.logged(node, '-> aborted', since) and time.monotonic() < deadline:
+            time.sleep(0.05)
         lines = self.logged(node, '-> aborted', since)
         return lines[-1] if lines else ''
 
