@@ -63,6 +63,18 @@ class FakeBase(object):
         waiting.wait_for(lambda: self._turn_left == 0.0, 'the base turned by %.2f rad' % angle,
                          timeout)
 
+    def drive(self, v, seconds):
+        """Drive straight at ``v`` m/s for ``seconds`` of sim time (an operator's drive while
+        recording: a mission asked home before the robot moved ends home at once), then stop."""
+        until = rospy.get_time() + seconds
+        while rospy.get_time() < until:
+            with self._lock:
+                self._base.command(v, 0.0)
+            rospy.sleep(0.1)
+        with self._lock:
+            self._base.command(0.0, 0.0)
+        rospy.sleep(0.5)
+
     def cut_odometry(self):
         """Stops publishing odometry (``publish_odom = True`` resumes it); returns the
         sim time of the last odometry published, taken with the tick locked out, so no

@@ -35,6 +35,7 @@ class WiringMidMissionTest(unittest.TestCase):
         base.wait_for_listeners(timeout=60.0)
         wait_for(lambda: 'recording' in self.states(), 'the layer records (states %s)' % self.states(),
                  timeout=60.0)
+        base.drive(0.2, 1.5)
         vision_lost = rospy.Publisher(LAYER + '/vision_lost', Empty, queue_size=1, latch=True)
         vision_lost.publish(Empty())
         wait_for(lambda: abs(base.w) > 0.1, 'the pi turn drives the base (states %s)' % self.states(),
