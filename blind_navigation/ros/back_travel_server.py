@@ -102,6 +102,7 @@ class BackTravelServer(object):
     # --- who may send what -------------------------------------------------------------------
     def _on_set_route(self, request):
         """The return's route, its goals' landmarks and how many are done."""
+        _wait_while(lambda: self._bridging, self.params.handover_follow + 1.0)  # a client restarted
         try:
             route, landmarks = self._read_route(request)
         except ValueError as error:
@@ -271,6 +272,7 @@ class BackTravelServer(object):
             finally:
                 with self._lock:
                     self._bridging = False
+            self._schedule_handover()    # the next goal publishes at once, or zero after the hold
 
     def _run(self, handle):
         """Drive one goal; returns (core/drive.Outcome with the result's text, result)."""
@@ -301,6 +303,13 @@ def _report_late(follower, log):
         index, taken, nominal = follower.late.pop(0)
         log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
                  'only when it stops making progress)', index + 1, taken, nominal)
+
+
+def _wait_while(condition, seconds):
+    """Wait (ROS time) while ``condition()``, at most ``seconds``."""
+    deadline = rospy.get_time() + seconds
+    while condition() and rospy.get_time() < deadline and not rospy.is_shutdown():
+        rospy.sleep(0.02)
 
 
 def _bridge(server, follower):
