@@ -14,22 +14,29 @@ both the same interface::
     goal.hold(seconds)               # the robot was held (paused) that long: not driving time
     goal.resumed(seconds)            # a takeover or contact of that long ended (the robot may have moved)
 
-The back_travel server and the simulation harness both drive goals through it,
-and both hold the output between two goals with :class:`CommandHold`.
+The back_travel server and the harness drive goals through it; between goals the
+paper's modes hold (:class:`CommandHold`), closed_loop drives on (:class:`HandoverBridge`).
 """
 from .back_travel import make_controller
+
+#: s closed_loop's follower goes on driving between two goals (:class:`HandoverBridge`):
+#: longer than nearly every action round trip at rtf 5 under load (docs/evaluation.md, issue 29).
+HANDOVER_FOLLOW = 1.0
 
 
 class SectionGoal(object):
     """Goal ``index`` (return order) of a closed-loop return driven by ``follower``
-    (shared by the goals; started at the first goal it drives, at its section)."""
+    (shared by the goals; started at the first goal it drives, at its section).
+    ``since``: the follower's ``travelled`` when the goal before ended (what a
+    :class:`HandoverBridge` drove in between counts to this goal), None: from its start."""
 
-    def __init__(self, follower, index):
+    def __init__(self, follower, index, since=None):
         self.follower = follower
         self.index = index
         self.done = self.failed = False
         self.reason = ''
         self._travelled_before = 0.0
+        self._since = since
 
     @property
     def travelled(self):
@@ -38,7 +45,8 @@ class SectionGoal(object):
     def start(self, odom_state):
         if not self.follower.started:
             self.follower.start(odom_state, section=self.index)
-        self._travelled_before = self.follower.travelled
+            self._since = None
+        self._travelled_before = self.follower.travelled if self._since is None else self._since
         self.done = self.follower.section_finished(self.index)
 
     def hold(self, seconds):
@@ -128,11 +136,47 @@ class CommandHold(object):
         return self.remaining(now) <= 0.0
 
 
-def make_goal(mode, landmark, params=None, follower=None, index=None):
+class HandoverBridge(object):
+    """closed_loop, from a goal's end to the next goal's start: the return's shared
+    ``follower`` goes on driving the route (the command stays continuous, as the
+    follower would give it without the hand-over), for at most ``timeout`` s from
+    ``now``; then (:meth:`expired`) the output is zero. It never starts after the
+    route's last goal, nor once the follower has finished or failed (:meth:`ended`)."""
+
+    def __init__(self, follower, timeout, now):
+        if not timeout > 0:
+            raise ValueError('handover_follow must be > 0 s, got %r' % (timeout,))
+        self.follower = follower
+        self.started, self.deadline = now, now + float(timeout)
+
+    def expired(self, now):
+        """True once the bridge has driven its ``timeout``."""
+        return now >= self.deadline
+
+    @property
+    def ended(self):
+        """True once the follower has finished or failed (its command is zero)."""
+        return self.follower.done or self.follower.failed
+
+    def step(self, odom_state):
+        """The follower's (v, w) for this cycle ((0, 0) once :attr:`ended`)."""
+        return (0.0, 0.0) if self.ended else self.follower.step(odom_state)
+
+
+def bridges(mode, follower, done, goals, follow=HANDOVER_FOLLOW):
+    """True if a :class:`HandoverBridge` drives once ``done`` of the return's ``goals``
+    are done: closed_loop, ``follow`` > 0 s, between two goals, the follower started
+    and still driving."""
+    return mode == 'closed_loop' and follow > 0 and follower is not None and follower.started and \
+        0 < done < goals and not (follower.done or follower.failed)
+
+
+def make_goal(mode, landmark, params=None, follower=None, index=None, since=None):
     """The goal for ``landmark`` in control ``mode``; closed_loop needs the
-    return's ``follower`` and the goal's ``index`` (return order)."""
+    return's ``follower`` and the goal's ``index`` (return order); ``since``:
+    :class:`SectionGoal`'s."""
     if mode == 'closed_loop':
         if follower is None or index is None:
             raise ValueError('a closed_loop goal needs the return route follower and its index')
-        return SectionGoal(follower, index)
+        return SectionGoal(follower, index, since)
     return ControllerGoal(make_controller(mode, landmark, params))

@@ -203,12 +203,14 @@ class CorrectedOdometry(object):
             frame.update(latest)
         return frame
 
-def correct_landmarks(landmarks, correction, reference_yaw=None):
+def correct_landmarks(landmarks, correction, reference_yaw=None, recorded_after=0.0):
     """``landmarks`` (recording order, raw odometry frame) in the corrected frame
-    whose reference is the last landmark (where recording stopped; raw yaw
-    ``reference_yaw`` there, default the last landmark's ``psi``). Landmark k
-    was taken ``sum(T of the landmarks after k)`` seconds before the reference;
-    its heading gets the correction accumulated back to then."""
+    whose reference (raw yaw ``reference_yaw``, default the last landmark's ``psi``)
+    is ``recorded_after`` s before the last landmark (0: where recording stopped;
+    over ROS the recording goes on while the bias is measured standing still after
+    the loss, docs/evaluation.md issue 29). Landmark k was taken ``sum(T of the
+    landmarks after k) - recorded_after`` seconds before the reference; its heading
+    gets the correction accumulated back to then."""
     landmarks = list(landmarks)
     if not correction.applied or not landmarks:
         return landmarks
@@ -223,6 +225,6 @@ def correct_landmarks(landmarks, correction, reference_yaw=None):
             before += newer.T
             turned -= period_turn(landmark, newer)   # not wrapped: turns beyond pi per period
         # raw yaw relative to the reference = turned; corrected = increment(turned, -before)
-        psi = landmark.psi - turned + correction.increment(turned, -before)
+        psi = landmark.psi - turned + correction.increment(turned, recorded_after - before)
         corrected.append(landmark._replace(w=correction.rate(landmark.w), psi=wrap_angle(psi)))
     return corrected[::-1]

@@ -8,6 +8,7 @@ is generated from :data:`SCHEMAS` (scripts/param_table.py).
 """
 from .allowance import ALLOWANCE_DEFAULTS
 from .back_travel import BACK_TRAVEL_DEFAULTS, MODES
+from .goal import HANDOVER_FOLLOW
 from .gyro_bias import STANDSTILL_DEFAULTS
 from .gyro_calibration import SPIN_DEFAULTS
 from .gyro_fit import GYRO_FIT_DEFAULTS
@@ -106,6 +107,9 @@ BACK_TRAVEL_SERVER = Schema('back_travel_server', (
     Param('stop_lead', BACK_TRAVEL_DEFAULTS['stop_lead'], 's', 'closed_loop: the robot coasts '
           'this long after its last command', lo=0.0, hi=2.0),
     Param('max_v', BACK_TRAVEL_DEFAULTS['max_v'], 'm/s', 'hard clamp on |v|', lo=0.01, hi=KOBUKI_MAX_V),
+    Param('handover_follow', HANDOVER_FOLLOW, 's', 'closed_loop: between two goals the follower '
+          'goes on driving the route this long while the next goal comes (core/goal.HandoverBridge); '
+          '0: the last command holds 0.1 s, then zero', lo=0.0, hi=2.0),
     ODOM_TIMEOUT,
     Param('contact_wait', CONTACT_DEFAULTS['contact_wait'], 's', 'after a bumper release before '
           'the return goes on (docs/safety.md, Contacts)', lo=0.0, hi=600.0),

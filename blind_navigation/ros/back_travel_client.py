@@ -69,6 +69,7 @@ class BackTravelClient(object):
         self.takeover = layer.takeover(p)    # its pauses count against no allowance
         self.lost = None           # an untrusted odometry reset during the turn or the return
         self.turn_start = None          # raw odometry yaw where recording stopped
+        self.recording_ended = None     # its stamp (s): the corrected frame's time (return_runner)
         self.recorded = 0.0             # m of path the recorder has stored (its StorageUsage)
         self.start_position = None      # odometry [x, y] where the recording began
         self.correction = layer.heading_correction() if p.heading_correction else None

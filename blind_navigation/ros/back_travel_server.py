@@ -10,8 +10,8 @@ done). Feedback: the distance so far; result: odometry distance and duration.
 
 It serves its own mission only: a goal is accepted while the mission is
 ``returning``, from the mission's owner, one at a time, if it is the route's
-next landmark. Between goals the last command holds for at most
-``handover_timeout`` (core/goal.CommandHold). Commands are clamped and
+next landmark. Between goals closed_loop's follower drives on (core/goal.HandoverBridge,
+``handover_follow``), the paper's modes hold (core/goal.CommandHold). Commands are clamped and
 state-gated (ros/motion.MotionOutput); stale odometry holds the goal
 (core/allowance.OdomGrace), so does a bumper contact (core/pause.Contacts,
 counted over the return) and, silently, an operator's takeover
@@ -29,7 +29,7 @@ from blind_navigation.core import drive, mission_state
 from blind_navigation.core.allowance import OdomGrace
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import distance
-from blind_navigation.core.goal import CommandHold, make_goal
+from blind_navigation.core.goal import CommandHold, HandoverBridge, bridges, make_goal
 from blind_navigation.core.landmark import landmark_from_values
 from blind_navigation.core.pause import Contacts
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
@@ -80,6 +80,8 @@ class BackTravelServer(object):
         self.landmarks = []              # its goals' landmarks, return order
         self.next_goal = 0               # index of the goal the route expects next
         self.follower = None             # closed_loop: the RouteFollower of the return
+        self.since = None                # its travelled when the last goal ended (core/goal.SectionGoal)
+        self._bridging = False           # a HandoverBridge drives
         guard = self.guard = layer.guard(self.ROLE)
         self.drive = DriveLoop(self.output, self.odometry, layer.safety, p, self.log, guard,
                                takeover=self.takeover)
@@ -104,19 +106,21 @@ class BackTravelServer(object):
     # --- who may send what -------------------------------------------------------------------
     def _on_set_route(self, request):
         """The return's route, its goals' landmarks and how many are done."""
+        _wait_while(lambda: self._bridging, self.params.handover_follow + 1.0)  # a client restarted
         try:
             route, landmarks = self._read_route(request)
         except ValueError as error:
             self.log.error('return route refused: %s', error)
             return SetReturnRouteResponse(ok=False, message=str(error), control=self.params.control)
         with self._lock:
-            if self._active is not None or self._pending is not None:
+            if self._active is not None or self._pending is not None or self._bridging:
                 return SetReturnRouteResponse(ok=False, message='a goal is being driven',
                                               control=self.params.control)
             self.route, self.landmarks, self.next_goal = route, landmarks, request.completed
             self.contacts = Contacts(self.params)      # counted over the whole return
             self.follower = RouteFollower(route, self.goal_params) \
                 if self.params.control == 'closed_loop' else None
+            self.since = None
         self.log.info('return route of %d landmarks (%.2f m) in %s, %d completed',
                       len(landmarks), route.length, request.header.frame_id or '?', request.completed)
         closed = self.params.control == 'closed_loop'
@@ -252,14 +256,26 @@ class BackTravelServer(object):
         if outcome.kind not in (drive.SUCCEEDED, drive.CANCELLED):
             self.log.error('goal aborted: %s', outcome.reason)
             self.last_abort = outcome.reason
+        follower = self.follower
         with self._lock:
             self._active = None
             if outcome.ok:
                 self.next_goal += 1
-        if outcome.ok:
+            bridge = outcome.ok and bridges(self.params.control, follower, self.next_goal,
+                                            len(self.landmarks), self.params.handover_follow)
+            self._bridging = bridge
+            self.since = follower.travelled if bridge else None
+        if outcome.ok and not bridge:
             self._schedule_handover()
         end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
         end.get(outcome.kind, handle.set_aborted)(result, outcome.reason)
+        if bridge:
+            try:
+                _bridge(self, follower)
+            finally:
+                with self._lock:
+                    self._bridging = False
+            self._schedule_handover()    # the next goal publishes at once, or zero after the hold
 
     def _run(self, handle):
         """Drive one goal; returns (core/drive.Outcome with the result's text, result)."""
@@ -270,8 +286,8 @@ class BackTravelServer(object):
         self.output.limit(self.follower.limits[self.next_goal] if self.follower is not None
                           else goal_limits(landmark, p.max_v, p.max_w, p.correction_w))
         self.odometry.acquire(self.ROLE)
-        goal = _Goal(make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal),
-                     handle, self.hold, p.feedback_rate)
+        goal = _Goal(make_goal(p.control, landmark, self.goal_params, self.follower, self.next_goal,
+                               self.since), handle, self.hold, p.feedback_rate)
         outcome = self.drive.run(goal, 'goal %d' % (self.next_goal + 1), wait=p.odom_grace,
                                  cancelled=goal.cancelled, inactive=self._inactive,
                                  contacts=self.contacts)
@@ -290,6 +306,49 @@ def _report_late(follower, log):
         index, taken, nominal = follower.late.pop(0)
         log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
                  'only when it stops making progress)', index + 1, taken, nominal)
+
+
+def _wait_while(condition, seconds):
+    """Wait (ROS time) while ``condition()``, at most ``seconds``."""
+    deadline = rospy.get_time() + seconds
+    while condition() and rospy.get_time() < deadline and not rospy.is_shutdown():
+        rospy.sleep(0.02)
+
+
+def _bridge(server, follower):
+    """closed_loop, until the next goal comes: the follower drives on (core/goal.HandoverBridge);
+    any other end than the next goal halts the output (ros/drive_loop.DriveLoop)."""
+    behaviour = _Bridge(HandoverBridge(follower, server.params.handover_follow, rospy.get_time()),
+                        server.hold, server.output, lambda: server._pending is not None)
+    outcome = server.drive.run(behaviour, 'hand-over after goal %d' % server.next_goal,
+                               inactive=server._inactive, contacts=server.contacts)
+    if not outcome.ok:
+        server.log.info('hand-over after goal %d: %s', server.next_goal, outcome.reason)
+
+
+class _Bridge(drive.Behaviour):
+    """A core/goal.HandoverBridge as a drive-loop behaviour: it ends, without a halt, once
+    ``arrived()`` (the next goal); when it has driven its time or the route ended, halting."""
+
+    def __init__(self, bridge, hold, output, arrived):
+        self.bridge, self.command_hold, self.output, self.arrived = bridge, hold, output, arrived
+
+    def end(self):
+        if self.arrived():
+            return drive.Outcome(drive.SUCCEEDED, 'the next goal came')
+        if self.bridge.ended or self.bridge.expired(rospy.get_time()):
+            return drive.Outcome(drive.TIMED_OUT, 'no next goal within %.2f s: zero velocity'
+                                 % (self.bridge.deadline - self.bridge.started))
+        return None
+
+    def resumed(self, seconds):
+        self.bridge.follower.pause_ended()
+
+    def step(self, odom, now):
+        follower = self.bridge.follower
+        self.output.limit(follower.limits[min(follower.section, len(follower.limits) - 1)])
+        self.command_hold.published(now)
+        return self.bridge.step(odom)
 
 
 class _Goal(drive.Behaviour):

@@ -235,7 +235,10 @@ class ReturnRunner(object):
                           'running?)' % (rospy.resolve_name(names.HEADING_CORRECTION),
                                          self.params.correction_timeout))
         self.log.info('landmarks in the corrected odometry frame: %s', receiver.correction.describe())
-        return correct_landmarks(landmarks, receiver.correction, receiver.reference.yaw), None
+        # the recording went on after the reference (vision loss) until the turn began
+        ended = self.mission.recording_ended
+        after = max(0.0, ended - receiver.reference.stamp) if ended is not None else 0.0
+        return correct_landmarks(landmarks, receiver.correction, receiver.reference.yaw, after), None
 
     def _wait_for_goal(self, where, landmark, deadline, allowance, over_budget):
         """Wait for the goal's result; cancel it and say why on a safety event, the

@@ -118,6 +118,7 @@ class TurnStart(object):
         latest = c.odometry.latest()
         anchor = [latest.x, latest.y] if latest is not None else None
         c.turn_start = latest.yaw if latest is not None else None
+        c.recording_ended = latest.stamp if latest is not None else None
         c.keeper.save(ReturnProgress.begin(c.landmark_file, anchor, c.odometry.frame_id,
                                            time.time(), c.layer.mission_id))
         if c.state != state.ROTATING:   # a fault ended the mission meanwhile

@@ -8,10 +8,11 @@ take landmarks from its odometry; the mission ends, the robot is left to stop,
 vision is lost (a final landmark covers the partial cycle, the return route is
 anchored at the odometry position), core/rotation.py turns by pi, and the
 landmarks are driven back in reverse order.
-Between goals the last command holds (core/goal.CommandHold, as
-back_travel_server holds it: at most ``handover_timeout`` after a goal last
-published; ``handover_latency`` is the time a hand-over takes, 0 by default, an
-action round trip on ROS); after the last goal it is dropped after
+Between goals, as back_travel_server does, closed_loop's follower goes on driving
+(core/goal.HandoverBridge, at most ``handover_follow``) and the paper's modes hold
+the last command (core/goal.CommandHold: at most ``handover_timeout`` after a goal
+last published); ``handover_latency`` is the time a hand-over takes, 0 by default, an
+action round trip on ROS; after the last goal the last command is dropped after
 ``handover_timeout``. The landmark store is
 written for real (core/landmark_writer.LandmarkWriter) to measure its size, and landmarks
 are read back from it, so the return uses the stored (rounded) numbers.
@@ -66,7 +67,7 @@ from types import SimpleNamespace
 
 from ..core.allowance import ABORT, DRIVE, HOLD, OdomGrace
 from ..core.route_follower import RouteFollower
-from ..core.goal import CommandHold, make_goal
+from ..core.goal import HANDOVER_FOLLOW, CommandHold, HandoverBridge, bridges, make_goal
 from ..core.geometry import distance, wrap_angle
 from ..core.landmark import Landmark
 from ..core.motion_events import EventSampler
@@ -101,6 +102,8 @@ SIMULATION_DEFAULTS = {
                                # this long after a goal last published, between goals)
     'handover_latency': 0.0,   # s from one goal's end to the next goal's start (ROS: the
                                # action's round trip, tens of ms of wall time x the rtf)
+    'handover_follow': HANDOVER_FOLLOW,  # closed_loop: s the follower goes on driving between
+                               # goals (core/goal.HandoverBridge; 0: it holds, as the paper's modes)
     'stop_time': 2.0,          # s left for the robot to stop at the end
     'heading_correction': True,  # blind_navigation.launch's heading_correction (default on)
     'standstill_time': STANDSTILL_DEFAULTS['standstill_time'],  # s, longest standstill after
@@ -321,11 +324,14 @@ def _return(run, landmarks, anchor, mode, params, settings, correction=None, pru
             route = pruning.route
         follower = RouteFollower(route, params)
     command, feed = (0.0, 0.0), _OdometryFeed(run, settings['odometry_gaps'], params)
-    hold = CommandHold(settings['handover_timeout'])
+    hold, since = CommandHold(settings['handover_timeout']), None
     for index, landmark in enumerate(reversed(landmarks)):
         if index:
-            command = _hand_over_between(run, command, hold, settings['handover_latency'])
-        goal = make_goal(mode, landmark, params, follower, index)
+            bridge = HandoverBridge(follower, settings['handover_follow'], run.base.t) \
+                if bridges(mode, follower, index, len(landmarks), settings['handover_follow']) else None
+            since = follower.travelled if follower is not None and follower.started else None
+            command = _hand_over_between(run, command, hold, settings['handover_latency'], bridge, feed)
+        goal = make_goal(mode, landmark, params, follower, index, since)
         goal.start(run.odom())
         while not goal.done:
             decision, odom, message = feed.state()
@@ -349,12 +355,21 @@ def _return(run, landmarks, anchor, mode, params, settings, correction=None, pru
     return '', follower, pruning
 
 
-def _hand_over_between(run, command, hold, latency):
-    """``latency`` s from one goal's end to the next one's start: the last ``command``
-    holds while ``hold`` (core/goal.CommandHold) lets it, then zero. Returns the
-    command in force at the next goal's start."""
+def _hand_over_between(run, command, hold, latency, bridge=None, feed=None):
+    """``latency`` s from one goal's end to the next one's start: the ``bridge``
+    (core/goal.HandoverBridge, closed_loop) steps the follower on ``feed``'s odometry
+    until it expires, then zero; without one the last ``command`` holds while ``hold``
+    (core/goal.CommandHold) lets it, then zero. Returns the command in force at the
+    next goal's start."""
     for _ in range(int(round(latency / run.dt))):
-        if hold.expired(run.base.t):
+        if bridge is not None:
+            decision, odom, _ = feed.state()     # stale odometry holds at zero, as the drive loop
+            expired = bridge.expired(run.base.t) or bridge.ended or decision == ABORT
+            command = bridge.step(odom) if decision == DRIVE and not expired else (0.0, 0.0)
+            if decision == DRIVE and not expired:
+                hold.published(run.base.t)
+            bridge = None if expired else bridge
+        elif hold.expired(run.base.t):
             command = (0.0, 0.0)
         run.advance(command)
     return command

@@ -195,6 +195,25 @@ def test_landmarks_get_the_correction_of_their_time():
     assert corrected[-1].psi == pytest.approx(landmarks[-1].psi)
 
 
+def test_landmarks_recorded_after_the_reference_do_not_turn_the_route():
+    # issue 29: over ROS the recording goes on while the bias is measured standing still
+    # after the loss (the reference); the landmarks' times count from the reference, not
+    # from the last landmark, else every heading is off by bias x the standstill
+    bias, scale, standstill = 3e-4, 0.005, 65.0
+    correction = GyroCorrection(bias, scale, 0, 0, 10, 'full', '')
+    periods = [2.0] * 10 + [5.0] * 13            # 20 s driving north-east, then 65 s standing
+    times = [sum(periods[:k + 1]) for k in range(len(periods))]
+    raw_psi = [wrap_angle((1 + scale) * 0.8 + bias * t) for t in times]
+    landmarks = [Landmark(0.2 if k < 10 else 0.0, bias, 0.4 if k < 10 else 0.0, T, psi)
+                 for k, (T, psi) in enumerate(zip(periods, raw_psi))]
+    reference_yaw = raw_psi[9]                   # the raw yaw where vision was lost
+    corrected = correct_landmarks(landmarks, correction, reference_yaw, recorded_after=standstill)
+    for lm in corrected:                         # the robot never turned: one heading throughout
+        assert lm.psi == pytest.approx(reference_yaw, abs=1e-9)
+    stale = correct_landmarks(landmarks, correction, reference_yaw)
+    assert stale[0].psi - reference_yaw == pytest.approx(bias * standstill / (1 + scale), abs=1e-9)
+
+
 def test_insignificant_bias_is_not_applied():
     correction = feed(GyroVisualFit(), weaving, 100.0, bias=0.0, scale=0.0, vo_noise=1e-3)
     assert correction.status == 'none'
