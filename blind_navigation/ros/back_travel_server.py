@@ -29,7 +29,7 @@ from blind_navigation.core import drive, mission_state
 from blind_navigation.core.allowance import OdomGrace
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import distance
-from blind_navigation.core.goal import CommandHold, HandoverBridge, bridges, make_goal
+from blind_navigation.core.goal import CommandHold, bridges, make_goal
 from blind_navigation.core.landmark import landmark_from_values
 from blind_navigation.core.pause import Contacts
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
@@ -41,6 +41,7 @@ from blind_navigation.ros.clock import after, every
 from blind_navigation.ros.common import shutting_down
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.faults import describe
+from blind_navigation.ros.handover_bridge import drive_between_goals, wait_while
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.route_wire import route_of
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
@@ -106,7 +107,7 @@ class BackTravelServer(object):
     # --- who may send what -------------------------------------------------------------------
     def _on_set_route(self, request):
         """The return's route, its goals' landmarks and how many are done."""
-        _wait_while(lambda: self._bridging, self.params.handover_follow + 1.0)  # a client restarted
+        wait_while(lambda: self._bridging, self.params.handover_follow + 1.0)  # a client restarted
         try:
             route, landmarks = self._read_route(request)
         except ValueError as error:
@@ -270,12 +271,7 @@ class BackTravelServer(object):
         end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
         end.get(outcome.kind, handle.set_aborted)(result, outcome.reason)
         if bridge:
-            try:
-                _bridge(self, follower)
-            finally:
-                with self._lock:
-                    self._bridging = False
-            self._schedule_handover()    # the next goal publishes at once, or zero after the hold
+            drive_between_goals(self, follower)
 
     def _run(self, handle):
         """Drive one goal; returns (core/drive.Outcome with the result's text, result)."""
@@ -306,49 +302,6 @@ def _report_late(follower, log):
         index, taken, nominal = follower.late.pop(0)
         log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
                  'only when it stops making progress)', index + 1, taken, nominal)
-
-
-def _wait_while(condition, seconds):
-    """Wait (ROS time) while ``condition()``, at most ``seconds``."""
-    deadline = rospy.get_time() + seconds
-    while condition() and rospy.get_time() < deadline and not rospy.is_shutdown():
-        rospy.sleep(0.02)
-
-
-def _bridge(server, follower):
-    """closed_loop, until the next goal comes: the follower drives on (core/goal.HandoverBridge);
-    any other end than the next goal halts the output (ros/drive_loop.DriveLoop)."""
-    behaviour = _Bridge(HandoverBridge(follower, server.params.handover_follow, rospy.get_time()),
-                        server.hold, server.output, lambda: server._pending is not None)
-    outcome = server.drive.run(behaviour, 'hand-over after goal %d' % server.next_goal,
-                               inactive=server._inactive, contacts=server.contacts)
-    if not outcome.ok:
-        server.log.info('hand-over after goal %d: %s', server.next_goal, outcome.reason)
-
-
-class _Bridge(drive.Behaviour):
-    """A core/goal.HandoverBridge as a drive-loop behaviour: it ends, without a halt, once
-    ``arrived()`` (the next goal); when it has driven its time or the route ended, halting."""
-
-    def __init__(self, bridge, hold, output, arrived):
-        self.bridge, self.command_hold, self.output, self.arrived = bridge, hold, output, arrived
-
-    def end(self):
-        if self.arrived():
-            return drive.Outcome(drive.SUCCEEDED, 'the next goal came')
-        if self.bridge.ended or self.bridge.expired(rospy.get_time()):
-            return drive.Outcome(drive.TIMED_OUT, 'no next goal within %.2f s: zero velocity'
-                                 % (self.bridge.deadline - self.bridge.started))
-        return None
-
-    def resumed(self, seconds):
-        self.bridge.follower.pause_ended()
-
-    def step(self, odom, now):
-        follower = self.bridge.follower
-        self.output.limit(follower.limits[min(follower.section, len(follower.limits) - 1)])
-        self.command_hold.published(now)
-        return self.bridge.step(odom)
 
 
 class _Goal(drive.Behaviour):
