@@ -127,6 +127,11 @@ class PathByState(object):
             return self.length.get(key, 0.0)
 
 
+#: rad: the goals' psi as this node computes them (core/heading_correction with the
+#: final sample's stamp) against the client's (its odometry's stamp at the turn's commit)
+PSI_TOLERANCE = 1e-3
+
+
 class MissionRun(object):
     """One mission on the fake TurtleBot, watched from the test node.
 
@@ -286,11 +291,17 @@ class MissionRun(object):
     def goals_expected(self, landmarks):
         """What back_travel_client sends for the recorded ``landmarks``, in sending order:
         reversed, and in the heading correction's frame when one was published
-        (blind_navigation.launch runs heading_correction by default)."""
+        (blind_navigation.launch runs heading_correction by default). The recording
+        went on after the correction's reference until the turn began: the client
+        counts that from its odometry when the turn is committed, this node from the
+        recorder's final sample (a few cycles apart: compare psi with PSI_TOLERANCE)."""
         corrections = self.corrections.snapshot()
         if corrections:
             correction, reference = correction_from_message(corrections[-1])
-            landmarks = correct_landmarks(landmarks, correction, reference.yaw)
+            finals = [msg for msg in (self.samples.snapshot() if self.samples else ())
+                      if msg.command == 'final']
+            after = max(0.0, finals[-1].header.stamp.to_sec() - reference.stamp) if finals else 0.0
+            landmarks = correct_landmarks(landmarks, correction, reference.yaw, after)
         return [tuple(landmark) for landmark in reversed(landmarks)]
 
     def goal_outcomes(self):
