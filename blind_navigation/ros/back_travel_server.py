@@ -82,7 +82,7 @@ class BackTravelServer(object):
         self.next_goal = 0               # index of the goal the route expects next
         self.follower = None             # closed_loop: the RouteFollower of the return
         self.since = None                # its travelled when the last goal ended (core/goal.SectionGoal)
-        self._bridging = False           # a HandoverBridge drives
+        self._bridging, self.bridge_failed = False, None   # a HandoverBridge drives; what ended it
         guard = self.guard = layer.guard(self.ROLE)
         self.drive = DriveLoop(self.output, self.odometry, layer.safety, p, self.log, guard,
                                takeover=self.takeover)
@@ -121,7 +121,7 @@ class BackTravelServer(object):
             self.contacts = Contacts(self.params)      # counted over the whole return
             self.follower = RouteFollower(route, self.goal_params) \
                 if self.params.control == 'closed_loop' else None
-            self.since = None
+            self.since = self.bridge_failed = None
         self.log.info('return route of %d landmarks (%.2f m) in %s, %d completed',
                       len(landmarks), route.length, request.header.frame_id or '?', request.completed)
         closed = self.params.control == 'closed_loop'
@@ -198,7 +198,7 @@ class BackTravelServer(object):
         with self._lock:
             # actionlib's ServerGoalHandle.__eq__ raises on None: compare only with a goal held
             ours = any(held is not None and held == handle for held in (self._active, self._pending))
-        if ours:
+        if ours or self._bridging:      # between goals too: the follower drives on meanwhile
             self.output.halt('cancel')  # at once, not at the next control cycle
 
     def _on_state(self, _old, new):
@@ -275,6 +275,9 @@ class BackTravelServer(object):
 
     def _run(self, handle):
         """Drive one goal; returns (core/drive.Outcome with the result's text, result)."""
+        failed, self.bridge_failed = self.bridge_failed, None
+        if failed is not None:          # what ended the hand-over before it ends this goal
+            return failed, BackTravelResult()
         p = self.params
         goal_message = handle.get_goal()
         landmark = landmark_from_values([goal_message.v, goal_message.w, goal_message.d,
@@ -292,8 +295,8 @@ class BackTravelServer(object):
         return goal.ended(outcome)
 
     def _inactive(self):
-        state = self.layer.mission.state
-        return None if state == mission_state.RETURNING else 'the mission is %s' % state
+        return None if self.layer.mission.state == mission_state.RETURNING else \
+            'the mission is %s' % self.layer.mission.state
 
 
 def _report_late(follower, log):

@@ -31,6 +31,8 @@ def drive_between_goals(server, follower):
                                    inactive=server._inactive, contacts=server.contacts)
         if not outcome.ok:
             server.log.info('hand-over after goal %d: %s', server.next_goal, outcome.reason)
+        if not outcome.ok and outcome.kind != drive.TIMED_OUT:
+            server.bridge_failed = outcome  # a safety stop, a contact too many: the next goal ends so
     finally:
         with server._lock:
             server._bridging = False

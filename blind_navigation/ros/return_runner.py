@@ -70,7 +70,7 @@ class ReturnRunner(object):
         m = self.mission
         self.pauses.update(rospy.get_time(), False, False, m.position)   # the pauses end with the return
         pauses = self.pauses.describe(rospy.get_time())
-        return ok, '%s; %s' % (reason, pauses) if pauses else reason
+        return ok, '%s; %s' % (reason, pauses) if pauses and pauses not in reason else reason
 
     def _travel_back(self):
         m = self.mission

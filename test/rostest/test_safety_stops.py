@@ -136,11 +136,13 @@ class SafetyStopsTest(unittest.TestCase):
         self.assertEqual(len(goals), 6)
         checked, in_flight = 0, IN_FLIGHT_WALL * self.clock.rtf
         for t, v, w in self.commands_after(goals[0][0]):
-            active = [goal for start, goal in goals if start <= t]
-            settled = [goal for start, goal in goals if start <= t - in_flight]
-            if not settled or active[-1] is not settled[-1]:
+            active = [index for index, (start, _) in enumerate(goals) if start <= t]
+            settled = [index for index, (start, _) in enumerate(goals) if start <= t - in_flight]
+            if not settled or active[-1] != settled[-1]:
                 continue        # just after a goal switch: the previous goal's command may be in flight
-            limit = min(MAX_V, recorded_speed(active[-1]))
+            # after a goal's end the follower drives on into the next section until the next
+            # goal comes (closed_loop's hand-over bridge): within either one's recorded speed
+            limit = min(MAX_V, max(recorded_speed(goal) for _, goal in goals[active[-1]:active[-1] + 2]))
             self.assertLessEqual(abs(v), limit + 1e-9, 'v %.4f above %.4f' % (v, limit))
             self.assertLessEqual(abs(w), 0.3 + 1e-9, 'w %.4f above the correction allowance' % w)
             checked += 1
