@@ -848,6 +848,7 @@ class TestM_LowSpaceAtStart(SmallDisk):
         m.wait(lambda: [msg for msg in m.status.snapshot() if 'LOW SPACE' in msg.warnings],
                'the mission status carries the low-space warning')
         cls.status = [msg for msg in m.status.snapshot() if 'LOW SPACE' in msg.warnings][0]
+        m.wait(lambda: m.run.storage_msgs.snapshot(), 'a storage message reaches this node')
         cls.storage = m.run.storage_msgs.snapshot()[0]
         cls.states = m.run.state_names()
 
