@@ -1,11 +1,8 @@
 """Every topic, service and action name of the layer, in one place.
 
-The names are relative: ROS resolves them in the node's namespace, so the
-layer (and the fake TurtleBot) move under a robot's namespace with
-``<group ns="robot1">``, and each one can be remapped as in any ROS package
-(``<remap from="odom" to="/my_robot/odom"/>``). In the root namespace they are
-the names of INTERFACE.md: ``/odom``, ``/blind_navigation/vision_lost``, ...
-Only ``/clock`` is global.
+The names are relative, so the layer (and the fake TurtleBot) follow a robot's
+namespace (``<group ns="robot1">``) and remap as in any ROS package; in the root
+namespace they are INTERFACE.md's. Only ``/clock`` is global.
 """
 
 # --- the robot's topics the layer reads or drives (TurtleBot2 / Kobuki / RTAB-Map names)

@@ -1,19 +1,9 @@
 """Allowances of the closed-loop return that measure progress, and the odometry grace.
 
-- :class:`ProgressWatch`: the return fails only when it stops making progress:
-  no along-route progress of ``stall_distance`` m and no heading progress of
-  ``stall_angle`` rad for ``stall_timeout`` s, or the whole return's allowance
-  (``return_timeout_factor`` x its nominal time + ``return_timeout_margin``)
-  spent. A goal over its nominal time is not a failure (the caller logs it).
-  Time is counted from the stamps given; a gap longer than ``max_step_gap``
-  between two updates (the node held the robot: odometry was stale) is not
-  counted, so held time never makes a return stall.
-- :class:`OdomGrace`: each control cycle, from the age of the newest odometry:
-  ``drive`` (fresh, within ``odom_timeout``), ``hold`` (stale: publish zero at
-  once, keep the goal) or ``abort`` (stale for longer than ``odom_grace``).
-  Every hold is kept with its length (``holds``) for the log.
-
-Plain Python; times in seconds on any one clock.
+:class:`ProgressWatch`: the return fails only when it stops making progress (``stall_*``)
+or spends the whole return's allowance; held time (a gap over ``max_step_gap``) is not
+counted. :class:`OdomGrace`: each cycle ``drive``, ``hold`` (stale odometry: zero, keep
+the goal) or ``abort`` (stale beyond ``odom_grace``). Plain Python, any one clock.
 """
 import math
 

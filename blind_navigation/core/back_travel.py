@@ -1,15 +1,9 @@
 """Back-travel control: drive the recorded path back to the start (paper 3.3.5).
 
-Three modes (docs/back_travel.md, "Control modes"):
-
-- ``time``: the paper's sampled-time control, one :class:`TimeController` per
-  goal: the landmark's ``(v, -w)`` for its period ``T``.
-- ``distance``: the paper's travelled-distance control
-  (:class:`DistanceController`): the same commands until odometry shows ``d``.
-- ``closed_loop``: core/route_follower.RouteFollower drives the whole route
-  (core/route.build_route).
-
-One goal interface for both kinds (core/goal.make_goal); docs/back_travel.md.
+``time`` (:class:`TimeController`: the landmark's ``(v, -w)`` for ``T``) and ``distance``
+(:class:`DistanceController`: the same until odometry shows ``d``) are the paper's;
+``closed_loop`` is core/route_follower.RouteFollower over the whole route. One goal
+interface for all: core/goal.make_goal (docs/back_travel.md, "Control modes").
 """
 import math
 

@@ -1,14 +1,10 @@
 """The drive loop's logic without ROS: typed outcomes, the behaviour API, one cycle.
 
-A behaviour (the pi turn, one back-travel goal, the gyro calibration's spins)
-is a small :class:`Behaviour`: ``start(odom)``, ``step(odom, now)`` -> ``(v, w)``
-to publish or an :class:`Outcome` to end, ``end()`` -> an Outcome once it is
-over before a cycle, ``hold(seconds)`` after an odometry hold ended.
-:class:`DriveCycle` decides each cycle, in this order: the behaviour's end, a
-safety stop, a cancel, the mission leaving the behaviour's state, then the
-odometry grace (core/allowance.OdomGrace; without one, stale odometry ends the
-behaviour at once). ros/drive_loop.DriveLoop runs it; docs/back_travel.md,
-"The drive loop", says why.
+A :class:`Behaviour` (the pi turn, a back-travel goal, a calibration spin) has
+``start``, ``step(odom, now)`` -> ``(v, w)`` or an :class:`Outcome`, ``end`` and ``hold``.
+:class:`DriveCycle` decides each cycle: the behaviour's end, a safety stop, a cancel, the
+mission leaving its state, the odometry grace. Run by ros/drive_loop.DriveLoop
+(docs/back_travel.md, "The drive loop").
 """
 import collections
 

@@ -1,21 +1,10 @@
 """Safe file primitives for everything the layer writes or reads back.
 
-- :class:`StorageError`: the one exception of a failed write (ENOSPC, EIO,
-  EACCES, ...). It is an OSError, names the file, the action and the errno
-  text, so a node logs and reports it without a traceback.
-- :func:`write_atomically`: replace a file by new content (return progress,
-  gyro calibration). The temporary file is created exclusively
-  (``O_CREAT | O_EXCL | O_NOFOLLOW``) under a random name in the target's own
-  directory, written, fsynced, renamed over the target, and the directory is
-  fsynced: a crash leaves the old or the new content, and a file or symlink
-  planted under a temporary name is never opened, let alone written through.
-- :func:`replace_with_symlink`: the same for a symlink.
-- :func:`write_all`: ``os.write`` until every byte is written.
-- :func:`read_regular_file`: read a file that must be a regular file (a
-  directory, FIFO or device is refused by name instead of hanging or failing
-  obscurely), optionally without following a symlink, up to a size bound.
-- :class:`FileContentError`: what was read cannot be used; the base of the
-  landmark file's and the progress file's errors.
+:class:`StorageError` (a failed write, naming file and errno), :func:`write_atomically`
+and :func:`replace_with_symlink` (exclusive temporary, fsync, rename: a crash leaves the
+old or the new content, a planted file is never written through), :func:`write_all`,
+:func:`read_regular_file` (refuses directories, FIFOs, devices by name) and
+:class:`FileContentError` (the base of the landmark and progress files' errors).
 """
 import errno
 import os

@@ -1,21 +1,9 @@
 """One goal of the back travel (one landmark), whatever the control mode.
 
-The action server drives one landmark per goal (the paper's protocol). In the
-paper's modes each goal has its own controller (core/back_travel.make_controller:
-``time``, ``distance``); in ``closed_loop`` the goals of a return share one
-core/route_follower.RouteFollower over the whole route, and a goal ends when the
-follower has finished the goal's section of the route. :func:`make_goal` gives
-both the same interface::
-
-    goal = make_goal(mode, landmark, params, follower, index)
-    goal.start(odom_state)
-    v, w = goal.step(odom_state)     # until goal.done or goal.failed (goal.reason says why)
-    goal.travelled                   # m of odometry driven during this goal
-    goal.hold(seconds)               # the robot was held (paused) that long: not driving time
-    goal.resumed(seconds)            # a takeover or contact of that long ended (the robot may have moved)
-
-The back_travel server and the harness drive goals through it; between goals the
-paper's modes hold (:class:`CommandHold`), closed_loop drives on (:class:`HandoverBridge`).
+:func:`make_goal` gives the paper's per-landmark controllers and closed_loop's shared
+route follower one interface: ``start``, ``step`` (until ``done``/``failed``, ``reason``),
+``travelled``, ``hold`` and ``resumed`` (a pause ended). Between goals the paper's modes
+hold the last command (:class:`CommandHold`); closed_loop drives on (:class:`HandoverBridge`).
 """
 from .back_travel import make_controller
 

@@ -1,14 +1,9 @@
 """The gyro's bias, measured for each mission.
 
-A gyro's bias changes at every power-up, so each mission measures its own:
-while recording, against visual odometry (core/gyro_fit.py), and after vision
-loss by standing still (:class:`StandstillBias`: the wheels say the robot is
-not moving and the gyro that it is not turning, so any heading change is the
-bias). The estimates are fused by inverse variance (:func:`fuse_bias`), and
-the standstill lasts only as long as the mission needs
-(:func:`standstill_complete`, :func:`standstill_timeout`). Visual odometry
-drifts a little with every metre, which limits it on short missions; the
-standstill is limited by the gyro's white noise (std noise / sqrt(samples)).
+While recording against visual odometry (core/gyro_fit.py); after vision loss by
+standing still (:class:`StandstillBias`); the two fused by inverse variance
+(:func:`fuse_bias`); the standstill only as long as the mission needs
+(:func:`standstill_complete`, :func:`standstill_timeout`).
 """
 import math
 from collections import namedtuple

@@ -1,21 +1,10 @@
 """One-off gyro scale calibration: spin in place under visual odometry, both ways.
 
-The gyro's scale error is a property of the robot's sensor, the same on every
-mission, and a mission's path hardly turns, so the mission cannot measure it
-(core/heading_correction.py); yet it costs the pi turn ``scale x pi`` of
-heading, which the whole return then carries. So it is measured once, the way
-turtlebot_calibration measured the TurtleBot's gyro against the Kinect: the
-robot turns ``turns`` full turns counter-clockwise, pauses, and as many
-clockwise, in front of a textured scene, while
-:class:`core.gyro_fit.GyroVisualFit` compares gyro yaw with
-visual-odometry yaw. Turning both ways separates the scale (which follows the
-direction) from the bias (which does not). The result (:class:`GyroCalibration`)
-is kept in a small YAML file that the heading_correction node reads at every
-mission start (``gyro_calibration_file``).
-
-:class:`SpinCalibration` is the routine (plain Python: the calibrate_gyro node
-and the simulation harness drive the same object); :func:`save_calibration`
-and :func:`load_calibration` are the file.
+:class:`SpinCalibration` turns ``turns`` full turns each way while
+core/gyro_fit.GyroVisualFit compares gyro and visual-odometry yaw (both ways separate
+scale from bias); the result, :class:`GyroCalibration`, is kept in a small YAML file
+(:func:`save_calibration`, :func:`load_calibration`). Plain Python: the calibrate_gyro
+node and the harness drive the same object (docs/back_travel.md, "Gyro heading correction").
 """
 import datetime
 import math

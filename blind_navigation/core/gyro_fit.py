@@ -1,16 +1,10 @@
-"""Gyro yaw against visual-odometry yaw: the least-squares fit behind both the
-one-off gyro calibration (core/gyro_calibration.py) and the bias estimated
-while a mission records (core/heading_correction.py).
+"""Gyro yaw against visual-odometry yaw: the least-squares fit behind the calibration
+and the per-mission bias.
 
-:class:`GyroVisualFit` cuts the data into windows of ``window`` s between
-visual-odometry samples (a window with a lost VO message or a gap longer than
-``max_gap`` is not used), each giving the gyro's and VO's yaw increments, and
-fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt``; :func:`robust_fit` solves it
-by least squares with one pass that drops outliers (``outlier_k``) and gives
-the bias ``b`` (rad/s), the scale error ``s`` and their standard errors. The
-windows are kept packed (:class:`WindowRows`), at most :data:`MAX_WINDOWS`,
-the newest. Why and what was measured: docs/back_travel.md, "Gyro heading
-correction".
+:class:`GyroVisualFit` cuts the data into windows of ``window`` s (lost VO or gaps skipped)
+and fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (:func:`robust_fit`: one outlier pass);
+the windows are kept packed, the newest :data:`MAX_WINDOWS` (:class:`WindowRows`).
+docs/back_travel.md, "Gyro heading correction".
 """
 import math
 from array import array

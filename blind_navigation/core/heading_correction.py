@@ -1,20 +1,10 @@
 """The heading correction of the return: which gyro errors to correct, and the
 corrected odometry frame the pi turn and the return drive on.
 
-* :func:`estimate_correction`: the mission's :class:`GyroCorrection`: the bias
-  fused from visual odometry while recording (core/gyro_fit.py) and the
-  standstill after vision loss (core/gyro_bias.py), the scale error from the
-  one-off calibration (core/gyro_calibration.py); a term only when significant
-  (``significance``, ``scale_significance``) and sane.
-* :class:`CorrectedOdometry`: the raw odometry stream in the corrected frame,
-  which coincides with the raw one at its first sample (the reference: where
-  recording stopped).
-* :func:`correct_landmarks`: the recorded landmarks in that same frame (the
-  landmark file is not changed).
-
-Plain Python, used by the heading_correction node, back_travel_client and the
-simulation harness alike. The rules and their reasons: docs/back_travel.md,
-"Gyro heading correction".
+:func:`estimate_correction` (the :class:`GyroCorrection`: bias and scale, each only when
+significant and sane), :class:`CorrectedOdometry` (raw odometry in the corrected frame,
+equal to the raw one at the reference) and :func:`correct_landmarks` (the recorded
+landmarks in that frame). docs/back_travel.md, "Gyro heading correction".
 """
 import math
 from collections import namedtuple

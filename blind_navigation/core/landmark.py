@@ -1,13 +1,8 @@
 """The path landmark ``(v, w, d, T, psi)`` of the paper (equation 2) and its checks.
 
-- ``v``: linear velocity, m/s (odometry twist.linear.x)
-- ``w``: angular velocity, rad/s (odometry twist.angular.z)
-- ``d``: distance from the previous landmark's position, m
-- ``T``: sampling period in force when the landmark was taken, s
-- ``psi``: yaw, rad
-
-The limits a landmark must respect (the base's speeds, and ``d`` against what
-the base can cover in ``T``) are core/plausibility.Limits.
+``v`` m/s and ``w`` rad/s (the odometry's twist), ``d`` m from the previous landmark,
+``T`` s the sampling period in force, ``psi`` rad the yaw; the limits it must respect
+are core/plausibility.Limits.
 """
 import math
 from collections import namedtuple

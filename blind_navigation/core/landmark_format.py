@@ -1,20 +1,9 @@
 """The landmark file's format: its keys, lines and numbers, and its strict YAML.
 
-Format (see INTERFACE.md), readable by PyYAML and by yaml-cpp::
-
-    # comment lines
-    blind_navigation: {format: 1, fields: [v, w, d, T, psi], mission: '...', ...}
-    samples_1: {from: landmark_000001, recording: 12.34, sample: 1}
-    landmark_000001: {data: [0.0861, 0.0012, 0.1718, 2.0, 0.0131]}
-    landmark_000002: {data: [0.0859, 0.0964, 0.0862, 1.0, 0.061]}
-    gap_1: {before: landmark_000003, reason: '...'}
-    landmark_000003: {data: [0.0901, 0.0, 0.1802, 2.0, 0.0608]}
-    finished: {landmarks: 3, lost: 0}
-
-The rooms of the store: this module (the format), core/store.py (reading a
-file back), core/landmark_writer.py (one durable line per landmark),
-core/mission_files.py (mission files behind the ``landmark_file`` symlink).
-Why lines, gaps, sample marks and mission files: docs/recording.md, "File".
+One flow-map line per entry (INTERFACE.md; PyYAML and yaml-cpp read it): the
+``blind_navigation`` header, ``landmark_NNNNNN: {data: [v, w, d, T, psi]}``, ``gap_<n>``
+and ``samples_<n>`` marks, a ``finished`` line. Reader: core/store.py; writer:
+core/landmark_writer.py; mission files: core/mission_files.py (docs/recording.md, "File").
 """
 import re
 from collections import namedtuple

@@ -1,14 +1,9 @@
-"""How far apart two passes of the recorded path may truly be where odometry puts
-them together: the drift gathered over the loop between them (core/pruning.py
-cuts a loop only when this leaves the passes within its radius).
+"""The odometry drift over a loop of the recorded path: how far apart two passes may
+truly be where odometry puts them together (core/pruning.py cuts only within its radius).
 
-A loop runs, in recording order, from leaving the earlier pass's route vertex
-``w`` to reaching the later pass's vertex ``u``. Its drift's standard deviation
-has four independent parts: the gyro bias and scale left after the heading
-correction and calibration, the gyro's white noise and the wheels' error per
-metre; :meth:`Drift.plus` adds the drift of several skipped loops. Every loop
-costs O(1) after an O(n) pass over the route (prefix sums). The model and its
-reasons: docs/pruning.md, "Honest about drift".
+Four independent parts (gyro bias and scale left after the correction, gyro white noise,
+wheel error per metre); :meth:`Drift.plus` adds skipped loops; O(1) per loop after an
+O(n) pass (docs/pruning.md, "Honest about drift").
 """
 import math
 from collections import namedtuple

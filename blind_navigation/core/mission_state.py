@@ -1,21 +1,10 @@
-"""The mission's one state machine, obeyed by every role of the layer: states published
-latched on ``blind_navigation/state`` by the owner (back_travel_client)::
+"""The mission's one state machine, obeyed by every role of the layer.
 
-    idle -> recording -> rotating -> returning -> home
-                 \\  ^         \\            \\-> aborted, recovered
-                  \\  '---------'\\-> aborted, recovered
-                   \\-> aborted (idle -> aborted too: a return that cannot resume)
-    home, aborted, recovered -> idle (``new_mission``: :func:`new_mission_refusal`)
-
-- ``recording``: the recorder saved its first landmark.
-- ``rotating``: vision lost or ``go_home`` while recording (:func:`go_home_refusal`); the
-  recording goes on until the pi turn begins; vision back before that: ``recording`` again.
-- ``returning``: the pi turn is over and the robot really turned.
-- :data:`TERMINAL` (``recovered``: vision back in the turn or return, policy ``stop``;
-  ``cancel``: :func:`cancel_refusal`): nothing moves until ``new_mission``.
-
-Every change goes through :meth:`MissionState.transition` (table-checked, atomic); only
-the phase's owner moves the robot (:data:`MOTION_OWNER`, :func:`may_move`). docs/DESIGN.md.
+States ``idle -> recording -> rotating -> returning -> home``, ``aborted`` and ``recovered``
+(:data:`TERMINAL`, back to ``idle`` only by ``new_mission``); the table ``TRANSITIONS``,
+every change through :meth:`MissionState.transition` (atomic); who may move
+(:data:`MOTION_OWNER`, :func:`may_move`); the services' refusals (``*_refusal``).
+docs/DESIGN.md, "The state machine".
 """
 import threading
 

@@ -1,18 +1,9 @@
 """Motion events: where an extra landmark makes the recorded path unambiguous.
 
-The paper's fixed periods do not say when within a period the robot stopped
-and turned in place, set off after a turn, or reversed (docs/recording.md,
-"Motion events"). :class:`MotionEvents` watches odometry (every state) and
-reports an *event* when the robot's way of moving changes between ``still``,
-``forward`` and ``backward``: the speed averaged over ``event_window`` s
-crosses ``event_speed`` (with ``event_hysteresis``) and the new state holds for
-``event_debounce`` s. The event is dated back to where the raw speed left the
-old state; the robot's first setting off is an event too.
-
-:class:`EventSampler` interleaves a landmark at each event (``T`` = the time
-since the previous one) with the periodic ticks, which are taken
-``event_latency`` s late, the same way for the sampling publisher and the
-simulation harness. Plain Python.
+:class:`MotionEvents` reports when the robot's way of moving changes between ``still``,
+``forward`` and ``backward`` (debounced, dated back to where it began);
+:class:`EventSampler` interleaves a landmark at each event with the periodic ticks,
+for the sampling publisher and the harness alike (docs/recording.md, "Motion events").
 """
 from collections import deque
 

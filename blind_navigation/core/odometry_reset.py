@@ -1,19 +1,9 @@
 """An odometry reset carried across: the transform from the new frame to the old one.
 
-When core/plausibility.OdometryGate re-anchors on a discontinuity, it hands
-over the last state it accepted (``before``, old frame) and the refused chain
-(the new frame's states while the discontinuity was being confirmed).
-:func:`estimate_reset` predicts where the robot was, in the old frame, at the
-chain's first state (``before`` moved on by the mean of the two twists over
-the gap) and returns the :class:`Frame` that maps the new frame onto the old
-one, or why it cannot be trusted: a gap longer than ``reset_max_gap``, stamps
-going back, a twist that changed too much across the gap for the prediction
-to hold within ``reset_position_tolerance`` / ``reset_yaw_tolerance``, a
-chain whose poses do not follow its own twist, or no confirmed ``before``.
-A reset that is not re-anchored is named by :data:`UNTRUSTED` (the gap entry
-a recorder writes starts with it: :func:`is_untrusted_reset`).
-:class:`ResetCarrier` applies the Frame behind the gate, flags a silence after
-which odometry is not where its twist says, and adopts another process's Frame.
+:func:`estimate_reset` gives the :class:`Frame` that maps the new frame onto the old one
+from the gate's last accepted state and the refused chain, or why it cannot be trusted
+(:data:`UNTRUSTED`, :func:`is_untrusted_reset`); :class:`ResetCarrier` applies it behind the
+gate and adopts another process's (docs/safety.md, "Odometry resets").
 """
 import math
 from collections import namedtuple

@@ -1,22 +1,9 @@
 """Reading a serialised nav_msgs/Odometry without deserialising it.
 
-The layer subscribes to odometry (50 Hz wheel odometry, RTAB-Map's visual
-odometry) as raw bytes (rospy.AnyMsg) and reads just the fields it uses with
-one precompiled ``struct`` call: about ten times cheaper than the whole message.
-
-ROS 1 wire layout (little endian; L1, L2 are the string lengths)::
-
-    0            uint32 header.seq
-    4            uint32 header.stamp.secs, 8: uint32 nsecs
-    12           uint32 L1, then L1 bytes of header.frame_id
-    16+L1        uint32 L2, then L2 bytes of child_frame_id
-    p = 20+L1+L2 pose.pose.position x, y, z and orientation x, y, z, w (7 float64)
-    p+56         pose.covariance (36 float64)
-    p+344        twist.twist.linear x, y, z and angular x, y, z (6 float64)
-    p+392        twist.covariance (36 float64); the message ends at p+680
-
-Everything after ``p`` has a fixed size, so one Struct reads the wanted values
-(the diagonals 0, 7, ..., 35 of each 6x6 covariance) in one call.
+The layer subscribes to odometry as raw bytes and reads the fields it uses with one
+precompiled ``struct`` call, about ten times cheaper than the whole message: after the
+header and child_frame_id strings everything (pose, its covariance, twist, its
+covariance: 85 float64) has a fixed size.
 """
 import struct
 from collections import namedtuple

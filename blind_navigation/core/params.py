@@ -1,12 +1,9 @@
 """Typed, frozen parameters: a role's schema, validated once at start.
 
-A :class:`Param` is one setting a user may give (name, default, unit, allowed
-range or choices, meaning); a :class:`Schema` is a role's params plus the
-constants its code reads alongside them (``fixed``: not settable). Validating
-the values read for a role gives a frozen :class:`Params` object (attributes,
-no defaults looked up later) or a :class:`ParamError` naming the role, the
-param, the bad value and what is allowed. docs/params.md is generated from the
-schemas (scripts/param_table.py); where a new param goes: docs/DESIGN.md.
+A :class:`Param` is one setting a user may give (default, unit, range or choices,
+meaning); a :class:`Schema` is a role's params plus its constants (``fixed``); validated,
+a frozen :class:`Params`, or a :class:`ParamError` naming role, param, value and range.
+docs/params.md is generated from the schemas (scripts/param_table.py).
 """
 import math
 from collections import namedtuple

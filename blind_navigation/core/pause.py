@@ -1,20 +1,10 @@
 """Pauses of a return without ROS: bumper contacts and an operator's takeover.
 
-- :class:`Contacts`: the bumper contacts of one return (all its goals). A press
-  holds the robot (zero); ``contact_wait`` s after the release it goes on. A
-  press during that wait (a bounce) is the same contact. The return aborts at
-  contact number ``max_contacts`` + 1 or when the bumper is pressed more than
-  ``contact_timeout`` after the contact's first press (held, or bouncing).
-  Cliff and wheel drop are not contacts.
-- :class:`Takeover`: whether an operator holds the robot: another publisher's
-  command on the layer's own mux input (until ``takeover_wait`` s of silence)
-  or one of ``takeover_inputs`` announced active by the mux (until it is
-  released, then ``takeover_wait`` s). ``on_takeover``: ``resume`` or ``abort``.
-
-Both are fed times by their caller (any one clock) and answer each control
-cycle with :data:`PAUSE` (hold), ``None`` (drive) or an abort reason.
-docs/safety.md, "Contacts" and "Takeover", says why. :class:`PauseLog`: what the
-pauses of a return were, for the mission's status and final reason.
+:class:`Contacts`: a press holds the robot until ``contact_wait`` s after its release;
+too many (``max_contacts``) or too long (``contact_timeout``) aborts. :class:`Takeover`:
+another publisher on the layer's mux input or a higher input active holds the layer
+until ``takeover_wait`` s of silence. Each cycle: :data:`PAUSE`, ``None`` or an abort
+reason; :class:`PauseLog` sums them up (docs/safety.md, "Contacts", "Takeover").
 """
 import collections
 import math

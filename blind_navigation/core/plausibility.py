@@ -1,20 +1,9 @@
 """Plausibility rules: what no Kobuki can do is refused, whoever sends it.
 
-Three gates, all against the base's limits (Kobuki: 0.7 m/s, pi rad/s):
-
-- :class:`Limits` (core/landmark.landmark_from_values: the recorder, the
-  landmark file loader, the action goals): a landmark's ``|v|`` and ``|w|``
-  within the limits, and its ``d`` within what the base can cover in ``T``.
-- :class:`OdometryGate`: successive odometry states; refuses non-finite values,
-  twists beyond the limits, stamps going back, and position or yaw steps larger
-  than the limits allow over the stamps' ``dt``; a refused state never becomes
-  the reference (see the class for the re-anchor rule). Used while recording
-  and while returning.
-- :class:`RouteBudget`: the whole return may not drive more than
-  ``route_length_factor`` x the recorded length plus ``route_length_margin``.
-
-The margins (:data:`PLAUSIBILITY_DEFAULTS`) and why: docs/safety.md,
-"Plausibility margins".
+:class:`Limits` (a landmark's speeds and ``d`` against ``T``), :class:`OdometryGate`
+(successive odometry states: non-finite values, impossible twists or steps, stamps going
+back) and :class:`RouteBudget` (the whole return's distance). The margins,
+:data:`PLAUSIBILITY_DEFAULTS`: docs/safety.md, "Plausibility margins".
 """
 import math
 from collections import namedtuple

@@ -1,16 +1,9 @@
 """The persisted progress of a return: the record and its file.
 
-Life of a return (each step returns a new, validated :class:`ReturnProgress`;
-the caller persists it atomically with :func:`save_progress` next to the
-landmark file, :func:`progress_path`): :meth:`ReturnProgress.begin` at vision
-loss (landmark file, anchor, odometry frame, mission id),
-:meth:`~ReturnProgress.start` when the robot starts back (the file's sha256
-and landmark count, the route record), :meth:`~ReturnProgress.goal_done`
-after each goal, :meth:`~ReturnProgress.finish` with ``home`` or ``aborted``.
-
-:func:`load_progress` reads it back (a file of another ``format`` version is
-refused, naming the field); whether a restarted layer resumes is core/resume.py's.
-The recorded landmark file itself is only ever read.
+:class:`ReturnProgress` goes ``begin`` (vision loss), ``start`` (the file's sha256, the
+route record), ``goal_done``, ``finish``, each step a new validated record that the caller
+saves atomically (:func:`save_progress`, :func:`progress_path`); :func:`load_progress`
+refuses another ``format``. Whether to resume: core/resume.py.
 """
 import hashlib
 import math

@@ -1,20 +1,9 @@
-"""Pruning of the closed-loop return: cut loops and doubled-back stretches where
-the recorded path comes back to a place it passed before, only through space
-the robot drove, and only where the drift over the loop allows it.
+"""Pruning of the closed-loop return: cut loops and doubled-back stretches where the
+path comes back within ``prune_radius`` of a place it passed, only where the drift allows.
 
-API (the back-travel client and the harness, after core/route.build_route)::
-
-    result = prune_route(route, landmarks, correction, params)
-    result.route        # the route the return drives (``route`` itself when nothing was cut)
-    result.cuts         # [Cut] made, in return order
-    result.refused      # [Cut] candidate loops refused for their drift (one per candidate)
-    result.describe()   # one line per cut and refused candidate, for the log
-
-A cut joins a vertex ``u`` to an earlier pass within ``prune_radius`` (found on
-a grid of cells that size) when ``gap + prune_sigmas x drift std <=
-prune_radius`` (core/loop_drift.py); the route keeps one section per landmark.
-Where, why the radius, the rule, the protocol and the cost: docs/pruning.md.
-Only ``closed_loop`` drives this route.
+``prune_route(route, landmarks, correction, params)`` -> ``.route`` (pruned), ``.cuts``,
+``.refused``, ``.describe()``. Rule: ``gap + prune_sigmas x drift std <= prune_radius``
+(core/loop_drift.py); one section per landmark is kept (docs/pruning.md).
 """
 import bisect
 import math

@@ -1,14 +1,9 @@
 """Path recording: odometry at each sampling tick -> the paper's path landmark.
 
-Section 3.3.1 of the paper: at each tick of the sampling publisher the
-recorder takes ``v`` = twist.linear.x and ``w`` = twist.angular.z from the
-latest odometry, ``d`` = the straight-line distance from the previous
-landmark's position (for the first landmark: from where recording started,
-the first odometry seen), and ``T`` and ``psi`` from the tick itself (the
-period in force and the yaw the publisher read).
-
-Also the storage of a recorded path (section 5: count, bytes, bytes
-per metre), shared by the ROS nodes and the evaluation.
+:class:`PathRecorder` takes ``v`` and ``w`` from the odometry's twist, ``d`` from the
+previous landmark's position (the first: from where recording started), ``T`` and
+``psi`` from the tick (paper 3.3.1); also the storage of a recording (count, bytes,
+bytes per metre) and the low-space watch (:class:`SpaceWatch`).
 """
 import bisect
 import itertools

@@ -1,12 +1,9 @@
-"""What a return drives, decided before the first goal (no ROS): whether the
-recorded file allows a way back (:func:`recording_problem`, asked before the pi
-turn and when the return starts; a loss of landmarks taken standing still,
-:func:`still_loss`, is bridged), the warning for its gaps and such losses
-(:func:`return_warning`), the route (:func:`plan_route`: core/route,
-pruned by core/pruning with ``prune_loops``) and the goals in return order
-(:func:`return_goals`). The back-travel client's return runner
-(ros/return_runner.py) sends the goals; docs/back_travel.md tells the why.
-:func:`nothing_to_retrace`: a return asked for before the robot moved.
+"""What a return drives, decided before the first goal (no ROS).
+
+:func:`recording_problem` (is there a way back; asked before the pi turn and when the
+return starts; :func:`still_loss` is bridged), :func:`return_warning`, :func:`plan_route`
+(core/route, pruned with ``prune_loops``), :func:`return_goals` (return order) and
+:func:`nothing_to_retrace` (a return asked for before the robot moved).
 """
 import math
 from collections import namedtuple

@@ -1,16 +1,9 @@
-"""Closed-loop in-place rotation by pi on odometry yaw (paper section 3.4: after
-vision loss the robot turns by pi radians before retracing its path).
+"""Closed-loop in-place rotation by pi on odometry yaw (paper 3.4).
 
-:class:`Rotation` accumulates the yaw turned since :meth:`Rotation.start`
-(differences wrapped, so crossing +-pi is harmless) and commands an angular
-velocity that decelerates as the remaining angle shrinks::
-
-    w = sign(remaining) * clamp(min(gain * |remaining|, sqrt(2 * decel * |remaining|)), min_w, max_w)
-
-Inside ``tolerance`` it commands zero and waits until the measured turn rate
-has settled below ``settle_w``; if the robot coasted out of the tolerance it
-corrects (either direction). It is done when settled inside the tolerance,
-and failed when ``time_allowance`` has passed since :meth:`start`.
+:class:`Rotation` accumulates the wrapped yaw turned since :meth:`Rotation.start` and
+commands ``w = sign(r) clamp(min(gain |r|, sqrt(2 decel |r|)), min_w, max_w)`` of the
+remaining angle ``r``; done when settled (below ``settle_w``) within ``tolerance``,
+failed after ``time_allowance``.
 """
 import math
 

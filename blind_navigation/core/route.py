@@ -1,22 +1,10 @@
 """The whole return route, built at once from the recorded landmarks (closed-loop return).
 
-API (core/route_follower.RouteFollower, the back_travel server and client, the harness)::
-
-    route = build_route(landmarks, anchor, params=None)   # landmarks in recording order,
-                                                          # anchor = (x, y) where recording stopped
-    route.sections            # one per landmark, in RETURN order (goal i = landmarks[-1 - i])
-    route.section_end(i)      # (s, phase): the progress at which goal i ends
-    route.length              # m along the route
-    landmark_positions(landmarks, anchor)  # where each landmark was taken, rebuilt
-    data = route.to_lists()   # {name: [float, ...]}: plain, serialisable (progress file, ROS)
-    route = Route.from_lists(data)  # the same route back; ValueError naming the bad field
-
-The way between two ticks is modelled from all five variables at both ends and
-scaled to the recorded ``d``; a point where the route turns by more than
-``corner_angle`` is a *corner* (the follower stops and turns in place there).
-Progress is a mark ``(s, phase)``: m along the route, then the share of a
-corner's turn done. Geometry, merging, corners and progress: docs/back_travel.md,
-"The route".
+``build_route(landmarks, anchor)`` -> :class:`Route`: ``sections`` (one per landmark, in
+return order), ``section_end(i)``, ``length``, ``to_lists()`` / ``Route.from_lists``;
+:func:`landmark_positions`. The way between two ticks is modelled from all five variables
+and scaled to ``d``; sharp turns are corners; progress is ``(s, phase)``
+(docs/back_travel.md, "The route").
 """
 import math
 

@@ -1,21 +1,9 @@
-"""Safety rules of the return, without ROS: velocity limits per goal, Kobuki
-safety events and time allowances. (The persisted progress of a return and
-the resume decision are core/progress.py; what no Kobuki can do, odometry
-jumps and the return's distance budget, core/plausibility.py.)
+"""Safety rules of the return, without ROS.
 
-- :func:`goal_limits` / :meth:`VelocityLimits.clamp`: a goal is never driven
-  faster than the configured limits nor faster than the robot went over that
-  landmark (linear: the larger of the recorded end speed ``|v|`` and the mean
-  speed ``d / T``; angular: the recorded ``|w|`` plus a correction allowance
-  for the closed-loop steering). Clamping scales ``v`` and ``w`` together, so
-  the commanded curvature (the path's shape) is kept.
-- :class:`SafetyEvents`: Kobuki bumper, cliff and wheel-drop events
-  (kobuki_msgs/BumperEvent, CliffEvent, WheelDropEvent fields) -> which
-  conditions are active and why the robot must stop; whether an event
-  continues one under way (a bumper's bounce: logged once per contact).
-- :func:`expected_duration` / :func:`return_allowance`: time allowances.
-- :func:`landmarks_from_flat`: the completed landmarks of a SetReturnRoute
-  request, validated.
+:func:`goal_limits` / :meth:`VelocityLimits.clamp` (never faster than the limits nor than
+the robot went over the landmark; ``v`` and ``w`` scaled together), :class:`SafetyEvents`
+(Kobuki bumper, cliff, wheel drop), :func:`expected_duration` / :func:`return_allowance`
+and :func:`landmarks_from_flat` (a SetReturnRoute request's landmarks, validated).
 """
 import math
 from collections import namedtuple

@@ -1,21 +1,9 @@
 """The sampling publisher's record of its samples, for a recorder restarted mid-recording.
 
-The landmark saver reads the odometry at each sample's stamp from its own
-history; a saver killed and started again has lost the samples published
-meanwhile, and its history starts at its restart. The publisher (which did not
-restart) keeps, per sample, what a landmark needs: the command, stamp, yaw,
-period, and the odometry it read at the stamp (x, y, v, w). Entry 0 is where
-the recording started (command ``start``). A restarted saver asks for the
-samples after the last one its file holds (core/landmark_format.SampleMark,
-srv/RecordedSamples.srv) and rebuilds the landmarks it missed exactly as it
-would have, so the return drives the whole path.
-
-Seven doubles per sample. Each recorder says which sample its file holds last
-(StorageUsage ``sample``, after every landmark): the samples before the oldest of
-those are dropped (:meth:`SampleLog.confirm`), so the log holds only what a
-restart could still need, and a recording of hours costs nothing more. Past
-``capacity`` samples (a recorder that stopped confirming) the oldest half is
-dropped (a saver that needs those gets nothing and notes a gap).
+Per sample what a landmark needs (command, stamp, yaw, period, the odometry at the stamp:
+seven doubles); a restarted saver asks for the samples after its file's last one and
+rebuilds the landmarks it missed. :meth:`SampleLog.confirm` drops what every recorder
+holds; past ``capacity`` the oldest half goes (docs/recording.md, "File").
 """
 import math
 from array import array

@@ -1,20 +1,9 @@
 """The paper's straight/curved segment classifier and the two-rate sampling schedule.
 
-Section 3.3.2 of the paper: take four consecutive yaw angles and their three
-differences. The robot is on a *curved* segment if
-
-1. every difference is positive (turning left, REP 103), or
-2. every difference is negative (turning right), or
-3. the differences have both signs and at least one lies in [pi, 2pi] or
-   [-2pi, -pi]: the yaw wrapped around at +-pi during a turn;
-
-otherwise it is on a *straight* segment. The sampling period is the curved
-period on curved segments and the straight period on straight ones.
-
-``deadband`` (rad per difference) treats a difference whose *wrapped* size is
-at most ``deadband`` as "no change" (no sign), so yaw noise on a straight line
-makes no curve; ``deadband=0`` is the paper's rule exactly. Why, and why the
-default: docs/recording.md, "The classifier's dead-band".
+Paper 3.3.2: over four consecutive yaws, *curved* when the three differences are all
+positive, all negative, or of both signs with one in [pi, 2pi] / [-2pi, -pi]; else
+straight. ``deadband`` makes a difference within it "no change" (0: the paper's rule;
+docs/recording.md, "The classifier's dead-band"). :class:`SamplingSchedule` picks the period.
 """
 import math
 from collections import deque

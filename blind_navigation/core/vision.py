@@ -1,16 +1,9 @@
-"""Vision-loss detectors with debounce (no ROS): camera stall, dark images,
-RTAB-Map visual odometry lost, RTAB-Map odom_info ``lost`` flag, manual trigger.
+"""Vision-loss detectors with debounce (no ROS): camera stall, dark images, visual
+odometry lost or stalled, RTAB-Map's ``lost`` flag, the manual trigger.
 
-Every detector is fed sim-time stamps (seconds) by its caller (the
-vision_monitor node or a plain-Python harness). A detector's *condition* (no
-image for ``image_timeout``, image dark, VO lost) must hold without a break for
-``debounce`` seconds before it fires, so a flicker shorter than the debounce
-never fires. A detector fires once per loss: it stays quiet while its condition
-keeps holding and re-arms as soon as the condition clears.
-
-``VisionLossMonitor`` bundles the enabled detectors; each feed method returns
-the ``Loss`` events it caused (usually none). After a loss, ``VisionBack`` says
-when the same detectors have all been healthy for ``vision_back_time`` seconds.
+Fed times by their caller; a condition must hold for ``debounce`` s to fire, once per
+loss. :class:`VisionLossMonitor` bundles them; :class:`VisionBack` says when vision is
+back; :class:`HostFlow` counts a stall only while wheel odometry flows (docs/detection.md).
 """
 import math
 import struct

@@ -1,16 +1,10 @@
 #!/usr/bin/env python3
-"""The whole blind navigation layer in one process (the default deployment,
-launch/blind_navigation.launch): every role of the paper's nodes, built in the
-paper's order (servers, then clients, then the recorder with the sampling
-publisher last), sharing one master registration, one odometry subscription
-and one Python interpreter. The roles talk over the same topics, services and
-actions as the separate nodes of launch/paper.launch; their params are
-``~<role>/<name>`` (e.g. ``~back_travel_server/control``), the few that
-several roles read are ``~<name>`` (``straight_rate``, ``standstill_time``).
+"""The whole layer in one process (the default, launch/blind_navigation.launch).
 
-Node params: ``recorder`` (``topic``: sampling publisher + landmark saver;
-``service``: + record server and client), ``auto_detect`` (run the vision
-monitor), ``correct_heading`` (run the gyro heading correction).
+Every role of the paper's nodes in the paper's order, sharing one registration, one
+odometry subscription and one interpreter; params ``~<role>/<name>`` (shared ones
+``~<name>``). Node params: ``recorder`` (``topic``|``service``), ``auto_detect``,
+``correct_heading``.
 """
 import sys
 

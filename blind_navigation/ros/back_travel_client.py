@@ -1,22 +1,10 @@
-"""The back-travel client: the paper's action client (section 3.3.7, Figure 6)
-and the owner of the mission's state, a thin ROS shell over its rooms.
+"""The back-travel client: the paper's action client (3.3.7, Figure 6) and the owner of
+the mission's state, a thin ROS shell over its rooms.
 
-It publishes the state latched on ``blind_navigation/state`` (std_msgs/String)
-and, with its reason and the return's progress, on ``blind_navigation/status``
-(blind_navigation/MissionStatus); every change goes through
-core/mission_state.MissionState. Vision lost while recording: ``rotating``,
-the recording going on until the turn begins (ros/turn_start.py: vision back
-before it, ``recording`` again; after it, ``on_vision_back``, ``stop``:
-``recovered``); the pi turn reported done
-(``blind_navigation/rotation_done``) and the robot really turned: ``returning``,
-driven by ros/return_runner.py (the route set on the server, the landmarks
-sent in reverse order, one goal at a time); then ``home`` or ``aborted`` with
-the reason. Its services ``go_home``, ``cancel``, ``new_mission``: ros/mission_services.py. The
-progress (ros/return_progress.py) is written next to ``landmark_file`` when
-the turn begins and after each goal: a restarted client resumes or aborts. The RViz paths: ros/return_paths.py; the diagnostics:
-ros/mission_diagnostics.py. A fault of this process (ros/faults.py: a refused topic, a failed role)
-or one reported on ``blind_navigation/role_failure`` ends the mission ``aborted``.
-Transitions and reasons: docs/safety.md, "One state machine"; the return: docs/back_travel.md.
+It publishes ``blind_navigation/state`` and ``/status`` (every change through
+core/mission_state.MissionState); the pi turn's start: ros/turn_start.py; the return:
+ros/return_runner.py; progress: ros/return_progress.py; services: ros/mission_services.py;
+a fault of any role ends the mission ``aborted`` (docs/safety.md, "One state machine").
 """
 import os
 import threading

@@ -1,22 +1,10 @@
-"""The back-travel server: the paper's action server (sections 3.3.5-3.3.6).
+"""The back-travel server: the paper's action server (3.3.5-3.3.6).
 
-Serves ``blind_navigation/back_travel`` (blind_navigation/BackTravel): each
-goal is one path landmark ``(v, w, d, T, psi)``, driven on ``cmd_vel`` in the
-mode ``control`` (core/goal.py): ``time`` and ``distance`` (the landmark's own
-controller, core/back_travel.py) or ``closed_loop`` (the goals of a return
-share one core/route_follower.RouteFollower over the route the mission's owner
-set with ``blind_navigation/set_return_route``; a goal ends when its section is
-done). Feedback: the distance so far; result: odometry distance and duration.
-
-It serves its own mission only: a goal is accepted while the mission is
-``returning``, from the mission's owner, one at a time, if it is the route's
-next landmark. Between goals closed_loop's follower drives on (core/goal.HandoverBridge,
-``handover_follow``), the paper's modes hold (core/goal.CommandHold). Commands are clamped and
-state-gated (ros/motion.MotionOutput); stale odometry holds the goal
-(core/allowance.OdomGrace), so does a bumper contact (core/pause.Contacts,
-counted over the return) and, silently, an operator's takeover
-(ros/takeover.py); a cliff or wheel drop aborts it; cancel, error and shutdown
-publish zero velocity. Why: docs/back_travel.md, docs/safety.md.
+Serves ``blind_navigation/back_travel``: one landmark per goal, driven in the mode
+``control`` (core/goal.py) on the route the owner set (``set_return_route``); only the
+owner's goals, while ``returning``, the route's next one. Commands go through
+ros/motion.MotionOutput; odometry grace, contacts and takeovers hold a goal, a cliff
+or wheel drop aborts it (docs/back_travel.md, docs/safety.md).
 """
 import threading
 import types

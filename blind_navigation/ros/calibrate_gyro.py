@@ -1,19 +1,9 @@
 """calibrate_gyro: the one-off gyro scale calibration (core/gyro_calibration.py) as a node.
 
-Spins the robot in place ``turns`` full turns counter-clockwise, pauses, and as
-many clockwise (core/gyro_calibration.SpinCalibration), driving ``cmd_vel``
-while feeding the odometry yaw (``odom``) and RTAB-Map's visual-odometry yaw
-(``rtabmap/odom``; a lost message breaks the current window) to its
-GyroVisualFit. It starts only once both arrive (without visual odometry it says
-so and stops before spinning). When the spins are done it
-writes the gyro's scale error to ``calibration_file`` (atomically; an existing
-file is first copied to ``<calibration_file>.previous``), which
-heading_correction reads at mission start. On any failure (a turn over its
-time allowance, a calibration the data do not determine, stale odometry, a
-Kobuki event, shutdown) the robot stops at once, the reason is logged as an
-error and the file is left untouched. The node then exits: status 0 on
-success, 1 on failure, always with zero velocity. Stamps come from the
-messages and the loop is a rospy.Rate, so it works under use_sim_time.
+Spins the robot ``turns`` full turns each way while feeding odometry and RTAB-Map's
+visual-odometry yaw to the fit (no visual odometry: it says so and does not spin),
+then writes ``calibration_file`` atomically (the old one kept as ``.previous``). On any
+failure it stops the robot, logs why, leaves the file and exits 1.
 """
 import os
 import shutil

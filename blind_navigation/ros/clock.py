@@ -1,19 +1,9 @@
 """ROS time that moves back, and loops and timers that go on across it.
 
-Under use_sim_time the ROS clock is what ``/clock`` says, and a restarted
-simulator starts it again from 0. rospy.sleep and rospy.Rate.sleep then raise
-ROSTimeMovedBackwardsException, a ROSInterruptException that a loop takes for
-shutdown; a rospy.Timer's thread re-raises it ("Exception in thread").
-
-- :class:`LoopClock`: one loop's view of the ROS clock. Its :meth:`~LoopClock.sleep`
-  and :meth:`~LoopClock.rate` sleep as rospy's do, but a jump back ends the sleep
-  early and returns how far the time went back (0.0: it did not), warned once per
-  jump as a WARN naming the loop; they raise (ROSInterruptException) only at shutdown.
-- :func:`every`, :func:`after`: rospy.Timer's periodic and one-shot timers on a
-  LoopClock, each in a daemon thread.
-- :func:`on_moved_back`: ``callback(jump, before, now)`` once per jump in this process.
-
-Rules and measurements: docs/safety.md, "Time that moves back".
+:class:`LoopClock` (``sleep``, ``rate``, ``wait``) sleeps as rospy does, but a jump back
+(a restarted simulator's ``/clock``) ends the sleep early and is returned and warned,
+never raised; :func:`every` and :func:`after` are timers on it (a daemon thread each);
+:func:`on_moved_back` calls back once per jump (docs/safety.md, "Time that moves back").
 """
 import threading
 import time

@@ -1,21 +1,9 @@
-"""The layer's /diagnostics: one diagnostic_updater.Updater per process, one
-status line per thing a user must see (odometry age, visual odometry,
-calibration, landmark file, mission state and the return's progress).
+"""The layer's /diagnostics: one diagnostic_updater.Updater per process, a status per
+thing a user must see (odometry, visual odometry, calibration, landmark file, mission).
 
-Each role adds its own checks with :meth:`Diagnostics.add`; a check function
-fills a DiagnosticStatusWrapper and returns nothing; it runs through ``guard``
-(set by ros/layer.Layer: an exception in a check fails like a role's,
-ros/faults.py). A condition that blocks
-the return is an ERROR, one that only degrades it a WARN. The statuses are
-published every ``~diagnostic_period`` s of ROS time (read once at start),
-and :meth:`Diagnostics.now` publishes at once after a significant event (a
-state change, a write failure).
-
-The period is read once, not through ``Updater.update()``: that re-reads
-``~diagnostic_period`` with ``rospy.get_param_cached`` four times a second,
-and when the param is not set (the usual case) rospy caches nothing, so every
-update was an XML-RPC call to the master (measured: the largest share of this
-process's Python time while it records, evaluation/cost.py).
+Roles add checks with :meth:`Diagnostics.add` (run through ``guard``); a condition that
+blocks the return is an ERROR, one that degrades it a WARN; published every
+``~diagnostic_period`` s (read once), and at once by :meth:`Diagnostics.now`.
 """
 import diagnostic_updater
 import rospy

@@ -1,17 +1,9 @@
 """DriveLoop: the one control loop of every behaviour that moves the robot.
 
-Runs a core/drive.Behaviour at ``control_rate`` on the shared odometry: each
-cycle core/drive.DriveCycle decides (its end, a Kobuki event, a cancel, the
-mission leaving the behaviour's state, the odometry grace), then the
-behaviour's ``step`` gives the command, published through ros/motion.MotionOutput.
-It returns a typed core/drive.Outcome; every exit but success halts the
-output (zero velocity); the ROS time moving back ends it (ros/clock.py: its
-times and odometry stamps are of the old clock). Two pauses hold the
-behaviour without ending it (its ``hold`` gets the paused time): a bumper
-contact when the run is given core/pause.Contacts (zero velocity; too many
-or too long: a safety stop), and an operator's takeover (ros/takeover.py: nothing published; ``on_takeover``
-abort ends the run TAKEN_OVER once the operator is silent). Why:
-docs/back_travel.md, "The drive loop"; docs/safety.md.
+Runs a core/drive.Behaviour at ``control_rate`` on the shared odometry (core/drive.DriveCycle
+decides, ros/motion.MotionOutput publishes) and returns a typed core/drive.Outcome;
+every exit but success halts the output. A bumper contact (given core/pause.Contacts)
+and an operator's takeover pause the behaviour (docs/back_travel.md, "The drive loop").
 """
 from collections import deque
 

@@ -1,18 +1,10 @@
-"""A role that fails ends the mission safely: the one wrapper of every thread
-target and callback a role registers (docs/safety.md, "A role that fails").
+"""A role that fails ends the mission safely: the one wrapper of every thread target and
+callback a role registers (docs/safety.md, "A role that fails").
 
-``guard = layer.guard(role)``; ``guard(fn)`` is ``fn`` that, on an unexpected
-exception (any ``Exception`` not raised while the node shuts down), calls
-:meth:`Faults.fail` and returns None instead of raising. ``fail(role, error)``
+``layer.guard(role)(fn)``: an unexpected exception calls :meth:`Faults.fail`, which
 declares ``<role> failed: <Type>: <message>`` in the process's fault registry
-(:func:`declare`, as a refused topic is, ros/wiring.py): every velocity output of the
-process publishes zero at once and for good, the mission's owner ends the
-mission ``aborted`` with it (in its process; ros/layer.Layer publishes each
-fault on ``blind_navigation/role_failure`` for an owner in another process).
-It logs the traceback first (rospy.logfatal) and turns the process's ``role
-failures`` diagnostics status to ERROR. All that once per role and place; a
-repeat is counted and logged in one line at most every
-:data:`REPEAT_LOG_PERIOD` s (wall).
+(:func:`declare`): every velocity output zero for good, the owner aborts the mission,
+traceback logged once, diagnostics ERROR; repeats counted.
 """
 import functools
 import threading

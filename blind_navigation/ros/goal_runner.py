@@ -1,16 +1,8 @@
-"""Sends one action goal at a time and waits for its end, on actionlib's
-ActionClient.
+"""Sends one action goal at a time and waits for its end, on actionlib's ActionClient.
 
-actionlib's SimpleActionClient learns the handle of a goal only when
-``send_goal`` returns, but the server's first status for that goal can arrive
-(on another thread) before that: a server in the same process (the layer's
-default, one process) answers within microseconds. SimpleActionClient then
-drops the transition as "a goal handle that we're not tracking" (an ERROR in
-the log) and may miss the goal's start. Here every goal gets its own
-callbacks, bound to that goal, so no transition is ever attributed to the
-wrong goal or lost. :attr:`GoalRunner.heard` is when the server last spoke of
-the current goal (a transition or feedback): a server that drives a goal
-reports feedback all along, however long the goal takes.
+Each goal gets callbacks bound to it, so a status that arrives before ``send_goal``
+returns (a server in the same process) is never lost, as SimpleActionClient can lose
+it; :attr:`GoalRunner.heard` is when the server last spoke of the current goal.
 """
 import threading
 

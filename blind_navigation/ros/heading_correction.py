@@ -1,22 +1,10 @@
-"""The heading correction: measures the gyro's errors for this mission and hands
-the correction to the roles that drive the return.
+"""The heading correction: measures the gyro's errors for this mission and hands the
+correction to the roles that drive the return.
 
-While recording, it feeds the raw odometry yaw (the shared ``odom`` feed) and
-RTAB-Map's visual-odometry yaw (``rtabmap/odom``) to
-core/gyro_fit.GyroVisualFit; without visual odometry it says so once (and in
-diagnostics). When the mission moves to ``rotating`` it keeps the last raw
-odometry as the reference and measures the bias standing still
-(core/gyro_bias.StandstillBias) until core/gyro_bias.standstill_complete
-(``heading_budget``, ``standstill_time``, ``standstill_timeout``; 0 s: none).
-Then it estimates the correction (core/heading_correction.estimate_correction,
-the scale from ``gyro_calibration_file`` when there is one) and publishes it
-latched on ``blind_navigation/heading_correction``
-(blind_navigation/HeadingCorrection, with the reference pose). It relays no
-odometry: the roles that drive install the correction into their shared feed.
-One estimate per mission; vision back before it (``rotating`` -> ``recording``)
-drops the standstill; ``new_mission`` (the state back to ``idle``) starts the
-next one's measurement. Details and reasons: docs/back_travel.md, "Gyro
-heading correction".
+While recording it fits gyro against visual-odometry yaw; in ``rotating`` it measures the
+bias standing still, then publishes the estimate latched on
+``blind_navigation/heading_correction`` (no odometry relay: the drivers install it in
+their feed). docs/back_travel.md, "Gyro heading correction".
 """
 import datetime
 import os

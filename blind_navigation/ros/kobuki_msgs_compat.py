@@ -1,12 +1,7 @@
 """Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs.
 
-Debian has no kobuki_msgs. If the package is installed (a real TurtleBot2
-workspace) its classes are used; otherwise identical classes are generated at
-import time from the same definitions, with the same type names and MD5 sums,
-so nodes using them interoperate with a real Kobuki's ``/mobile_base/events/*``
-and ``commands/motor_power`` topics either way. A ``kobuki_msgs`` on the path
-whose generated classes are missing (a source checkout not built) counts as
-absent.
+The installed package's classes when there are any, else identical classes (same type
+names and MD5 sums) generated at import from the same definitions.
 """
 import genpy.dynamic
 

@@ -1,13 +1,8 @@
 """The landmark saver: the paper's subscriber (topic variant of the recorder).
 
-On each blind_navigation/PathSample on ``blind_navigation/sample`` whose
-command is ``sample`` or ``final``, saves one path landmark from the odometry
-at the tick (ros/landmark_saving.py: the same saving code as the service
-variant's record server). It subscribes once its odometry feed has a state:
-it takes samples only when it can save them. Restarted within the mission, it
-first catches up on the samples it missed (LandmarkSaving.start_catch_up),
-once its subscription is connected; samples that arrive meanwhile wait. Params: those of
-:class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
+Each ``sample``/``final`` PathSample on ``blind_navigation/sample`` becomes one landmark
+(ros/landmark_saving.py). It subscribes once its odometry has a state; restarted within
+the mission it first catches up on the samples it missed.
 """
 from blind_navigation import names
 from blind_navigation.core.landmark_format import SampleMark

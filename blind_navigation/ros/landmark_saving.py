@@ -1,22 +1,10 @@
-"""Saving path landmarks at sampling ticks: the one piece of code behind both of
-the paper's recorder variants (section 3.3.3, Figure 4).
+"""Saving path landmarks at sampling ticks: the code behind both of the paper's recorder
+variants (3.3.3, Figure 4; ros/landmark_saver.py, ros/record_server.py).
 
-- topic variant: ros/landmark_saver.py calls :meth:`LandmarkSaving.save` for
-  each blind_navigation/PathSample;
-- service variant: ros/record_server.py calls it for each RecordLandmark (ros/record_client.py).
-
-Either way the saver reads odometry itself from the process's shared feed (the
-state at the tick's stamp), makes the landmark with core/recorder.PathRecorder
-and appends it durably with core/landmark_writer.LandmarkWriter to the mission's file
-behind the ``landmark_file`` symlink (core/mission_files.open_mission_file). After each
-landmark it publishes the storage used (``blind_navigation/storage``) and, when
-someone listens, the recorded path (``blind_navigation/recorded_path``). A
-write failure is an ERROR and a lost landmark (its d and turn counted); little
-free space a WARN (core/recorder.SpaceWatch); an odometry reset the feed could
-not carry across is a gap (one it carried across changes nothing).
-A saver restarted within the mission catches up on the samples it missed from
-the sampling publisher (:meth:`LandmarkSaving.start_catch_up`); ``new_mission``
-opens the next mission's file. Why: docs/recording.md ("Saving", "File").
+Reads the odometry at the tick's stamp, makes the landmark (core/recorder.PathRecorder),
+appends it durably to the mission's file, publishes ``storage`` and ``recorded_path``;
+write failures, low space, gaps, the catch-up of a restarted saver and ``new_mission``'s
+new file (docs/recording.md, "Saving", "File").
 """
 import math
 import os

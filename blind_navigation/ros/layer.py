@@ -1,20 +1,9 @@
-"""What the roles hosted in one process share. A *role* is one of the layer's node classes, built as ``Role(layer)``, alone in
-its own node (launch/paper.launch) or with the others in one process
-(nodes/blind_navigation_node.py, the default). It finds here:
+"""What the roles hosted in one process share; a *role* is built as ``Role(layer)``.
 
-- :meth:`Layer.params`: its params, ``~name`` alone, ``~<role>/name`` hosted
-  with others, validated once against its schema (core/role_params.py);
-- :meth:`Layer.logger`: log lines that name the role;
-- :attr:`Layer.odometry` / :attr:`Layer.visual_odometry`: one shared
-  subscription each (ros/odometry.py), held only while a role needs it;
-- :attr:`Layer.mission`: the mission state (ros/mission.py), owned by
-  back_travel_client (``~mission_owner`` names its node when it runs alone);
-- :attr:`Layer.safety`: the Kobuki's bumper, cliff and wheel-drop events;
-- :meth:`Layer.heading_correction`: the latched gyro correction, installed into
-  the shared odometry as soon as it arrives;
-- :meth:`Layer.takeover`: the operator's takeover (ros/takeover.py), one watch;
-- :attr:`Layer.diagnostics`: the process's /diagnostics;
-- :meth:`Layer.guard`: every callback and thread target of a role (ros/faults.py).
+:meth:`Layer.params` (validated against the role's schema), :meth:`Layer.logger`,
+:attr:`Layer.odometry` / :attr:`Layer.visual_odometry` (one shared feed each),
+:attr:`Layer.mission`, :attr:`Layer.safety`, :meth:`Layer.heading_correction`,
+:meth:`Layer.takeover`, :attr:`Layer.diagnostics` and :meth:`Layer.guard` (docs/DESIGN.md).
 """
 import math
 import threading

@@ -1,13 +1,9 @@
 """The mission state as every role of a process sees it (core/mission_state.py).
 
-The mission's owner (back_travel_client) publishes the state latched on
-``blind_navigation/state``; :class:`MissionStateView` follows it and tells the
-roles of this process when it changes. Only the owner's messages count: a
-state published by any other node (a stray script, a bag played back) is
-refused and logged, so nobody can make the layer turn or drive by publishing a
-state. In the process that hosts the owner, the owner sets the view directly
-(:meth:`MissionStateView.set_local`) before it publishes. ``new_mission``
-(:meth:`MissionStateView.on_new_mission`) starts the roles afresh.
+:class:`MissionStateView` follows the owner's latched ``blind_navigation/state`` (any
+other node's state is refused and logged; in the owner's process it is set directly,
+:meth:`~MissionStateView.set_local`) and tells the roles of changes and of
+``new_mission`` (:meth:`~MissionStateView.on_new_mission`).
 """
 import threading
 

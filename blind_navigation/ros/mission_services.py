@@ -1,19 +1,9 @@
 """The mission owner's services (std_srvs/Trigger), served by back_travel_client.
 
-``blind_navigation/go_home``: the manual trigger, acknowledged: while
-``recording`` it starts the return on the same path as
-``blind_navigation/vision_lost`` (the reason says it was requested); in any
-other state it is refused (success false) naming the state.
-``blind_navigation/cancel``: stop now: the mission ``aborted`` ("cancelled by
-request"), which halts every MotionOutput of the layer (ros/motion.py; in the
-paper's layout through the latched state), and the goal under way is
-cancelled; in a terminal state it is refused naming the state.
-``blind_navigation/new_mission``: from a terminal state, the next mission: a new
-id (the ``blind_navigation/mission_id`` param, set before the roles see it),
-the last return forgotten, the state ``idle``; the roles (in any process) then
-record into a new file behind ``landmark_file``. The rules:
-core/mission_state.go_home_refusal, cancel_refusal, new_mission_refusal.
-Why: docs/safety.md; the state machine: docs/DESIGN.md.
+``go_home`` (in ``recording``: the return, as ``vision_lost``), ``cancel`` (``aborted``,
+every output halted) and ``new_mission`` (from a terminal state: a new mission id, state
+``idle``, a new file); elsewhere refused naming the state
+(core/mission_state.*_refusal; docs/safety.md, "One state machine").
 """
 import threading
 

@@ -1,22 +1,9 @@
-"""What may move the robot: the Kobuki's safety events and the one velocity
-output every moving role uses (the pi turn, the back travel, the calibration).
+"""What may move the robot: the Kobuki's safety events and the one velocity output.
 
-:class:`SafetyMonitor` watches the Kobuki's bumper, cliff and wheel-drop events
-(core/safety.SafetyEvents) once per process and calls every registered
-output's halt from the event callback, at once (a bumper's bounces are logged at
-DEBUG: one ERROR per contact); an event topic of another type is refused
-(ros/wiring.py).
-
-:class:`MotionOutput` publishes geometry_msgs/Twist on ``cmd_vel`` (relative
-name, remappable) for one role, only when that role may move in the mission
-state (core/mission_state.may_move): else zero. Commands are clamped to
-``max_v``/``max_w`` and the goal's :meth:`~MotionOutput.limit` (the curvature
-kept); :meth:`~MotionOutput.halt` stops at once and turns every later
-:meth:`~MotionOutput.publish` into zero until :meth:`~MotionOutput.release`,
-so a control loop that computed its command before a cancel or a safety event
-cannot move the robot again. Zero on node shutdown, and for good once a
-subscription of the process was refused for its type (ros/wiring.py). While
-an operator has taken over (ros/takeover.py) it publishes nothing, not even zero.
+:class:`SafetyMonitor` halts every output of the process at once on a bumper, cliff or
+wheel drop. :class:`MotionOutput` publishes ``cmd_vel`` for one role only while it may
+move (core/mission_state.may_move), clamped; after ``halt`` every command is zero until
+``release``; zero for good after a fault; nothing at all during a takeover.
 """
 import threading
 

@@ -1,21 +1,10 @@
 """One odometry subscription per process, shared by the roles that need it.
 
-:class:`OdometryFeed` subscribes to a nav_msgs/Odometry topic as raw bytes
-(rospy.AnyMsg) and reads the few fields the layer uses with
-core/odometry_wire.py. It subscribes only while some role holds it
-(:meth:`~OdometryFeed.acquire` / :meth:`~OdometryFeed.release`). Wheel
-odometry (``checked``) passes the plausibility gate
-(core/plausibility.OdometryGate) first: refused odometry never refreshes the
-feed. An odometry reset is carried across in the old frame, or the frame is
-lost (core/odometry_reset.ResetCarrier, :meth:`~OdometryFeed.on_reanchor`,
-``lost``; docs/safety.md, "Odometry resets"). The accepted states of the last
-``history`` s are kept (:meth:`~OdometryFeed.state_at`). While every holder
-only reads back (``acquire(holder, batched=True)``) messages are taken
-``BATCH`` at a time, invisibly to the readers (ros/odometry_batches.py). Once
-the heading correction is known (:meth:`~OdometryFeed.set_correction`),
-:meth:`~OdometryFeed.fresh` gives the corrected frame. Batching: docs/cost.md,
-"The batched feed"; the rest: docs/recording.md, "Saving". A connection of
-another type than nav_msgs/Odometry is refused (ros/wiring.py).
+:class:`OdometryFeed` reads raw nav_msgs/Odometry bytes (core/odometry_wire.py) while a
+role holds it, behind the plausibility gate; carries resets across (docs/safety.md,
+"Odometry resets"); keeps a history (``state_at``); takes messages in batches while
+every holder only reads back (docs/cost.md, "The batched feed"); gives the corrected
+frame once the heading correction is set (docs/recording.md, "Saving").
 """
 import threading
 import time

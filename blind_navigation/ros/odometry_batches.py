@@ -1,11 +1,8 @@
 """The odometry feed's batches: messages taken several at a time, invisibly to readers.
 
-:class:`Batches` queues the raw messages a receive thread got and takes them
-``size`` at a time, in order, on the receive thread (``size`` is 1 unless every
-holder of the feed only reads back). A reader of the newest state first calls
-:meth:`Batches.catch_up`: it waits until what was received is taken, which
-happens at the next message, since while anyone waits every message is taken as
-it arrives. Why and what it saves: docs/cost.md, "The batched feed".
+:class:`Batches` takes the received messages ``size`` at a time on the receive thread;
+a reader of the newest state first calls :meth:`Batches.catch_up`, which waits at most
+one message (docs/cost.md, "The batched feed").
 """
 import threading
 

@@ -1,11 +1,6 @@
-"""The record client: the paper's service client (service variant of the
-recorder, section 3.3.3, Figure 4).
-
-A subscriber to the sampling publisher's ``blind_navigation/sample`` whose
-callback (a method of this class, as in the paper) sends each sample as a
-request to ``blind_navigation/record_landmark``. It waits for the server first
-(servers are launched first, section 3.4.2). Params: ``wait_log_period`` (s
-between "still waiting for the server" messages).
+"""The record client: the paper's service client (service variant of the recorder,
+3.3.3, Figure 4): each sample on ``blind_navigation/sample`` becomes a request to
+``blind_navigation/record_landmark``, once the server is up.
 """
 import rospy
 

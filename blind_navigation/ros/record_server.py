@@ -1,13 +1,9 @@
-"""The record server: the paper's service server (service variant of the
-recorder, section 3.3.3, Figure 4).
+"""The record server: the paper's service server (service variant of the recorder,
+3.3.3, Figure 4).
 
-Serves ``blind_navigation/record_landmark`` (blind_navigation/RecordLandmark)
-once its odometry feed has a state (the record client subscribes to the
-samples only when the service is up): for each request it reads the odometry
-itself and saves one path landmark with exactly the saving code of the topic
-variant (ros/landmark_saving.py). The response says whether it was saved, its
-label in the file, or why not.
-Params: those of :class:`~blind_navigation.ros.landmark_saving.LandmarkSaving`.
+Serves ``blind_navigation/record_landmark`` once its odometry has a state; each request
+saves one landmark with the topic variant's code (ros/landmark_saving.py) and answers
+whether it was saved, its label, or why not.
 """
 import rospy
 

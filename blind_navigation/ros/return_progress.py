@@ -1,11 +1,7 @@
-"""The back-travel client's persisted return progress (core/progress.py), next
-to the landmark file: kept and written atomically at each step
-(:meth:`ProgressKeeper.save`), read at start-up to decide the first state
-(:meth:`ProgressKeeper.first_state`: resume, abort or idle), and the route and
-heading correction a restarted layer needs (:meth:`~ProgressKeeper.route_data`,
-:meth:`~ProgressKeeper.restore_heading`). Errors are logged, never raised: a
-progress that cannot be written is a warning (``warning``; the stale file is
-removed, so a crash is not resumed from it), not a reason to stop.
+"""The back-travel client's persisted return progress (core/progress.py), next to the
+landmark file: written atomically at each step, read at start-up for the first state
+(resume, abort or idle) and a restarted layer's route and heading correction. A progress
+that cannot be written is a warning (the stale file removed), never a reason to stop.
 """
 import os
 import time

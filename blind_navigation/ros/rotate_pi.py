@@ -1,22 +1,9 @@
 """rotate_pi: after vision loss, turn the robot by pi on odometry yaw (paper 3.4).
 
-When the mission's owner moves the mission to ``rotating`` (vision lost while
-recording) it runs core/rotation.Rotation in closed loop on the shared
-odometry, driving ``cmd_vel`` (ros/motion.MotionOutput: it may move only while
-the mission is ``rotating``), then publishes std_msgs/Bool on
-``blind_navigation/rotation_done``: true when turned within the tolerance,
-false when the turn failed (time allowance, odometry gone for longer than
-``odom_grace``, a Kobuki bumper/cliff/wheel-drop event, the ROS time moving
-back: ros/clock.py). When the mission leaves ``rotating`` for any reason the
-output is halted at once.
-
-Before turning it waits, with ``wait_for_heading_correction``, for the heading
-correction (then turns on the corrected odometry; none in time: no turn,
-rotation_done false), then for the owner's ``blind_navigation/recording_end``
-(the turn begins: vision did not come back) and the recorder's ``final`` sample. Stale or
-refused odometry holds the turn (core/allowance.OdomGrace). A rotate_pi
-(re)started while the mission is already ``rotating`` reports rotation_done
-false at once. Details and reasons: docs/back_travel.md, docs/safety.md.
+In ``rotating`` it waits for the heading correction, ``recording_end`` and the ``final``
+sample, then runs core/rotation.Rotation on a DriveLoop and publishes
+``blind_navigation/rotation_done`` (true, or false on a failed turn). Restarted while the
+mission rotates, it reports false at once (docs/back_travel.md).
 """
 import threading
 

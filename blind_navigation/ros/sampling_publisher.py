@@ -1,22 +1,9 @@
-"""The sampling publisher: the paper's publisher of sampling ticks (sections
-3.3.2, 3.4.1).
+"""The sampling publisher: the paper's publisher of sampling ticks (3.3.2, 3.4.1).
 
-Reads the yaw from odometry (the shared feed of ``odom``; or, with
-``yaw_source`` ``pose2d``, from geometry_msgs/Pose2D on ``pose2d`` as the paper
-did) and runs a ``rospy.Rate`` loop whose rate switches between the straight
-and the curved rate by the paper's classifier (core/segment.SamplingSchedule).
-Each cycle it publishes blind_navigation/PathSample (command ``sample``, the
-yaw, the period of the cycle that just ended, the recording's id and the
-sample's number) on ``blind_navigation/sample``; with ``event_sampling`` also
-one at each motion event (core/motion_events.EventSampler). Recording starts
-with the first valid yaw once ``min_subscribers`` listen, and ends when the
-owner ends it (``blind_navigation/recording_end``: the pi turn begins) or the
-mission stops recording, with one ``final`` sample for the partial cycle;
-``new_mission`` (the state back to ``idle``) starts a new recording.
-It logs what each sample's landmark needs (core/sample_log.SampleLog) and
-serves it on ``blind_navigation/recorded_samples`` to a restarted saver.
-It goes on across the ROS time moving back (ros/clock.py). Details and
-reasons: docs/recording.md ("Roles"), docs/cost.md.
+Reads the yaw (shared ``odom`` feed, or ``pose2d``), ticks at the straight or curved rate
+(core/segment.SamplingSchedule) and publishes a PathSample per tick on
+``blind_navigation/sample``, plus motion-event samples with ``event_sampling``; ends with a
+``final`` sample; serves a restarted saver its missed samples (docs/recording.md, "Roles").
 """
 import math
 import threading

@@ -1,21 +1,9 @@
 """Heals rospy subscriptions that missed a publisher's registration.
 
-rospy can miss a master's publisherUpdate when a subscriber and a publisher of
-the same topic register at the same moment (RegManager keeps only the newest
-update per topic, and the subscriber's own registration call returns the stale
-list): the subscriber then never connects to that publisher and never hears it
-(seen in this package's tests: rotate_pi never received
-``blind_navigation/vision_lost``, so the robot did not turn). The race exists
-only around the subscriber's own registration, so the watchdog is told about
-each new subscription (:func:`watch`) and checks that topic a few times
-shortly afterwards (:data:`CHECK_AFTER` s of wall time): it asks the master
-which nodes publish the topic and hands the URIs of publishers it has no
-connection to, to rospy's own publisher-update path, which connects them.
-Between checks its thread sleeps; with nothing to check it costs nothing.
-A subscription with an expected type (ros/wiring.Expected) also has its
-topic's type checked at the master in those checks (a wrongly typed topic is
-refused there even before its first message). Uses rospy 1.15's registration
-internals (the Noetic line); does nothing if they are not there.
+Around a subscriber's own registration rospy can miss the master's publisher update;
+:func:`watch` checks each new subscription a few times (:data:`CHECK_AFTER`), connects
+publishers it has no connection to, and checks the topic's type at the master for an
+expected type (ros/wiring.Expected). Costs nothing between checks.
 """
 import heapq
 import threading

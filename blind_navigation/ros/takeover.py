@@ -1,14 +1,9 @@
 """The operator's takeover, watched once per process (core/pause.Takeover).
 
-Listens on the layer's own mux input (names.CMD_VEL): a message whose
-publisher (its connection header's ``callerid``) is none of the layer's nodes
-is the operator's; on the mux's ``cmd_vel_mux/active`` (std_msgs/String,
-as yocs_cmd_vel_mux announces the active input's name or ``idle``); and, while
-this process drives, on the mux's output to the base: a moving command there
-that this process did not send is an operator's, seen even before the
-subscription above has connected to a new publisher. While
-:meth:`TakeoverWatch.active` names a takeover, ros/motion.MotionOutput
-publishes nothing and ros/drive_loop.DriveLoop pauses its behaviour.
+A takeover is a command on the layer's mux input from none of the layer's nodes, a
+``takeover_inputs`` input active on ``cmd_vel_mux/active``, or a moving command on the
+mux output that this process did not send while it drives. While active, MotionOutput
+publishes nothing and DriveLoop pauses (docs/safety.md, "Takeover").
 """
 import threading
 

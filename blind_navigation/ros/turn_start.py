@@ -1,18 +1,9 @@
 """When the pi turn begins, for the mission's owner (ros/back_travel_client.py).
 
-Vision lost or ``go_home`` while recording: the mission becomes ``rotating``
-but the recording goes on. The turn is committed once the gyro bias standstill
-is over (with ``heading_correction``) or, without it, ``vision_back_grace`` s
-after a vision loss. What already ends the mission (the odometry's frame lost,
-a recording that gives no way back: core/return_plan.recording_problem) ends it
-standing still: it is asked at the loss, before the standstill, and again at
-the commit, before the turn. At the commit the anchor and the progress are
-saved and the latched ``blind_navigation/recording_end`` (std_msgs/Empty)
-tells the sampling publisher to end the recording and rotate_pi to turn. Vision back
-(``blind_navigation/vision_back``) before that: ``recording`` again, in the
-same mission file; during the turn or the return: ``on_vision_back``
-(core/mission_state.vision_back_state). The turn's timeout is armed per loss.
-Reasons: docs/safety.md, "Vision back" and "Decide before the turn".
+In ``rotating`` the recording goes on until the turn is committed (the bias standstill
+over, or ``vision_back_grace`` s); a problem that ends the mission ends it before the
+turn; at the commit ``recording_end`` is published; vision back before it: ``recording``
+again (docs/safety.md, "Vision back", "Decide before the turn").
 """
 import threading
 import time

@@ -1,18 +1,9 @@
 """The vision monitor: notices vision loss by itself and publishes
-``blind_navigation/vision_lost``, through the debounced detectors of core/vision.py:
+``blind_navigation/vision_lost``, through core/vision.py's debounced detectors.
 
-- the camera: a stall of its sensor_msgs/CameraInfo (``camera/rgb/camera_info``,
-  read only until visual odometry arrives), or, with the ``dark`` detector, the
-  images themselves (``camera/rgb/image_rect_color``: stall and dark images);
-- RTAB-Map's visual odometry (``rtabmap/odom``, the process's shared feed):
-  lost and stalled; optionally RTAB-Map's ``rtabmap/odom_info`` ``lost`` flag.
-
-Per loss: a latched std_msgs/Empty, the reason in the log and the latched ``~loss``
-(std_msgs/String). After a loss it detected, once every detector has been healthy for
-``vision_back_time`` (core/vision.VisionBack): ``blind_navigation/vision_back``
-(std_msgs/String, the loss's length), re-armed. A stall counts only while the wheel
-odometry flows (core/vision.HostFlow). The owner decides what a loss does. Until the
-mission ends (``new_mission`` watches anew); docs/detection.md.
+It watches the camera's ``camera_info`` (or the images, with ``dark``) and RTAB-Map's
+visual odometry and ``odom_info_lite``; per loss a latched message and ``~loss``; after
+one it detected, ``vision_back`` once every detector is healthy (docs/detection.md).
 """
 import threading
 

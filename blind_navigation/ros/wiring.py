@@ -1,22 +1,9 @@
 """Refuses wrong wiring: a subscribed topic that carries another message type.
 
-:class:`Expected` is what a topic must carry (type names, MD5 sum where fixed);
-the one comparison is :meth:`Expected.mismatch`. It is checked on the first
-message of each connection (the TCPROS header's ``type`` and ``md5sum``;
-afterwards an identity test of that header, :meth:`Expected.accepts`) and in
-the master's topic types a few seconds after subscribing
-(ros/subscription_watchdog.py). A typed rospy subscription to a topic of
-another type silently never connects, so a checked typed subscription (the
-Kobuki events) takes raw bytes and deserialises them
-(ros/common.subscribe_checked).
-
-A mismatch is refused (:func:`refuse`): one FATAL line per topic and process
-naming the topic, the expected type and the type found; that connection's
-messages are dropped; the fault is declared in the process's one fault
-registry (ros/faults.declare, as a role's exception is): every listener is
-called: the process's velocity outputs stay at zero for good (ros/motion.py)
-and the mission owner ends the mission ``aborted`` naming the fault
-(docs/safety.md).
+:class:`Expected` is what a topic must carry, checked on each connection's first message
+(its header's type and md5sum) and at the master (ros/subscription_watchdog.py). A
+mismatch (:func:`refuse`): one FATAL line per topic, the connection's messages dropped, a
+fault declared (outputs zero for good, the mission ``aborted``; docs/safety.md, "Bad input").
 """
 import rospy
 
