@@ -1,25 +1,9 @@
-"""What the layer costs on a robot: CPU and memory in real time, beside ``rosbag record /odom``
-(issue 14; docs/cost.md says what each number means).
+"""What the layer costs on a robot: CPU and memory in real time, beside ``rosbag record /odom``.
 
-Each run is ``roslaunch blind_navigation cost.launch`` on its own master: the
-fake TurtleBot as a robot runs (wall time, rtf 1, no /clock, ``paper`` noise,
-a 640x480 rgb8 camera at 30 Hz) and the layer in one of the
-:data:`CONFIGS`; beside it evaluation/cost_probe.py records /odom with
-``rosbag record``, starts the scripted drive (laps at the paper's LSV/ASV),
-and snapshots the CPU time and memory of every process of the layer and of
-the bag over fixed windows while the layer records, then makes vision fail
-and follows the mission state through the standstill and the pi turn
-(``rotating``) and the return (``returning``) to ``home``. CPU time per
-process is what the process itself used, so the numbers hold on a loaded
-machine (the spread over repetitions and windows is reported).
-
-    /usr/bin/python3 -m blind_navigation.evaluation.cost [--configs default,recording,paper]
-        [--reps 3] [--windows 6] [--window 10] [--latency-seeds 3] [--out results/cost]
-
-(needs the built workspace: source scripts/ros_env.sh). The detection latency
-runs (:func:`latency_runs`) make each of the fake's vision failures happen
-while the layer records, with the default detectors and with the image-based
-ones (``detect_dark``), on the same seeds.
+Each run is ``cost.launch`` on its own master (the fake as a robot runs: wall time, a
+640x480 camera) with the layer in one of :data:`CONFIGS`, measured by
+evaluation/cost_probe.py while recording and through the return; :func:`latency_runs`
+times each vision failure. Command and meaning: docs/cost.md.
 """
 import argparse
 import json

@@ -1,30 +1,9 @@
 """The probe of one real-time cost run (evaluation/cost.py, docs/cost.md).
 
-cost.py starts it beside ``roslaunch blind_navigation cost.launch`` on the same
-master, in wall time (the fake runs as a robot: no /clock). It is a plain
-process, not a launch node, so that it starts before what it measures and
-outlives it:
-
-1. it starts ``rosbag record -O <bag> /odom`` (the baseline: the C++
-   ``record`` process that the ``rosbag`` Python wrapper spawns; both are
-   measured, apart);
-2. once the layer records (blind_navigation/state ``recording``) and the bag
-   listens to /odom, it tells the scripted operator to start
-   (mission_driver/go), waits ``warmup`` s and finds the layer's processes:
-   every node on the master but the fake TurtleBot's, rosout, the bag and
-   itself (node -> PID by the node's XML-RPC getPid);
-3. it takes a snapshot of every measured process at each mark: ``windows``
-   marks ``window`` s apart while the layer records, then one at each change
-   of the mission state. A snapshot holds the process's CPU time (user +
-   system, psutil), its resident memory now (VmRSS) and its peak so far
-   (VmHWM), and the machine's load;
-4. it stops at ``until``: ``windows`` (after the last window), or, once the
-   drive is over, it makes vision fail (fake_turtlebot/set_vision false),
-   times blind_navigation/vision_lost (the detection latency, wall time) and
-   stops at ``vision_lost``, ``recording_end`` (the state left recording and
-   the final landmark was saved) or ``home`` (home or aborted).
-
-Writes everything as JSON to ``--out``; cost.py turns it into tables.
+A plain process beside ``cost.launch``: starts ``rosbag record /odom``, starts the drive
+once the layer records, finds the layer's processes (getPid), snapshots their CPU time,
+VmRSS and VmHWM every ``window`` s and at each state change, optionally makes vision
+fail and times ``vision_lost``; writes JSON to ``--out``.
 """
 import argparse
 import json

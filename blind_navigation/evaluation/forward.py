@@ -1,13 +1,8 @@
 """The recording half of a harness mission, with everything the evaluation reads.
 
-:func:`sim.harness.run_mission` returns the scalars of a whole mission
-(samples, bytes, position error, paths). The tables also need what was
-recorded: the landmarks themselves (RLV / RAV statistics), the odometry stream
-at 50 Hz (the rosbag it would have taken) and the timed ground truth (TUM
-export). :func:`record_forward` runs the harness's own recording step
-(sim/harness ``_Run`` + ``_record``, the code run_mission runs) on a
-robot that also logs every control step, so the forward part is the same run
-as run_mission's for the same mission, profile, seed and settings.
+:func:`record_forward` runs the harness's own recording step on a robot that also logs
+the landmarks, the 50 Hz odometry and the timed ground truth, so it is the same forward
+run as ``sim.harness.run_mission``'s for the same mission, profile, seed and settings.
 """
 import os
 import tempfile

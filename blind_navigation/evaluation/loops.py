@@ -1,30 +1,10 @@
-"""Loops: the closed-loop return with and without pruning (core/pruning.py) on
-paths that come back to where they have been.
+"""Loops: the closed-loop return with and without pruning (core/pruning.py) on paths that
+come back to where they have been.
 
     /usr/bin/python3 -m blind_navigation.evaluation.loops [--paths 120] [--first-seed 2000]
-        [--trajectory-seeds 1] [--processes 2] [--out results/loops]
+        [--trajectory-seeds 1] [--wheel-error-per-m K] [--processes 2] [--out results/loops]
 
-Missions: ``--paths`` seeded paths of sim/random_paths.LOOP_CATEGORIES (figure
-eights, a side room explored from a corridor, a patrol past the start, dead
-ends backed out of; plans a localised robot drives on ground truth), spread
-evenly over the categories, seeds ``--first-seed`` on; and the real
-trajectories of config/paths, ``--trajectory-seeds`` seeds each (replayed open
-loop). Every mission runs on the harness with the paper noise profile in
-blind_navigation.launch's configuration (heading correction with a gyro
-calibration made on seed + 10000, motion-event samples), is recorded once and
-returned twice from the same state: ``unpruned`` and ``pruned``
-(``prune_loops``).
-
-Per group and all: runs, aborted, median (p95) home error of each and the
-median of the per-run differences, the median of the per-run ratios pruned /
-unpruned of the return's length and time, the largest deviation of the
-return's true length from the route it drove, cuts and refused candidates per
-run, and the rule checked against ground truth: at each cut's junction, how
-far apart the two passes truly were (the rule promises within
-``prune_radius`` at 95 %).
-
-``--wheel-error-per-m`` prunes with another wheel-odometry error per metre
-(core/loop_drift.DRIFT_DEFAULTS: the default's source and meaning).
+Each mission recorded once, returned unpruned and pruned; the table: docs/pruning.md.
 """
 import argparse
 import bisect

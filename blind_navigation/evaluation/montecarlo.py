@@ -1,12 +1,7 @@
 """Monte-Carlo runs of the paper's missions on the plain-Python harness.
 
-One job = one mission and one seed: the whole mission is run by
-sim/harness.run_modes for every control mode, each mode in the recording
-configuration it is launched with (:func:`recording_settings`; modes of one
-configuration share the recording, the standstill and the pi turn, and get
-the same results as separate run_mission calls), with the physical floor of
-each configuration; the landmark statistics of Tables III, V and VI come from
-the recorded landmarks. Each job returns one row (a dict of plain numbers) per
+One job = one mission and seed: ``sim.harness.run_modes`` runs every mode in its launch
+configuration (:func:`recording_settings`) and the floor; one row of plain numbers per
 mode; :func:`run_jobs` spreads jobs over processes.
 """
 import math

@@ -1,16 +1,8 @@
-"""The demo observer (nodes demo_observer and bench_probe): runs the demo's script and reports it (launch/demo.launch).
+"""The demo observer (demo_observer, bench_probe): runs the demo's script and reports it.
 
-Waits for the layer to record (blind_navigation/state ``recording``), tells the
-scripted operator to start (mission_driver/go: demo.launch's operator waits for
-it, so the whole path is recorded and the observer sees the start), waits for the
-mission to finish (mission_driver/done), lets the robot
-stop for ``settle`` s, makes vision fail (fake_turtlebot/set_vision false),
-waits for blind_navigation/state ``home`` or ``aborted`` (``timeout`` s of sim
-time), then prints a Table-VI-style row (distance, samples, memory, position
-error = ground-truth distance between start and end) and writes a PNG of the
-forward and return ground-truth paths (like the paper's Figures 12-13) and a
-one-line text file to ``results_dir``. Names are relative (names.py): in a
-robot's namespace it observes that robot.
+Waits for ``recording``, starts the scripted operator, waits for the mission's end and
+``settle`` s, fails vision, waits for ``home``/``aborted``, then prints a Table-VI-style
+row and writes a plot of the forward and return paths to ``results_dir``.
 """
 import os
 

@@ -4,19 +4,7 @@
         [--first-seed 1000] [--trajectory-seeds 2] [--loop-paths 12] [--loops-seed 2000]
         [--processes 2] [--out results/physics]
 
-Groups: the Table VI missions (``--table6-seeds`` seeds each), ``--paths`` random
-real-like paths (sim/random_paths.py, spread over the categories as
-evaluation/real_like.py spreads them), the real trajectories of config/paths
-(``--trajectory-seeds`` each) and ``--loop-paths`` loop paths (as
-evaluation/loops.py). Every mission and seed runs on both bases
-(sim/mujoco_kobuki.BASES: the same seed draws the same sensor errors) in
-blind_navigation.launch's default configuration: closed_loop, heading correction
-with a gyro calibration made on the same base (seed + 10000), motion-event
-samples, pruning; paper noise profile; the physical floor on the same base.
-
-Per group and base: runs, % home, median and 95th-percentile error (% of the
-path), median floor (%) and the median of the runs' error / floor; then issue 24's
-targets checked on the physics base.
+Per group and base: % home, error and floor (% of the path); docs/evaluation.md.
 """
 import argparse
 import os

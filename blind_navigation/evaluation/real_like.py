@@ -3,21 +3,8 @@
     /usr/bin/python3 -m blind_navigation.evaluation.real_like [--paths 60] [--first-seed 1000]
         [--trajectory-seeds 2] [--events] [--processes 2] [--out results/real_like]
 
-Missions: ``--paths`` seeded random paths (sim/random_paths.py), spread evenly
-over the categories, seeds ``--first-seed`` on; and the real trajectories of
-config/paths (sim/command_series.py) replayed as operator commands,
-``--trajectory-seeds`` seeds each (each seed another robot: noise and gyro). Every
-mission runs on the harness with the paper noise profile, each mode in its
-launch configuration (evaluation/montecarlo.recording_settings; closed_loop
-with the heading correction and a gyro calibration made on seed + 10000, as
-blind_navigation.launch and make demo run it), and the physical floor of each
-configuration (sim/harness: the recorded odometry tracked back perfectly, same
-robot, same seed). ``--events`` adds ``closed_loop+events``: closed_loop
-recorded with the proposed motion-event samples (core/motion_events.py).
-
-Table per group (category or trajectory) and mode: runs, % home, aborted,
-median and 95th-percentile error (% of the recorded length), median floor, and
-error / floor (the median of the runs' ratios, and the ratio of the medians).
+Random paths and real trajectories, every mode in its launch configuration (``--events``
+adds ``closed_loop+events``); per group and mode: % home, error, floor, error / floor.
 """
 import argparse
 import math

@@ -1,11 +1,8 @@
-"""Recovery survival (issue 23): bench_probe's cases ``brief`` and ``bump`` on bench.launch, and
-the bench section that runs them over seeds (docs/evaluation.md, "Recovery survival").
+"""Recovery survival (issue 23): bench_probe's cases on bench.launch over seeds.
 
-* ``brief``: ``loss`` s of vision loss (fake_turtlebot/set_vision) ``fail_after`` s of sim
-  time after the mission's first command; survived if the state went ``rotating`` and back
-  to ``recording`` with no return; after the mission, ``go_home``; error = ground truth.
-* ``bump``: after the mission vision fails; ``press_after`` s into ``returning`` the center
-  bumper is pressed for ``press`` s; survived if the mission still ends ``home``.
+``brief``: vision lost ``loss`` s mid-mission, survived if back to ``recording`` with no
+return, then ``go_home``; ``bump``: the bumper pressed ``press`` s into ``returning``,
+survived if still ``home`` (docs/evaluation.md, "Recovery survival").
 """
 import os
 

@@ -1,13 +1,7 @@
 """The fake TurtleBot's world: a rectangular arena (walls or cliff edges) and round obstacles.
 
-Turns the robot's true pose into Kobuki safety sensor states, in the Kobuki's
-layout: bumpers ``left``/``center``/``right`` (front half only, as on the
-Kobuki), cliff sensors ``left``/``center``/``right`` (at +-45 deg and straight
-ahead near the rim) and wheel drops ``left``/``right``. Walls and obstacles block
-motion (the wheels keep turning, so odometry runs on: the robot slips); a wheel
-over a cliff edge drops and the robot is stuck.
-
-World files are YAML (a mission file may carry them too)::
+Turns the true pose into Kobuki bumper, cliff and wheel-drop states; walls and obstacles
+block motion (the wheels slip on), a wheel over a cliff edge drops. World files (YAML)::
 
     arena: {x_min: -1.0, x_max: 20.0, y_min: -0.85, y_max: 0.85, edge: wall}
     obstacles: [{x: 2.0, y: 0.5, radius: 0.15}]

@@ -1,16 +1,9 @@
 """Missions given as command series: an operator's ``(v, w)`` over time, played open loop.
 
-:class:`CommandSeries` is a :class:`~.mission.Mission` (the harness runs it like
-a mission file's script) whose :meth:`~CommandSeries.command_at` finds the
-command by bisection, so series of tens of thousands of pieces (a 30-minute
-mission at 10 Hz) cost O(log n) per operator tick.
-
-:func:`load_trajectory` reads a recorded trajectory converted to commands: a CSV
-(``config/paths/<name>.csv``) of ``t, v, w`` rows (s, m/s, rad/s, REP 103), row
-k being the command held during ``[t_k, t_(k+1))``, the last one for the median
-row spacing; ``#`` lines are the header (source, licence, citation), kept as the
-mission's description. Real robots' logs replayed as operator commands: what a
-robot really drove, not a script (config/paths/README.md lists them).
+:class:`CommandSeries` is a mission whose :meth:`~CommandSeries.command_at` bisects
+(O(log n) per tick); :func:`load_trajectory` reads a real robot's trajectory converted to
+commands (``config/paths/<name>.csv``: ``t, v, w`` rows, ``#`` header lines with source
+and licence; config/paths/README.md lists them).
 """
 import bisect
 import csv

@@ -1,25 +1,10 @@
-"""Scripted operator missions: what a human teleoperating the robot would send, as a function of time.
+"""Scripted operator missions: what a human teleoperating the robot would send, over time.
 
-A mission file (YAML, ``config/missions/<name>.yaml``) holds either a velocity
-profile or waypoints, plus optional metadata and a world (``arena``,
-``obstacles``: see sim/arena.py)::
-
-    description: Table III test 1, straight line at 0.05 m/s
-    rate: 10                       # Hz, how often the operator's teleop publishes
-    segments:                      # each: v (m/s), w (rad/s) and ONE of
-      - {v: 0.05, distance: 3.3}   #   distance (m, needs v), angle (rad, needs w),
-      - {v: 0.086, w: 0.097, angle: 0.4}
-      - {v: 0.0, duration: 2.0}    #   or duration (s)
-    # or: waypoints: {v: 0.086, w: 0.097, points: [[1, 0], [1, 1]]}
-    #     from (0, 0, yaw 0): turn on the spot toward each point, then drive to it.
-    operator: {max_w: 0.097}        # optional: a person drives it (sim/operator.py
-                                    # parameters, or true for the defaults); absent or
-                                    # false = the open-loop script
-
-``command_at(t)`` is the open-loop script (the keys as planned). A person
-driving it watches the robot and corrects its heading: ``make_operator()``
-gives that person (sim/operator.Operator, on ground truth), which the mission
-driver node and the plain-Python harness both use.
+A mission file (``config/missions/<name>.yaml``; format: docs/fake_turtlebot.md) holds
+``segments`` or ``waypoints``, a ``rate``, optional ``operator`` settings and a world.
+``command_at(t)`` is the open-loop script; ``make_operator()`` gives the person who
+drives it watching the robot (sim/operator.Operator), for the mission driver node and
+the harness alike.
 """
 import math
 import os

@@ -1,14 +1,9 @@
 """cmd_vel multiplexer with yocs_cmd_vel_mux's rules and TurtleBot's configuration.
 
-Rules (yocs_cmd_vel_mux, CmdVelMuxNodelet::cmdVelCallback / timerCallback):
-
-* a message from input *i* is forwarded if no input holds the output, or *i*
-  holds it, or *i* has a strictly higher priority than the holder; *i* then
-  holds the output (its name is announced on the active topic);
-* the holder releases the output when it sends nothing for its ``timeout``
-  (announced as ``idle``). (yocs's general timer, twice the largest timeout
-  since the last message of any input, always fires after that, so it never
-  changes the outcome and is not modelled.)
+An input's message is forwarded if no input holds the output, it holds it, or it has a
+strictly higher priority than the holder, which it then becomes (announced on the active
+topic); the holder releases after its ``timeout`` of silence (``idle``). yocs's general
+timer never changes the outcome and is not modelled.
 """
 from collections import namedtuple
 

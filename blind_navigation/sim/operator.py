@@ -1,41 +1,10 @@
 """A human teleoperator watching the robot: keeps it on the mission's path by keyboard.
 
-The paper's experiments were driven by a person with TurtleBot's keyboard
-teleop (``turtlebot_teleop_key``): LSV 0.086 m/s is its default 0.2 m/s lowered
-eight times by 10 % (0.2 x 0.9^8) and Table V's 0.069 m/s ten times; ASV is set
-the same way. That teleop sends discrete commands: forward at LSV (``i``),
-forward turning left/right at +-ASV (``u``/``o``). An open-loop script of
-those keys drifts off course on a real base (wheel-diameter error, ripple):
-the person does not, because they watch the robot and tap the turn keys.
-
-:class:`Operator` models that person (one implementation for the ROS mission
-driver and the plain-Python harness):
-
-- **path**: the mission's segments laid end to end from the start pose
-  (:class:`ReferencePath`) are the route the person means to drive, e.g. the
-  middle of the corridor with its bends;
-- **perception**: they see the true pose ``reaction_time`` late (visual
-  reaction plus key press, 0.3 s: simple visual reaction times are 0.2-0.3 s);
-- **steering**: two-point steering toward an aim point ``preview`` metres
-  ahead on the route (how people steer vehicles: toward a far point); the
-  heading error to it is the stimulus;
-- **keys**: corrections are intermittent taps, as human manual control is
-  (a person judges, acts ballistically, then waits to see the effect): when
-  the perceived error exceeds ``press_threshold`` (the smallest heading error
-  a person notices), they hold the turn key (+-``max_w``, the mission's ASV)
-  for the time that error needs, ``error / max_w``, in whole teleop periods
-  (the keyboard's time quantum; at least one), then let go and judge again
-  only after ``refractory`` s. The heading therefore drifts between taps and
-  jumps at each, and the recorded angular velocity oscillates, as the paper's
-  Table VI reports (RAV down to -0.04..-0.07 rad/s with no turn above ASV).
-- **speed**: the segment's linear velocity (the forward key) until the robot is
-  seen at the end of the route; stops (``v = 0`` segments: pauses, turns on the
-  spot) are played by the clock as in :meth:`Mission.command_at`. The person
-  steers forward only: a mission that reverses (``v < 0``) is refused with an
-  error; play it as the open-loop script.
-
-Every parameter is in :data:`OPERATOR_DEFAULTS`; a mission file overrides them
-under ``operator:`` (``operator: false`` = the plain open-loop script).
+:class:`Operator` (for the mission driver node and the harness): TurtleBot's keyboard
+teleop (forward at LSV, turns at +-ASV), the true pose seen ``reaction_time`` late,
+two-point steering toward a point ``preview`` ahead, intermittent taps once the error
+exceeds ``press_threshold``, a ``refractory`` wait; forward only. Parameters and their
+human-factors sources: :data:`OPERATOR_DEFAULTS` (docs/fake_turtlebot.md).
 """
 import bisect
 import math

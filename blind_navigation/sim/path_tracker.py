@@ -1,24 +1,10 @@
-"""A planned path driven closed loop on ground truth: how a robot that still has its
-localisation (RTAB-Map, before vision is lost) or a person watching it drives
-a route that revisits places, so that its loops really close.
+"""A planned path driven closed loop on ground truth, as a localised robot (or a person)
+drives a route that revisits places, so that its loops really close.
 
-:class:`TrackedSeries` is a command series (sim/command_series.py) whose
-pieces ``(v, w, duration)`` are the plan: the pose an ideal unicycle would
-have at each time from the true start pose. Its operator,
-:class:`PathTracker`, follows that reference in time with Kanayama's
-tracking law (Kanayama et al., "A stable tracking control method for an
-autonomous mobile robot", ICRA 1990) on the true pose::
-
-    e = R(-yaw) (p_ref - p),  e_yaw = yaw_ref - yaw
-    v = v_ref cos e_yaw + k_x e_x
-    w = w_ref + v_ref k_y e_y + k_yaw sin e_yaw
-
-The lateral term carries ``v_ref``'s sign (backing up steers the other way)
-and the heading term does not (so turns in place and reversing stay stable:
-the small-error dynamics ``de_y/dt = v_ref e_yaw``, ``de_yaw/dt = -v_ref k_y e_y
-- k_yaw e_yaw`` are stable for either sign of ``v_ref``). Commands go out at
-the mission's rate, clamped to the Kobuki's limits; the mission is over at
-the plan's end.
+:class:`TrackedSeries` is a command series whose pieces are the plan; its operator,
+:class:`PathTracker`, follows the reference pose in time with Kanayama's tracking law
+(ICRA 1990) on the true pose, stable for either sign of ``v_ref``; commands clamped to
+the Kobuki's limits.
 """
 import bisect
 import math

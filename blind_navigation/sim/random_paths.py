@@ -1,41 +1,9 @@
 """Seeded random missions in named categories, for testing the return on paths no one tuned for.
 
-``random_mission(category, seed)`` returns a :class:`~.command_series.CommandSeries`
-(the operator's commands at 10 Hz, played open loop by the harness); the same
-category and seed always give the same mission. Every piece is a command the
-Kobuki accepts (|v| <= 0.7 m/s, |w| <= pi rad/s); path lengths (sum of |v| dt)
-span 1 to 150 m over the categories:
-
-- ``indoor_mixed``: keyboard-teleop-like driving indoors, 5-40 m: straight legs
-  and arcs of either sign at 0.1-0.4 m/s, turns in place, pauses, short
-  reversing, creeping stretches, and an end that slows to a stop in steps.
-- ``fast_long``: 40-150 m at 0.4-0.7 m/s, long legs and wide arcs, with
-  acceleration ramps and the odd pause.
-- ``creeping``: 1-6 m at 0.02-0.05 m/s, slow arcs and slow turns in place.
-- ``reversing``: 2-20 m of forward and reverse legs and arcs (cusps, backing
-  round corners, three-point turns) at 0.05-0.3 m/s.
-- ``turns_in_place``: 2-20 m of short legs between turns in place of 30-360 deg
-  at 0.3-pi rad/s, either way, sometimes several back to back, sometimes
-  driving off without a pause.
-- ``move_base_like``: what a navigation stack sends, 5-50 m: a 180 deg turn in
-  place at the start, straight legs with acceleration ramps, 90 or 45 deg turns
-  in place between them, and a final goal-alignment turn in place.
-
-Paths that come back to where they have been (:data:`LOOP_CATEGORIES`, for the
-pruning of the return, core/pruning.py) are plans a localised robot drives
-closed loop on ground truth (sim/path_tracker.TrackedSeries: before vision is
-lost RTAB-Map localises it, so its loops really close), every piece a whole
-number of operator ticks with its speed set so that the plan closes exactly:
-
-- ``figure_eight``: 6-30 m: a lead-in, one or two figure eights (two circles
-  touching where the path passes three times, or two 270 deg teardrop lobes
-  crossing at right angles), a lead-out;
-- ``side_room``: 6-40 m: a corridor, a door into a side room, a loop round the
-  room back to the door, out the way it came, on along the corridor;
-- ``patrol``: 5-50 m: one to three rounds of a rectangular patrol through the
-  start area (the path passes the start again), then away from it;
-- ``dead_end``: 4-30 m: corridor legs and one to three dead ends, each driven
-  into and backed out of, reversing along the way in.
+``random_mission(category, seed)`` -> a :class:`~.command_series.CommandSeries` (10 Hz,
+open loop; same category and seed, same mission), every piece within the Kobuki's
+limits, 1-150 m over the categories; :data:`LOOP_CATEGORIES` are closed plans driven on
+ground truth (sim/path_tracker.py). The categories: docs/evaluation.md.
 """
 import math
 import random

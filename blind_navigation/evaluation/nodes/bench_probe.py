@@ -1,33 +1,10 @@
 #!/usr/bin/env python3
-"""bench_probe: the demo observer (evaluation/observer.py) plus what `make bench` measures in a ROS run.
+"""bench_probe: the demo observer (evaluation/observer.py) plus what `make bench` measures.
 
-Runs the demo's script (mission, vision failure via /fake_turtlebot/set_vision,
-wait for home/aborted, row + plot) and also measures:
-
-* latency: sim time from the failure (just before the set_vision call) to
-  /blind_navigation/vision_lost (the trigger), and from the trigger to the first
-  non-zero rotation command of the layer (``rotation_node``: the pi turn comes
-  before any return command) on the teleop topic; the detector that
-  fired (vision_monitor's latched ~loss);
-* storage: CPU time and peak RSS (psutil; PIDs asked from each node's
-  XML-RPC getPid) of the layer's nodes and of ``rosbag record`` over the
-  recording phase (state ``recording`` -> vision failure); then stops the
-  recorder with SIGINT so its bag covers the same mission;
-* the achieved real-time factor;
-* the back-travel goals' hand-overs: sim time from each goal's result (its
-  header stamp) to the next goal (its goal id's stamp), as the action sends them,
-  and the layer's commands while returning (sim time, v, w);
-* how the recording lines up with the mission: sim time of the mission's
-  first command (mission_driver on the teleop topic) and of the layer's
-  ``recording`` state, and the landmarks of ``landmark_file`` taken before
-  the robot moved (``v = 0``, ``d < 1 mm``; the layer starts before the
-  scripted operator, the harness starts both together).
-
-Writes everything as JSON to ``out``. Params (DEFAULTS): those of DemoObserver
-plus ``out`` (JSON path, '' = none), ``layer_nodes`` (names), ``bag_node``
-(name of the rosbag recorder, '' = none), ``cmd_vel_topic``, ``rotation_node``,
-``monitor_node``, ``landmark_file``, ``seed``, ``case`` ('' = the above; ``brief`` or
-``bump``: evaluation/survival.py drives the mission instead of the single vision failure).
+Also measures the detection latency and the first rotation command, the layer's and the
+bag's CPU and RSS while recording, the achieved rtf, the goals' hand-over gaps and the
+return's commands, and how the recording lines up with the mission; writes JSON to
+``out``. ``case`` ``brief``/``bump``: evaluation/survival.py drives the mission.
 """
 import json
 import os

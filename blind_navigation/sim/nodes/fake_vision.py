@@ -1,23 +1,11 @@
 #!/usr/bin/env python3
-"""Fake RGB-D camera and RTAB-Map-like visual odometry of the fake TurtleBot, with vision failures.
+"""Fake RGB-D camera and RTAB-Map-like visual odometry of the fake TurtleBot, with failures.
 
-Publishes ``camera/rgb/image_rect_color`` (small rgb8 images of a panorama that
-turns with the robot's true heading; ``width`` x ``height``, 640 x 480 for a
-Kinect-sized stream), with each frame its ``camera/rgb/camera_info``, ``rtabmap/odom`` (true pose from
-``ground_truth/odom`` plus sim/visual_odometry drift, TF ``vo_odom`` ->
-``vo_base_footprint``) and, while anyone subscribes, ``rtabmap/odom_info_lite``
-(sim/odom_info.OdomInfo: its ``lost`` flag) at ``rate`` Hz of sim time (clocked by the true pose stamps). Vision fails at
-``vision_fail_at`` (sim s), ``vision_fail_after_mission`` s of sim time after the
-scripted operator is done (``mission_driver/done``: a loaded machine cannot make
-an operator finish by a fixed time), or on ``fake_turtlebot/set_vision``
-(SetBool, false = fail now, true = restore), in one of three modes:
-
-* ``dark``: images keep coming but are black; odometry is lost;
-* ``stall``: camera and odometry stop publishing;
-* ``lost``: images are fine; odometry is lost.
-
-Lost odometry is what RTAB-Map publishes: position 0, quaternion (0, 0, 0, 0),
-pose and twist covariance diagonals 9999, and no TF.
+Publishes images of a panorama turning with the true heading and their camera_info,
+``rtabmap/odom`` (truth plus sim/visual_odometry drift) and, while subscribed,
+``rtabmap/odom_info_lite``. Vision fails at ``vision_fail_at``, after the mission, or
+on ``fake_turtlebot/set_vision``: ``dark`` (black images, VO lost), ``stall`` (nothing
+published) or ``lost`` (VO lost: RTAB-Map's null pose, covariances 9999, no TF).
 """
 import math
 

@@ -1,18 +1,10 @@
 #!/usr/bin/env python3
 """Scripted operator: plays a mission (sim/mission.py) as teleop commands.
 
-Publishes the mission's (v, w) on ``cmd_vel`` (remap to
-``/cmd_vel_mux/input/teleop``) at the mission's rate, starting ``start_delay``
-s of sim time after the clock starts (with ``wait_for_go``: once a message came
-on ``mission_driver/go`` as well, e.g. from the demo's observer once the layer
-records); then sends
-zero velocity and latches ``~done`` true. Zero velocity also on shutdown. A mission with an ``operator``
-(sim/operator.py: a person watching the robot and tapping the turn keys)
-watches the true pose on ``ground_truth`` (nav_msgs/Odometry, remap to
-``/ground_truth/odom``) and ends when the person sees the robot at the end of
-the route; the same core runs in the plain-Python harness (sim/harness.py).
-If the clock moves back (a restarted fake), the script goes on where it was
-(ros/clock.py).
+Publishes the mission's (v, w) on ``cmd_vel`` at its rate from ``start_delay`` s (with
+``wait_for_go``, once ``mission_driver/go`` came), then zero and latches ``~done``. A
+mission with an ``operator`` watches ``ground_truth`` (sim/operator.py). Zero on
+shutdown; it goes on across the clock moving back.
 """
 import threading
 
