@@ -104,7 +104,7 @@ class _Run(object):
         self.path = []
         self.path_times = []          # sim time of each point of ``path``
         self.fit = None
-        self.vision_on = correct_heading
+        self.vision_on = self.correct_heading = correct_heading
         self.frames = []
         self.vision = DriftingOdometry(seed + 1, **VO_DRIFT_DEFAULTS)
         self.next_frame = 0.0
@@ -172,11 +172,11 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
     if events.fire('go_home', now):
         mission.go_home()
     takeover = events.window('takeover', now)
-    vision_lost = vision_lost or events.fire('vision_lost', now)
+    vision_lost, vision_back = vision_lost or events.fire('vision_lost', now), events.fire('vision_back', now)
     frames, run.frames = run.frames, []
-    run.vision_on = run.vision_on and not vision_lost
+    run.vision_on = (run.vision_on or (vision_back and run.correct_heading)) and not vision_lost
     inputs = Inputs(odom=run.base.odom if feed is None or feed.arrives(now) else None, visual=frames,
-                    vision_lost=vision_lost, vision_back=events.fire('vision_back', now),
+                    vision_lost=vision_lost, vision_back=vision_back,
                     bumper=events.window('bumper', now) is not None,
                     operator='scripted operator' if takeover else None, next_goal=next_goal,
                     tripped='cliff (scripted)' if events.fire('cliff', now) else None,
