@@ -8,7 +8,8 @@ import collections
 import types
 
 from . import mission_state as state
-from .allowance import DRIVE, OdomGrace
+from .allowance import ABORT, DRIVE, HOLD
+from .drive import Outcome
 from .back_travel import BACK_TRAVEL_DEFAULTS
 from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
@@ -76,7 +77,7 @@ class Mission(object):
         self.recording = MissionRecording(store, self.config)
         self.raw = self.last = self.corrector = self.correction = None
         self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
-        self.drive = self.grace = None
+        self.drive = None
         self.pauses = Pauses(self.params)
         self.requests, self.halt, self.vision_loss = [], False, False
 
@@ -150,10 +151,13 @@ class Mission(object):
             self.corrector.update(self.raw)
         return self.corrector.state
 
-    def _feed(self):
-        """(decision, odometry stamped now, message) of the odometry grace (core/allowance)."""
-        decision, message = self.grace.check(self.now, self.last.stamp)
-        return decision, self.last._replace(stamp=self.now) if decision == DRIVE else None, message
+    def _feed(self, cycle):
+        """(decision, odometry stamped now, message) of a behaviour's core/drive.DriveCycle."""
+        decision, message = cycle.decide(self.now, self.last.stamp)
+        if isinstance(decision, Outcome):
+            return ABORT, None, decision.reason
+        return (HOLD, None, message) if decision == HOLD else \
+            (DRIVE, self.last._replace(stamp=self.now), message)
 
     def _end(self, new, reason):
         if self.drive is not None or self.state == state.RETURNING:
@@ -220,7 +224,7 @@ class Mission(object):
         self.corrector.update(self.reference)
         self.landmarks = correct_landmarks(self.loaded.landmarks, correction)
         self.anchor = (self.reference.x, self.reference.y)
-        self.grace, self.pauses = OdomGrace(self.params), Pauses(self.params, contacts=False)
+        self.pauses = Pauses(self.params, contacts=False)
         self.last = self.odom()
         self.phase, self.drive = TURN, TurnDrive(self.params, self._feed, self.last,
                                                  self.config.turn_tolerance)
@@ -255,7 +259,7 @@ class Mission(object):
             self.route, self.pruning = plan_return(self.landmarks, self.anchor, self.params,
                                                    c.prune_loops, self.correction)
             follower = RouteFollower(self.route, self.params)
-        self.grace, self.pauses = OdomGrace(self.params), Pauses(self.params)
+        self.pauses = Pauses(self.params)
         self.drive = ReturnDrive(return_goals(labels, self.landmarks), c.mode, self.params, follower,
                                  c, self._feed, self.odom)
 

@@ -7,6 +7,7 @@ owner would send one per action goal.
 """
 from . import mission_state
 from .allowance import ABORT, DRIVE, HOLD
+from .drive import Behaviour, DriveCycle
 from .geometry import distance
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
 from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
@@ -14,6 +15,13 @@ from .rotation import Rotation, turn_problem
 
 ZERO = (0.0, 0.0)
 GOAL, HANDOVER, FINAL, DONE, FAILED = 'goal', 'hand-over', 'final hold', 'done', 'failed'
+
+
+class _Held(Behaviour):
+    """What core/drive.DriveCycle tells a goal or the turn: held ``hold(seconds)`` for stale odometry."""
+
+    def __init__(self, hold=None):
+        self.hold = hold or (lambda seconds: None)
 
 
 def home_verdict(odom, route, goals, mode, tolerance):
@@ -35,11 +43,12 @@ def with_defaults(params, defaults):
 
 
 class TurnDrive(object):
-    """The pi turn (core/rotation.Rotation) from ``odom`` on ``feed()`` (as :class:`ReturnDrive`'s);
+    """The pi turn (core/rotation.Rotation) from ``odom`` on ``feed(cycle)`` (:class:`ReturnDrive`);
     done once the robot really turned (core/rotation.turn_problem within ``tolerance``)."""
 
     def __init__(self, params, feed, odom, tolerance):
         self.rotation, self.feed, self.tolerance = Rotation(params), feed, tolerance
+        self.cycle = DriveCycle(_Held(self.rotation.hold), params)
         self.rotation.start(odom)
         self.start_yaw, self.yaw = odom.yaw, odom.yaw
         self.phase, self.reason = 'turn', ''
@@ -51,7 +60,7 @@ class TurnDrive(object):
         self.rotation.hold(seconds)
 
     def step(self, now, next_goal=False):
-        decision, odom, message = self.feed()
+        decision, odom, message = self.feed(self.cycle)
         if decision == ABORT:
             return self._fail('the pi rotation: %s; not travelling back' % message)
         command = self.rotation.step(odom) if decision == DRIVE else ZERO
@@ -74,8 +83,8 @@ class TurnDrive(object):
 
 class ReturnDrive(object):
     """The goals ``[(label, landmark)]`` (return order) driven one after another in
-    ``mode`` (``follower``: closed_loop's RouteFollower). ``feed()`` -> (decision,
-    odom, message) each cycle (core/allowance decisions); ``latest()``: the odometry a
+    ``mode`` (``follower``: closed_loop's RouteFollower). ``feed(cycle)`` -> (decision,
+    odom, message) each cycle (a core/drive.DriveCycle per goal); ``latest()``: the odometry a
     goal starts from. With ``await_goals`` the next goal starts only when asked."""
 
     def __init__(self, goals, mode, params, follower, config, feed, latest):
@@ -86,7 +95,7 @@ class ReturnDrive(object):
         self.await_goals = config.await_goals
         self.command = ZERO         # in force: the last a goal (or the bridge) published
         self.index = 0              # the goal driven, or next
-        self.goal = self.bridge = self.since = self.final_at = None
+        self.goal = self.bridge = self.since = self.final_at = self.cycle = None
         self.phase = HANDOVER     # the first goal starts at the first step
         self.reason = ''
 
@@ -120,7 +129,7 @@ class ReturnDrive(object):
             if self.goal.done:
                 self._goal_done(now)
                 continue
-            decision, odom, message = self.feed()
+            decision, odom, message = self.feed(self.cycle)
             if decision == ABORT:
                 return self._fail(message)
             if decision == HOLD:
@@ -151,6 +160,7 @@ class ReturnDrive(object):
         self.goal = make_goal(self.mode, self.goals[self.index][1], self.params, self.follower,
                               self.index, self.since)
         self.goal.start(self.latest())
+        self.cycle = DriveCycle(_Held(self.goal.hold), self.params)
 
     def _goal_done(self, now):
         self.index += 1
@@ -159,6 +169,7 @@ class ReturnDrive(object):
             return
         self.bridge = HandoverBridge(self.follower, self.follow, now) if bridges(
             self.mode, self.follower, self.index, len(self.goals), self.follow) else None
+        self.cycle = DriveCycle(_Held(), self.params)     # the bridge's
         self.since = self.follower.travelled if self.follower is not None and self.follower.started \
             else None
         self.phase = HANDOVER
@@ -167,7 +178,7 @@ class ReturnDrive(object):
         """Between goals: the bridge drives on (stale odometry: zero), else the last command
         holds while the CommandHold lets it."""
         if self.bridge is not None:
-            decision, odom, _ = self.feed()
+            decision, odom, _ = self.feed(self.cycle)
             expired = self.bridge.expired(now) or self.bridge.ended or decision == ABORT
             self.command = self.bridge.step(odom) if decision == DRIVE and not expired else ZERO
             if decision == DRIVE and not expired:
