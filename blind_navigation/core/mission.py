@@ -13,7 +13,8 @@ from .drive import Outcome
 from .back_travel import BACK_TRAVEL_DEFAULTS
 from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
-from .mission_drive import DONE, FAILED, ZERO, Pauses, ReturnDrive, TurnDrive, home_verdict
+from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive,
+                            home_verdict)
 from .mission_record import MissionRecording, Standstill
 from .pause import PAUSE
 from .return_plan import NO_LOSS, nothing_to_retrace, plan_return, recording_problem, return_goals
@@ -29,30 +30,34 @@ MISSION_DEFAULTS = {
     'mode': 'closed_loop', 'prune_loops': False,    # the return's control mode, pruning
     'handover_timeout': 0.1, 'handover_follow': HANDOVER_FOLLOW,    # core/goal's hold, bridge
     'await_goals': False,           # the owner sends each next goal (Inputs.next_goal)
+    'remote_goals': False,          # the goals are driven elsewhere (Step.goal, Inputs.goal_result)
     'on_vision_back': 'home',       # core/mission_state.ON_VISION_BACK
     'settle_time': 2.0,             # s the home check waits for the robot to stop
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
 }
 
 class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_back bumper operator '
-                                    'tripped reset time_back next_goal')):
+                                    'tripped reset time_back next_goal goal_result')):
     """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
     (pressed), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
     what), ``reset`` (an untrusted odometry
-    reset: why), ``time_back`` (the clock moved back: how), ``next_goal`` (with await_goals)."""
+    reset: why), ``time_back`` (the clock moved back: how), ``next_goal`` (with await_goals),
+    ``goal_result`` (remote_goals: the core/drive.Outcome of the goal sent)."""
     __slots__ = ()
 
     def __new__(cls, odom=None, visual=(), vision_lost=False, vision_back=False, bumper=False,
-                operator=None, tripped=None, reset=None, time_back=None, next_goal=False):
+                operator=None, tripped=None, reset=None, time_back=None, next_goal=False,
+                goal_result=None):
         return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper,
-                                          operator, tripped, reset, time_back, next_goal)
+                                          operator, tripped, reset, time_back, next_goal, goal_result)
 
 
-Step = collections.namedtuple('Step', 'command phase state stored')
+Step = collections.namedtuple('Step', 'command phase state stored goal')
 Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: recording, '
                 'standstill, turn, turned, goal, hand-over, final hold, settle, ended; '
-                '``state``; ``stored``: the landmarks stored this step.')
+                '``state``; ``stored``: the landmarks stored this step; ``goal``: (index, landmark) '
+                'to send now (remote_goals), else None.')
 
 RECORDING, STANDSTILL, TURN, TURNED, SETTLE, ENDED = (
     'recording', 'standstill', 'turn', 'turned', 'settle', 'ended')
@@ -127,7 +132,7 @@ class Mission(object):
             self._end(state.ABORTED, why)
         command = self._step(now, inputs, stored)
         self.halt = self.halt and ended     # the step that ended the mission returned zero
-        return Step(command, self.phase, self.state, stored)
+        return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None))
 
     def _step(self, now, inputs, stored):
         if self.phase == ENDED:
@@ -231,7 +236,10 @@ class Mission(object):
         return self._drive(now, Inputs())
 
     def _paused(self, now, inputs):
-        """A pause's command ('taken': nothing, a contact: zero), an end, or False (drive on)."""
+        """A pause's command ('taken': nothing, a contact: zero), an end, or False (drive on);
+        remote goals pause where they are driven."""
+        if isinstance(self.drive, RemoteReturn):
+            return False
         position = lambda: None if self.last is None else [self.last.x, self.last.y]  # noqa: E731
         pause = self.pauses.decide(now, inputs.bumper, inputs.operator, position)
         if pause == 'taken':
@@ -250,18 +258,17 @@ class Mission(object):
 
     def _plan(self):
         """The return's route (closed_loop, pruned with prune_loops) and its goals."""
-        c = self.config
-        labels = getattr(self.loaded, 'labels', None) if self.landmarks is not None else None
-        if labels is None or len(labels) != len(self.landmarks):
-            labels = [str(number) for number in range(1, len(self.landmarks) + 1)]
-        follower = None
+        c, follower = self.config, None
+        labels = getattr(self.loaded, 'labels', [])
+        goals = return_goals(labels if len(labels) == len(self.landmarks) else
+                             [str(number + 1) for number in range(len(self.landmarks))], self.landmarks)
         if c.mode == 'closed_loop':
             self.route, self.pruning = plan_return(self.landmarks, self.anchor, self.params,
                                                    c.prune_loops, self.correction)
-            follower = RouteFollower(self.route, self.params)
+            follower = None if c.remote_goals else RouteFollower(self.route, self.params)
         self.pauses = Pauses(self.params)
-        self.drive = ReturnDrive(return_goals(labels, self.landmarks), c.mode, self.params, follower,
-                                 c, self._feed, self.odom)
+        self.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
+            goals, c.mode, self.params, follower, c, self._feed, self.odom)
 
     def _drive(self, now, inputs):
         """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""
@@ -270,7 +277,7 @@ class Mission(object):
         paused = self._paused(now, inputs)
         if paused is not False:
             return paused
-        command = self.drive.step(now, inputs.next_goal)
+        command = self.drive.step(now, inputs)
         if self.drive.phase == FAILED:
             return self._end(state.ABORTED, self.drive.reason)
         if self.drive.phase != DONE:
@@ -287,9 +294,7 @@ class Mission(object):
         """After the last goal: ``home`` once the stopped robot is within home_tolerance of
         the start by odometry (closed_loop; the paper's modes: every landmark replayed)."""
         odom = self.odom()
-        stopped = odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
-            abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
-        if not stopped and now < self.settle_until - 1e-9:
+        if not stopped(odom) and now < self.settle_until - 1e-9:
             return None
         return self._end(*home_verdict(odom, self.route, len(self.drive.goals), self.config.mode,
                                        getattr(self.params, 'home_tolerance',
@@ -301,7 +306,7 @@ class Mission(object):
             return False
         if state.vision_back_state(self.state, True, self.config.on_vision_back) != state.RECOVERED:
             return False
-        returning = isinstance(self.drive, ReturnDrive)
+        returning = self.state == state.RETURNING
         left = sum(abs(landmark.d) for landmark in self.drive.remaining) - self.drive.travelled() \
             if returning else None
         self._end(state.RECOVERED, 'vision back during %s: stopped (on_vision_back stop), %s left to '
@@ -320,6 +325,12 @@ def _interrupted(inputs, phase, current):
     if inputs.tripped and phase not in (RECORDING, ENDED):
         return '%s: safety stop: %s' % (where, inputs.tripped)
     return None
+
+
+def stopped(odom):
+    """True once ``odom`` shows the robot standing (core/back_travel's stopped_v, stopped_w)."""
+    return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
+        abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
 
 
 def _known(settings):

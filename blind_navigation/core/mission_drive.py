@@ -59,7 +59,7 @@ class TurnDrive(object):
     def resumed(self, seconds):
         self.rotation.hold(seconds)
 
-    def step(self, now, next_goal=False):
+    def step(self, now, inputs):
         decision, odom, message = self.feed(self.cycle)
         if decision == ABORT:
             return self._fail('the pi rotation: %s; not travelling back' % message)
@@ -111,9 +111,10 @@ class ReturnDrive(object):
         """m the current goal has driven (0 between goals)."""
         return self.goal.travelled if self.goal is not None and self.phase == GOAL else 0.0
 
-    def step(self, now, next_goal=False):
-        """The command for this cycle (``next_goal``: the owner sends the next goal, with
+    def step(self, now, inputs):
+        """The command for this cycle (``inputs.next_goal``: the owner sends the next goal, with
         ``await_goals``); :attr:`phase` says where the return is."""
+        next_goal = inputs.next_goal
         while True:
             if self.phase == HANDOVER:
                 if self.await_goals and not next_goal and self.goal is not None:
@@ -187,6 +188,37 @@ class ReturnDrive(object):
         elif self.hold.expired(now):
             self.command = ZERO
         return self.command
+
+
+class RemoteReturn(object):
+    """The return's ``goals`` driven elsewhere (the paper layout: a BackTravel action goal
+    each): :attr:`send` is the goal to send this cycle, ``inputs.goal_result`` its
+    core/drive.Outcome; nothing is published here meanwhile."""
+
+    def __init__(self, goals):
+        self.goals, self.index, self.phase, self.reason = goals, 0, GOAL, ''
+        self.send, self._sent = None, None
+
+    remaining = ReturnDrive.remaining
+    where = ReturnDrive.where
+    travelled = staticmethod(lambda: 0.0)
+
+    def resumed(self, seconds):
+        """Pauses are the remote driver's."""
+
+    def step(self, now, inputs):
+        result = inputs.goal_result
+        if result is not None and self._sent == self.index:
+            if not result.ok:
+                self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, result.reason)
+                return None
+            self.index += 1
+        if self.index == len(self.goals):
+            self.phase = DONE
+        self.send = None if self.phase == DONE or self._sent == self.index else \
+            (self.index, self.goals[self.index][1])
+        self._sent = self.index
+        return None
 
 
 class Pauses(object):

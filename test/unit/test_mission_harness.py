@@ -6,7 +6,11 @@ import math
 import pytest
 
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
-from blind_navigation.core.mission import Mission
+from blind_navigation.core.drive import SUCCEEDED, Outcome
+from blind_navigation.core.goal import make_goal
+from blind_navigation.core.mission import Inputs, Mission
+from blind_navigation.core.route_follower import RouteFollower
+from blind_navigation.sim import harness
 from blind_navigation.sim.harness import play
 from blind_navigation.sim.mission import Mission as Script, load_mission
 
@@ -146,3 +150,32 @@ def test_new_mission_starts_again_from_a_terminal_state_only():
     assert mission.step(1.1).command is None
     assert mission.new_mission(None) is None and mission.state == 'idle'
     assert 'refused' in mission.go_home()
+
+
+def test_remote_goals_are_sent_one_at_a_time_and_come_home():
+    """The paper layout's protocol: the mission sends each goal (Step.goal), a fake server
+    drives it (core/goal.make_goal on the shared follower, as back_travel_server) and answers
+    with its Outcome (Inputs.goal_result); the mission publishes nothing meanwhile."""
+    recorded = harness._Recorded(MISSION, 'paper', 0, harness._settings({'floor': False}), None, None)
+    run, mission = recorded.run, recorded.owner
+    mission.configure_return(remote_goals=True)
+    step, sent, goal, follower, result = mission.step(run.base.t, Inputs(odom=run.base.odom)), [], None, \
+        None, None
+    while step.phase == 'goal':
+        assert step.command is None
+        if step.goal is not None:
+            index, landmark = step.goal
+            sent.append(index)
+            follower = follower or RouteFollower(mission.route, recorded.params)
+            goal = make_goal('closed_loop', landmark, recorded.params, follower, index)
+            goal.start(mission.odom())
+        command = goal.step(mission.odom()) if not goal.done else (0.0, 0.0)
+        result = Outcome(SUCCEEDED, '') if goal.done else None
+        run.advance(command if not goal.done else None)
+        step = mission.step(run.base.t, Inputs(odom=run.base.odom, goal_result=result))
+    harness._stop(run, mission, recorded.settings)
+    assert sent == list(range(len(mission.landmarks)))
+    assert mission.state == 'home', mission.reason
+    end, start = run.base.true_pose, run.path_start
+    assert math.hypot(end.x - start[0], end.y - start[1]) < 0.1
+    assert _speed(harness.Played(None, mission, run)) < 1e-3
