@@ -236,6 +236,9 @@ class Pauses(object):
     def decide(self, now, pressed, operator, position):
         """This cycle: None (drive), 'taken' (publish nothing), PAUSE (publish zero) or
         why the drive ends (a contact too many or too long; a bumper without contacts)."""
+        if not (pressed or operator or self.paused_at is not None or self.log.takeovers or
+                self.log.contacts):
+            return None         # nothing ever paused this drive: nothing to track
         if operator:
             self.takeover.command(operator, now)
         taken = self.takeover.active(now)

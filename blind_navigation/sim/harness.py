@@ -167,15 +167,20 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
     """One mission step on the robot's state now: (Step, the scripted operator's
     command or None); the scripted ``events`` (sim/mission_events.py) come in."""
     now = run.base.t
+    frames, run.frames = run.frames, []
+    odom = run.base.odom if feed is None or feed.arrives(now) else None
+    if not events.events:       # the bench's runs: no scripted event
+        if vision_lost:
+            run.vision_on = False
+        return mission.step(now, Inputs(odom, frames, vision_lost, next_goal=next_goal)), None
     if events.fire('cancel', now):
         mission.cancel()
     if events.fire('go_home', now):
         mission.go_home()
     takeover = events.window('takeover', now)
     vision_lost, vision_back = vision_lost or events.fire('vision_lost', now), events.fire('vision_back', now)
-    frames, run.frames = run.frames, []
     run.vision_on = (run.vision_on or (vision_back and run.correct_heading)) and not vision_lost
-    inputs = Inputs(odom=run.base.odom if feed is None or feed.arrives(now) else None, visual=frames,
+    inputs = Inputs(odom=odom, visual=frames,
                     vision_lost=vision_lost, vision_back=vision_back,
                     bumper=events.window('bumper', now) is not None,
                     operator='scripted operator' if takeover else None, next_goal=next_goal,
