@@ -9,8 +9,8 @@ import types
 
 from . import mission_state as state
 from .allowance import ABORT, DRIVE, HOLD
-from .drive import Outcome
 from .back_travel import BACK_TRAVEL_DEFAULTS
+from .drive import Outcome
 from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
 from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive,
@@ -36,14 +36,15 @@ MISSION_DEFAULTS = {
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
 }
 
+
 class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_back bumper operator '
                                     'tripped reset time_back next_goal goal_result')):
     """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
     (pressed), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
-    what), ``reset`` (an untrusted odometry
-    reset: why), ``time_back`` (the clock moved back: how), ``next_goal`` (with await_goals),
-    ``goal_result`` (remote_goals: the core/drive.Outcome of the goal sent)."""
+    what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
+    how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
+    core/drive.Outcome of the goal sent)."""
     __slots__ = ()
 
     def __new__(cls, odom=None, visual=(), vision_lost=False, vision_back=False, bumper=False,

@@ -1,9 +1,8 @@
-"""What the mission drives, stepped once per control cycle: the return's goals one
-after another (core/goal.make_goal; between goals core/goal.HandoverBridge or
-CommandHold; after the last, the last command held ``handover_timeout`` s), and
-the pauses of a drive (core/pause: Contacts, Takeover, PauseLog). Used by
-core/mission.Mission; the goals (:attr:`ReturnDrive.goals`) are what a remote
-owner would send one per action goal.
+"""What the mission drives, stepped once per control cycle: the pi turn (TurnDrive), the
+return's goals one after another (ReturnDrive: core/goal.make_goal, each under a
+core/drive.DriveCycle; between goals HandoverBridge or CommandHold; after the last, the last
+command held ``handover_timeout`` s) or sent to a remote driver (RemoteReturn), the pauses of
+a drive (core/pause: Contacts, Takeover, PauseLog) and the home verdict. Used by core/mission.
 """
 from . import mission_state
 from .allowance import ABORT, DRIVE, HOLD
