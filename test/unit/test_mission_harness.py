@@ -75,6 +75,13 @@ def test_bumps_beyond_max_contacts_abort_with_the_robot_still():
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
 
 
+def test_a_bumper_held_beyond_contact_timeout_aborts_with_the_robot_still():
+    played = _play(('bumper', 'return', 5.0, 15.0))
+    assert played.result.status == 'aborted' and 'contact_timeout' in played.result.reason
+    assert _ended_at(played) == pytest.approx(played.mission.transitions[-2][0] + 5.0 + 10.0, abs=0.1)
+    assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
+
+
 def test_a_small_takeover_rejoins_the_route_and_comes_home():
     played = _play(('takeover', 'return', 5.0, 1.0, (0.05, 0.0)))
     assert played.result.status == 'home', played.result.reason
