@@ -10,6 +10,7 @@ return's odometry (home_tolerance) and the largest distance from the route on th
 """
 import sys
 
+from blind_navigation.core import mission as core_mission
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.evaluation.montecarlo import settings_for
@@ -37,17 +38,17 @@ class MeasuredFollower(RouteFollower):
 
 
 def main(first, count, base='kinematic'):
-    harness.RouteFollower = MeasuredFollower
+    core_mission.RouteFollower = MeasuredFollower
     categories = sorted(CATEGORIES) + sorted(LOOP_CATEGORIES)
     for seed in range(first, first + count):
         category = categories[seed % len(categories)]
         stopped = []
         _stop = harness._stop
 
-        def stop(run, settings):
-            _stop(run, settings)
+        def stop(run, mission, settings):
+            _stop(run, mission, settings)
             route = MeasuredFollower.last.route
-            odom = run.odom()
+            odom = mission.odom()
             stopped.append(distance(odom.x, odom.y, route.x[-1], route.y[-1]))
         harness._stop = stop
         try:

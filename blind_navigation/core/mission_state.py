@@ -122,6 +122,12 @@ class MissionState(object):
         self.state = None
         self.reason = ''
 
+    def __deepcopy__(self, _memo):
+        """A copy with its own lock (sim/harness.py tries several returns from one state)."""
+        copied = MissionState()
+        copied.state, copied.reason = self.state, self.reason
+        return copied
+
     def transition(self, expected, new, reason=''):
         """Move ``expected -> new`` if the state is ``expected``; True if it moved,
         False if the state was another (an event late or raced: the caller ignores

@@ -77,15 +77,21 @@ def return_goals(labels, landmarks):
     return list(zip(labels, landmarks))[::-1]
 
 
-def plan_route(landmarks, anchor, params, prune, correction=None):
-    """(route, log lines): the route from ``anchor`` over ``landmarks`` (recording
-    order), with ``prune`` pruned in the frame of ``correction`` (a GyroCorrection
-    or None). ValueError if it cannot be built."""
+def plan_return(landmarks, anchor, params, prune, correction=None):
+    """(route, core/pruning.PruneResult or None): the route from ``anchor`` over
+    ``landmarks`` (recording order), with ``prune`` pruned in the frame of
+    ``correction`` (a GyroCorrection or None). ValueError if it cannot be built."""
     route = build_route(landmarks, anchor, params)
     if not prune:
-        return route, []
+        return route, None
     result = prune_route(route, landmarks, correction, params)
-    return result.route, result.describe()
+    return result.route, result
+
+
+def plan_route(landmarks, anchor, params, prune, correction=None):
+    """(route, log lines): :func:`plan_return`'s route and what pruning did."""
+    route, result = plan_return(landmarks, anchor, params, prune, correction)
+    return route, result.describe() if result is not None else []
 
 
 def nothing_to_retrace(recorded, start, here, tolerance):

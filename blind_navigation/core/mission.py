@@ -1,0 +1,342 @@
+"""The mission as one sequential object: record -> standstill -> pi turn -> return ->
+terminal, over core/mission_state, stepped by its owner's one loop
+(``step(now, inputs) -> Step``): what was observed since the last step in, what to
+publish out. No threads, no clock, no transport: the ROS layer and sim/harness.py
+both drive it. docs/DESIGN.md, "The mission object".
+"""
+import collections
+import types
+
+from . import mission_state as state
+from .allowance import ABORT, DRIVE, HOLD
+from .back_travel import BACK_TRAVEL_DEFAULTS
+from .drive import Outcome
+from .goal import HANDOVER_FOLLOW
+from .heading_correction import CorrectedOdometry, correct_landmarks
+from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive,
+                            home_verdict)
+from .mission_record import MissionRecording, Standstill
+from .pause import PAUSE
+from .return_plan import NO_LOSS, nothing_to_retrace, plan_return, recording_problem, return_goals
+from .route_follower import RouteFollower
+
+#: The mission's settings beyond the controllers' params (each overridable by keyword).
+MISSION_DEFAULTS = {
+    'straight_period': 2.0, 'curved_period': 1.0, 'deadband': 0.01,   # the sampling (core/segment)
+    'event_sampling': False,        # extra landmarks at motion events (core/motion_events)
+    'heading_correction': True,     # the standstill and the gyro correction at the loss
+    'standstill': None,             # its params (core/gyro_bias), None: the defaults
+    'scale_prior': None,            # the calibrated gyro scale (core/gyro_calibration)
+    'mode': 'closed_loop', 'prune_loops': False,    # the return's control mode, pruning
+    'handover_timeout': 0.1, 'handover_follow': HANDOVER_FOLLOW,    # core/goal's hold, bridge
+    'await_goals': False,           # the owner sends each next goal (Inputs.next_goal)
+    'remote_goals': False,          # the goals are driven elsewhere (Step.goal, Inputs.goal_result)
+    'on_vision_back': 'home',       # core/mission_state.ON_VISION_BACK
+    'settle_time': 2.0,             # s the home check waits for the robot to stop
+    'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
+}
+
+
+class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_back bumper operator '
+                                    'tripped reset time_back next_goal goal_result')):
+    """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
+    arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
+    (pressed), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
+    what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
+    how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
+    core/drive.Outcome of the goal sent)."""
+    __slots__ = ()
+
+    def __new__(cls, odom=None, visual=(), vision_lost=False, vision_back=False, bumper=False,
+                operator=None, tripped=None, reset=None, time_back=None, next_goal=False,
+                goal_result=None):
+        return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper,
+                                          operator, tripped, reset, time_back, next_goal, goal_result)
+
+
+Step = collections.namedtuple('Step', 'command phase state stored goal')
+Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: recording, '
+                'standstill, turn, turned, goal, hand-over, final hold, settle, ended; '
+                '``state``; ``stored``: the landmarks stored this step; ``goal``: (index, landmark) '
+                'to send now (remote_goals), else None.')
+
+RECORDING, STANDSTILL, TURN, TURNED, SETTLE, ENDED = (
+    'recording', 'standstill', 'turn', 'turned', 'settle', 'ended')
+
+
+class Mission(object):
+    """One mission (module docstring). ``params``: the controllers' (core/rotation,
+    core/goal, core/route, core/allowance, core/pause names); ``store``: ``append(landmark)``
+    and ``load()`` -> core/store.LoadedPath; ``settings``: :data:`MISSION_DEFAULTS`."""
+
+    def __init__(self, params, store, **settings):
+        self.params, self.store = params, store
+        self.config = types.SimpleNamespace(**dict(MISSION_DEFAULTS, **_known(settings)))
+        self.machine = state.MissionState()
+        self.transitions = []       # (now, old, new, reason) of every change
+        self.now = None
+        self._move(None, state.IDLE)
+        self._new(store)
+
+    def _new(self, store):
+        self.store, self.phase = store, RECORDING
+        self.recording = MissionRecording(store, self.config)
+        self.raw = self.last = self.corrector = self.correction = None
+        self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
+        self.drive = None
+        self.pauses = Pauses(self.params)
+        self.requests, self.halt, self.vision_loss = [], False, False
+
+    # --- requests (acted on at the next step) ------------------------------------------------
+    state = property(lambda self: self.machine.state, doc='The mission state (core/mission_state).')
+    reason = property(lambda self: self.machine.reason, doc='Why it is in that state.')
+
+    def go_home(self):
+        """Start the return (as a vision loss) while recording; the refusal or None."""
+        refusal = state.go_home_refusal(self.state)
+        if refusal is None:
+            self.requests.append('go_home')
+        return refusal
+
+    def cancel(self):
+        """Abort the mission (zero velocity at the next step); the refusal or None."""
+        refusal = state.cancel_refusal(self.state)
+        if refusal is None:
+            self._end(state.ABORTED, state.CANCELLED)
+        return refusal
+
+    def new_mission(self, store):
+        """A terminal mission -> ``idle``, recording into ``store``; the refusal or None."""
+        refusal = state.new_mission_refusal(self.state)
+        if refusal is None:
+            self._move(self.state, state.IDLE)
+            self._new(store)
+        return refusal
+
+    def configure_return(self, **settings):
+        """Change the return's settings (mode, prune_loops, ...) or its ``landmarks``
+        (recording order) before it starts (phase ``turned``)."""
+        if self.phase != TURNED:
+            raise RuntimeError('the return is configured before it starts, not in %s' % self.phase)
+        self.landmarks = settings.pop('landmarks', self.landmarks)
+        self.config.__dict__.update(_known(settings))
+
+    # --- the loop ------------------------------------------------------------------------------
+    def step(self, now, inputs=Inputs()):
+        """One cycle at ``now`` (s, the owner's clock) with ``inputs``: the :class:`Step`."""
+        stored, ended, self.now = [], self.phase == ENDED, now
+        if inputs.odom is not None:
+            self.raw = inputs.odom
+            self.last = self.odom()
+        why = _interrupted(inputs, self.phase, self.state)
+        if why:
+            self._end(state.ABORTED, why)
+        command = self._step(now, inputs, stored)
+        self.halt = self.halt and ended     # the step that ended the mission returned zero
+        return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None))
+
+    def _step(self, now, inputs, stored):
+        if self.phase == ENDED:
+            halt, self.halt = self.halt, False
+            return ZERO if halt else None
+        if self.phase == RECORDING:
+            return self._record(now, inputs, stored)
+        if self.phase == STANDSTILL:
+            return self._standstill(now, inputs)
+        if self.phase == SETTLE:
+            return self._settle(now)
+        if self.phase == TURNED:
+            self._plan()
+        return self._drive(now, inputs)
+
+    def odom(self):
+        """The latest odometry as the return sees it (corrected once the correction is known)."""
+        if self.corrector is None or self.raw is None:
+            return self.raw
+        if self.corrector.state is None or self.corrector.state.stamp != self.raw.stamp:
+            self.corrector.update(self.raw)
+        return self.corrector.state
+
+    def _feed(self, cycle):
+        """(decision, odometry stamped now, message) of a behaviour's core/drive.DriveCycle."""
+        decision, message = cycle.decide(self.now, self.last.stamp)
+        if isinstance(decision, Outcome):
+            return ABORT, None, decision.reason
+        return (HOLD, None, message) if decision == HOLD else \
+            (DRIVE, self.last._replace(stamp=self.now), message)
+
+    def _end(self, new, reason):
+        if self.drive is not None or self.state == state.RETURNING:
+            pauses = self.pauses.describe(self.now or 0.0)
+            reason = '%s; %s' % (reason, pauses) if pauses and pauses not in reason else reason
+        old = self.state
+        if self.machine.abort(reason)[0] if new == state.ABORTED else \
+                self.machine.transition(old, new, reason):
+            self.transitions.append((self.now, old, new, reason))
+        self.phase, self.halt = ENDED, True
+        return ZERO
+
+    def _move(self, old, new, reason=''):
+        if self.machine.transition(old, new, reason):
+            self.transitions.append((self.now, old, new, reason))
+
+    # --- phases --------------------------------------------------------------------------------
+    def _record(self, now, inputs, stored):
+        rec = self.recording
+        if inputs.odom is not None and not rec.started:
+            rec.begin(inputs.odom)
+        elif inputs.odom is not None:
+            rec.feed(inputs.odom, inputs.visual)
+            stored.extend(rec.step(inputs.odom, now))
+        if stored:
+            self._move(state.IDLE, state.RECORDING)
+        if (inputs.vision_lost or 'go_home' in self.requests) and self.state == state.RECORDING:
+            self.requests = []
+            return self._lose(now, stored, 'vision lost' if inputs.vision_lost else
+                              'return requested (go_home)', inputs.vision_lost)
+        return None
+
+    def _lose(self, now, stored, reason, vision):
+        """Vision lost (or go_home): the recording's last landmark, then the standstill."""
+        raw = self.raw
+        stored.extend(self.recording.end(raw, now))
+        nothing = nothing_to_retrace(self.recording.distance, self.recording.start, (raw.x, raw.y),
+                                     BACK_TRAVEL_DEFAULTS['finish_tolerance'])
+        if nothing:
+            return self._end(state.HOME, '%s: %s' % (reason, nothing))
+        self._move(state.RECORDING, state.ROTATING, reason)
+        self.phase, self.vision_loss, self.reference, self.lost_at = STANDSTILL, vision, raw, now
+        self.standstill = Standstill(self.recording.fit, raw, self.config.standstill,
+                                     self.config.scale_prior)
+        return self._standstill(now, Inputs())
+
+    def _standstill(self, now, inputs):
+        if inputs.vision_back and self.vision_loss:
+            self._move(state.ROTATING, state.RECORDING, 'brief vision loss, vision back %.1f s after '
+                       'the loss: the mission goes on' % (now - self.lost_at))
+            self.phase = RECORDING
+            self.recording.resume()
+            return None
+        correction = self.standstill.correction(now, inputs.odom)
+        return None if correction is None else self._commit(now, correction)
+
+    def _commit(self, now, correction):
+        """The turn begins: the recording ends, the correction is fixed, the pi turn starts."""
+        self.loaded = self.store.load()
+        problem = recording_problem(self.loaded, NO_LOSS)
+        if problem:
+            return self._end(state.ABORTED, 'before the pi turn: %s' % problem)
+        self.correction, self.corrector = correction, CorrectedOdometry(correction)
+        self.corrector.update(self.reference)
+        self.landmarks = correct_landmarks(self.loaded.landmarks, correction)
+        self.anchor = (self.reference.x, self.reference.y)
+        self.pauses = Pauses(self.params, contacts=False)
+        self.last = self.odom()
+        self.phase, self.drive = TURN, TurnDrive(self.params, self._feed, self.last,
+                                                 self.config.turn_tolerance)
+        return self._drive(now, Inputs())
+
+    def _paused(self, now, inputs):
+        """A pause's command ('taken': nothing, a contact: zero), an end, or False (drive on);
+        remote goals pause where they are driven."""
+        if isinstance(self.drive, RemoteReturn):
+            return False
+        position = lambda: None if self.last is None else [self.last.x, self.last.y]  # noqa: E731
+        pause = self.pauses.decide(now, inputs.bumper, inputs.operator, position)
+        if pause == 'taken':
+            return None
+        if pause == PAUSE:
+            return ZERO
+        if pause:
+            return self._end(state.ABORTED, '%s: safety stop: %s' % (self.drive.where(), pause))
+        resumed = self.pauses.resume(now)
+        if resumed is not None:
+            seconds, taken = resumed
+            if taken and self.pauses.takeover.policy == 'abort':
+                return self._end(state.ABORTED, '%s (on_takeover abort)' % taken)
+            self.drive.resumed(seconds)
+        return False
+
+    def _plan(self):
+        """The return's route (closed_loop, pruned with prune_loops) and its goals."""
+        c, follower = self.config, None
+        labels = getattr(self.loaded, 'labels', [])
+        goals = return_goals(labels if len(labels) == len(self.landmarks) else
+                             [str(number + 1) for number in range(len(self.landmarks))], self.landmarks)
+        if c.mode == 'closed_loop':
+            self.route, self.pruning = plan_return(self.landmarks, self.anchor, self.params,
+                                                   c.prune_loops, self.correction)
+            follower = None if c.remote_goals else RouteFollower(self.route, self.params)
+        self.pauses = Pauses(self.params)
+        self.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
+            goals, c.mode, self.params, follower, c, self._feed, self.odom)
+
+    def _drive(self, now, inputs):
+        """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""
+        if self._vision_back(inputs):
+            return ZERO
+        paused = self._paused(now, inputs)
+        if paused is not False:
+            return paused
+        command = self.drive.step(now, inputs)
+        if self.drive.phase == FAILED:
+            return self._end(state.ABORTED, self.drive.reason)
+        if self.drive.phase != DONE:
+            self.phase = self.drive.phase
+            return command
+        if self.phase == TURN:
+            self._move(state.ROTATING, state.RETURNING)
+            self.phase, self.drive = TURNED, None
+            return ZERO
+        self.phase, self.settle_until = SETTLE, now + self.config.settle_time
+        return self._settle(now) or ZERO
+
+    def _settle(self, now):
+        """After the last goal: ``home`` once the stopped robot is within home_tolerance of
+        the start by odometry (closed_loop; the paper's modes: every landmark replayed)."""
+        odom = self.odom()
+        if not stopped(odom) and now < self.settle_until - 1e-9:
+            return None
+        return self._end(*home_verdict(odom, self.route, len(self.drive.goals), self.config.mode,
+                                       getattr(self.params, 'home_tolerance',
+                                               BACK_TRAVEL_DEFAULTS['home_tolerance'])))
+
+    def _vision_back(self, inputs):
+        """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""
+        if not inputs.vision_back or not self.vision_loss:
+            return False
+        if state.vision_back_state(self.state, True, self.config.on_vision_back) != state.RECOVERED:
+            return False
+        returning = self.state == state.RETURNING
+        left = sum(abs(landmark.d) for landmark in self.drive.remaining) - self.drive.travelled() \
+            if returning else None
+        self._end(state.RECOVERED, 'vision back during %s: stopped (on_vision_back stop), %s left to '
+                  'home' % ('the return' if returning else 'the pi turn', 'the whole path'
+                            if left is None else '%.2f m' % max(left, 0.0)))
+        return True
+
+
+def _interrupted(inputs, phase, current):
+    """Why ``inputs`` end a mission in ``phase`` (state ``current``), or None: a reset or the
+    time moving back in the turn or the return, a safety stop once the recording is over."""
+    where = 'the pi turn' if phase in (STANDSTILL, TURN) else 'the return'
+    lost = inputs.time_back or inputs.reset
+    if lost and current in (state.ROTATING, state.RETURNING):
+        return '%s during %s: the way back is unknown; not travelling back' % (lost, where)
+    if inputs.tripped and phase not in (RECORDING, ENDED):
+        return '%s: safety stop: %s' % (where, inputs.tripped)
+    return None
+
+
+def stopped(odom):
+    """True once ``odom`` shows the robot standing (core/back_travel's stopped_v, stopped_w)."""
+    return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
+        abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
+
+
+def _known(settings):
+    """``settings``, checked to be :data:`MISSION_DEFAULTS`' names."""
+    unknown = set(settings) - set(MISSION_DEFAULTS)
+    if unknown:
+        raise ValueError('Mission: unknown settings %s' % ', '.join(sorted(unknown)))
+    return settings

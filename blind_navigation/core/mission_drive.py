@@ -1,0 +1,269 @@
+"""What the mission drives, stepped once per control cycle: the pi turn (TurnDrive), the
+return's goals one after another (ReturnDrive: core/goal.make_goal, each under a
+core/drive.DriveCycle; between goals HandoverBridge or CommandHold; after the last, the last
+command held ``handover_timeout`` s) or sent to a remote driver (RemoteReturn), the pauses of
+a drive (core/pause: Contacts, Takeover, PauseLog) and the home verdict. Used by core/mission.
+"""
+from . import mission_state
+from .allowance import ABORT, DRIVE, HOLD
+from .drive import Behaviour, DriveCycle
+from .geometry import distance
+from .goal import CommandHold, HandoverBridge, bridges, make_goal
+from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
+from .rotation import Rotation, turn_problem
+
+ZERO = (0.0, 0.0)
+GOAL, HANDOVER, FINAL, DONE, FAILED = 'goal', 'hand-over', 'final hold', 'done', 'failed'
+
+
+class _Held(Behaviour):
+    """What core/drive.DriveCycle tells a goal or the turn: held ``hold(seconds)`` for stale odometry."""
+
+    def __init__(self, hold=None):
+        self.hold = hold or (lambda seconds: None)
+
+
+def home_verdict(odom, route, goals, mode, tolerance):
+    """(state, reason) once every goal is done and the robot stopped at ``odom``: ``home``
+    within ``tolerance`` m of the ``route``'s end (closed_loop; None: the paper's modes,
+    every landmark replayed), else ``aborted`` (docs/safety.md, "home: one invariant")."""
+    if route is None:
+        return mission_state.HOME, 'travelled %d landmarks (%s mode: not checked)' % (goals, mode)
+    off = distance(odom.x, odom.y, route.x[-1], route.y[-1])
+    if off > tolerance:
+        return mission_state.ABORTED, ('every goal done, but the robot is %.2f m from the start by '
+                                       'odometry (home_tolerance %.2f m): not home' % (off, tolerance))
+    return mission_state.HOME, 'travelled %d landmarks; %.3f m from the start by odometry' % (goals, off)
+
+
+def with_defaults(params, defaults):
+    """An object with ``defaults``' attributes, each ``params``' own where it has one."""
+    return type('Params', (), {name: getattr(params, name, value) for name, value in defaults.items()})
+
+
+class TurnDrive(object):
+    """The pi turn (core/rotation.Rotation) from ``odom`` on ``feed(cycle)`` (:class:`ReturnDrive`);
+    done once the robot really turned (core/rotation.turn_problem within ``tolerance``)."""
+
+    def __init__(self, params, feed, odom, tolerance):
+        self.rotation, self.feed, self.tolerance = Rotation(params), feed, tolerance
+        self.cycle = DriveCycle(_Held(self.rotation.hold), params)
+        self.rotation.start(odom)
+        self.start_yaw, self.yaw = odom.yaw, odom.yaw
+        self.phase, self.reason = 'turn', ''
+
+    def where(self):
+        return 'the pi turn'
+
+    def resumed(self, seconds):
+        self.rotation.hold(seconds)
+
+    def step(self, now, inputs):
+        decision, odom, message = self.feed(self.cycle)
+        if decision == ABORT:
+            return self._fail('the pi rotation: %s; not travelling back' % message)
+        command = self.rotation.step(odom) if decision == DRIVE else ZERO
+        self.yaw = odom.yaw if odom is not None else self.yaw
+        if self.rotation.failed:
+            return self._fail('the pi rotation failed (not done within %.0f s); not travelling back'
+                              % self.rotation.time_allowance)
+        if not self.rotation.done:
+            return command
+        problem = turn_problem(self.start_yaw, self.yaw, self.tolerance)
+        if problem:
+            return self._fail('the pi turn: %s' % problem)
+        self.phase = DONE
+        return ZERO
+
+    def _fail(self, reason):
+        self.phase, self.reason = FAILED, reason
+        return ZERO
+
+
+class ReturnDrive(object):
+    """The goals ``[(label, landmark)]`` (return order) driven one after another in
+    ``mode`` (``follower``: closed_loop's RouteFollower). ``feed(cycle)`` -> (decision,
+    odom, message) each cycle (a core/drive.DriveCycle per goal); ``latest()``: the odometry a
+    goal starts from. With ``await_goals`` the next goal starts only when asked."""
+
+    def __init__(self, goals, mode, params, follower, config, feed, latest):
+        self.goals, self.mode, self.params, self.follower = goals, mode, params, follower
+        self.feed, self.latest = feed, latest
+        self.hold = CommandHold(config.handover_timeout)
+        self.timeout, self.follow = config.handover_timeout, config.handover_follow
+        self.await_goals = config.await_goals
+        self.command = ZERO         # in force: the last a goal (or the bridge) published
+        self.index = 0              # the goal driven, or next
+        self.goal = self.bridge = self.since = self.final_at = self.cycle = None
+        self.phase = HANDOVER     # the first goal starts at the first step
+        self.reason = ''
+
+    @property
+    def remaining(self):
+        """The landmarks not driven yet (the current goal's included)."""
+        return [landmark for _, landmark in self.goals[self.index:]]
+
+    def where(self):
+        return 'goal %d' % (self.index + 1)
+
+    def travelled(self):
+        """m the current goal has driven (0 between goals)."""
+        return self.goal.travelled if self.goal is not None and self.phase == GOAL else 0.0
+
+    def step(self, now, inputs):
+        """The command for this cycle (``inputs.next_goal``: the owner sends the next goal, with
+        ``await_goals``); :attr:`phase` says where the return is."""
+        next_goal = inputs.next_goal
+        while True:
+            if self.phase == HANDOVER:
+                if self.await_goals and not next_goal and self.goal is not None:
+                    return self._hand_over(now)
+                next_goal = False
+                self._start_goal()
+            if self.phase == FINAL:
+                if now - self.final_at < self.timeout - 1e-9:
+                    return self.command
+                self.phase = DONE
+            if self.phase in (DONE, FAILED):
+                return ZERO
+            if self.goal.done:
+                self._goal_done(now)
+                continue
+            decision, odom, message = self.feed(self.cycle)
+            if decision == ABORT:
+                return self._fail(message)
+            if decision == HOLD:
+                self.command = ZERO
+                return ZERO
+            command = self.goal.step(odom)
+            if self.goal.failed:
+                return self._fail(self.goal.reason)
+            if not self.goal.done:
+                self.command = command
+                self.hold.published(now)
+                return command
+            self._goal_done(now)
+
+    def resumed(self, seconds):
+        """A pause of ``seconds`` ended (the robot may have moved)."""
+        if self.phase == GOAL:
+            self.goal.resumed(seconds)
+        elif self.bridge is not None:
+            self.follower.pause_ended()
+
+    def _fail(self, reason):
+        self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, reason)
+        return ZERO
+
+    def _start_goal(self):
+        self.phase = GOAL
+        self.goal = make_goal(self.mode, self.goals[self.index][1], self.params, self.follower,
+                              self.index, self.since)
+        self.goal.start(self.latest())
+        self.cycle = DriveCycle(_Held(self.goal.hold), self.params)
+
+    def _goal_done(self, now):
+        self.index += 1
+        if self.index == len(self.goals):
+            self.phase, self.final_at = FINAL, now
+            return
+        self.bridge = HandoverBridge(self.follower, self.follow, now) if bridges(
+            self.mode, self.follower, self.index, len(self.goals), self.follow) else None
+        self.cycle = DriveCycle(_Held(), self.params)     # the bridge's
+        self.since = self.follower.travelled if self.follower is not None and self.follower.started \
+            else None
+        self.phase = HANDOVER
+
+    def _hand_over(self, now):
+        """Between goals: the bridge drives on (stale odometry: zero), else the last command
+        holds while the CommandHold lets it."""
+        if self.bridge is not None:
+            decision, odom, _ = self.feed(self.cycle)
+            expired = self.bridge.expired(now) or self.bridge.ended or decision == ABORT
+            self.command = self.bridge.step(odom) if decision == DRIVE and not expired else ZERO
+            if decision == DRIVE and not expired:
+                self.hold.published(now)
+            self.bridge = None if expired else self.bridge
+        elif self.hold.expired(now):
+            self.command = ZERO
+        return self.command
+
+
+class RemoteReturn(object):
+    """The return's ``goals`` driven elsewhere (the paper layout: a BackTravel action goal
+    each): :attr:`send` is the goal to send this cycle, ``inputs.goal_result`` its
+    core/drive.Outcome; nothing is published here meanwhile."""
+
+    def __init__(self, goals):
+        self.goals, self.index, self.phase, self.reason = goals, 0, GOAL, ''
+        self.send, self._sent = None, None
+
+    remaining = ReturnDrive.remaining
+    where = ReturnDrive.where
+    travelled = staticmethod(lambda: 0.0)
+
+    def resumed(self, seconds):
+        """Pauses are the remote driver's."""
+
+    def step(self, now, inputs):
+        result = inputs.goal_result
+        if result is not None and self._sent == self.index:
+            if not result.ok:
+                self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, result.reason)
+                return None
+            self.index += 1
+        if self.index == len(self.goals):
+            self.phase = DONE
+        self.send = None if self.phase == DONE or self._sent == self.index else \
+            (self.index, self.goals[self.index][1])
+        self._sent = self.index
+        return None
+
+
+class Pauses(object):
+    """The pauses of one drive (module docstring); ``params``: core/pause's names
+    (defaults where missing); ``contacts``: a bumper press pauses (else it stops the drive)."""
+
+    def __init__(self, params, contacts=True):
+        params = with_defaults(params, dict(CONTACT_DEFAULTS, **TAKEOVER_DEFAULTS))
+        self.contacts = Contacts(params) if contacts else None
+        self.takeover = Takeover(params)
+        self.log = PauseLog(params.contact_wait)
+        self.paused_at = None
+        self.taken = None
+
+    def decide(self, now, pressed, operator, position):
+        """This cycle: None (drive), 'taken' (publish nothing), PAUSE (publish zero) or
+        why the drive ends (a contact too many or too long; a bumper without contacts)."""
+        if not (pressed or operator or self.paused_at is not None or self.log.takeovers or
+                self.log.contacts):
+            return None         # nothing ever paused this drive: nothing to track
+        if operator:
+            self.takeover.command(operator, now)
+        taken = self.takeover.active(now)
+        self.log.update(now, taken, pressed, position)
+        if taken:
+            self.taken = taken
+            return self._paused(now, 'taken')
+        if self.contacts is None:
+            return 'bumper pressed' if pressed else None
+        decision = self.contacts.decide(pressed, now)
+        if decision == PAUSE:
+            return self._paused(now, PAUSE)
+        return 'bumper: %s' % decision if decision else None
+
+    def _paused(self, now, how):
+        if self.paused_at is None:
+            self.paused_at = now
+        return how
+
+    def resume(self, now):
+        """(seconds paused, the takeover that ended or None) once a pause ended, else None."""
+        if self.paused_at is None:
+            return None
+        seconds, taken = now - self.paused_at, self.taken
+        self.paused_at = self.taken = None
+        return seconds, taken
+
+    def describe(self, now):
+        return self.log.describe(now)

@@ -1,0 +1,123 @@
+"""The mission's recording, stepped on each odometry state: the two-rate sampling
+schedule, the path recorder, the optional motion-event samples and, with heading
+correction, the gyro/visual fit; landmarks go to an injected store. Then the
+standstill after the loss that fixes the heading correction. Used by core/mission.Mission.
+"""
+from .gyro_bias import StandstillBias, standstill_complete, standstill_timeout
+from .gyro_fit import GyroVisualFit
+from .heading_correction import estimate_correction, no_correction, visual_bias
+from .motion_events import EventSampler
+from .recorder import OdometryHistory, PathRecorder
+from .segment import SamplingSchedule
+
+
+class MissionRecording(object):
+    """One recording into ``store`` (``append(landmark)``); ``config``: straight_period,
+    curved_period, deadband, event_sampling, heading_correction."""
+
+    def __init__(self, store, config):
+        self.store = store
+        self.schedule = SamplingSchedule(config.straight_period, config.curved_period, config.deadband)
+        self.recorder = PathRecorder()
+        self.events = EventSampler() if config.event_sampling else None
+        self.latency = self.events.latency if self.events else 0.0
+        self.history = OdometryHistory(max(2.0, 2.0 * self.latency))
+        self.fit = GyroVisualFit() if config.heading_correction else None
+        self.period = self.next_tick = self.last_tick = None
+        self.landmarks = []         # as appended, recording order
+        self.start = None           # odometry (x, y) where it began
+
+    @property
+    def started(self):
+        return self.period is not None
+
+    def begin(self, odom):
+        """The recording starts at ``odom`` (the first state)."""
+        self.recorder.start(odom)
+        self.start = (odom.x, odom.y)
+        self.period = self.schedule.update(odom.yaw)
+        self.next_tick, self.last_tick = odom.stamp + self.period, odom.stamp
+        if self.events:
+            self.events.start(odom.stamp)
+
+    def feed(self, odom, visual):
+        """The fit's data: ``odom`` then the visual samples ``[(stamp, yaw)]``."""
+        if self.fit is not None:
+            if odom is not None:
+                self.fit.add_odometry(odom.stamp, odom.yaw)
+            for stamp, yaw in visual:
+                self.fit.add_visual(stamp, yaw)
+
+    def step(self, odom, now):
+        """Sample ``odom`` (every state, in order) at ``now``; returns the landmarks taken."""
+        taken = []
+        if self.events is not None:
+            self.history.append(odom)
+            self.events.odometry(odom)
+        if now >= self.next_tick + self.latency - 1e-9:
+            # with event sampling the tick is taken latency s late, from the odometry at its
+            # stamp (as the saver reads it), so events dated back before it come first
+            state = self.history.at(self.next_tick + 1e-9) if self.latency else odom
+            self._take_events(state.stamp, taken)
+            period = self.events.tick(state.stamp, self.period) if self.events else self.period
+            self._take(state, period, taken)
+            self.period = self.schedule.update(state.yaw)
+            self.next_tick = state.stamp + self.period
+        return taken
+
+    def end(self, odom, now):
+        """Vision is lost at ``odom`` (``now``): the events left, then a final landmark over the
+        partial cycle; returns the landmarks taken. Recording may go on (:meth:`resume`)."""
+        taken = []
+        self._take_events(now + 1.0, taken)
+        if now - self.last_tick > 1e-9:
+            self._take(odom, now - self.last_tick, taken)
+        return taken
+
+    def resume(self):
+        """Vision came back before the turn: the next tick one period after the last landmark."""
+        self.next_tick = self.last_tick + self.period
+
+    def _take_events(self, before, taken):
+        for state, period in self.events.before(before, self.history.at) if self.events else ():
+            self._take(state, period, taken)
+
+    def _take(self, state, period, taken):
+        taken.append(self._append(self.recorder.take(state, state.yaw, period)))
+        self.last_tick = state.stamp
+
+    def _append(self, landmark):
+        self.store.append(landmark)
+        self.landmarks.append(landmark)
+        return landmark
+
+    @property
+    def distance(self):
+        """m of path recorded (the landmarks' d)."""
+        return self.recorder.total_distance
+
+
+class Standstill(object):
+    """After the loss at ``reference``: the gyro bias measured standing still
+    (core/gyro_bias, ``params``), then the correction (core/heading_correction) from
+    ``fit`` (None: heading correction off, no standstill) and ``scale_prior``."""
+
+    def __init__(self, fit, reference, params, scale_prior):
+        self.fit, self.params, self.scale_prior = fit, params, scale_prior
+        self.measurement = StandstillBias(params)
+        if fit is not None:
+            self.visual, _ = visual_bias(fit, scale_prior)
+            self.recording_time = fit.recording_time(reference.stamp)
+        self.deadline = reference.stamp + standstill_timeout(params)
+
+    def correction(self, now, odom=None):
+        """The GyroCorrection once the standstill is over at ``now`` (``odom``: a new
+        state, None: none), else None."""
+        if self.fit is None:
+            return no_correction('heading correction off')
+        if odom is not None:
+            self.measurement.add_odometry(odom)
+        if not standstill_complete(self.visual, self.measurement, self.recording_time, self.params) \
+                and now < self.deadline:
+            return None
+        return estimate_correction(self.fit, self.measurement.estimate(), self.scale_prior)
