@@ -1,12 +1,9 @@
 """Heals rospy subscriptions that missed a publisher's registration.
 
-Each new subscription (:func:`watch`) is checked :data:`CHECK_AFTER` s (wall)
-after it was made: a topic with fewer connections (``get_num_connections``)
-than the master lists publishers gets the master's publisher list again through
-the node's own slave API (``publisherUpdate``, the call the master makes), and
-rospy connects the missing ones. A subscription with an expected type
-(ros/wiring.Expected) has its topic's type checked at the master too. One
-daemon thread, asleep while nothing is due. Why: docs/DESIGN.md, "Threads".
+Each new subscription (:func:`watch`) is checked :data:`CHECK_AFTER` s (wall) later: one
+with fewer connections than the master lists publishers of its topic gets the master's
+list through the node's own slave API (``publisherUpdate``); an expected type
+(ros/wiring.Expected) is checked at the master too. Why: docs/DESIGN.md, "Threads".
 """
 import heapq
 import itertools
