@@ -7,8 +7,9 @@ back; :class:`HostFlow` counts a stall only while wheel odometry flows (docs/det
 """
 import math
 import struct
-import sys
 from collections import namedtuple
+
+import numpy
 
 
 Loss = namedtuple('Loss', 'detector reason t since')
@@ -155,17 +156,6 @@ MAX_SAMPLES = 20000
 """Pixels sampled per image (evenly strided): the mean costs the same for any resolution."""
 
 
-def numpy_module():
-    """numpy, imported on first use: only the image-based dark detector needs it. A process
-    that blocked its import to save memory (the one-process node sets ``sys.modules['numpy']``
-    to None before rospy is imported) has the block lifted here, so the detector works there
-    too instead of failing on every frame."""
-    if 'numpy' in sys.modules and sys.modules['numpy'] is None:
-        del sys.modules['numpy']
-    import numpy
-    return numpy
-
-
 def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False):
     """Mean intensity on a 0..255 scale of a raw sensor_msgs/Image.
 
@@ -184,7 +174,6 @@ def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False
     if height <= 0 or width <= 0 or step < row_bytes or len(data) < step * (height - 1) + row_bytes:
         raise ValueError('image %dx%d %s: step %d / %d data bytes do not match'
                          % (width, height, encoding, step, len(data)))
-    numpy = numpy_module()
     dtype = numpy.dtype('>u2' if is_bigendian else '<u2') if depth == 2 else numpy.uint8
     stride = max(1, int(math.sqrt(height * width / float(MAX_SAMPLES))))
     rows = numpy.frombuffer(data, dtype=numpy.uint8, count=step * (height - 1) + row_bytes)

@@ -6,26 +6,19 @@ odometry subscription and one interpreter; params ``~<role>/<name>`` (shared one
 ``~<name>``). Node params: ``recorder`` (``topic``|``service``), ``auto_detect``,
 ``correct_heading``.
 """
-import sys
+import rospy
 
-# genpy imports numpy only for optional type checks and runs without it; no role of
-# this process needs numpy unless the vision monitor's dark detector is on (it lifts
-# this block: core/vision.numpy_module), and not loading it saves about 15 MB.
-sys.modules.setdefault('numpy', None)
-
-import rospy  # noqa: E402
-
-from blind_navigation.ros.back_travel_client import BackTravelClient  # noqa: E402
-from blind_navigation.ros.common import REQUIRED, load_params  # noqa: E402
-from blind_navigation.ros.back_travel_server import BackTravelServer  # noqa: E402
-from blind_navigation.ros.heading_correction import HeadingCorrectionRole  # noqa: E402
-from blind_navigation.ros.landmark_saver import LandmarkSaver  # noqa: E402
-from blind_navigation.ros.layer import run_roles, start_roles  # noqa: E402
-from blind_navigation.ros.record_client import RecordClient  # noqa: E402
-from blind_navigation.ros.record_server import RecordServer  # noqa: E402
-from blind_navigation.ros.rotate_pi import RotatePi  # noqa: E402
-from blind_navigation.ros.sampling_publisher import SamplingPublisher  # noqa: E402
-from blind_navigation.ros.vision_monitor import VisionMonitor  # noqa: E402
+from blind_navigation.ros.back_travel_client import BackTravelClient
+from blind_navigation.ros.common import REQUIRED, load_params
+from blind_navigation.ros.back_travel_server import BackTravelServer
+from blind_navigation.ros.heading_correction import HeadingCorrectionRole
+from blind_navigation.ros.landmark_saver import LandmarkSaver
+from blind_navigation.ros.layer import run_roles, start_roles
+from blind_navigation.ros.record_client import RecordClient
+from blind_navigation.ros.record_server import RecordServer
+from blind_navigation.ros.rotate_pi import RotatePi
+from blind_navigation.ros.sampling_publisher import SamplingPublisher
+from blind_navigation.ros.vision_monitor import VisionMonitor
 
 RECORDERS = {'topic': [LandmarkSaver], 'service': [RecordServer, RecordClient]}
 #: Set by launch/blind_navigation.launch (its args hold the defaults).

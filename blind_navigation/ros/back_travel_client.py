@@ -118,8 +118,7 @@ class BackTravelClient(object):
         self.state_pub.publish(String(data=new_state))
         self.publish_status()
         if new_state in (state.IDLE, state.RECORDING, state.ROTATING, state.RETURNING):
-            # idle and recording: it only reads where the recording began and where vision is lost
-            self.odometry.acquire(self.ROLE, batched=new_state in (state.IDLE, state.RECORDING))
+            self.odometry.acquire(self.ROLE)
         elif new_state in state.TERMINAL:
             self.odometry.release(self.ROLE)
         self.layer.diagnostics.now()

@@ -8,19 +8,12 @@ import time
 import rospkg
 import rospy
 from geometry_msgs.msg import Twist
-from rospy.impl.paramserver import get_param_server_cache
 
 from . import subscription_watchdog, wiring
+from .faults import shutting_down  # noqa: F401 -- the roles' one import of it
 from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
 from ..core.params import REQUIRED
 
-
-
-def shutting_down():
-    """True from the moment the node's shutdown is requested. rospy runs the
-    ``rospy.on_shutdown`` hooks before ``rospy.is_shutdown()`` turns true, so a
-    thread woken by such a hook must ask this, or it takes the wake-up for work."""
-    return rospy.core.is_shutdown_requested()
 
 
 def wait_wall(condition, timeout, poll=0.05):
@@ -30,44 +23,6 @@ def wait_wall(condition, timeout, poll=0.05):
     while not condition() and time.monotonic() < deadline and not rospy.is_shutdown():
         time.sleep(poll)
     return condition()
-
-
-#: Asked by rospy before every log line it sends to /rosout (rospy/impl/rosout.py).
-ROSOUT_TOPICS_FLAG = '/rosout_disable_topics_generation'
-
-
-def cache_rosout_flag():
-    """Keep :data:`ROSOUT_TOPICS_FLAG` in rospy's param cache, once per process.
-
-    While that param is unset (as it is unless someone sets it), rospy asks the
-    master for it again at every log line (ros/ros_comm#2337: the "unset" answer
-    is not cached), a round trip to the master per landmark logged. The first
-    ask subscribes this process to the param, as rospy does; if it is unset, its
-    default (False, which rospy and roscpp both assume) is put into the cache.
-    The master still sends a later value (``paramUpdate``), which replaces it.
-    """
-    if rospy.get_param_cached(ROSOUT_TOPICS_FLAG, None) is None:
-        get_param_server_cache().set(rospy.resolve_name(ROSOUT_TOPICS_FLAG), False)
-
-
-def exit_promptly():
-    """Let this process end as soon as rospy's shutdown hooks have run, once per process.
-
-    After the hooks (where every node publishes its zero velocity and closes its
-    files), rospy joins its master API server thread, a daemon that has nothing
-    left to do, for up to 0.5 s (rospy/core.py ``signal_shutdown``). A hook of
-    our own empties that list, which rospy copies only after all the hooks ran:
-    Ctrl-C, ``rosnode kill`` and roslaunch's teardown take 0.1 s instead of 0.6 s
-    (docs/testing.md, "Where the time goes"). A rospy without that list is left
-    as it is.
-    """
-    global _exiting_promptly
-    if not _exiting_promptly and isinstance(getattr(rospy.core, '_shutdown_threads', None), list):
-        rospy.on_shutdown(lambda: rospy.core._shutdown_threads.clear())
-        _exiting_promptly = True
-
-
-_exiting_promptly = False
 
 
 def load_params(defaults, namespace='~'):
@@ -135,7 +90,6 @@ def start_node(name, node_class, *args):
     """``rospy.init_node(name)`` then ``node_class(*args)``; a ValueError from the
     constructor (a bad param) is logged as fatal and exits with status 1."""
     rospy.init_node(name)
-    exit_promptly()
     try:
         return node_class(*args)
     except ValueError as error:

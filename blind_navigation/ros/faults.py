@@ -13,7 +13,7 @@ import traceback
 
 import rospy
 
-from . import common, diagnostics as diag     # common by module: it imports wiring, which imports this
+from . import diagnostics as diag
 
 #: s (wall) between two log lines of a failure repeating at one place
 REPEAT_LOG_PERIOD = 5.0
@@ -22,6 +22,15 @@ REPEAT_LOG_PERIOD = 5.0
 _lock = threading.Lock()
 _faults = {}          # key (a resolved topic, a role and place) -> the fault's text
 _listeners = []       # f(fault)
+_shutting_down = threading.Event()
+rospy.on_shutdown(_shutting_down.set)   # the first hook of the process: it imports this early
+
+
+def shutting_down():
+    """True from the moment the node's shutdown is requested (the first
+    ``rospy.on_shutdown`` hook ran; ``rospy.is_shutdown()`` turns true only after all
+    of them): a thread woken by such a hook must ask this, or it takes the wake-up for work."""
+    return _shutting_down.is_set()
 
 
 def declare(key, fault):
@@ -88,7 +97,7 @@ class Faults(object):
                 try:
                     return fn(*args, **kwargs)
                 except Exception as error:  # noqa: B902 -- what this module is for
-                    if common.shutting_down():
+                    if shutting_down():
                         rospy.logdebug('%s: %s while shutting down', role, error)
                         return None
                     self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))

@@ -73,7 +73,7 @@ class LandmarkSaving(object):
         self.log = layer.logger(role)
         self.guard = layer.guard(role)      # the recorder's callbacks and threads
         self.odometry = layer.odometry
-        self.odometry.acquire(role, batched=True)   # reads back: at a stamp, waiting for it
+        self.odometry.acquire(role)   # reads back: at a stamp, waiting for it
         self.odometry.on_reanchor(self.guard(self._on_reanchor))
         self._lock = threading.Lock()
         self.variant, self.layer = variant, layer

@@ -17,7 +17,7 @@ from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
-from .common import cache_rosout_flag, exit_promptly, subscribe
+from .common import subscribe
 from .diagnostics import Diagnostics
 from . import faults
 from .faults import Faults
@@ -56,8 +56,6 @@ class Layer(object):
     this process (params under ``~<role>/``)."""
 
     def __init__(self, compact=False):
-        cache_rosout_flag()
-        exit_promptly()
         self.compact = compact
         self.node = rospy.get_name()
         owner = self.node if compact else rospy.get_param('~mission_owner', MISSION_OWNER)

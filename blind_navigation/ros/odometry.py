@@ -2,8 +2,7 @@
 
 :class:`OdometryFeed` reads raw nav_msgs/Odometry bytes (core/odometry_wire.py) while a
 role holds it, behind the plausibility gate; carries resets across (docs/safety.md,
-"Odometry resets"); keeps a history (``state_at``); takes messages in batches while
-every holder only reads back (docs/cost.md, "The batched feed"); gives the corrected
+"Odometry resets"); keeps a history (``state_at``); takes each message as it arrives; gives the corrected
 frame once the heading correction is set (docs/recording.md, "Saving").
 """
 import threading
@@ -20,7 +19,6 @@ from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
 from .clock import LoopClock
 from .common import subscribe
-from .odometry_batches import Batches
 from .shared_frame import SharedFrame
 from .wiring import Expected
 
@@ -32,8 +30,6 @@ from .wiring import Expected
 #: every message of a chunk is used (tens of microseconds each); memory stays bounded
 #: by the chunk.
 RECEIVE_QUEUE = None
-#: Messages taken together while every holder is batched (0.1 s of Kobuki's 50 Hz).
-BATCH = 5
 
 
 def ros_time():
@@ -57,8 +53,9 @@ class OdometryFeed(object):
         self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
         self._lock = threading.Condition()
-        self._holders = {}          # holder -> batched
-        self.batches = Batches(self._lock, self._take)
+        self._holders = set()
+        self._waiting = 0           # threads in state_at(wait=): notified at each state taken
+        self.carrier_lock = threading.Lock()   # held while a message is taken
         self._subscriber = None
         self._subscribed_at = None  # rospy time (s) the current subscription began
         self._states = OdometryHistory(self.history)   # the accepted OdomStates
@@ -72,12 +69,10 @@ class OdometryFeed(object):
         self._shared = SharedFrame(self, frame_topic, guard) if checked and frame_topic else None
 
     # --- subscription --------------------------------------------------------------------------
-    def acquire(self, holder, batched=False):
-        """``holder`` (any hashable) needs this odometry: subscribe if nobody did. With
-        ``batched`` it only reads back (module docstring); acquiring again changes that."""
+    def acquire(self, holder):
+        """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
         with self._lock:
-            self._holders[holder] = batched
-            self._update_batch()
+            self._holders.add(holder)
             if self._subscriber is None:
                 # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
                 # in the history state_at reads the sampling ticks' odometry from
@@ -90,23 +85,13 @@ class OdometryFeed(object):
     def release(self, holder):
         """``holder`` no longer needs it: unsubscribe when nobody does."""
         with self._lock:
-            self._holders.pop(holder, None)
-            self._update_batch()
+            self._holders.discard(holder)
             subscriber = self._subscriber if not self._holders else None
             if subscriber is not None:
                 self._subscriber = None
                 self.lost = None    # the next holder starts on the frame it finds
         if subscriber is not None:
             subscriber.unregister()
-
-    def _update_batch(self):
-        """(lock held) Batch only while every holder is batched; log a change while held."""
-        batch = BATCH if self._holders and all(self._holders.values()) else 1
-        if batch != self.batches.size and self._holders:
-            rospy.loginfo('%s: odometry on %s: %s', rospy.get_name(), rospy.resolve_name(self.topic),
-                          'taken %d messages at a time (every holder reads back)' % batch
-                          if batch > 1 else 'every message taken as it arrives')
-        self.batches.size = batch
 
     def add_listener(self, callback, raw=False):
         """Call ``callback(state)`` for every accepted state, or with ``raw``
@@ -145,7 +130,8 @@ class OdometryFeed(object):
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
         if self.expected.accepts(self.topic, msg._connection_header):
-            self.batches.receive(msg._buff)
+            with self.carrier_lock:     # a frame adopted meanwhile waits (ros/shared_frame.py)
+                self._take(msg._buff)
         # else another type on this connection: refused (ros/wiring.py)
 
     def _take(self, buff):
@@ -184,6 +170,8 @@ class OdometryFeed(object):
                 self._received = now
             self.frame_id = wire.frame_id or self.frame_id
             listeners = self._listeners
+            if self._waiting:
+                self._lock.notify_all()
         for state in taken.states:
             for listener in listeners:
                 listener(state)
@@ -198,7 +186,6 @@ class OdometryFeed(object):
     # --- output --------------------------------------------------------------------------------
     def latest(self):
         """The newest accepted raw OdomState, or None."""
-        self.batches.catch_up()
         with self._lock:
             return self._states.latest
 
@@ -206,11 +193,13 @@ class OdometryFeed(object):
         """The newest accepted raw state stamped at or before ``stamp`` (the oldest
         kept if all are newer), None if there is none. With ``wait`` (s, wall) it
         first waits at most that long for a state stamped at or after ``stamp``."""
-        if wait > 0:
-            self.batches.wait_until(lambda: self._newer_than(stamp), wait)
-        elif not self._newer_than(stamp):
-            self.batches.catch_up()
         with self._lock:
+            if wait > 0:
+                self._waiting += 1
+                try:
+                    self._lock.wait_for(lambda: self._newer_than(stamp), timeout=wait)
+                finally:
+                    self._waiting -= 1
             return self._states.at(stamp)
 
     def _newer_than(self, stamp):
@@ -221,14 +210,12 @@ class OdometryFeed(object):
         """The accepted raw states stamped after ``stamp`` (s), oldest first: those of the
         last ``history`` s (a consumer that needs every state reads them in batches so,
         instead of being called for each message)."""
-        self.batches.catch_up()
         with self._lock:
             return self._states.after(stamp)
 
     def age(self):
         """Seconds since the newest accepted state arrived, None before any; once the frame
         is lost (:attr:`lost`), since the last state before."""
-        self.batches.catch_up()
         with self._lock:
             received = self._received
         return None if received is None else ros_time() - received
@@ -244,7 +231,6 @@ class OdometryFeed(object):
         """The newest state (in the corrected frame once a correction is set) if it
         arrived within ``timeout`` s, stamped now; else None (always once the frame
         is lost: :attr:`lost`)."""
-        self.batches.catch_up()
         now = ros_time()
         with self._lock:
             if self.lost is not None or self._received is None or now - self._received > timeout:

@@ -63,9 +63,7 @@ class SamplingPublisher(object):
             subscribe(names.POSE2D, Pose2D, guard(self._on_pose2d), queue_size=10)
         else:
             self.source = rospy.resolve_name(names.ODOM)
-            # event sampling reads back (the ticks 0.5 s late): the feed may batch; the
-            # paper's ticks read the newest yaw at once
-            layer.odometry.acquire(self.ROLE, batched=self.events is not None)
+            layer.odometry.acquire(self.ROLE)
             subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=10)
         layer.mission.on_change(guard(self._on_state))
         subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self.stop('the pi turn begins')),
@@ -125,7 +123,7 @@ class SamplingPublisher(object):
         with self._lock:
             self._fresh()
         if self.params.yaw_source == 'odom':
-            self.layer.odometry.acquire(self.ROLE, batched=self.events is not None)
+            self.layer.odometry.acquire(self.ROLE)
         self.log.info('new mission: recording again')
         self._restarted.set()
 

@@ -35,7 +35,7 @@ class SharedFrame(object):
         q = msg.pose.orientation
         frame = Frame(msg.pose.position.x, msg.pose.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
         feed = self.feed
-        with feed.batches.taking:
+        with feed.carrier_lock:
             taken = feed.carrier.adopt(frame, msg.header.stamp.to_sec())
             if taken == 'restart':
                 feed.clear_history()    # taken in the odometry's new frame as it came

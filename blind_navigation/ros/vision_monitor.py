@@ -15,7 +15,7 @@ from blind_navigation import names
 from blind_navigation.core import mission_state
 from blind_navigation.core.role_params import VISION_MONITOR
 from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
-                                          numpy_module, odom_info_lost, wire_lost_reason)
+                                          odom_info_lost, wire_lost_reason)
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe
@@ -74,7 +74,6 @@ class VisionMonitor(object):
                                          p.dark_threshold, p.dark_frames, p.host_stall_gap)
         self.subscribers = []
         if 'dark' in enabled:
-            numpy_module()      # loaded now, not with the first frame (lifts the one-process block)
             self.camera_topic = names.CAMERA
             self.subscribers.append(subscribe(names.CAMERA, Image, guard(self.on_image), queue_size=1,
                                               buff_size=IMAGE_BUFFER))

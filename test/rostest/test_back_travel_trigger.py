@@ -21,7 +21,6 @@ from blind_navigation.core.landmark_writer import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
 from fake_base import FakeBase
-from blind_navigation.ros.common import exit_promptly
 
 TIMEOUT = 90.0
 V, W, T, N = 0.1, 0.2, 1.0, 6   # left arc, radius 0.5 m, 1.2 rad
@@ -72,5 +71,4 @@ class TriggerTest(unittest.TestCase):
 
 
 if __name__ == '__main__':
-    exit_promptly()   # ends as soon as its results are written
     rostest.rosrun('blind_navigation', 'back_travel_trigger', TriggerTest)

@@ -34,7 +34,6 @@ from sensor_msgs.msg import CameraInfo, Image
 from std_msgs.msg import Empty, String
 from std_srvs.srv import SetBool
 
-from blind_navigation.ros.common import exit_promptly
 from blind_navigation.ros.vision_monitor import VisionMonitor
 from blind_navigation.sim.odom_info import OdomInfo
 
@@ -283,5 +282,4 @@ class DetectionTest(unittest.TestCase):
 
 if __name__ == '__main__':
     rospy.init_node('test_detection')
-    exit_promptly()   # ends as soon as its results are written
     rostest.rosrun('blind_navigation', 'detection', DetectionTest)

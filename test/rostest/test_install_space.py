@@ -20,7 +20,6 @@ import rospkg
 import rospy
 import rostest
 
-from blind_navigation.ros.common import exit_promptly
 
 PACKAGE = 'blind_navigation'
 #: s of wall time: the build (messages, the C++ tool) and the demo mission (rtf 5)
@@ -118,5 +117,4 @@ class InstallSpaceTest(unittest.TestCase):
 
 if __name__ == '__main__':
     rospy.init_node('install_space_test')
-    exit_promptly()   # ends as soon as its results are written
     rostest.rosrun(PACKAGE, 'install_space', InstallSpaceTest)

@@ -7,7 +7,6 @@ import actionlib
 import rospy
 import rostest
 
-from blind_navigation.ros.common import exit_promptly
 from blind_navigation.msg import (BackTravelAction, BackTravelFeedback, BackTravelGoal,
                                   BackTravelResult, PathSample)
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
@@ -66,5 +65,4 @@ class InterfacesTest(unittest.TestCase):
 
 if __name__ == '__main__':
     rospy.init_node('test_interfaces')
-    exit_promptly()   # ends as soon as its results are written
     rostest.rosrun('blind_navigation', 'interfaces', InterfacesTest)

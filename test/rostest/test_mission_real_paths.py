@@ -20,10 +20,8 @@ between two stamps) while the mission was in ``~gap_state``; the role that
 drives in that state (rotate_pi, back_travel_server) logged on /rosout that it
 held and that odometry came back after a hold as long as the gap minus its
 ``odom_timeout`` (it held for the gap, not for a hiccup of its own). With
-``~expect_batched``: the layer's odometry feed logged that it took messages in
-batches before vision loss and every message as it arrived once the pi turn
-began (ros/odometry.py). With ``~record_rtf`` the fake's clock runs at that rtf
-while the mission is recorded, at the launch's rtf from the vision loss on.
+``~record_rtf`` the fake's clock runs at that rtf while the mission is recorded,
+at the launch's rtf from the vision loss on.
 """
 import math
 import os
@@ -120,7 +118,6 @@ class RealPathMissionTest(HomeMission, unittest.TestCase):
         cls.mission = rospy.get_param('~mission')
         cls.max_share = float(rospy.get_param('~max_error_share'))
         cls.gap = float(rospy.get_param('~odometry_gap', 0.0))
-        cls.expect_batched = bool(rospy.get_param('~expect_batched', False))
         cls.mission_run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
         cls.paths = PathByState()
         cls.log = Collector('/rosout', Log)
@@ -171,17 +168,6 @@ class RealPathMissionTest(HomeMission, unittest.TestCase):
 
     def test_robot_stands_still_at_home(self):
         self.assertLess(self.speed, STOPPED_SPEED)
-
-    def test_the_feed_batched_while_recording_only(self):
-        if not self.expect_batched:
-            self.skipTest('this layer is not expected to batch its odometry')
-        # The feed logs a change only, and starts taking every message: "every message
-        # taken as it arrives" is logged only when it stops batching (at the pi turn).
-        # The line of the layer's start, when batching began, may come before this
-        # node's /rosout subscription.
-        lines = [m.msg for m in self.log.snapshot() if ': odometry on ' in m.msg]
-        self.assertTrue([line for line in lines if 'every message taken as it arrives' in line],
-                        'the feed never stopped batching (so never batched): %s' % lines)
 
     def test_the_odometry_gap_happened_in_its_state(self):
         if not self.trigger:

@@ -1,8 +1,6 @@
 #!/usr/bin/env python3
 """rostest: ros/odometry.OdometryFeed loses no message when its receive thread falls
-behind (a loaded host; sim time at 10x), and takes messages in batches only while
-every holder reads back (batched), the readers of the newest state catching up on
-the rest by themselves (no call of the caller's).
+behind (a loaded host; sim time at 10x) and takes each message as it arrives.
 
 rospy reads a subscription's socket in chunks of up to 64 KiB and, with a queue
 size, keeps only the newest that many messages of a chunk. Here a listener holds
@@ -21,8 +19,7 @@ import rostest
 from nav_msgs.msg import Odometry
 
 import waiting
-from blind_navigation.ros.odometry import BATCH, OdometryFeed
-from blind_navigation.ros.odometry_batches import CATCH_UP_WAIT
+from blind_navigation.ros.odometry import OdometryFeed
 
 TOPIC = '/odometry_feed_test/odom'
 BURST = 300          # messages (about 200 KiB: three of rospy's read chunks)
@@ -71,109 +68,48 @@ class OdometryFeedBurstTest(unittest.TestCase):
         self.assertEqual(feed.refused, 0)
 
 
-class OdometryFeedBatchTest(unittest.TestCase):
-    """Batching (module docstring of ros/odometry.py): while every holder is batched,
-    messages wait for BATCH of them or for a reader; a driving holder turns it off."""
+class OdometryFeedTakeTest(unittest.TestCase):
+    """Each message is taken as it arrives, with no reader; a reader waiting for a
+    stamp (state_at(stamp, wait)) gets it when it arrives."""
 
     @classmethod
     def setUpClass(cls):
-        cls.feed = OdometryFeed(TOPIC + '_batched')
-        cls.feed.acquire('recorder', batched=True)
-        cls.publisher = rospy.Publisher(TOPIC + '_batched', Odometry, queue_size=None)
+        cls.feed = OdometryFeed(TOPIC + '_taken')
+        cls.feed.acquire('recorder')
+        cls.publisher = rospy.Publisher(TOPIC + '_taken', Odometry, queue_size=None)
         waiting.wait_for(lambda: cls.publisher.get_num_connections() == 1,
                          'the feed never connected', WAIT)
         cls.stamp = 2000.0
-        cls.received = 0
 
-    def publish(self, count):
-        """Publish ``count`` messages PERIOD apart; wait until the feed received them
-        (taken or pending). Returns the last stamp."""
-        for _ in range(count):
-            self.stamp += PERIOD
-            self.publisher.publish(odometry(self.stamp))
-        type(self).stamp = self.stamp
-        type(self).received += count
-        waiting.wait_for(lambda: self.feed.batches.arrived >= self.received,
-                         'the feed never received message %d' % self.received, WAIT)
+    def publish(self):
+        type(self).stamp += PERIOD
+        self.publisher.publish(odometry(self.stamp))
         return self.stamp
 
-    def newest(self):
+    def taken(self):
+        """The newest state taken."""
         latest = self.feed.latest()
         return None if latest is None else round(latest.stamp, 6)
 
-    def taken(self):
-        """The newest state taken, read without catching up (what a reader would wait for)."""
-        with self.feed._lock:
-            latest = self.feed._states.latest
-        return None if latest is None else round(latest.stamp, 6)
+    def test_1_every_message_is_taken_as_it_arrives(self):
+        for _ in range(3):
+            last = self.publish()
+            waiting.wait_for(lambda: self.taken() == round(last, 6),
+                             'message %.2f was not taken without a reader' % last, WAIT)
+        self.assertEqual(self.feed.refused, 0)
 
-    def test_1_fewer_than_a_batch_wait_and_a_reader_of_the_newest_gets_it_at_the_next_message(self):
-        self.assertEqual(self.feed.batches.size, BATCH)
-        first = self.publish(1)
-        self.publish(BATCH - 2)
-        self.assertEqual(self.feed.batches.pending, BATCH - 1)
-        self.assertIsNone(self.taken(), 'a message was taken before its batch was full')
-        result = []
-        reader = threading.Thread(target=lambda: result.append(self.feed.latest()))
-        reader.start()
-        waiting.wait_for(lambda: self.feed.batches.waiting == 1, 'the reader never waited', WAIT)
-        last = self.publish(1)
-        reader.join(WAIT)
-        self.assertFalse(reader.is_alive(), 'latest() did not return')
-        self.assertEqual([round(state.stamp, 6) for state in result], [round(last, 6)],
-                         'latest() did not return the newest state received')
-        self.assertEqual(self.feed.batches.pending, 0)
-        stamps = [state.stamp for state in self.feed.states_after(first - 1.0)]
-        self.assertEqual(len(stamps), BATCH)
-        self.assertEqual(stamps, sorted(stamps), 'taken out of order')
-
-    def test_2_a_full_batch_is_taken_without_a_reader(self):
-        last = self.publish(BATCH)
-        waiting.wait_for(lambda: self.taken() == round(last, 6),
-                         'a full batch was not taken', WAIT)
-        self.assertEqual(self.feed.batches.pending, 0)
-
-    def test_3_a_reader_without_a_next_message_gives_up_once_and_keeps_what_was_taken(self):
-        before = self.newest()
-        self.publish(1)
-        started = time.monotonic()
-        self.assertEqual(self.newest(), before)
-        self.assertGreaterEqual(time.monotonic() - started, CATCH_UP_WAIT)
-        self.assertEqual(self.feed.batches.pending, 1)
-        started = time.monotonic()
-        self.assertEqual(self.newest(), before)
-        self.assertLess(time.monotonic() - started, CATCH_UP_WAIT,
-                        'a reader waited again with no new message')
-
-    def test_4_a_stamp_waited_for_is_taken_as_it_arrives(self):
-        self.publish(1)      # pending (test 3 left one too)
+    def test_2_a_stamp_waited_for_is_returned_as_it_arrives(self):
         result = []
         target = self.stamp + PERIOD / 2     # the next message's stamp, clear of rounding
         reader = threading.Thread(target=lambda: result.append(self.feed.state_at(target, WAIT)))
         reader.start()
-        waiting.wait_for(lambda: self.feed.batches.waiting == 1, 'the reader never waited', WAIT)
-        last = self.publish(1)
+        waiting.wait_for(lambda: self.feed._waiting == 1, 'the reader never waited', WAIT)
+        last = self.publish()
         reader.join(WAIT)
         self.assertFalse(reader.is_alive(), 'state_at(wait=) did not return')
         self.assertEqual([round(state.stamp, 6) for state in result], [round(last - PERIOD, 6)],
                          'state_at(stamp) is not the last state at or before the stamp')
         self.assertEqual(self.taken(), round(last, 6))
-        self.assertEqual(self.feed.batches.pending, 0)
-
-    def test_5_a_driving_holder_turns_batching_off_until_it_releases(self):
-        self.feed.acquire('driver')
-        try:
-            self.assertEqual(self.feed.batches.size, 1)
-            for _ in range(3):
-                last = self.publish(1)
-                waiting.wait_for(lambda: self.taken() == round(last, 6),
-                                 'a message was not taken at once with a driving holder', WAIT)
-        finally:
-            self.feed.release('driver')
-        self.assertEqual(self.feed.batches.size, BATCH)
-        self.publish(1)
-        self.assertEqual(self.feed.batches.pending, 1)
-        self.assertEqual(self.feed.refused, 0)
 
 
 def moving(stamp, x, y, yaw, v):
@@ -194,7 +130,8 @@ class OdometryFeedResetTest(unittest.TestCase):
 
     def drive(self, topic, silence):
         feed = OdometryFeed(topic)
-        resets, stamps = [], []
+        resets, stamps, received = [], [], []
+        feed.add_listener(received.append, raw=True)
         feed.on_reanchor(lambda reason, trusted: resets.append((reason, trusted)))
         feed.add_listener(lambda state: stamps.append(state.stamp))
         feed.acquire('driver')
@@ -210,7 +147,7 @@ class OdometryFeedResetTest(unittest.TestCase):
             t = i * PERIOD
             publisher.publish(moving(reset_at + t, self.V * t, 0.0, 0.0, self.V))
         last = reset_at + 99 * PERIOD
-        waiting.wait_for(lambda: feed.batches.arrived >= 250, 'the feed never received the stream', WAIT)
+        waiting.wait_for(lambda: len(received) >= 250, 'the feed never received the stream', WAIT)
         return feed, resets, stamps, last
 
     def test_a_reset_while_driving_is_carried_across_in_the_old_frame(self):

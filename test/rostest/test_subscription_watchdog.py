@@ -1,15 +1,19 @@
 #!/usr/bin/env python3
-"""rostest: blind_navigation/subscription_watchdog.py reconnects a subscription to a
-publisher the master lists but the node has no connection to (what a missed
-publisherUpdate leaves), and reports nothing while every publisher is connected."""
+"""rostest: ros/subscription_watchdog.py reconnects a subscription to a publisher
+the master lists but the node has no connection to (what a missed publisherUpdate
+leaves), and reports nothing while every publisher is connected. The product uses
+rospy's public API only; this test drops the connection through rospy's topic
+manager (its internals) to make the state a missed registration leaves."""
 import os
 import subprocess
 import time
 import unittest
+import xmlrpc.client
 
 import rosgraph
 import rospy
 import rostest
+from rospy.impl.registration import get_topic_manager
 from std_msgs.msg import String
 
 import waiting
@@ -28,9 +32,9 @@ class SubscriptionWatchdogTest(unittest.TestCase):
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                       env=dict(os.environ))
         cls.received = []
-        rospy.Subscriber(TOPIC, String, cls.received.append)
+        cls.subscriber = rospy.Subscriber(TOPIC, String, cls.received.append)
         cls.master = rosgraph.Master(rospy.get_name())
-        cls.registration = subscription_watchdog._registration_manager()
+        cls.node = xmlrpc.client.ServerProxy(rospy.get_node_uri())
         waiting.wait_for(lambda: cls.received, 'a first message from the talker')
 
     @classmethod
@@ -44,16 +48,16 @@ class SubscriptionWatchdogTest(unittest.TestCase):
         return len(self.received) - count
 
     def test_a_lost_connection_is_found_and_healed(self):
-        self.assertIsNotNone(self.registration, 'rospy RegManager not found')
-        self.assertEqual(subscription_watchdog.heal_once(self.master, self.registration), [],
+        self.assertEqual(subscription_watchdog.heal_once(self.master, self.node, [self.subscriber]), [],
                          'a connected publisher was reported missing')
-        impl = subscription_watchdog.get_topic_manager().get_subscriber_impl(TOPIC)
+        impl = get_topic_manager().get_subscriber_impl(TOPIC)
         for connection in list(impl.connections):       # what a missed registration leaves
             impl.remove_connection(connection)
             connection.close()
         self.assertEqual(self.messages_within(0.5), 0, 'messages still arrive after the drop')
-        missing = subscription_watchdog.heal_once(self.master, self.registration)
-        self.assertEqual([topic for topic, _ in missing], [TOPIC])
+        self.assertEqual(self.subscriber.get_num_connections(), 0)
+        healed = subscription_watchdog.heal_once(self.master, self.node, [self.subscriber])
+        self.assertEqual(healed, [TOPIC])
         waiting.wait_for(lambda: self.messages_within(0.5) > 0, 'messages again after healing',
                          timeout=10.0)
 

@@ -1,13 +1,11 @@
 """The one polling wait of the rostest nodes: wall-clock bounded, so a stalled sim
-clock fails the test with a message instead of hanging it. Imported, it also makes the
-node end promptly and keeps a class fixture's error message in its results."""
+clock fails the test with a message instead of hanging it. Imported, it also keeps a
+class fixture's error message in its results."""
 import sys
 import time
 import unittest.suite
 
 import rospy
-
-from blind_navigation.ros.common import exit_promptly
 
 
 #: The start of the line naming a class fixture's error in a rosunit suite's system-err.
@@ -35,9 +33,7 @@ def keep_class_fixture_errors():
     _XMLTestResult.addError = add_error_kept
 
 
-# every test node imports this module: it ends as soon as its results are written, and
-# an error in a class fixture keeps its message
-exit_promptly()
+# every test node imports this module: an error in a class fixture keeps its message
 keep_class_fixture_errors()
 
 

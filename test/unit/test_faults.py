@@ -133,7 +133,7 @@ def test_a_failing_listener_does_not_stop_the_report():
 
 def test_an_exception_at_shutdown_is_not_a_failure(monkeypatch):
     rig = Rig()
-    monkeypatch.setattr(faults.common, 'shutting_down', lambda: True)
+    monkeypatch.setattr(faults, 'shutting_down', lambda: True)
     assert rig.faults.guard('rotate_pi')(pruning)() is None
     assert rig.reported == [] and not faults.faulty()
 

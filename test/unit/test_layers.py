@@ -39,8 +39,14 @@ def imports(path, package=None):
     if package is None:
         package = module_name(path).rsplit('.', 1)[0] if not path.endswith('__init__.py') \
             else module_name(path)
+    return imports_in(open(path).read(), package)
+
+
+def imports_in(source, package):
+    """Absolute names of the modules ``source`` imports, anywhere in it (relative imports
+    resolved in ``package``)."""
     found = set()
-    for node in ast.walk(ast.parse(open(path).read(), path)):
+    for node in ast.walk(ast.parse(source)):
         if isinstance(node, ast.Import):
             found.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom):

@@ -1,4 +1,4 @@
-"""ros/common.shutting_down: true inside the rospy.on_shutdown hooks, where
+"""ros/faults.shutting_down: true inside the rospy.on_shutdown hooks, where
 rospy.is_shutdown() is still false. The roles' worker threads wait on events
 that such a hook sets; one that asked rospy.is_shutdown() took the shutdown
 wake-up for work (rotate_pi logged a new pi turn after the mission had come home,
@@ -11,7 +11,7 @@ import sys
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCRIPT = '''
 import rospy
-from blind_navigation.ros.common import shutting_down
+from blind_navigation.ros.faults import shutting_down
 seen = []
 rospy.on_shutdown(lambda: seen.append((rospy.is_shutdown(), shutting_down())))
 print('before', rospy.is_shutdown(), shutting_down())

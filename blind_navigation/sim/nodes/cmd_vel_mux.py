@@ -16,7 +16,7 @@ from std_msgs.msg import String
 
 from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
 from blind_navigation.ros.clock import every
-from blind_navigation.ros.common import exit_promptly, load_params, subscribe
+from blind_navigation.ros.common import load_params, shutting_down, subscribe
 
 
 class CmdVelMuxNode(object):
@@ -49,7 +49,7 @@ class CmdVelMuxNode(object):
             if forward:
                 self.output.publish(msg)
         except rospy.ROSException:
-            if not rospy.core.is_shutdown_requested():   # topics close in a pre-shutdown hook
+            if not shutting_down():   # topics close in a pre-shutdown hook
                 raise       # at shutdown the outputs close first: a last command is dropped
 
     def on_check(self):
@@ -59,7 +59,6 @@ class CmdVelMuxNode(object):
 
 def main():
     rospy.init_node('cmd_vel_mux')
-    exit_promptly()
     CmdVelMuxNode()
     rospy.spin()
 

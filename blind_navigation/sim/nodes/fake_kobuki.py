@@ -59,7 +59,7 @@ from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
-from blind_navigation.ros.common import exit_promptly, load_params, set_pose, subscribe
+from blind_navigation.ros.common import load_params, set_pose, subscribe
 
 DBL_MAX = sys.float_info.max
 # The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
@@ -334,7 +334,6 @@ class FakeKobuki(object):
 
 def main():
     rospy.init_node('mobile_base')
-    exit_promptly()
     try:
         node = FakeKobuki()
     except (ValueError, OSError, ImportError) as error:

@@ -22,7 +22,7 @@ from blind_navigation import names
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.odom_info import OdomInfo
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
-from blind_navigation.ros.common import exit_promptly, load_params, set_pose, subscribe
+from blind_navigation.ros.common import load_params, shutting_down, set_pose, subscribe
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 MODES = ('dark', 'stall', 'lost')
@@ -84,7 +84,7 @@ class FakeVision(object):
             try:
                 self.on_frame(rospy.Time.from_sec(self.next_frame))
             except rospy.ROSException:
-                if not rospy.core.is_shutdown_requested():   # topics close in a pre-shutdown hook
+                if not shutting_down():   # topics close in a pre-shutdown hook
                     raise
                 return      # at shutdown the camera topics close before the base stops
             self.next_frame += self.period
@@ -162,7 +162,6 @@ class FakeVision(object):
 
 def main():
     rospy.init_node('fake_vision')
-    exit_promptly()
     try:
         FakeVision()
     except ValueError as error:
