@@ -233,6 +233,14 @@ class MissionRun(object):
             rosout.sub.unregister()
             publisher.unregister()
 
+    def wait_moved(self, metres, what):
+        """Until the robot is ``metres`` (ground truth) from where the recording began: the
+        operator's process may start late on a loaded machine while the sim clock runs on."""
+        def moved():
+            x, y = self.truth.position()
+            return math.hypot(x - self.start[0], y - self.start[1]) >= metres
+        self.wait(moved, 'the robot never moved %.2f m from the start (%s)' % (metres, what))
+
     def start_operator(self, mission):
         found = roslib.packages.find_node('blind_navigation', 'mission_driver.py')
         if not found:

@@ -31,8 +31,9 @@ from blind_navigation.msg import MissionStatus  # noqa: E402
 MAX_RELATIVE_ERROR = 0.02
 #: m, the paper's time mode on the left arc (mission_left_arc_time.test's bound and why)
 PAPER_MAX_ERROR = 0.59
-#: sim s after the recording starts when vision fails (case brief)
-FAIL_AFTER = 5.0
+#: sim s after the operator has moved the robot MOVED_BEFORE m when vision fails (case brief)
+FAIL_AFTER = 4.0
+MOVED_BEFORE = 0.1
 #: goals sent and ground-truth speed (m/s) when vision comes back (case stop)
 GOALS_BEFORE_BACK, MOVING_SPEED = 3, 0.05
 #: sim s within which the base must stand still after ``recovered``
@@ -54,6 +55,7 @@ class VisionBackTest(unittest.TestCase):
             run.wait_for_layer()
             run.start_operator(mission)
             if cls.case == 'brief':
+                run.wait_moved(MOVED_BEFORE, 'the operator under way')
                 run.wait_sim(FAIL_AFTER, 'the mission under way')
                 set_vision(False)
                 run.wait_sim(float(rospy.get_param('~loss')), 'the vision loss')
