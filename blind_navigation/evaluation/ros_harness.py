@@ -89,17 +89,17 @@ def handover_gaps(result):
     return gaps
 
 
-def harness_run(mission, seed, latency=0.0, shift=0, lead=0.0, events=False, base='kinematic'):
+def harness_run(mission, seed, latency=0.0, shift=0, lead=0.0, events=False, base='kinematic', prune=False):
     """The harness's closed_loop row of ``mission`` on ``seed``, ``latency`` s per hand-over,
     ``lead`` s recording before the operator starts (``start_delay``), with the motion-event
     samples if ``events``;
     ``shift`` control steps more of standing still before vision is lost: the same robot (its
-    per-run draws) with the later noise draws shifted, another realisation of the same run; ``base``: sim/mujoco_kobuki.BASES."""
+    per-run draws) with the later noise draws shifted, another realisation of the same run; ``base``: sim/mujoco_kobuki.BASES; ``prune``: prune_loops."""
     launched = settings_for(PROFILE, seed, base)
     settle = SIMULATION_DEFAULTS['settle_time'] + shift * SIMULATION_DEFAULTS['control_dt']
     result = run_modes(mission, PROFILE, (MODE,), seed, settings_of=lambda mode: dict(
         launched(mode), handover_latency=latency, settle_time=settle, start_delay=lead,
-        event_sampling=events))[MODE]
+        event_sampling=events, prune_loops=prune))[MODE]
     return {'status': result.status, 'length': result.distance, 'error': result.position_error,
             'error_pct': 100.0 * result.position_error / result.distance, 'samples': result.samples,
             'floor_pct': 100.0 * result.floor_error / result.distance, 'turn_point': result.forward_path[-1]}
@@ -129,7 +129,8 @@ def final_hold(result):
     return zeros[0] - moving[-1] if zeros else None
 
 
-def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=False, base='kinematic'):
+def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=False, base='kinematic',
+            prune=False):
     """The probe's result of one ROS run (run_ros) with the machine's 1-minute load average at
     its start (``load``); with ``reuse`` an earlier run's probe.json."""
     name = os.path.join(label, 'rtf%g' % rtf)
@@ -144,33 +145,36 @@ def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=
     load = os.getloadavg()[0]
     result = run_ros(out_dir, label, MODE, seed, rtf, start_delay=START_DELAY,
                      gyro_calibration_file=calibration, name=name, mission=mission_file,
-                     launch_args=('event_sampling:=%s' % str(events).lower(), 'base:=%s' % base))
+                     launch_args=('event_sampling:=%s' % str(events).lower(), 'base:=%s' % base,
+                                  'prune_loops:=%s' % str(prune).lower()))
     with open(load_file, 'w') as stream:
         json.dump({'load': load}, stream)
     return dict(result, load=load)
 
 
 def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=False, base='kinematic',
-         realisations=REALISATIONS):
+         realisations=REALISATIONS, prune=False):
     """One path and seed: the harness, and ROS at each of ``rtfs``; a row dict. ``events``:
     both record with the motion-event samples (blind_navigation.launch's default); ``base``:
-    the fake's and the harness's; ``realisations``: the harness's other noise realisations."""
+    the fake's and the harness's; ``realisations``: the harness's other noise realisations;
+    ``prune``: both prune loops (with ``events``: blind_navigation.launch's defaults)."""
     mission = mission_of(group, key, path_seed)
-    label = '%s_p%d_s%d%s%s' % (key, path_seed, seed, '_events' if events else '',
-                                '' if base == 'kinematic' else '_' + base)
+    label = '%s_p%d_s%d%s%s%s' % (key, path_seed, seed, '_events' if events else '', '_pruned' if prune else '',
+                                  '' if base == 'kinematic' else '_' + base)
     run_dir = os.path.join(out_dir, label)
     os.makedirs(run_dir, exist_ok=True)
     mission_file = write_mission(mission, os.path.join(run_dir, 'mission.yaml'))
     calibration = os.path.join(run_dir, 'gyro_calibration.yaml')
     save_calibration(calibration, gyro_calibration_for(PROFILE, seed, base), SPIN_DEFAULTS['turns'])
     row = {'path': group + (' +events' if events else ''), 'path_seed': path_seed, 'seed': seed, 'base': base}
-    row.update({'harness_' + k: v for k, v in harness_run(mission, seed, events=events, base=base).items()})
-    shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k, events=events, base=base)
-                                            ['error_pct'] for k in range(1, realisations + 1)]
+    row.update({'harness_' + k: v for k, v in harness_run(mission, seed, events=events, base=base,
+                                                          prune=prune).items()})
+    shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k, events=events, base=base,
+                                                        prune=prune)['error_pct'] for k in range(1, realisations + 1)]
     row.update(harness_min=min(shifted), harness_max=max(shifted))
     for rtf in rtfs:
         log('ROS %s at rtf %g (load %.2f now)' % (label, rtf, os.getloadavg()[0]))
-        ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events, base)
+        ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events, base, prune)
         tag = 'ros%g_' % rtf
         row[tag + 'load'] = ros.get('load')
         if 'failed' in ros:
@@ -188,7 +192,8 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=Fa
             if ros.get('mission_start') and ros.get('recording_state') else 0.0
         if realisations:
             row[tag + 'as_ros_error_pct'] = harness_run(mission, seed, median(gaps) if gaps else 0.0,
-                                                        lead=lead, events=events, base=base)['error_pct']
+                                                        lead=lead, events=events, base=base,
+                                                        prune=prune)['error_pct']
     return row
 
 
@@ -229,13 +234,12 @@ def path_set(count, first_seed=3000):
 def run_set(out_dir, bases, count, rtf=5.0, extra=((1.0, 2), (15.0, 2)), first_seed=3000, log=print):
     """Issue 29's runs: on each of ``bases`` the :func:`path_set` at ``rtf``, the first
     ``n`` of them also at each (rtf, n) of ``extra``; the harness beside each (no other
-    realisations). Rows, one per (path, base), written to ros_set.csv."""
+    realisations); blind_navigation.launch's defaults (motion-event samples, pruning). Rows, one per (path, base), written to ros_set.csv."""
     rows, out_dir = [], os.path.abspath(out_dir)
     for base in bases:
         for index, (group, key, path_seed) in enumerate(path_set(count, first_seed)):
             rtfs = (rtf,) + tuple(other for other, n in extra if index < n)
-            rows.append(pair(out_dir, group, key, path_seed, path_seed, rtfs, log, True, base=base,
-                             realisations=0))
+            rows.append(pair(out_dir, group, key, path_seed, path_seed, rtfs, log, True, True, base, 0, True))
     return _written(os.path.join(out_dir, 'ros_set.csv'), rows)
 
 
