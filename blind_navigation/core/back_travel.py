@@ -24,9 +24,11 @@ BACK_TRAVEL_DEFAULTS = {
     'creep_v': 0.02,          # m/s; a stretch recorded slower is driven at this (closed_loop; slower,
                               # the base's own wheel-speed ripple stalls it)
     'min_d': 0.002,           # m, goals shorter than this end at once (distance)
-    'stop_lead': 0.2,         # s the robot coasts after its last command (closed_loop)
+    'stop_lead': 0.2,         # s the robot coasts after its last command (closed_loop; the
+                              # brake ends this far ahead of a stop, so the limiter's ramp is met)
     'lookahead_time': 0.5,    # s; the lookahead grows to this x the speed (closed_loop)
-    'brake_decel': 0.5,       # m/s^2; slowing down towards a corner and the end (closed_loop)
+    'brake_decel': 0.5,       # m/s^2; slowing down towards a corner and the end (closed_loop);
+                              # within kobuki_driver's limiter (plausibility.KOBUKI_ACCEL_LIMITS)
     'stopped_v': 0.01,        # m/s; below this (and stopped_w) the robot counts as stopped
     'stopped_w': 0.05,        # rad/s; below this (and stopped_v) the robot counts as stopped
     'stop_timeout': 2.0,      # s; the longest wait for the robot to stop at a corner

@@ -13,6 +13,10 @@ from .geometry import wrap_angle
 #: Kobuki's velocity limits (kobuki_node): 0.7 m/s, pi rad/s.
 KOBUKI_MAX_V = 0.7
 KOBUKI_MAX_W = math.pi
+#: kobuki_driver's acceleration limiter (kobuki_node's ``acceleration_limiter``): m/s^2 and
+#: rad/s^2 speeding up (``*_up``) and slowing down (``*_down``). The closed-loop follower
+#: brakes within ``v_down`` (core/back_travel ``brake_decel``).
+KOBUKI_ACCEL_LIMITS = {'v_up': 0.5, 'v_down': 0.6, 'w_up': 3.5, 'w_down': 4.2}
 
 #: Defaults (nodes expose them as ~params); units and reasons in the module docstring.
 PLAUSIBILITY_DEFAULTS = {

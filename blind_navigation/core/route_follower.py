@@ -205,7 +205,8 @@ class RouteFollower(Odometer):
             return (0.0, 0.0), None
         end_vertex = self._piece_end()
         remaining = route.s[end_vertex] - along
-        if remaining <= max(odom.v, 0.0) * self.stop_lead:
+        coast = max(odom.v, 0.0) * self.stop_lead
+        if remaining <= coast:
             if end_vertex >= route.vertices - 1:
                 self._finish(odom)
                 return (0.0, 0.0), None
@@ -216,7 +217,7 @@ class RouteFollower(Odometer):
         limit = self._limit()
         slowest = min(self.min_v, limit.max_v)
         speed = max(slowest, min(route.speed_at(along, self._segment), limit.max_v,
-                                 math.sqrt(2.0 * self.brake_decel * remaining)))
+                                 math.sqrt(2.0 * self.brake_decel * max(remaining - coast, 0.0))))
         reach_ahead = max(self.lookahead, self.lookahead_time * speed)
         self._target = route.point_at(min(along + reach_ahead, route.s[end_vertex]), self._segment)
         tx, ty, _ = self._target

@@ -5,6 +5,7 @@
         [--loops-paths 40] [--loops-seed 2000] [--physics-paths 100] [--physics-table6-seeds 3]
         [--physics-trajectory-seeds 2] [--physics-loop-paths 12] [--no-ros] [--ros-seeds 2] [--rtf 4]
         [--ros-harness-seeds 2] [--ros-harness-rtf 5] [--ros-harness-rtf1-runs 3]
+        [--ros-set 10] [--ros-set-bases kinematic mujoco]
         [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--survival-seeds 5]
         [--survival-rtf 5] [--only-survival]
         [--out results]
@@ -23,7 +24,8 @@ Sections (docs/evaluation.md says what each number means):
    (sim/mujoco_kobuki.py) beside the kinematic one, same missions and seeds;
 8. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
    the landmark file vs the bag of the same run, detection and rotation latency,
-   and run by run on real trajectories and real-like paths (evaluation/ros_harness.py);
+   and run by run on real trajectories and real-like paths (evaluation/ros_harness.py),
+   issue 29's seeded set on both bases (ros_harness.run_set);
 9. the layer's running cost in real time (evaluation/cost.py, launch/cost.launch):
    CPU and peak RSS per process at rtf 1 beside ``rosbag record /odom``, the
    default launch and the paper's layout, while recording and during the
@@ -241,6 +243,12 @@ def ros_section(args, mc_rows):
         text += ('\n### ROS beside the harness run by run: real trajectories and real-like paths '
                  '(evaluation/ros_harness.py)\n\n' + ros_harness.table(rows, args.ros_harness_rtf)
                  + ros_harness.NOTE)
+    if args.ros_set > 0:
+        from . import ros_harness
+        rows = ros_harness.run_set(os.path.join(args.out, 'ros_set'), args.ros_set_bases, args.ros_set,
+                                   args.ros_harness_rtf, ((15.0, 2), (1.0, 2)), log=log)
+        text += ('\n### Issue 29: seeded real-like paths 5-40 m over ROS beside the harness, each base '
+                 '(evaluation/ros_harness.run_set)\n\n' + ros_harness.set_table(rows, args.ros_harness_rtf))
     return text, runs
 
 
@@ -340,6 +348,9 @@ def main(argv=None):
                         help='seeds per path of the ROS-beside-the-harness runs (evaluation/ros_harness.py; 0: none)')
     parser.add_argument('--ros-harness-rtf', type=float, default=5.0, help='their real-time factor')
     parser.add_argument('--ros-harness-rtf1-runs', type=int, default=3, help='of them, how many also at rtf 1')
+    parser.add_argument('--ros-set', type=int, default=10,
+                        help='issue 29\'s ROS-beside-harness paths per base (ros_harness.path_set; 0: none)')
+    parser.add_argument('--ros-set-bases', nargs='*', default=['kinematic', 'mujoco'], help='their bases')
     parser.add_argument('--latency-rtf', type=float, default=2.0, help='real-time factor of the latency runs')
     parser.add_argument('--no-cost', action='store_true', help='skip the real-time cost section')
     parser.add_argument('--cost-reps', type=int, default=3,

@@ -2,6 +2,8 @@
 
     /usr/bin/python3 -m blind_navigation.evaluation.ros_harness [--rtf 5] [--seeds 2]
         [--rtf1-runs 3] [--events KEY ...] [--reuse] [--out results/ros_harness]
+    /usr/bin/python3 -m blind_navigation.evaluation.ros_harness --set 10
+        [--bases kinematic mujoco] [--extra 15:2 1:2] [--rtf 5] [--out DIR]
 
 Paths: :data:`PATHS`, the real trajectories of config/paths and short real-like
 paths (sim/random_paths.py), written as mission files for the fake's
@@ -14,6 +16,8 @@ second time as the ROS run ran: recording the time the layer recorded before the
 started (``start_delay``: the sampling's phase on the path) and with its median hand-over gap
 (``handover_latency``).
 Table: error % of the recorded length per run, ratios, medians (docs/evaluation.md).
+``--set N`` (issue 29, :func:`run_set`): N seeded real-like paths 5-40 m (:func:`path_set`) on each
+base, the harness on the same base beside each, summed up per base and rtf (:func:`set_table`).
 """
 import argparse
 import json
@@ -36,6 +40,11 @@ PATHS = [('move_base_like', 'move_base_like', 1002), ('reversing', 'reversing', 
          ('turns_in_place', 'turns_in_place', 1007), ('indoor_mixed', 'indoor_mixed', 1008),
          (REAL + 'tuc_lecture_hall_loop', 'tuc_lecture_hall_loop', 1000),
          (REAL + 'tuc_corridor_uturn', 'tuc_corridor_uturn', 1000)]
+#: Issue 29's set: seeded real-like paths of these categories (sim/random_paths.py), 5-40 m long.
+SET_CATEGORIES = ('indoor_mixed', 'move_base_like', 'reversing', 'turns_in_place')
+SET_LENGTH = (5.0, 40.0)
+#: Issue 29's targets per base: all home, median and worst % of the path, ROS / harness median.
+SET_TARGETS = {'median': 1.0, 'worst': 2.5, 'ratio': 1.3}
 #: Other noise realisations of each harness run (``shift`` 1.., :func:`harness_run`).
 REALISATIONS = 5
 #: Sim s from the clock's start to the operator's first command over ROS, at any rtf (the
@@ -80,17 +89,17 @@ def handover_gaps(result):
     return gaps
 
 
-def harness_run(mission, seed, latency=0.0, shift=0, lead=0.0, events=False):
+def harness_run(mission, seed, latency=0.0, shift=0, lead=0.0, events=False, base='kinematic', prune=False):
     """The harness's closed_loop row of ``mission`` on ``seed``, ``latency`` s per hand-over,
     ``lead`` s recording before the operator starts (``start_delay``), with the motion-event
     samples if ``events``;
     ``shift`` control steps more of standing still before vision is lost: the same robot (its
-    per-run draws) with the later noise draws shifted, another realisation of the same run."""
-    launched = settings_for(PROFILE, seed)
+    per-run draws) with the later noise draws shifted, another realisation of the same run; ``base``: sim/mujoco_kobuki.BASES; ``prune``: prune_loops."""
+    launched = settings_for(PROFILE, seed, base)
     settle = SIMULATION_DEFAULTS['settle_time'] + shift * SIMULATION_DEFAULTS['control_dt']
     result = run_modes(mission, PROFILE, (MODE,), seed, settings_of=lambda mode: dict(
         launched(mode), handover_latency=latency, settle_time=settle, start_delay=lead,
-        event_sampling=events))[MODE]
+        event_sampling=events, prune_loops=prune))[MODE]
     return {'status': result.status, 'length': result.distance, 'error': result.position_error,
             'error_pct': 100.0 * result.position_error / result.distance, 'samples': result.samples,
             'floor_pct': 100.0 * result.floor_error / result.distance, 'turn_point': result.forward_path[-1]}
@@ -120,7 +129,8 @@ def final_hold(result):
     return zeros[0] - moving[-1] if zeros else None
 
 
-def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=False):
+def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=False, base='kinematic',
+            prune=False):
     """The probe's result of one ROS run (run_ros) with the machine's 1-minute load average at
     its start (``load``); with ``reuse`` an earlier run's probe.json."""
     name = os.path.join(label, 'rtf%g' % rtf)
@@ -135,30 +145,36 @@ def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=
     load = os.getloadavg()[0]
     result = run_ros(out_dir, label, MODE, seed, rtf, start_delay=START_DELAY,
                      gyro_calibration_file=calibration, name=name, mission=mission_file,
-                     launch_args=('event_sampling:=%s' % str(events).lower(),))
+                     launch_args=('event_sampling:=%s' % str(events).lower(), 'base:=%s' % base,
+                                  'prune_loops:=%s' % str(prune).lower()))
     with open(load_file, 'w') as stream:
         json.dump({'load': load}, stream)
     return dict(result, load=load)
 
 
-def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=False):
+def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=False, base='kinematic',
+         realisations=REALISATIONS, prune=False):
     """One path and seed: the harness, and ROS at each of ``rtfs``; a row dict. ``events``:
-    both record with the motion-event samples (blind_navigation.launch's default)."""
+    both record with the motion-event samples (blind_navigation.launch's default); ``base``:
+    the fake's and the harness's; ``realisations``: the harness's other noise realisations;
+    ``prune``: both prune loops (with ``events``: blind_navigation.launch's defaults)."""
     mission = mission_of(group, key, path_seed)
-    label = '%s_p%d_s%d%s' % (key, path_seed, seed, '_events' if events else '')
+    label = '%s_p%d_s%d%s%s%s' % (key, path_seed, seed, '_events' if events else '', '_pruned' if prune else '',
+                                  '' if base == 'kinematic' else '_' + base)
     run_dir = os.path.join(out_dir, label)
     os.makedirs(run_dir, exist_ok=True)
     mission_file = write_mission(mission, os.path.join(run_dir, 'mission.yaml'))
     calibration = os.path.join(run_dir, 'gyro_calibration.yaml')
-    save_calibration(calibration, gyro_calibration_for(PROFILE, seed), SPIN_DEFAULTS['turns'])
-    row = {'path': group + (' +events' if events else ''), 'path_seed': path_seed, 'seed': seed}
-    row.update({'harness_' + k: v for k, v in harness_run(mission, seed, events=events).items()})
-    shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k, events=events)['error_pct']
-                                            for k in range(1, REALISATIONS + 1)]
+    save_calibration(calibration, gyro_calibration_for(PROFILE, seed, base), SPIN_DEFAULTS['turns'])
+    row = {'path': group + (' +events' if events else ''), 'path_seed': path_seed, 'seed': seed, 'base': base}
+    row.update({'harness_' + k: v for k, v in harness_run(mission, seed, events=events, base=base,
+                                                          prune=prune).items()})
+    shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k, events=events, base=base,
+                                                        prune=prune)['error_pct'] for k in range(1, realisations + 1)]
     row.update(harness_min=min(shifted), harness_max=max(shifted))
     for rtf in rtfs:
         log('ROS %s at rtf %g (load %.2f now)' % (label, rtf, os.getloadavg()[0]))
-        ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events)
+        ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events, base, prune)
         tag = 'ros%g_' % rtf
         row[tag + 'load'] = ros.get('load')
         if 'failed' in ros:
@@ -175,7 +191,7 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=Fa
         lead = max(0.0, ros['mission_start'] - ros['recording_state']) \
             if ros.get('mission_start') and ros.get('recording_state') else 0.0
         row[tag + 'as_ros_error_pct'] = harness_run(mission, seed, median(gaps) if gaps else 0.0,
-                                                    lead=lead, events=events)['error_pct']
+                                                    lead=lead, events=events, base=base, prune=prune)['error_pct']
     return row
 
 
@@ -189,11 +205,76 @@ def run(out_dir, rtf=5.0, seeds=2, rtf1_runs=3, log=print, reuse=False, events=(
             rows.append(pair(out_dir, group, key, path_seed, path_seed + k, rtfs, log, reuse))
     rows += [pair(out_dir, group, key, path_seed, path_seed + k, (rtf,), log, reuse, True)
              for group, key, path_seed in PATHS if key in events for k in range(seeds)]
+    return _written(os.path.join(out_dir, 'ros_harness.csv'), rows)
+
+
+def _written(path, rows):
+    """``rows`` written to the CSV ``path`` (every key of any row a column); ``rows``."""
     fields = []
     for row in rows:
         fields += [k for k in row if k not in fields]
-    write_csv(os.path.join(out_dir, 'ros_harness.csv'), rows, fields)
+    write_csv(path, rows, fields)
     return rows
+
+
+def path_set(count, first_seed=3000):
+    """(group, key, path seed) of ``count`` seeded paths of :data:`SET_CATEGORIES` in turn, seeds
+    ``first_seed`` on, those whose commands drive :data:`SET_LENGTH` m on an ideal robot."""
+    paths, k = [], 0
+    while len(paths) < count:
+        key, seed = SET_CATEGORIES[k % len(SET_CATEGORIES)], first_seed + k // len(SET_CATEGORIES)
+        if SET_LENGTH[0] <= mission_of(key, key, seed).nominal_length() <= SET_LENGTH[1]:
+            paths.append((key, key, seed))
+        k += 1
+    return paths
+
+
+def run_set(out_dir, bases, count, rtf=5.0, extra=((1.0, 2), (15.0, 2)), first_seed=3000, log=print):
+    """Issue 29's runs: on each of ``bases`` the :func:`path_set` at ``rtf``, the first
+    ``n`` of them also at each (rtf, n) of ``extra``; the harness beside each (no other
+    realisations) and as each ROS run ran (its start lead and median hand-over gap, :func:`pair`);
+    blind_navigation.launch's defaults (motion-event samples, pruning). Rows, one per (path, base), written to ros_set.csv."""
+    rows, out_dir = [], os.path.abspath(out_dir)
+    for base in bases:
+        for index, (group, key, path_seed) in enumerate(path_set(count, first_seed)):
+            rtfs = (rtf,) + tuple(other for other, n in extra if index < n)
+            rows.append(pair(out_dir, group, key, path_seed, path_seed, rtfs, log, True, True, base, 0, True))
+    return _written(os.path.join(out_dir, 'ros_set.csv'), rows)
+
+
+def set_table(rows, rtf=5.0):
+    """Markdown: per run (path, base, each rtf run: error, achieved rtf), then per base and
+    rtf the summary against :data:`SET_TARGETS`."""
+    rtfs = sorted({float(k[3:].split('_')[0]) for r in rows for k in r
+                   if k.startswith('ros') and k.endswith(('_state', '_failed'))}, key=lambda x: (x != rtf, x))
+    lines = [[r['path'], r['path_seed'], r['base'], num(r['harness_length'], 1), num(r['harness_floor_pct'], 2),
+              num(r['harness_error_pct'], 2)]
+             + ['%s (%s, %s)' % (num(r.get('ros%g_error_pct' % x), 2), num(r.get('ros%g_rtf' % x), 1),
+                                 r.get('ros%g_state' % x) or r.get('ros%g_failed' % x, '—')) for x in rtfs]
+             for r in rows]
+    text = markdown_table(['path', 'seed', 'base', 'length m', 'harness floor %', 'harness error %']
+                          + ['ROS rtf %g error %% (achieved rtf, state)' % x for x in rtfs], lines)
+    summary = []
+    for base in sorted({r['base'] for r in rows}):
+        for x in rtfs:
+            tag = 'ros%g_' % x
+            done = [r for r in rows if r['base'] == base and r.get(tag + 'error_pct') is not None]
+            failed = sum(r['base'] == base and tag + 'failed' in r for r in rows)
+            if not done:
+                continue
+            ros, harness = median([r[tag + 'error_pct'] for r in done]), median([r['harness_error_pct'] for r in done])
+            as_ros = median([r[tag + 'as_ros_error_pct'] for r in done if tag + 'as_ros_error_pct' in r])
+            worst = max(r[tag + 'error_pct'] for r in done)
+            home = sum(r[tag + 'state'] == 'home' for r in done)
+            ratio = ros / harness if harness else float('nan')
+            met = home == len(done) and not failed and ros <= SET_TARGETS['median'] and worst <= SET_TARGETS['worst'] \
+                and ratio <= SET_TARGETS['ratio']
+            summary.append([base, num(x, 0), len(done) + failed, '%d / %d' % (home, len(done) + failed), num(ros, 2), num(worst, 2),
+                            num(harness, 2), num(ratio, 2), num(as_ros, 2), num(ros / as_ros if as_ros else None, 2),
+                            num(median([r[tag + 'rtf'] for r in done]), 1), 'met' if met else 'NOT met'])
+    return text + '\n' + markdown_table(
+        ['base', 'rtf', 'runs', 'home', 'ROS median %', 'ROS worst %', 'harness median % (same runs)',
+         'ROS / harness median', 'harness as the ROS run median %', 'ROS / that', 'median achieved rtf', 'targets (all home, <= 1 %, <= 2.5 %, <= 1.3 x)'], summary)
 
 
 def _ratio(row, tag):
@@ -259,10 +340,24 @@ def main(argv=None):
     parser.add_argument('--events', nargs='*', default=[], metavar='KEY',
                         help='these paths (keys of PATHS) also with the motion-event samples')
     parser.add_argument('--reuse', action='store_true', help='reuse the ROS runs found in --out')
+    parser.add_argument('--set', type=int, default=0, metavar='N',
+                        help='instead: issue 29\'s set, N seeded real-like paths 5-40 m (path_set) per base')
+    parser.add_argument('--bases', nargs='*', default=['kinematic', 'mujoco'], help='with --set')
+    parser.add_argument('--extra', nargs='*', default=['1:2', '15:2'], metavar='RTF:N',
+                        help='with --set: the first N paths also at RTF')
     parser.add_argument('--out', default='results/ros_harness')
     args = parser.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     started = time.time()
+    if args.set:
+        extra = tuple((float(e.split(':')[0]), int(e.split(':')[1])) for e in args.extra)
+        rows = run_set(args.out, args.bases, args.set, args.rtf, extra,
+                       log=lambda message: print('ros_harness: %s' % message, flush=True))
+        text = set_table(rows, args.rtf)
+        with open(os.path.join(args.out, 'ros_set.md'), 'w') as stream:
+            stream.write(text)
+        print(text)
+        return rows
     rows = run(args.out, args.rtf, args.seeds, args.rtf1_runs,
                lambda message: print('ros_harness: %s' % message, flush=True), args.reuse, args.events)
     text = table(rows, args.rtf)
