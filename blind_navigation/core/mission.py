@@ -98,11 +98,11 @@ class Mission(object):
             self.requests.append('go_home')
         return refusal
 
-    def cancel(self):
-        """Abort the mission (zero velocity at the next step); the refusal or None."""
+    def cancel(self, reason=None):
+        """Abort for ``reason`` (an owner's fault names it): zero velocity; the refusal or None."""
         refusal = state.cancel_refusal(self.state)
         if refusal is None:
-            self._end(state.ABORTED, state.CANCELLED)
+            self._end(state.ABORTED, reason or state.CANCELLED)
         return refusal
 
     def new_mission(self, store):

@@ -33,7 +33,7 @@ from blind_navigation.core.heading_correction import correct_landmarks  # noqa: 
 from blind_navigation.ros.layer import correction_from_message  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
-                                  StorageUsage, HeadingCorrection, PathSample)
+                                  MissionStatus, StorageUsage, HeadingCorrection, PathSample)
 
 #: The state walk of a mission that comes home (back_travel_client owns it).
 HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
@@ -156,6 +156,7 @@ class MissionRun(object):
         self.goals = Collector(names.BACK_TRAVEL + '/goal', BackTravelActionGoal)
         self.results = Collector(names.BACK_TRAVEL + '/result', BackTravelActionResult)
         self.storage_msgs = Collector(names.STORAGE, StorageUsage)
+        self.status = Collector(names.STATUS, MissionStatus)
         self.mission_done = Collector(MISSION_DONE_TOPIC, Bool)
         self.corrections = Collector(names.HEADING_CORRECTION, HeadingCorrection)
         self.samples = None
@@ -334,7 +335,7 @@ class MissionRun(object):
         in one node: a stale subscription to the samples would count as a listener of
         the next layer's sampling publisher and start its recording early)."""
         for watched in (self.states, self.truth, self.goals, self.results, self.storage_msgs,
-                        self.mission_done, self.corrections, self.samples):
+                        self.mission_done, self.corrections, self.samples, self.status):
             if watched is not None:
                 watched.sub.unregister()
 

@@ -21,7 +21,7 @@ NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading'}
 def process_wide_params():
     """Names the one-process node of blind_navigation.launch sets without a role prefix."""
     root = ElementTree.parse(os.path.join(REPO, 'launch', 'blind_navigation.launch')).getroot()
-    node = next(n for n in root.iter('node') if n.get('type') == 'blind_navigation_node.py')
+    node = next(n for n in root.iter('node') if n.get('name') == 'blind_navigation')
     return {p.get('name') for p in node.iter('param') if '/' not in p.get('name')} - NODE_PARAMS
 
 
