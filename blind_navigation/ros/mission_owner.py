@@ -138,6 +138,7 @@ class MissionOwner(object):
         self.params, settings, self.landmark_file, turn_w = owner_params(layer)
         self.recorder = str(rospy.get_param('~recorder', 'topic'))
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
+        self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
@@ -200,6 +201,7 @@ class MissionOwner(object):
                 for index, odom in enumerate(odoms or [None]):
                     self._step(now, odom, visual if index == 0 else (),
                                events if index == 0 else {})
+                self.stepped.notify_all()
 
     def _step(self, now, odom, visual, events):
         terminal = self.layer.safety.terminal
@@ -278,10 +280,15 @@ class MissionOwner(object):
         return TriggerResponse(success=True, message=done)
 
     def _on_go_home(self, request):
-        with self.lock:
+        """Requested, then answered once the loop acted on it (at most ``server_timeout``)."""
+        with self.stepped:
             refusal = self.mission.go_home()
-        return self._reply(request, 'go_home', refusal, 'returning home: the mission turns at '
-                           'its next step')
+            if refusal is None:
+                self.stepped.wait_for(lambda: 'go_home' not in self.mission.requests,
+                                      self.params.server_timeout)
+            current = self.mission.state
+        return self._reply(request, 'go_home', refusal, 'returning home: the mission is %s'
+                           % current)
 
     def _on_cancel(self, request):
         with self.lock:

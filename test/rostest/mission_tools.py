@@ -309,10 +309,22 @@ class MissionRun(object):
         """GoalStatus codes of the results the server published, in order."""
         return [r.status.status for r in self.results.snapshot()]
 
+    def mission_object(self):
+        """True when the layer runs owner:=mission (ros/mission_owner.py): no BackTravel action."""
+        return rospy.get_param(ONE_PROCESS + '/owner', 'layer') == 'mission'
+
+    def goals_started(self):
+        """Goals the return has begun: those seen on the action's goal topic, or with
+        owner:=mission those its status counted while returning."""
+        if not self.mission_object():
+            return len(self.goals.snapshot())
+        return max([min(s.completed + 1, s.landmarks) for s in self.status.snapshot()
+                    if s.state == 'returning'] or [0])
+
     def wait_mid_return(self, goals, speed):
         """Until more than ``goals`` goals were sent and the base drives faster than
         ``speed`` (m/s, ground truth); (that speed, the sim time now)."""
-        self.wait(lambda: len(self.goals.snapshot()) > goals and self.truth.speed() > speed,
+        self.wait(lambda: self.goals_started() > goals and self.truth.speed() > speed,
                   'the robot never drove back at > %.2f m/s after %d goals' % (speed, goals))
         return self.truth.speed(), rospy.Time.now().to_sec()
 

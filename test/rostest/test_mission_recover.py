@@ -78,14 +78,6 @@ def owner_args(args=()):
     return tuple(args) + (('owner:=mission',) if rospy.get_param('~owner', 'layer') == 'mission' else ())
 
 
-def goals_started(run):
-    """Goals the return has begun: the action's, or (owner:=mission: no action) its status's."""
-    if rospy.get_param('~owner', 'layer') != 'mission':
-        return len(run.goals.snapshot())
-    statuses = run.status.snapshot()
-    return statuses[-1].completed + 1 if statuses and statuses[-1].state == 'returning' else 0
-
-
 def moving(commands):
     return [c for c in commands if c[1] != 0.0 or c[2] != 0.0]
 
@@ -106,7 +98,7 @@ class RecoverCase(unittest.TestCase):
         m.run.play_mission(MISSION)
         m.run.trigger_by_publisher()
         m.wait_state('returning')
-        m.wait(lambda: goals_started(m.run) > 3 and m.run.truth.speed() > MOVING,
+        m.wait(lambda: m.run.goals_started() > 3 and m.run.truth.speed() > MOVING,
                'the robot drives back after 3 goals')
         return m
 
