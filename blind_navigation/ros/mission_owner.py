@@ -6,6 +6,7 @@ state (or once a control period without one) and publishes its command, state, s
 and storage. The services ask the mission under its lock. blind_navigation.launch's
 ``owner:=mission`` selects it (docs/DESIGN.md, "The mission object").
 """
+import os
 import threading
 from types import SimpleNamespace
 
@@ -24,7 +25,7 @@ from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_S
                                                HEADING_CORRECTION, ROTATE_PI, SAMPLING_PUBLISHER)
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.core.vision import wire_lost_reason
-from blind_navigation.msg import MissionStatus, StorageUsage
+from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.heading_correction import calibration_file
@@ -105,6 +106,7 @@ def owner_params(layer):
         merged.update(role._asdict())
     params = SimpleNamespace(**merged)
     params.straight_period = 1.0 / sampling.straight_rate
+    params.listeners = max(0, sampling.min_subscribers - 1)     # besides this process's recorder
     correct = bool(rospy.get_param('~correct_heading', True))
     settings = dict(
         straight_period=params.straight_period, curved_period=1.0 / sampling.curved_rate,
@@ -143,6 +145,8 @@ class MissionOwner(object):
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
+        # the recording begins once ``min_subscribers`` - 1 other nodes take the samples (a rig's test)
+        self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
         self.store = self._open_store()
         self.mission = Mission(self.params, self.store, **settings)
         self.announced = 0                  # transitions of the mission published
@@ -204,6 +208,9 @@ class MissionOwner(object):
                 self.stepped.notify_all()
 
     def _step(self, now, odom, visual, events):
+        if not self.mission.recording.started and \
+                self.sample_pub.get_num_connections() < self.params.listeners:
+            odom = None
         terminal = self.layer.safety.terminal
         inputs = Inputs(odom=odom, visual=visual, bumper=self.layer.safety.pressed,
                         operator=self.takeover.active(),
@@ -212,9 +219,7 @@ class MissionOwner(object):
         if step.stored:
             self._publish_storage()
         self._announce()
-        progress = (step.state, getattr(self.mission.drive, 'index', None))
-        if progress != self.progress:       # a goal of the return done: its status
-            self.progress = progress
+        if self._progress() != self.progress:      # a goal of the return done: its status
             self._publish_status()
         if step.command is not None:
             output = self.outputs.get(step.state)
@@ -237,8 +242,11 @@ class MissionOwner(object):
             self._publish_status()
             self.layer.diagnostics.now()
 
+    def _progress(self):
+        return self.mission.state, getattr(self.mission.drive, 'index', None)
+
     def _publish_status(self):
-        m = self.mission
+        m, self.progress = self.mission, self._progress()
         warnings = '; '.join(w for w in (self.store.error, m.pauses.describe(m.now or 0.0)) if w)
         goals = getattr(m.drive, 'goals', None)
         msg = MissionStatus(state=m.state or '', reason=m.reason or '', warnings=warnings,
@@ -264,9 +272,12 @@ class MissionOwner(object):
         self.store.writer.close()
 
     def _diagnose(self, stat):
+        mission_id = self.layer.current_mission_id()
         stat.add('state', self.mission.state)
         stat.add('phase', self.mission.phase)
-        stat.add('mission file', self.store.writer.path)
+        stat.add('mission', mission_number(mission_id))     # in this launch
+        stat.add('mission id', mission_id)
+        stat.add('mission file', os.path.realpath(self.landmark_file))
         stat.summary(diagnostics.ERROR if self.mission.state == state.ABORTED else diagnostics.OK,
                      self.mission.reason or self.mission.state or '')
 
