@@ -41,7 +41,7 @@ class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_ba
                                     'tripped reset time_back next_goal goal_result')):
     """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
-    (pressed), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
+    (pressed: True or a tuple naming the bumpers), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
     what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
     how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
     core/drive.Outcome of the goal sent)."""

@@ -211,8 +211,9 @@ class MissionOwner(object):
         if not self.mission.recording.started and \
                 self.sample_pub.get_num_connections() < self.params.listeners:
             odom = None
-        terminal = self.layer.safety.terminal
-        inputs = Inputs(odom=odom, visual=visual, bumper=self.layer.safety.pressed,
+        active, terminal = self.layer.safety.active, self.layer.safety.terminal
+        inputs = Inputs(odom=odom, visual=visual,
+                        bumper=tuple(c for c in active if c not in terminal),
                         operator=self.takeover.active(),
                         tripped=', '.join(terminal) if terminal else None, **events)
         step = self.mission.step(now, inputs)
@@ -223,6 +224,9 @@ class MissionOwner(object):
             self._publish_status()
         if step.command is not None:
             output = self.outputs.get(step.state)
+            if output is not None and output.halted and output.halted.startswith('safety') \
+                    and not self.layer.safety.active:
+                output.release()    # a contact is over: the mission has waited contact_wait
             if output is not None:
                 output.publish(*step.command)
             else:
