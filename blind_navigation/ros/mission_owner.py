@@ -240,8 +240,8 @@ class MissionOwner(object):
             (self.log.error if new == state.ABORTED else self.log.info)(
                 'state %s -> %s%s', old, new, ': ' + reason if reason else '')
             self.layer.mission.set_local(new)
-            if new in self.outputs:
-                self.outputs[new].release()
+            if new in self.outputs and not self.layer.safety.terminal:
+                self.outputs[new].release()     # a cliff or wheel drop keeps it halted
             self.state_pub.publish(String(data=new))
             self._publish_status()
             self.layer.diagnostics.now()
