@@ -26,7 +26,7 @@ class _Held(Behaviour):
 def home_verdict(odom, route, goals, mode, tolerance):
     """(state, reason) once every goal is done and the robot stopped at ``odom``: ``home``
     within ``tolerance`` m of the ``route``'s end (closed_loop; None: the paper's modes,
-    every landmark replayed), else ``aborted`` (docs/safety.md, "home: one invariant")."""
+    every landmark replayed), else ``aborted`` (docs/safety.md, "`home`: one invariant")."""
     if route is None:
         return mission_state.HOME, 'travelled %d landmarks (%s mode: not checked)' % (goals, mode)
     off = distance(odom.x, odom.y, route.x[-1], route.y[-1])
