@@ -41,7 +41,7 @@ class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_ba
                                     'tripped reset time_back next_goal goal_result')):
     """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
-    (pressed), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
+    (pressed: True or a tuple naming the bumpers), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
     what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
     how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
     core/drive.Outcome of the goal sent)."""
@@ -98,11 +98,11 @@ class Mission(object):
             self.requests.append('go_home')
         return refusal
 
-    def cancel(self):
-        """Abort the mission (zero velocity at the next step); the refusal or None."""
+    def cancel(self, reason=None):
+        """Abort for ``reason`` (an owner's fault names it): zero velocity; the refusal or None."""
         refusal = state.cancel_refusal(self.state)
         if refusal is None:
-            self._end(state.ABORTED, state.CANCELLED)
+            self._end(state.ABORTED, reason or state.CANCELLED)
         return refusal
 
     def new_mission(self, store):

@@ -247,10 +247,11 @@ class Pauses(object):
             return self._paused(now, 'taken')
         if self.contacts is None:
             return 'bumper pressed' if pressed else None
-        decision = self.contacts.decide(pressed, now)
+        decision = self.contacts.decide(bool(pressed), now,
+                                        sensors=pressed if isinstance(pressed, tuple) else ())
         if decision == PAUSE:
             return self._paused(now, PAUSE)
-        return 'bumper: %s' % decision if decision else None
+        return '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision) if decision else None
 
     def _paused(self, now, how):
         if self.paused_at is None:

@@ -33,7 +33,7 @@ from blind_navigation.core.heading_correction import correct_landmarks  # noqa: 
 from blind_navigation.ros.layer import correction_from_message  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
-                                  StorageUsage, HeadingCorrection, PathSample)
+                                  MissionStatus, StorageUsage, HeadingCorrection, PathSample)
 
 #: The state walk of a mission that comes home (back_travel_client owns it).
 HOME_WALK = ['idle', 'recording', 'rotating', 'returning', 'home']
@@ -156,6 +156,7 @@ class MissionRun(object):
         self.goals = Collector(names.BACK_TRAVEL + '/goal', BackTravelActionGoal)
         self.results = Collector(names.BACK_TRAVEL + '/result', BackTravelActionResult)
         self.storage_msgs = Collector(names.STORAGE, StorageUsage)
+        self.status = Collector(names.STATUS, MissionStatus)
         self.mission_done = Collector(MISSION_DONE_TOPIC, Bool)
         self.corrections = Collector(names.HEADING_CORRECTION, HeadingCorrection)
         self.samples = None
@@ -316,10 +317,22 @@ class MissionRun(object):
         """GoalStatus codes of the results the server published, in order."""
         return [r.status.status for r in self.results.snapshot()]
 
+    def mission_object(self):
+        """True when the layer runs owner:=mission (ros/mission_owner.py): no BackTravel action."""
+        return rospy.get_param(ONE_PROCESS + '/owner', 'layer') == 'mission'
+
+    def goals_started(self):
+        """Goals the return has begun: those seen on the action's goal topic, or with
+        owner:=mission those its status counted while returning."""
+        if not self.mission_object():
+            return len(self.goals.snapshot())
+        return max([min(s.completed + 1, s.landmarks) for s in self.status.snapshot()
+                    if s.state == 'returning'] or [0])
+
     def wait_mid_return(self, goals, speed):
         """Until more than ``goals`` goals were sent and the base drives faster than
         ``speed`` (m/s, ground truth); (that speed, the sim time now)."""
-        self.wait(lambda: len(self.goals.snapshot()) > goals and self.truth.speed() > speed,
+        self.wait(lambda: self.goals_started() > goals and self.truth.speed() > speed,
                   'the robot never drove back at > %.2f m/s after %d goals' % (speed, goals))
         return self.truth.speed(), rospy.Time.now().to_sec()
 
@@ -342,7 +355,7 @@ class MissionRun(object):
         in one node: a stale subscription to the samples would count as a listener of
         the next layer's sampling publisher and start its recording early)."""
         for watched in (self.states, self.truth, self.goals, self.results, self.storage_msgs,
-                        self.mission_done, self.corrections, self.samples):
+                        self.mission_done, self.corrections, self.samples, self.status):
             if watched is not None:
                 watched.sub.unregister()
 

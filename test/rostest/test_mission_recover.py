@@ -22,7 +22,8 @@ starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions per
   farther than 3 % of the path from the start; ``go_home`` before the robot moved
   ends ``home`` without a turn.
 
-The .test's arg ``one_process:=false`` runs the paper's node layout instead.
+The .test's arg ``one_process:=false`` runs the paper's node layout instead; the test's
+``~owner`` ``mission`` the layer with owner:=mission (ros/mission_owner.py).
 """
 import os
 import sys
@@ -72,6 +73,11 @@ ABORT_WITHIN = 1.0
 CHATTER_POLL = 0.002
 
 
+def owner_args(args=()):
+    """The layer's launch args: ``args``, and ``owner:=mission`` when the test's ``~owner`` says."""
+    return tuple(args) + (('owner:=mission',) if rospy.get_param('~owner', 'layer') == 'mission' else ())
+
+
 def moving(commands):
     return [c for c in commands if c[1] != 0.0 or c[2] != 0.0]
 
@@ -86,13 +92,13 @@ class RecoverCase(unittest.TestCase):
 
     def start_return(self, label, args=()):
         """A fresh layer: the mission recorded, vision lost, the robot driving back."""
-        m = self.mission = FindingMission(label, args=args,
+        m = self.mission = FindingMission(label, args=owner_args(args),
                                           one_process=rospy.get_param('~one_process', True))
         m.run.wait_for_layer()
         m.run.play_mission(MISSION)
         m.run.trigger_by_publisher()
         m.wait_state('returning')
-        m.wait(lambda: len(m.run.goals.snapshot()) > 3 and m.run.truth.speed() > MOVING,
+        m.wait(lambda: m.run.goals_started() > 3 and m.run.truth.speed() > MOVING,
                'the robot drives back after 3 goals')
         return m
 
@@ -294,7 +300,8 @@ class EdgesTest(RecoverCase):
         self.assert_never_home_far(m, 0.03, 'operator takeover')
 
     def test_4_go_home_before_moving_is_home_without_a_turn(self):
-        m = self.mission = FindingMission('nothing', one_process=rospy.get_param('~one_process', True))
+        m = self.mission = FindingMission('nothing', args=owner_args(),
+                                          one_process=rospy.get_param('~one_process', True))
         m.run.wait_for_layer()
         rospy.wait_for_service(names.GO_HOME, 30.0)
         asked = rospy.get_time()

@@ -111,7 +111,7 @@ def test_a_file_default_is_the_nodes(launch, arg, env, tmp_path, monkeypatch):
 ROLE_NODES = {'%s.py' % (s.role if s.role != 'landmark_saver' else name): s
               for s in role_params.SCHEMAS for name in ('landmark_saver', 'record_server')}
 #: params of the one-process node itself (nodes/blind_navigation_node.py, ros/layer.py)
-NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading', 'mission_owner', 'diagnostic_period'}
+NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading', 'mission_owner', 'diagnostic_period', 'owner'}
 SCHEMA_OF = {s.role: s for s in role_params.SCHEMAS}
 SCHEMA_OF['record_server'] = role_params.LANDMARK_SAVING
 
@@ -126,7 +126,10 @@ def node_params(path):
         for tag in node.iter('rosparam'):
             if not tag.get('param') and (tag.text or '').strip():
                 names += list(yaml.safe_load(tag.text))
-        out += [(node.get('type'), name) for name in names]
+        # the one-process node's type is an eval of ``owner`` (blind_navigation.launch)
+        node_type = 'blind_navigation_node.py' if 'blind_navigation_node.py' in node.get('type') \
+            else node.get('type')
+        out += [(node_type, name) for name in names]
     root = ElementTree.parse(path).getroot()
     nested = {id(tag) for kind in ('node', 'test') for parent in root.iter(kind) for tag in parent.iter()}
     for tag in root.iter('param'):      # a rig's ``$(arg roles)<role>/name`` for the whole layer

@@ -14,14 +14,14 @@ from blind_navigation.core.role_params import SCHEMAS, SHARED
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 
-#: The one-process node's own params (nodes/blind_navigation_node.py), not a role's.
-NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading'}
+#: The one-process node's own params (nodes/blind_navigation_node.py, mission_owner.py), not a role's.
+NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading', 'owner'}
 
 
 def process_wide_params():
     """Names the one-process node of blind_navigation.launch sets without a role prefix."""
     root = ElementTree.parse(os.path.join(REPO, 'launch', 'blind_navigation.launch')).getroot()
-    node = next(n for n in root.iter('node') if n.get('type') == 'blind_navigation_node.py')
+    node = next(n for n in root.iter('node') if n.get('name') == 'blind_navigation')
     return {p.get('name') for p in node.iter('param') if '/' not in p.get('name')} - NODE_PARAMS
 
 

@@ -1,0 +1,329 @@
+"""The mission's owner in one process: core/mission.Mission stepped by one loop thread.
+
+Callbacks (odometry, visual odometry, vision, safety, takeover, resets, the clock) only
+put observations into an :class:`Inbox`; the loop steps the mission once per odometry
+state (or once a control period without one) and publishes its command, state, status
+and storage. The services ask the mission under its lock. blind_navigation.launch's
+``owner:=mission`` selects it (docs/DESIGN.md, "The mission object").
+"""
+import os
+import threading
+from types import SimpleNamespace
+
+import rospy
+from std_msgs.msg import Empty, String
+from std_srvs.srv import Trigger, TriggerResponse
+
+from blind_navigation import names
+from blind_navigation.core import mission_state as state
+from blind_navigation.core.files import StorageError
+from blind_navigation.core.geometry import yaw_from_quaternion
+from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
+from blind_navigation.core.mission import Inputs, Mission
+from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
+from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
+                                               HEADING_CORRECTION, ROTATE_PI, SAMPLING_PUBLISHER)
+from blind_navigation.core.store import load_landmarks
+from blind_navigation.core.vision import wire_lost_reason
+from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
+from blind_navigation.ros.clock import LoopClock, describe
+from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.heading_correction import calibration_file
+from blind_navigation.ros.landmark_saving import landmark_file, storage_message
+from blind_navigation.ros.layer import MISSION_ID
+from blind_navigation.ros.motion import MotionOutput
+from blind_navigation.ros import diagnostics, faults
+
+
+class Inbox(object):
+    """What the callbacks observed since the loop last looked (thread-safe)."""
+
+    def __init__(self):
+        self._ready = threading.Condition()
+        self._clear()
+
+    def _clear(self):
+        self.odoms, self.visual, self.events = [], [], {}
+
+    def put(self, **events):
+        """Events by Inputs field name (the first of each kind until taken is kept)."""
+        with self._ready:
+            for name, value in events.items():
+                self.events.setdefault(name, value)
+            self._ready.notify()
+
+    def odom(self, odom):
+        with self._ready:
+            self.odoms.append(odom)
+            self._ready.notify()
+
+    def frame(self, stamp, yaw):
+        with self._ready:
+            self.visual.append((stamp, yaw))
+
+    def take(self, timeout):
+        """(odometry states, visual frames, events), waiting at most ``timeout`` wall s for any."""
+        with self._ready:
+            if not self.odoms and not self.events:
+                self._ready.wait(timeout)
+            taken = self.odoms, self.visual, self.events
+            self._clear()
+            return taken
+
+
+class FileStore(object):
+    """The mission's landmark file as core/mission's store (append, load); a failed
+    write is counted by the writer (lost) and kept in ``error``."""
+
+    def __init__(self, writer):
+        self.writer, self.error = writer, ''
+
+    def append(self, landmark):
+        try:
+            self.writer.append(landmark)
+        except StorageError as error:
+            self.error = str(error)
+            rospy.logerr('%s: landmark lost: %s', rospy.get_name(), error)
+
+    def load(self):
+        try:
+            self.writer.finish()
+        except StorageError as error:
+            self.error = self.error or str(error)
+        return load_landmarks(self.writer.path)
+
+
+def owner_params(layer):
+    """(controller params, Mission settings, the configured landmark file) from the
+    roles' params in this process (``~<role>/name``, as blind_navigation.launch sets them)."""
+    server = layer.params('back_travel_server', BACK_TRAVEL_SERVER)
+    client = layer.params('back_travel_client', BACK_TRAVEL_CLIENT)
+    rotate = layer.params('rotate_pi', ROTATE_PI)
+    sampling = layer.params('sampling_publisher', SAMPLING_PUBLISHER)
+    heading = layer.params('heading_correction', HEADING_CORRECTION)
+    merged = rotate._asdict()
+    for role in (client, server):      # the server's drive limits and timeouts last
+        merged.update(role._asdict())
+    params = SimpleNamespace(**merged)
+    params.straight_period = 1.0 / sampling.straight_rate
+    params.listeners = max(0, sampling.min_subscribers - 1)     # besides this process's recorder
+    correct = bool(rospy.get_param('~correct_heading', True))
+    settings = dict(
+        straight_period=params.straight_period, curved_period=1.0 / sampling.curved_rate,
+        deadband=sampling.deadband, event_sampling=sampling.event_sampling,
+        heading_correction=correct, standstill=heading, mode=server.control,
+        scale_prior=_calibration(heading.gyro_calibration_file) if correct else None,
+        prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
+        handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
+        turn_tolerance=client.turn_tolerance)
+    return params, settings, landmark_file(client.landmark_file), rotate.max_w
+
+
+def _calibration(param):
+    """The gyro calibration of ``gyro_calibration_file`` or None (warned)."""
+    path = calibration_file(param)
+    try:
+        return load_calibration(path)
+    except (CalibrationError, OSError) as error:
+        rospy.logwarn('%s: no gyro calibration (%s): the pi turn keeps the gyro\'s scale error',
+                      rospy.get_name(), error)
+        return None
+
+
+class MissionOwner(object):
+    """Hosts one core Mission and its loop (module docstring); a role of ros/layer."""
+
+    ROLE = 'mission_owner'
+
+    def __init__(self, layer):
+        self.layer, self.log, self.guard = layer, layer.logger(self.ROLE), layer.guard(self.ROLE)
+        self.params, settings, self.landmark_file, turn_w = owner_params(layer)
+        self.recorder = str(rospy.get_param('~recorder', 'topic'))
+        self.lock = threading.RLock()       # the mission: the loop, the services, a fault
+        self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
+        self.inbox = Inbox()
+        self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
+        self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
+        self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
+        # the recording begins once ``min_subscribers`` - 1 other nodes take the samples (a rig's test)
+        self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
+        self.store = self._open_store()
+        self.mission = Mission(self.params, self.store, **settings)
+        self.announced = 0                  # transitions of the mission published
+        self.progress = None                # (state, goal index) of the status published
+        p, takeover = self.params, layer.takeover(self.params)
+        self.outputs = {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
+                                                     layer.mission, layer.safety, takeover),
+                        state.RETURNING: MotionOutput(state.MOTION_OWNER[state.RETURNING], p.max_v,
+                                                      p.max_w, layer.mission, layer.safety, takeover)}
+        self.takeover = takeover
+        self._subscribe()
+        self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
+                         rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
+                         rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
+        layer.diagnostics.add('mission', self._diagnose)
+        rospy.on_shutdown(self._on_shutdown)
+        with self.lock:
+            self._announce()
+
+    def _subscribe(self):
+        guard, layer, inbox = self.guard, self.layer, self.inbox
+        layer.odometry.acquire(self.ROLE)
+        layer.odometry.add_listener(guard(inbox.odom))
+        layer.odometry.on_reanchor(guard(lambda reason, trusted: trusted or inbox.put(reset=reason)))
+        layer.visual_odometry.acquire(self.ROLE)
+        layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
+        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)),
+                  queue_size=1)
+        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)),
+                  queue_size=5)
+        faults.on_fault(self._on_fault)
+
+    def _on_visual(self, wire):
+        if wire_lost_reason(wire) is None:
+            self.inbox.frame(wire.stamp, yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw))
+
+    def _open_store(self):
+        writer = open_mission_file(self.landmark_file, self.layer.current_mission_id(), metadata={
+            'recorder': self.recorder, 'owner': 'mission', 'odom_topic': rospy.resolve_name(names.ODOM),
+            'started_ros_time': round(rospy.get_time(), 3)})
+        self.log.info('recording path landmarks into %s', writer.path)
+        return FileStore(writer)
+
+    # --- the loop ------------------------------------------------------------------------------
+    def run(self):
+        """Step the mission until shutdown (ros/layer.run_roles runs it in its own thread)."""
+        clock = LoopClock(self.ROLE, self.log, then='a turn or a return ends aborted')
+        period = 1.0 / self.params.control_rate
+        while not rospy.is_shutdown():
+            odoms, visual, events = self.inbox.take(period)
+            moved_back = clock.moved_back
+            now = clock.now()
+            if clock.moved_back > moved_back:
+                events.setdefault('time_back', describe(*clock.last_jump))
+            with self.lock:
+                for index, odom in enumerate(odoms or [None]):
+                    self._step(now, odom, visual if index == 0 else (),
+                               events if index == 0 else {})
+                self.stepped.notify_all()
+
+    def _step(self, now, odom, visual, events):
+        if not self.mission.recording.started and \
+                self.sample_pub.get_num_connections() < self.params.listeners:
+            odom = None
+        active, terminal = self.layer.safety.active, self.layer.safety.terminal
+        inputs = Inputs(odom=odom, visual=visual,
+                        bumper=tuple(c for c in active if c not in terminal),
+                        operator=self.takeover.active(),
+                        tripped=', '.join(terminal) if terminal else None, **events)
+        step = self.mission.step(now, inputs)
+        if step.stored:
+            self._publish_storage()
+        self._announce()
+        if self._progress() != self.progress:      # a goal of the return done: its status
+            self._publish_status()
+        if step.command is not None:
+            output = self.outputs.get(step.state)
+            if output is not None and output.halted and output.halted.startswith('safety') \
+                    and not self.layer.safety.active:
+                output.release()    # a contact is over: the mission has waited contact_wait
+            if output is not None:
+                output.publish(*step.command)
+            else:
+                self.outputs[state.RETURNING].stop()
+
+    def _announce(self):
+        """Publish the mission's transitions not yet published (lock held)."""
+        while self.announced < len(self.mission.transitions):   # a fault may add one meanwhile
+            _, old, new, reason = self.mission.transitions[self.announced]
+            self.announced += 1
+            (self.log.error if new == state.ABORTED else self.log.info)(
+                'state %s -> %s%s', old, new, ': ' + reason if reason else '')
+            self.layer.mission.set_local(new)
+            if new in self.outputs and not self.layer.safety.terminal:
+                self.outputs[new].release()     # a cliff or wheel drop keeps it halted
+            self.state_pub.publish(String(data=new))
+            self._publish_status()
+            self.layer.diagnostics.now()
+
+    def _progress(self):
+        return self.mission.state, getattr(self.mission.drive, 'index', None)
+
+    def _publish_status(self):
+        m, self.progress = self.mission, self._progress()
+        warnings = '; '.join(w for w in (self.store.error, m.pauses.describe(m.now or 0.0)) if w)
+        goals = getattr(m.drive, 'goals', None)
+        msg = MissionStatus(state=m.state or '', reason=m.reason or '', warnings=warnings,
+                            landmarks=len(m.landmarks or ()) if goals is None else len(goals),
+                            completed=getattr(m.drive, 'index', 0) if goals is not None else 0)
+        msg.header.stamp = rospy.Time.now()
+        self.status_pub.publish(msg)
+
+    def _publish_storage(self):
+        self.storage_pub.publish(storage_message(self.store.writer, self.store.error,
+                                                 rospy.Time.now())[0])
+
+    def _on_fault(self, reason):
+        """A fault of this process (the loop's own included: it has ended): ``aborted``
+        naming it, announced from the reporting thread; every output is zero for good."""
+        with self.lock:
+            self.mission.cancel(reason)
+            self._announce()
+
+    def _on_shutdown(self):
+        for output in self.outputs.values():
+            output.halt('node shutdown')
+        self.store.writer.close()
+
+    def _diagnose(self, stat):
+        mission_id = self.layer.current_mission_id()
+        stat.add('state', self.mission.state)
+        stat.add('phase', self.mission.phase)
+        stat.add('mission', mission_number(mission_id))     # in this launch
+        stat.add('mission id', mission_id)
+        stat.add('mission file', os.path.realpath(self.landmark_file))
+        stat.summary(diagnostics.ERROR if self.mission.state == state.ABORTED else diagnostics.OK,
+                     self.mission.reason or self.mission.state or '')
+
+    # --- services ------------------------------------------------------------------------------
+    def _reply(self, request, what, refusal, done):
+        sender = request._connection_header.get('callerid', '?')
+        if refusal is not None:
+            self.log.warn('%s from %s %s', what, sender, refusal)
+            return TriggerResponse(success=False, message=refusal)
+        self.log.info('%s from %s: %s', what, sender, done)
+        return TriggerResponse(success=True, message=done)
+
+    def _on_go_home(self, request):
+        """Requested, then answered once the loop acted on it (at most ``server_timeout``)."""
+        with self.stepped:
+            refusal = self.mission.go_home()
+            if refusal is None:
+                self.stepped.wait_for(lambda: 'go_home' not in self.mission.requests,
+                                      self.params.server_timeout)
+            current = self.mission.state
+        return self._reply(request, 'go_home', refusal, 'returning home: the mission is %s'
+                           % current)
+
+    def _on_cancel(self, request):
+        with self.lock:
+            refusal = self.mission.cancel()
+            if refusal is None:
+                for output in self.outputs.values():
+                    output.halt(state.CANCELLED)
+                self._announce()
+        return self._reply(request, 'cancel', refusal, 'stopped: the mission is aborted (%s)'
+                           % state.CANCELLED)
+
+    def _on_new_mission(self, request):
+        with self.lock:
+            refusal = state.new_mission_refusal(self.mission.state)
+            if refusal is None:
+                rospy.set_param(MISSION_ID, next_mission_id(self.layer.current_mission_id()))
+                self.store.writer.close()
+                self.store = self._open_store()
+                refusal = self.mission.new_mission(self.store)
+                self._announce()
+        return self._reply(request, 'new_mission', refusal, 'mission %d: idle; recording into a '
+                           'new file behind %s' % (mission_number(self.layer.current_mission_id()),
+                                                   self.landmark_file))
