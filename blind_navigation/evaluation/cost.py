@@ -282,8 +282,8 @@ def summary_table(ok):
                       _verdict(config, these)])
     return ('The layer (its processes summed) at rtf 1 on %s, beside `rosbag record /odom` on '
             'the same stream in the same run (the C++ recorder; its Python wrapper is listed '
-            'above, not counted); per run, then median [min..max]; the budget (issue 30) holds '
-            'for the default layer in every run:\n\n' % cpu_model()
+            'above, not counted); per run, then median [min..max]; the budget (issue 30) is judged '
+            'on the worst run of each one-process layer:\n\n' % cpu_model()
             + markdown_table(['config', 'processes', 'runs', 'layer CPU % recording', 'bag CPU %',
                               'CPU ratio', 'layer peak RSS MiB', 'bag peak RSS MiB', 'RSS ratio',
                               'layer CPU % returning', 'budget'], lines))
