@@ -42,6 +42,13 @@ BACK_TRAVEL_DEFAULTS = {
 }
 
 
+def stopped(odom):
+    """True once ``odom`` shows the robot standing (``stopped_v``, ``stopped_w`` of
+    :data:`BACK_TRAVEL_DEFAULTS`)."""
+    return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
+        abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
+
+
 def _param(params, name):
     return float(getattr(params, name, BACK_TRAVEL_DEFAULTS[name]))
 

@@ -9,7 +9,7 @@ import types
 
 from . import mission_state as state
 from .allowance import ABORT, DRIVE, HOLD
-from .back_travel import BACK_TRAVEL_DEFAULTS
+from .back_travel import BACK_TRAVEL_DEFAULTS, stopped
 from .drive import Outcome
 from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
@@ -326,12 +326,6 @@ def _interrupted(inputs, phase, current):
     if inputs.tripped and phase not in (RECORDING, ENDED):
         return '%s: safety stop: %s' % (where, inputs.tripped)
     return None
-
-
-def stopped(odom):
-    """True once ``odom`` shows the robot standing (core/back_travel's stopped_v, stopped_w)."""
-    return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
-        abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
 
 
 def _known(settings):

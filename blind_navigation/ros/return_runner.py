@@ -13,7 +13,7 @@ import rospy
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
+from blind_navigation.core.back_travel import stopped
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.pause import CONTACT_DEFAULTS, PauseLog
@@ -111,7 +111,7 @@ class ReturnRunner(object):
         stopped, is within the server's home tolerance of the route's end (the start)."""
         p = self.params
         odometry = self.mission.odometry
-        wait_wall(lambda: _stopped(odometry.fresh(p.odom_timeout)), SETTLE)
+        wait_wall(lambda: stopped(odometry.fresh(p.odom_timeout)), SETTLE)
         odom = odometry.fresh(p.odom_timeout)
         if odom is None:
             return False, 'every goal done, but no odometry to check the robot is home (%s)' % (
@@ -278,9 +278,3 @@ class ReturnRunner(object):
             self.client.cancel()
             return problem
         return None
-
-
-def _stopped(odom):
-    """True once ``odom`` shows the robot standing (core/back_travel's stopped_v, stopped_w)."""
-    return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
-        abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
