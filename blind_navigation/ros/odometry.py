@@ -18,6 +18,7 @@ from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
 from .clock import LoopClock
+from . import subscription_watchdog
 from .common import subscribe
 from .shared_frame import SharedFrame
 from .wiring import Expected
@@ -91,7 +92,7 @@ class OdometryFeed(object):
                 self._subscriber = None
                 self.lost = None    # the next holder starts on the frame it finds
         if subscriber is not None:
-            subscriber.unregister()
+            subscription_watchdog.drop(subscriber)
 
     def add_listener(self, callback, raw=False):
         """Call ``callback(state)`` for every accepted state, or with ``raw``

@@ -3,7 +3,8 @@
 Each new subscription (:func:`watch`) is checked :data:`CHECK_AFTER` s (wall) later: one
 with fewer connections than the master lists publishers of its topic gets the master's
 list through the node's own slave API (``publisherUpdate``); an expected type
-(ros/wiring.Expected) is checked at the master too. Why: docs/DESIGN.md, "Threads".
+(ros/wiring.Expected) is checked at the master too, once more when the subscription is
+dropped (:func:`drop`). Why: docs/DESIGN.md, "Threads".
 """
 import heapq
 import itertools
@@ -20,7 +21,8 @@ from . import wiring
 CHECK_AFTER = (1.0, 3.0, 10.0)
 
 _lock = threading.Condition()
-_due = []          # heap of (wall time, sequence, rospy.Subscriber, ros/wiring.Expected or None)
+_due = []          # heap of (wall time, sequence, rospy.Subscriber, topic, ros/wiring.Expected or None)
+_expected = {}     # rospy.Subscriber -> ros/wiring.Expected, while subscribed
 _sequence = itertools.count()
 _thread = None
 
@@ -45,16 +47,35 @@ def heal_once(master, node, subscribers):
 def watch(subscriber, expected=None):
     """Check ``subscriber`` (a rospy.Subscriber) at :data:`CHECK_AFTER` s from now
     (its type too, with ``expected``); starts the watchdog thread at the first call."""
+    with _lock:
+        if expected is not None:
+            _expected[subscriber] = expected
+        _schedule(subscriber, subscriber.resolved_name, expected, CHECK_AFTER)
+    return subscriber
+
+
+def drop(subscriber):
+    """Unregister ``subscriber``; its expected type, if any, is checked at the master once
+    more now: a wrong publisher that registered but has not yet delivered is still refused."""
+    topic = subscriber.resolved_name
+    with _lock:
+        expected = _expected.pop(subscriber, None)
+    subscriber.unregister()
+    if expected is not None and topic is not None:
+        with _lock:
+            _schedule(None, topic, expected, (0.0,))
+
+
+def _schedule(subscriber, topic, expected, delays):
+    """(under _lock) Check at ``delays`` s from now; starts the thread at the first call."""
     global _thread
     now = time.monotonic()
-    with _lock:
-        for delay in CHECK_AFTER:
-            heapq.heappush(_due, (now + delay, next(_sequence), subscriber, expected))
-        if _thread is None:
-            _thread = threading.Thread(target=_run, name='subscription_watchdog', daemon=True)
-            _thread.start()
-        _lock.notify()
-    return subscriber
+    for delay in delays:
+        heapq.heappush(_due, (now + delay, next(_sequence), subscriber, topic, expected))
+    if _thread is None:
+        _thread = threading.Thread(target=_run, name='subscription_watchdog', daemon=True)
+        _thread.start()
+    _lock.notify()
 
 
 def _next_due():
@@ -79,8 +100,8 @@ def _run():
         if due is None:
             return
         try:
-            healed = heal_once(master, node, [subscriber for subscriber, _ in due])
-            expected = dict((s.resolved_name, e) for s, e in due if e is not None and s.resolved_name)
+            healed = heal_once(master, node, [s for s, _, _ in due if s is not None])
+            expected = dict((topic, e) for _, topic, e in due if e is not None and topic)
             if expected:
                 wiring.check_types(master.getTopicTypes(), expected)
         except Exception as error:      # master busy or gone: the next check tries again

@@ -221,9 +221,13 @@ class MissionRun(object):
     def set_rtf(self, rtf):
         """Run the fake's clock at ``rtf`` x real time from now on (its ~rtf topic), once the
         fake says so on /rosout: a test runs what it does not time faster than the launch's rtf."""
-        rosout = Collector('/rosout', Log)
+        # the rosout node's aggregate (one publisher, long connected to the fake): a line of
+        # the fake's is not lost before a new /rosout subscription connects to the fake
+        rosout = Collector('/rosout_agg', Log)
         publisher = rospy.Publisher(RTF_TOPIC, Float64, queue_size=1, latch=True)
         try:
+            self.wait(lambda: rosout.sub.get_num_connections() >= 1,
+                      'no connection to /rosout_agg', STARTUP_TIMEOUT)
             self.wait(lambda: publisher.get_num_connections() >= 1,
                       'the fake base does not subscribe %s' % RTF_TOPIC, STARTUP_TIMEOUT)
             publisher.publish(Float64(rtf))
