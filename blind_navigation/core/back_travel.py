@@ -49,6 +49,19 @@ def stopped(odom):
         abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
 
 
+def home_check(odom, end, tolerance):
+    """(home, text) of the stopped robot at ``odom`` against the route's ``end`` (the start):
+    home only within ``tolerance`` m (0: not checked, the paper's modes); docs/safety.md,
+    "`home`: one invariant"."""
+    off = distance(odom.x, odom.y, end[0], end[1])
+    if not tolerance:
+        return True, '%.2f m from the start by odometry (not checked in this mode)' % off
+    if off > tolerance:
+        return False, ('every goal done, but the robot is %.2f m from the start by odometry '
+                       '(home_tolerance %.2f m): not home' % (off, tolerance))
+    return True, '%.3f m from the start by odometry' % off
+
+
 def _param(params, name):
     return float(getattr(params, name, BACK_TRAVEL_DEFAULTS[name]))
 

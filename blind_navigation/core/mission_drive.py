@@ -6,8 +6,8 @@ a drive (core/pause: Contacts, Takeover, PauseLog) and the home verdict. Used by
 """
 from . import mission_state
 from .allowance import ABORT, DRIVE, HOLD
+from .back_travel import home_check
 from .drive import Behaviour, DriveCycle
-from .geometry import distance
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
 from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
 from .rotation import Rotation, turn_problem
@@ -26,14 +26,12 @@ class _Held(Behaviour):
 def home_verdict(odom, route, goals, mode, tolerance):
     """(state, reason) once every goal is done and the robot stopped at ``odom``: ``home``
     within ``tolerance`` m of the ``route``'s end (closed_loop; None: the paper's modes,
-    every landmark replayed), else ``aborted`` (docs/safety.md, "`home`: one invariant")."""
+    every landmark replayed), else ``aborted`` (core/back_travel.home_check)."""
     if route is None:
         return mission_state.HOME, 'travelled %d landmarks (%s mode: not checked)' % (goals, mode)
-    off = distance(odom.x, odom.y, route.x[-1], route.y[-1])
-    if off > tolerance:
-        return mission_state.ABORTED, ('every goal done, but the robot is %.2f m from the start by '
-                                       'odometry (home_tolerance %.2f m): not home' % (off, tolerance))
-    return mission_state.HOME, 'travelled %d landmarks; %.3f m from the start by odometry' % (goals, off)
+    home, text = home_check(odom, (route.x[-1], route.y[-1]), tolerance)
+    return (mission_state.HOME, 'travelled %d landmarks; %s' % (goals, text)) if home else \
+        (mission_state.ABORTED, text)
 
 
 def with_defaults(params, defaults):

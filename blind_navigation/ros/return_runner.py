@@ -13,8 +13,7 @@ import rospy
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.back_travel import stopped
-from blind_navigation.core.geometry import distance
+from blind_navigation.core.back_travel import home_check, stopped
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.pause import CONTACT_DEFAULTS, PauseLog
 from blind_navigation.core.plausibility import RouteBudget
@@ -116,14 +115,8 @@ class ReturnRunner(object):
         if odom is None:
             return False, 'every goal done, but no odometry to check the robot is home (%s)' % (
                 odometry.describe_missing(p.odom_timeout))
-        off = distance(odom.x, odom.y, route.x[-1], route.y[-1])
-        if not self.home_tolerance:
-            return True, '%s; %.2f m from the start by odometry (not checked in this mode)' % (
-                reason, off)
-        if off > self.home_tolerance:
-            return False, ('every goal done, but the robot is %.2f m from the start by odometry '
-                           '(home_tolerance %.2f m): not home' % (off, self.home_tolerance))
-        return True, '%s; %.3f m from the start by odometry' % (reason, off)
+        home, text = home_check(odom, (route.x[-1], route.y[-1]), self.home_tolerance)
+        return (True, '%s; %s' % (reason, text)) if home else (False, text)
 
     def recording_problem(self):
         """Why the recording as it is now gives no way back, or None: asked before the pi
