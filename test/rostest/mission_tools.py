@@ -13,6 +13,7 @@ import shutil
 import subprocess
 import sys
 import threading
+import time
 from collections import namedtuple
 
 import roslib.packages
@@ -221,19 +222,23 @@ class MissionRun(object):
     def set_rtf(self, rtf):
         """Run the fake's clock at ``rtf`` x real time from now on (its ~rtf topic), once the
         fake says so on /rosout: a test runs what it does not time faster than the launch's rtf."""
-        # the rosout node's aggregate (one publisher, long connected to the fake): a line of
-        # the fake's is not lost before a new /rosout subscription connects to the fake
-        rosout = Collector('/rosout_agg', Log)
+        rosout = Collector('/rosout', Log)
         publisher = rospy.Publisher(RTF_TOPIC, Float64, queue_size=1, latch=True)
+        line, asked = 'fake_kobuki: rtf %g from' % rtf, [float('-inf')]
+
+        def logged():
+            """The fake's line heard; else the pace asked (again each second: a line logged
+            before this node's /rosout subscription connected to the fake is lost)."""
+            if any(line in msg.msg for msg in rosout.snapshot()):
+                return True
+            if time.monotonic() > asked[0] + 1.0:
+                publisher.publish(Float64(rtf))
+                asked[0] = time.monotonic()
+            return False
         try:
-            self.wait(lambda: rosout.sub.get_num_connections() >= 1,
-                      'no connection to /rosout_agg', STARTUP_TIMEOUT)
             self.wait(lambda: publisher.get_num_connections() >= 1,
                       'the fake base does not subscribe %s' % RTF_TOPIC, STARTUP_TIMEOUT)
-            publisher.publish(Float64(rtf))
-            line = 'fake_kobuki: rtf %g from' % rtf
-            self.wait(lambda: any(line in msg.msg for msg in rosout.snapshot()),
-                      'the fake base never logged %r' % line, STARTUP_TIMEOUT)
+            self.wait(logged, 'the fake base never logged %r' % line, STARTUP_TIMEOUT)
         finally:
             rosout.sub.unregister()
             publisher.unregister()
