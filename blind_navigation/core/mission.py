@@ -18,7 +18,8 @@ from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDriv
 from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
 from .pause import PAUSE
-from .return_plan import nothing_to_retrace, plan_return, recording_problem, return_goals
+from .return_plan import (nothing_to_retrace, plan_return, recording_problem, return_goals,
+                          still_loss)
 from .route_follower import RouteFollower
 
 #: The mission's settings beyond the controllers' params (each overridable by keyword).
@@ -204,10 +205,9 @@ class Mission(object):
         """Vision lost (or go_home): the recording's last landmark, then the standstill."""
         raw = self.raw
         stored.extend(self.recording.end(raw, now))
-        nothing = nothing_to_retrace(self.recording.distance, self.recording.start, (raw.x, raw.y),
-                                     BACK_TRAVEL_DEFAULTS['finish_tolerance'])
-        if nothing:
-            return self._end(state.HOME, '%s: %s' % (reason, nothing))
+        ended = _no_turn(self.recording, self.store, raw, reason)
+        if ended:
+            return self._end(*ended)
         self._move(state.RECORDING, state.ROTATING, reason)
         self.phase, self.vision_loss, self.reference, self.lost_at, self.turn_clock = \
             STANDSTILL, vision, raw, now, PausedClock(now)      # the turn's timeout, takeovers out
@@ -328,6 +328,20 @@ def _recovered(returning):
     return 'vision back during %s: stopped (on_vision_back stop), %s left to home' % (
         'the pi turn' if returning is None else 'the return',
         'the whole path' if left is None else '%.2f m' % max(left, 0.0))
+
+
+def _no_turn(recording, store, raw, reason):
+    """(state, why) when the loss (``reason``) at ``raw`` ends the mission with no turn:
+    nothing to retrace (``home``), or landmarks ``store`` lost beyond a standstill
+    (``aborted``: core/return_plan.recording_problem, the file read back); else None."""
+    nothing = nothing_to_retrace(recording.distance, recording.start, (raw.x, raw.y),
+                                 BACK_TRAVEL_DEFAULTS['finish_tolerance'])
+    if nothing:
+        return state.HOME, '%s: %s' % (reason, nothing)
+    loss = store.loss()
+    if loss.count and not still_loss(loss):
+        return state.ABORTED, '%s, but %s' % (reason, recording_problem(store.load(), loss))
+    return None
 
 
 def _interrupted(inputs, phase, current):

@@ -131,14 +131,23 @@ def _failing_writes(monkeypatch, first, last):
     monkeypatch.setattr(LandmarkWriter, '_write_line', full)
 
 
-def test_landmarks_lost_while_driving_abort_before_the_turn(monkeypatch):
+def test_landmarks_lost_while_driving_abort_at_the_loss(monkeypatch):
+    """Known at the loss: no standstill, no turn (docs/safety.md, "Decide before the turn")."""
     _failing_writes(monkeypatch, 4, 5)
     played = _play()
-    assert played.result.status == 'aborted', played.mission.reason
-    assert 'before the pi turn' in played.result.reason and 'could not be written' in played.result.reason
-    assert '2 landmark(s) within the recording' in played.result.reason
-    assert 'returning' not in _states(played)
-    assert _still_after(played, _entered(played, 'rotating') + 0.5) and _speed(played) < 1e-3
+    assert _states(played) == ['idle', 'recording', 'aborted']
+    assert played.result.reason.startswith('vision lost, but 2 landmark(s) within the recording could '
+                                           'not be written')
+    assert _still_after(played, _ended_at(played)) and _speed(played) < 1e-3
+
+
+def test_landmarks_lost_at_the_end_abort_at_the_loss(monkeypatch):
+    _failing_writes(monkeypatch, 15, 10 ** 6)          # the disk fills up and stays full
+    played = _play()
+    assert _states(played) == ['idle', 'recording', 'aborted']
+    assert 'the last' in played.result.reason and 'the way back from here is unknown' in \
+        played.result.reason
+    assert _still_after(played, _ended_at(played)) and _speed(played) < 1e-3
 
 
 def test_landmarks_lost_standing_still_are_bridged_and_the_mission_comes_home(monkeypatch):
