@@ -15,9 +15,11 @@ from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
 from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive,
                             home_verdict)
+from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
 from .pause import PAUSE
-from .return_plan import NO_LOSS, nothing_to_retrace, plan_return, recording_problem, return_goals
+from .return_plan import (nothing_to_retrace, plan_return, recording_problem, return_goals,
+                          still_loss)
 from .route_follower import RouteFollower
 
 #: The mission's settings beyond the controllers' params (each overridable by keyword).
@@ -34,6 +36,9 @@ MISSION_DEFAULTS = {
     'on_vision_back': 'home',       # core/mission_state.ON_VISION_BACK
     'settle_time': 2.0,             # s the home check waits for the robot to stop
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
+    'vision_back_grace': LIMIT_DEFAULTS['vision_back_grace'],   # s the turn waits for vision
+                                    # back after a loss without heading correction
+    'limits': None,                 # the allowances' params (core/mission_limits), None: params'
 }
 
 
@@ -66,8 +71,9 @@ RECORDING, STANDSTILL, TURN, TURNED, SETTLE, ENDED = (
 
 class Mission(object):
     """One mission (module docstring). ``params``: the controllers' (core/rotation,
-    core/goal, core/route, core/allowance, core/pause names); ``store``: ``append(landmark)``
-    and ``load()`` -> core/store.LoadedPath; ``settings``: :data:`MISSION_DEFAULTS`."""
+    core/goal, core/route, core/allowance, core/pause names); ``store``: ``append(landmark)``,
+    ``load()`` -> core/store.LoadedPath and ``loss()`` -> core/return_plan.WriteLoss (the
+    landmarks it could not write); ``settings``: :data:`MISSION_DEFAULTS`."""
 
     def __init__(self, params, store, **settings):
         self.params, self.store = params, store
@@ -151,11 +157,10 @@ class Mission(object):
 
     def odom(self):
         """The latest odometry as the return sees it (corrected once the correction is known)."""
-        if self.corrector is None or self.raw is None:
-            return self.raw
-        if self.corrector.state is None or self.corrector.state.stamp != self.raw.stamp:
+        if self.corrector is not None and self.raw is not None and (
+                self.corrector.state is None or self.corrector.state.stamp != self.raw.stamp):
             self.corrector.update(self.raw)
-        return self.corrector.state
+        return self.raw if self.corrector is None or self.raw is None else self.corrector.state
 
     def _feed(self, cycle):
         """(decision, odometry stamped now, message) of a behaviour's core/drive.DriveCycle."""
@@ -200,12 +205,12 @@ class Mission(object):
         """Vision lost (or go_home): the recording's last landmark, then the standstill."""
         raw = self.raw
         stored.extend(self.recording.end(raw, now))
-        nothing = nothing_to_retrace(self.recording.distance, self.recording.start, (raw.x, raw.y),
-                                     BACK_TRAVEL_DEFAULTS['finish_tolerance'])
-        if nothing:
-            return self._end(state.HOME, '%s: %s' % (reason, nothing))
+        ended = _no_turn(self.recording, self.store, raw, reason)
+        if ended:
+            return self._end(*ended)
         self._move(state.RECORDING, state.ROTATING, reason)
-        self.phase, self.vision_loss, self.reference, self.lost_at = STANDSTILL, vision, raw, now
+        self.phase, self.vision_loss, self.reference, self.lost_at, self.turn_clock = \
+            STANDSTILL, vision, raw, now, PausedClock(now)      # the turn's timeout, takeovers out
         self.standstill = Standstill(self.recording.fit, raw, self.config.standstill,
                                      self.config.scale_prior)
         return self._standstill(now, Inputs())
@@ -217,13 +222,16 @@ class Mission(object):
             self.phase = RECORDING
             self.recording.resume()
             return None
+        self.turn_clock.update(now, inputs.operator)
         correction = self.standstill.correction(now, inputs.odom)
-        return None if correction is None else self._commit(now, correction)
+        grace = self.config.vision_back_grace if self.vision_loss and self.standstill.fit is None else 0.0
+        return None if correction is None or now < self.lost_at + grace - 1e-9 else \
+            self._commit(now, correction)
 
     def _commit(self, now, correction):
         """The turn begins: the recording ends, the correction is fixed, the pi turn starts."""
         self.loaded = self.store.load()
-        problem = recording_problem(self.loaded, NO_LOSS)
+        problem = recording_problem(self.loaded, self.store.loss())
         if problem:
             return self._end(state.ABORTED, 'before the pi turn: %s' % problem)
         self.correction, self.corrector = correction, CorrectedOdometry(correction)
@@ -232,8 +240,8 @@ class Mission(object):
         self.anchor = (self.reference.x, self.reference.y)
         self.pauses = Pauses(self.params, contacts=False)
         self.last = self.odom()
-        self.phase, self.drive = TURN, TurnDrive(self.params, self._feed, self.last,
-                                                 self.config.turn_tolerance)
+        self.phase, self.drive = TURN, TurnDrive(self.params, self._feed, self.last, self.config,
+                                                 self.turn_clock)
         return self._drive(now, Inputs())
 
     def _paused(self, now, inputs):
@@ -268,8 +276,9 @@ class Mission(object):
                                                    c.prune_loops, self.correction)
             follower = None if c.remote_goals else RouteFollower(self.route, self.params)
         self.pauses = Pauses(self.params)
+        watch = ReturnWatch(self.landmarks, self.landmarks, c.limits or self.params, self.now)
         self.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
-            goals, c.mode, self.params, follower, c, self._feed, self.odom)
+            goals, c.mode, self.params, follower, c, self._feed, self.odom, watch)
 
     def _drive(self, now, inputs):
         """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""
@@ -307,13 +316,32 @@ class Mission(object):
             return False
         if state.vision_back_state(self.state, True, self.config.on_vision_back) != state.RECOVERED:
             return False
-        returning = self.state == state.RETURNING
-        left = sum(abs(landmark.d) for landmark in self.drive.remaining) - self.drive.travelled() \
-            if returning else None
-        self._end(state.RECOVERED, 'vision back during %s: stopped (on_vision_back stop), %s left to '
-                  'home' % ('the return' if returning else 'the pi turn', 'the whole path'
-                            if left is None else '%.2f m' % max(left, 0.0)))
+        self._end(state.RECOVERED, _recovered(self.drive if self.state == state.RETURNING else None))
         return True
+
+
+def _recovered(returning):
+    """Why vision back ends the mission ``recovered`` (``returning``: the return's drive,
+    None: in the pi turn)."""
+    left = None if returning is None else \
+        sum(abs(landmark.d) for landmark in returning.remaining) - returning.travelled()
+    return 'vision back during %s: stopped (on_vision_back stop), %s left to home' % (
+        'the pi turn' if returning is None else 'the return',
+        'the whole path' if left is None else '%.2f m' % max(left, 0.0))
+
+
+def _no_turn(recording, store, raw, reason):
+    """(state, why) when the loss (``reason``) at ``raw`` ends the mission with no turn:
+    nothing to retrace (``home``), or landmarks ``store`` lost beyond a standstill
+    (``aborted``: core/return_plan.recording_problem, the file read back); else None."""
+    nothing = nothing_to_retrace(recording.distance, recording.start, (raw.x, raw.y),
+                                 BACK_TRAVEL_DEFAULTS['finish_tolerance'])
+    if nothing:
+        return state.HOME, '%s: %s' % (reason, nothing)
+    loss = store.loss()
+    if loss.count and not still_loss(loss):
+        return state.ABORTED, '%s, but %s' % (reason, recording_problem(store.load(), loss))
+    return None
 
 
 def _interrupted(inputs, phase, current):

@@ -9,6 +9,7 @@ from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import home_check
 from .drive import Behaviour, DriveCycle
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
+from .mission_limits import limit_params, rotation_timeout
 from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
 from .rotation import Rotation, turn_problem
 
@@ -41,10 +42,14 @@ def with_defaults(params, defaults):
 
 class TurnDrive(object):
     """The pi turn (core/rotation.Rotation) from ``odom`` on ``feed(cycle)`` (:class:`ReturnDrive`);
-    done once the robot really turned (core/rotation.turn_problem within ``tolerance``)."""
+    done once the robot really turned (core/rotation.turn_problem within the ``config``'s
+    turn_tolerance), failed past core/mission_limits.rotation_timeout on ``clock`` (since the loss)."""
 
-    def __init__(self, params, feed, odom, tolerance):
-        self.rotation, self.feed, self.tolerance = Rotation(params), feed, tolerance
+    def __init__(self, params, feed, odom, config, clock):
+        self.rotation, self.feed, self.tolerance = Rotation(params), feed, config.turn_tolerance
+        self.clock, self.timeout = clock, rotation_timeout(
+            config.standstill, limit_params(config.limits or params).rotation_margin,
+            config.vision_back_grace)
         self.cycle = DriveCycle(_Held(self.rotation.hold), params)
         self.rotation.start(odom)
         self.start_yaw, self.yaw = odom.yaw, odom.yaw
@@ -55,16 +60,21 @@ class TurnDrive(object):
 
     def resumed(self, seconds):
         self.rotation.hold(seconds)
+        self.clock.resumed(seconds)
 
     def step(self, now, inputs):
+        if self.clock.elapsed(now) > self.timeout:
+            return self._fail('no finished pi turn within %.0f s of vision loss (rotation_timeout: the '
+                              'standstill\'s timeout + rotation_margin + vision_back_grace); not '
+                              'travelling back' % self.timeout)
         decision, odom, message = self.feed(self.cycle)
         if decision == ABORT:
             return self._fail('the pi rotation: %s; not travelling back' % message)
         command = self.rotation.step(odom) if decision == DRIVE else ZERO
         self.yaw = odom.yaw if odom is not None else self.yaw
         if self.rotation.failed:
-            return self._fail('the pi rotation failed (not done within %.0f s); not travelling back'
-                              % self.rotation.time_allowance)
+            return self._fail('the pi rotation failed (not done within its time_allowance of %.0f s); '
+                              'not travelling back' % self.rotation.time_allowance)
         if not self.rotation.done:
             return command
         problem = turn_problem(self.start_yaw, self.yaw, self.tolerance)
@@ -82,10 +92,13 @@ class ReturnDrive(object):
     """The goals ``[(label, landmark)]`` (return order) driven one after another in
     ``mode`` (``follower``: closed_loop's RouteFollower). ``feed(cycle)`` -> (decision,
     odom, message) each cycle (a core/drive.DriveCycle per goal); ``latest()``: the odometry a
-    goal starts from. With ``await_goals`` the next goal starts only when asked."""
+    goal starts from; ``watch``: its core/mission_limits.ReturnWatch (the whole return's allowance,
+    the distance budget; a goal driven here is never silent: no backstop). With ``await_goals``
+    the next goal starts only when asked."""
 
-    def __init__(self, goals, mode, params, follower, config, feed, latest):
+    def __init__(self, goals, mode, params, follower, config, feed, latest, watch):
         self.goals, self.mode, self.params, self.follower = goals, mode, params, follower
+        self.watch, self.driven = watch, 0.0    # m the goals done drove
         self.feed, self.latest = feed, latest
         self.hold = CommandHold(config.handover_timeout)
         self.timeout, self.follow = config.handover_timeout, config.handover_follow
@@ -127,9 +140,10 @@ class ReturnDrive(object):
             if self.goal.done:
                 self._goal_done(now)
                 continue
+            problem = self.watch.problem(now, self.driven + self.goal.travelled)
             decision, odom, message = self.feed(self.cycle)
-            if decision == ABORT:
-                return self._fail(message)
+            if problem or decision == ABORT:
+                return self._fail(problem or message)
             if decision == HOLD:
                 self.command = ZERO
                 return ZERO
@@ -144,6 +158,7 @@ class ReturnDrive(object):
 
     def resumed(self, seconds):
         """A pause of ``seconds`` ended (the robot may have moved)."""
+        self.watch.resumed(seconds)
         if self.phase == GOAL:
             self.goal.resumed(seconds)
         elif self.bridge is not None:
@@ -162,6 +177,7 @@ class ReturnDrive(object):
 
     def _goal_done(self, now):
         self.index += 1
+        self.driven += self.goal.travelled
         if self.index == len(self.goals):
             self.phase, self.final_at = FINAL, now
             return

@@ -26,6 +26,11 @@ WriteLoss.__doc__ = ('What a recorder could not write (blind_navigation/StorageU
 NO_LOSS = WriteLoss(0, 0.0, 0.0, '')
 
 
+def write_loss(writer, error=''):
+    """The WriteLoss of a core/landmark_writer.LandmarkWriter (``error``: its last failure)."""
+    return WriteLoss(writer.lost, writer.lost_distance, writer.lost_turn, error)
+
+
 def still_loss(loss):
     """True if the landmarks of ``loss`` (a WriteLoss) were all taken standing still."""
     return loss.distance <= STILL_LOSS_DISTANCE and loss.turn <= STILL_LOSS_TURN

@@ -16,8 +16,8 @@ from std_msgs.msg import Bool, Empty, String
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
-from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Limits
+from blind_navigation.core.mission_limits import rotation_timeout
 from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, nothing_to_retrace
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
@@ -46,7 +46,7 @@ class BackTravelClient(object):
         self.layer = layer
         self.odometry = layer.odometry
         self.landmark_file = landmark_file(p.landmark_file)
-        self.rotation_timeout = standstill_timeout(p) + p.rotation_margin + p.vision_back_grace
+        self.rotation_timeout = rotation_timeout(p, p.rotation_margin, p.vision_back_grace)
         self.limits = Limits(p.max_v, p.max_w)
         self.machine = state.MissionState()
         self.warnings = ''              # the recording's: damaged, gaps bridged

@@ -21,6 +21,7 @@ from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.mission import Inputs, Mission
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
+from blind_navigation.core.return_plan import write_loss
 from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
                                                HEADING_CORRECTION, ROTATE_PI, SAMPLING_PUBLISHER)
 from blind_navigation.core.store import load_landmarks
@@ -72,7 +73,7 @@ class Inbox(object):
 
 
 class FileStore(object):
-    """The mission's landmark file as core/mission's store (append, load); a failed
+    """The mission's landmark file as core/mission's store (append, load, loss); a failed
     write is counted by the writer (lost) and kept in ``error``."""
 
     def __init__(self, writer):
@@ -91,6 +92,9 @@ class FileStore(object):
         except StorageError as error:
             self.error = self.error or str(error)
         return load_landmarks(self.writer.path)
+
+    def loss(self):
+        return write_loss(self.writer, self.error)
 
 
 def owner_params(layer):
@@ -115,7 +119,8 @@ def owner_params(layer):
         scale_prior=_calibration(heading.gyro_calibration_file) if correct else None,
         prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
         handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
-        turn_tolerance=client.turn_tolerance)
+        turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
+        limits=client)
     return params, settings, landmark_file(client.landmark_file), rotate.max_w
 
 

@@ -15,12 +15,11 @@ from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.back_travel import home_check, stopped
 from blind_navigation.core.heading_correction import correct_landmarks
+from blind_navigation.core.mission_limits import ReturnWatch
 from blind_navigation.core.pause import CONTACT_DEFAULTS, PauseLog
-from blind_navigation.core.plausibility import RouteBudget
 from blind_navigation.core.progress import file_digest, kept_route
 from blind_navigation.core.return_plan import (plan_route, recording_problem, return_goals,
                                                return_warning)
-from blind_navigation.core.safety import expected_duration, return_allowance
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal
 from blind_navigation.ros.common import wait_wall
@@ -43,7 +42,6 @@ class ReturnRunner(object):
         # drops a publisherUpdate that arrives while registerSubscriber is in flight, so
         # subscribing while the server registers can leave feedback/result unconnected.
         self.client = None
-        self.paused = 0.0
         self.pauses = PauseLog(CONTACT_DEFAULTS['contact_wait'])   # the return's takeovers, contacts
         self.home_tolerance = 0.0   # the server's (set with the route); 0: position not checked
         self._left = None       # the landmarks not driven yet, while a return drives
@@ -102,7 +100,7 @@ class ReturnRunner(object):
         problem = self._connect(route, [landmark for _, landmark in goals], done)
         if problem:
             return False, problem
-        ok, reason = self._drive(goals, done, route, RouteBudget(landmarks))
+        ok, reason = self._drive(goals, done, route, landmarks)
         return self._home(route, reason) if ok else (ok, reason)
 
     def _home(self, route, reason):
@@ -184,21 +182,19 @@ class ReturnRunner(object):
             route, landmarks, done, self.mission.keeper.progress.frame_id or '', p.server_timeout)
         return problem
 
-    def _drive(self, goals, done, route, budget):
-        """Send ``goals[done:]`` one at a time; (ok, reason)."""
-        m, p = self.mission, self.params
-        remaining = [landmark for _, landmark in goals[done:]]
-        allowance = return_allowance(remaining, p.return_timeout_factor, p.return_timeout_margin,
-                                     p.slowest_v)
-        deadline = rospy.get_time() + allowance
-        self.paused = 0.0               # s of takeovers and bumper presses: the deadline moves on
+    def _drive(self, goals, done, route, landmarks):
+        """Send ``goals[done:]`` one at a time within a core/mission_limits.ReturnWatch
+        over ``landmarks``; (ok, reason)."""
+        m = self.mission
+        watch = ReturnWatch(landmarks, [landmark for _, landmark in goals[done:]], self.params,
+                            rospy.get_time())
         travelled = m.keeper.progress.travelled or 0.0
         for number, (label, landmark) in enumerate(goals[done:], done + 1):
             where = 'goal %d/%d (%s)' % (number, len(goals), label)
             self._left = [remaining for _, remaining in goals[number - 1:]]
             self.client.send(BackTravelGoal(*landmark.as_list()))
-            problem = self._wait_for_goal(where, landmark, deadline, allowance,
-                                          lambda: budget.problem(travelled + self._goal_distance()))
+            watch.goal(landmark, self.client.heard)
+            problem = self._wait_for_goal(where, watch, lambda: travelled + self._goal_distance())
             if problem:
                 return False, problem
             if not self.client.succeeded:
@@ -233,39 +229,29 @@ class ReturnRunner(object):
         after = max(0.0, ended - receiver.reference.stamp) if ended is not None else 0.0
         return correct_landmarks(landmarks, receiver.correction, receiver.reference.yaw, after), None
 
-    def _wait_for_goal(self, where, landmark, deadline, allowance, over_budget):
-        """Wait for the goal's result; cancel it and say why on a safety event, the
-        goal's backstop, the whole return's allowance or its distance budget
-        (``over_budget()``: None or why). None once it ended. While an operator has
-        taken over or a bumper is pressed, neither the backstop nor the allowance counts."""
-        m, p = self.mission, self.params
-        goal_allowance = (p.goal_timeout_factor * expected_duration(landmark, p.slowest_v)
-                          + p.goal_timeout_margin)
-        paused = None                   # a takeover or a bumper pressed: no allowance counts
+    def _wait_for_goal(self, where, watch, travelled):
+        """Wait for the goal's result; cancel it and say why on a safety event or a limit
+        of ``watch`` (core/mission_limits.ReturnWatch; ``travelled()``: m so far). None once
+        it ended. While an operator has taken over or a bumper is pressed, no allowance counts."""
+        m = self.mission
         while not self.client.wait(WAIT_SLICE):
             now = rospy.get_time()
             taken, pressed = m.takeover.active(), m.layer.safety.pressed
             if self.pauses.update(now, taken, pressed, m.position):
                 m.publish_status()
-            if taken or pressed:
-                self.paused += now - paused if paused is not None else 0.0
-                self.client.heard, paused = now, now
-            else:
-                paused = None
+            watch.heard(self.client.heard)
+            watch.update(now, taken or pressed)
+            limit = watch.problem(now, travelled())
             if m.trip:
                 problem = '%s: safety stop: %s' % (where, m.trip)
             elif m.lost:
                 problem = '%s: %s' % (where, m.lost)
-            elif now > self.client.heard + goal_allowance:
-                problem = '%s: no result and no feedback for %.0f s' % (where, goal_allowance)
-            elif now > deadline + self.paused:
-                problem = '%s: the return exceeded its time allowance of %.0f s' % (where, allowance)
             elif rospy.is_shutdown():
                 problem = '%s: node shutting down' % where
             elif m.state != state.RETURNING:
                 problem = '%s: the mission is %s' % (where, m.state)
-            elif over_budget():
-                problem = '%s: %s' % (where, over_budget())
+            elif limit:
+                problem = '%s: %s' % (where, limit)
             else:
                 continue
             self.client.cancel()

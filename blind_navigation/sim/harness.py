@@ -14,6 +14,7 @@ from collections import namedtuple
 from types import SimpleNamespace
 
 from ..core import mission_state
+from ..core.files import StorageError
 from ..core.goal import HANDOVER_FOLLOW
 from ..core.geometry import distance, wrap_angle
 from ..core.gyro_bias import STANDSTILL_DEFAULTS
@@ -23,6 +24,7 @@ from ..core.landmark import Landmark
 from ..core.landmark_writer import LandmarkWriter
 from ..core.mission import RECORDING, SETTLE, STANDSTILL, TURN, TURNED, Inputs, Mission
 from ..core.mission_drive import FAILED, FINAL, GOAL, HANDOVER
+from ..core.return_plan import write_loss
 from ..core.store import load_landmarks
 from .kobuki import load_profile, make_profile
 from .mujoco_kobuki import make_base
@@ -62,6 +64,10 @@ SIMULATION_DEFAULTS = {
     'world': 'tile',           # the mujoco base's floor (config/worlds name or path)
     'payload': (0.0, 0.0, 0.0),  # the mujoco base's payload: kg, x, y m of its centre of mass
     'on_vision_back': 'home',  # vision back in the turn or the return: home (go on) or stop
+    'vision_back_grace': 0.0,  # s the turn waits for vision back without heading correction
+                               # (paper.launch's; blind_navigation.launch's: 5)
+    'limits': None,            # the return's and the turn's allowances (core/mission_limits
+                               # names: the client's params), None: from ``params``
     'events': (),              # scripted events (sim/mission_events.Event tuples): bumper presses,
                                # an operator's takeover, cancel, go_home, vision lost/back
     'prune_loops': False,      # closed_loop: cut loops and doubled-back stretches from the route
@@ -70,7 +76,8 @@ SIMULATION_DEFAULTS = {
 }
 #: Settings the core/mission.Mission takes as they are.
 _MISSION_SETTINGS = ('straight_period', 'curved_period', 'deadband', 'event_sampling',
-                     'heading_correction', 'handover_timeout', 'handover_follow', 'on_vision_back')
+                     'heading_correction', 'handover_timeout', 'handover_follow', 'on_vision_back',
+                     'vision_back_grace', 'limits')
 #: Settings that change only the return: modes differing in them share a recording (run_modes).
 RETURN_SETTINGS = ('prune_loops',)
 
@@ -133,18 +140,25 @@ class _Run(object):
 
 
 class _Store(object):
-    """The mission's landmark store: written for real (core/landmark_writer), read back at the turn."""
+    """The mission's landmark store: written for real (core/landmark_writer), read back at the
+    turn; a failed write is counted by the writer (lost) and kept in ``error``."""
 
     def __init__(self, path, name):
         self.path = path
         self.writer = LandmarkWriter(path, fsync=False, metadata={'mission': name})
-        self.size = None
+        self.size, self.error = None, ''
 
     def __deepcopy__(self, memo):
         return self                   # closed once the turn begins; copies share it
 
     def append(self, landmark):
-        self.writer.append(landmark)
+        try:
+            self.writer.append(landmark)
+        except StorageError as error:
+            self.error = str(error)
+
+    def loss(self):
+        return write_loss(self.writer, self.error)
 
     def load(self):
         self.writer.close()
@@ -178,6 +192,8 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
     if events.fire('go_home', now):
         mission.go_home()
     takeover = events.window('takeover', now)
+    if getattr(run.base, 'motor_power', None) is not None:
+        run.base.set_motor_power(events.window('motors_off', now) is None)
     vision_lost, vision_back = vision_lost or events.fire('vision_lost', now), events.fire('vision_back', now)
     run.vision_on = (run.vision_on or (vision_back and run.correct_heading)) and not vision_lost
     inputs = Inputs(odom=odom, visual=frames,
@@ -396,7 +412,7 @@ class _Recorded(object):
         if self.turned:
             owner.configure_return(mode=mode, prune_loops=settings['prune_loops'])
             _return(run, owner, settings)
-        follower = owner.drive.follower if owner.drive is not None else None
+        follower = getattr(owner.drive, 'follower', None)     # None: no return (a failed turn)
         return_time = run.base.t - started
         _stop(run, owner, settings)
         driven = run.path[max(0, returned_from):]

@@ -1,11 +1,11 @@
 """Scripted events of a simulated mission (sim/harness.py's ``events`` setting): a
-bumper pressed, an operator driving, requests and vision events, each at a time
-after the mission's start, the pi turn's or the return's.
+bumper pressed, an operator driving, the motors off (the robot blocked), requests and
+vision events, each at a time after the mission's start, the pi turn's or the return's.
 """
 import collections
 
 #: kinds with a length (windows) and the moments (fired once)
-WINDOWS = ('bumper', 'takeover')
+WINDOWS = ('bumper', 'takeover', 'motors_off')   # motors_off: the wheels stop (a blocked robot)
 MOMENTS = ('cancel', 'go_home', 'vision_lost', 'vision_back', 'odometry_reset', 'time_back', 'cliff')
 ORIGINS = ('start', 'turn', 'return')
 
