@@ -36,6 +36,7 @@ class MissionOutputs(object):
 
     def _fresh(self):
         self.poses = array('d')     # x, y, yaw of the recording's start and every landmark
+        self.shown = 0              # of them published
         self.correction = self.route = None
 
     def first_state(self):
@@ -62,7 +63,9 @@ class MissionOutputs(object):
             self.poses.extend((m.raw.x, m.raw.y, m.raw.yaw))    # where the recording began
         for _ in stored:
             self.poses.extend((m.raw.x, m.raw.y, m.raw.yaw))
-        if stored and (self.recorded_pub.get_num_connections() or m.state != state.RECORDING):
+        if len(self.poses) > self.shown and (self.recorded_pub.get_num_connections()
+                                             or m.state != state.RECORDING):
+            self.shown = len(self.poses)        # every pose once the recording is over
             self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(),
                                                    self.odometry.frame_id))
         if m.correction is not None and self.correction is None:
