@@ -115,6 +115,16 @@ def route_record(route, heading=None):
     return {'route': route.to_lists(), 'heading': heading}
 
 
+def heading_record(correction, reference, frame=None):
+    """The plain form of a heading correction for :func:`route_record`: the core
+    GyroCorrection (an unknown, infinite standard error as None), the raw OdomState where its
+    frame starts and the odometry feed's frame snapshot (None: the feed keeps none)."""
+    return {'correction': [None if isinstance(v, float) and not math.isfinite(v) else v
+                           for v in correction],
+            'reference': [reference.x, reference.y, reference.yaw, reference.stamp],
+            'frame': frame}
+
+
 def kept_route(progress):
     """The core/route.Route ``progress`` keeps; ValueError if it keeps none."""
     if progress.route is None:

@@ -37,6 +37,20 @@ def calibration_file(param):
     return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(CALIBRATION_FILE)))
 
 
+def correction_message(correction, reference, frame_id):
+    """The blind_navigation/HeadingCorrection of a core GyroCorrection whose frame starts at
+    the raw OdomState ``reference`` (None: now, at the origin) in ``frame_id``."""
+    msg = HeadingCorrection(bias=correction.bias, scale=correction.scale,
+                            bias_std=correction.bias_std, scale_std=correction.scale_std,
+                            windows=correction.windows, status=correction.status,
+                            reason=correction.reason)
+    msg.header.stamp = rospy.Time.from_sec(reference.stamp) if reference else rospy.Time.now()
+    msg.header.frame_id = frame_id
+    if reference is not None:
+        msg.reference_x, msg.reference_y, msg.reference_yaw = reference.x, reference.y, reference.yaw
+    return msg
+
+
 class HeadingCorrectionRole(object):
     """Module docstring."""
 
@@ -197,15 +211,8 @@ class HeadingCorrectionRole(object):
         return self.result, self._reference, summary
 
     def _publish(self, correction, reference, summary):
-        msg = HeadingCorrection(bias=correction.bias, scale=correction.scale,
-                                bias_std=correction.bias_std, scale_std=correction.scale_std,
-                                windows=correction.windows, status=correction.status,
-                                reason=correction.reason)
-        msg.header.stamp = rospy.Time.from_sec(reference.stamp) if reference else rospy.Time.now()
-        msg.header.frame_id = self.layer.odometry.frame_id
-        if reference is not None:
-            msg.reference_x, msg.reference_y, msg.reference_yaw = reference.x, reference.y, reference.yaw
-        self.correction_pub.publish(msg)
+        self.correction_pub.publish(correction_message(correction, reference,
+                                                       self.layer.odometry.frame_id))
         if summary is not None:
             duration, measured = summary
             if reference is not None and rospy.get_time() >= reference.stamp + self.standstill_timeout:

@@ -5,7 +5,6 @@
 :attr:`Layer.mission`, :attr:`Layer.safety`, :meth:`Layer.heading_correction`,
 :meth:`Layer.takeover`, :attr:`Layer.diagnostics` and :meth:`Layer.guard` (docs/DESIGN.md).
 """
-import math
 import threading
 
 import rospy
@@ -14,6 +13,7 @@ from .. import names
 from ..core.mission_state import IDLE, RECORDING
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
+from ..core.progress import heading_record
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
@@ -219,12 +219,7 @@ class CorrectionReceiver(object):
         data for a return's progress; None before one is installed."""
         if not self.received:
             return None
-        reference = self.reference
-        # an unknown standard error is inf, which plain data cannot hold: None
-        return {'correction': [None if isinstance(v, float) and not math.isfinite(v) else v
-                               for v in self.correction],
-                'reference': [reference.x, reference.y, reference.yaw, reference.stamp],
-                'frame': self.odometry.correction_snapshot()}
+        return heading_record(self.correction, self.reference, self.odometry.correction_snapshot())
 
     def install_plain(self, plain):
         """Install a correction kept by :meth:`to_plain` (a resumed return), unless one

@@ -3,8 +3,8 @@
 Callbacks (odometry, visual odometry, vision, safety, takeover, resets, the clock) only
 put observations into an :class:`Inbox`; the loop steps the mission once per odometry
 state (or once a control period without one) and publishes its command, state, status
-and storage. The services ask the mission under its lock. blind_navigation.launch's
-``owner:=mission`` selects it (docs/DESIGN.md, "The mission object").
+and storage (paths, correction, progress: ros/mission_outputs.py). The services ask the
+mission under its lock. ``owner:=mission`` selects it (docs/DESIGN.md, "The mission object").
 """
 import os
 import threading
@@ -12,7 +12,7 @@ from types import SimpleNamespace
 
 import rospy
 from std_msgs.msg import Empty, String
-from std_srvs.srv import Trigger, TriggerResponse
+from std_srvs.srv import Trigger
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
@@ -20,6 +20,7 @@ from blind_navigation.core.files import StorageError
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.mission import Inputs, Mission
+from blind_navigation.core.recorder import SpaceWatch
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
 from blind_navigation.core.return_plan import write_loss
 from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
@@ -32,6 +33,9 @@ from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.heading_correction import calibration_file
 from blind_navigation.ros.landmark_saving import landmark_file, storage_message
 from blind_navigation.ros.layer import MISSION_ID
+from blind_navigation.ros.mission_outputs import MissionOutputs
+from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
+                                                      reply)
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros import diagnostics, faults
 
@@ -74,10 +78,11 @@ class Inbox(object):
 
 class FileStore(object):
     """The mission's landmark file as core/mission's store (append, load, loss); a failed
-    write is counted by the writer (lost) and kept in ``error``."""
+    write is counted by the writer (lost) and kept in ``error``; ``space``: its free space."""
 
     def __init__(self, writer):
         self.writer, self.error = writer, ''
+        self.space = SpaceWatch(os.path.dirname(writer.path))
 
     def append(self, landmark):
         try:
@@ -144,6 +149,10 @@ class MissionOwner(object):
         self.layer, self.log, self.guard = layer, layer.logger(self.ROLE), layer.guard(self.ROLE)
         self.params, settings, self.landmark_file, turn_w = owner_params(layer)
         self.recorder = str(rospy.get_param('~recorder', 'topic'))
+        if self.recorder != 'topic':    # the file's metadata says which was asked for
+            self.log.warn('recorder %s: the mission records in this process; no %s service '
+                          '(owner:=layer serves it)', self.recorder,
+                          rospy.resolve_name(names.RECORD_LANDMARK))
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
@@ -157,12 +166,14 @@ class MissionOwner(object):
         self.announced = 0                  # transitions of the mission published
         self.progress = None                # (state, goal index) of the status published
         p, takeover = self.params, layer.takeover(self.params)
-        self.outputs = {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
+        self.drivers = {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
                                                      layer.mission, layer.safety, takeover),
                         state.RETURNING: MotionOutput(state.MOTION_OWNER[state.RETURNING], p.max_v,
                                                       p.max_w, layer.mission, layer.safety, takeover)}
         self.takeover = takeover
+        self.outputs = MissionOutputs(self)
         self._subscribe()
+        self.outputs.first_state()      # a return a previous run left: aborted
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
@@ -224,18 +235,17 @@ class MissionOwner(object):
         step = self.mission.step(now, inputs)
         if step.stored:
             self._publish_storage()
+        self.outputs.stepped(step.stored)
         self._announce()
         if self._progress() != self.progress:      # a goal of the return done: its status
-            self._publish_status()
+            self.publish_status()
         if step.command is not None:
-            output = self.outputs.get(step.state)
-            if output is not None and output.halted and output.halted.startswith('safety') \
-                    and not self.layer.safety.active:
-                output.release()    # a contact is over: the mission has waited contact_wait
+            output = self.drivers.get(step.state)
             if output is not None:
+                output.contact_over()   # the mission drives on: it has waited contact_wait
                 output.publish(*step.command)
             else:
-                self.outputs[state.RETURNING].stop()
+                self.drivers[state.RETURNING].stop()
 
     def _announce(self):
         """Publish the mission's transitions not yet published (lock held)."""
@@ -244,19 +254,22 @@ class MissionOwner(object):
             self.announced += 1
             (self.log.error if new == state.ABORTED else self.log.info)(
                 'state %s -> %s%s', old, new, ': ' + reason if reason else '')
+            self.outputs.ending(new, reason)
             self.layer.mission.set_local(new)
-            if new in self.outputs and not self.layer.safety.terminal:
-                self.outputs[new].release()     # a cliff or wheel drop keeps it halted
+            if new in self.drivers and not self.layer.safety.terminal:
+                self.drivers[new].release()     # a cliff or wheel drop keeps it halted
             self.state_pub.publish(String(data=new))
-            self._publish_status()
+            self.publish_status()
             self.layer.diagnostics.now()
 
     def _progress(self):
         return self.mission.state, getattr(self.mission.drive, 'index', None)
 
-    def _publish_status(self):
+    def publish_status(self):
         m, self.progress = self.mission, self._progress()
-        warnings = '; '.join(w for w in (self.store.error, m.pauses.describe(m.now or 0.0)) if w)
+        warnings = '; '.join(w for w in (self.store.error, self.store.space.warning,
+                                         self.outputs.progress.keeper.warning,
+                                         m.pauses.describe(m.now or 0.0)) if w)
         goals = getattr(m.drive, 'goals', None)
         msg = MissionStatus(state=m.state or '', reason=m.reason or '', warnings=warnings,
                             landmarks=len(m.landmarks or ()) if goals is None else len(goals),
@@ -265,8 +278,14 @@ class MissionOwner(object):
         self.status_pub.publish(msg)
 
     def _publish_storage(self):
-        self.storage_pub.publish(storage_message(self.store.writer, self.store.error,
-                                                 rospy.Time.now())[0])
+        now, writer, space = rospy.Time.now(), self.store.writer, self.store.space
+        before = space.warning
+        warning, appeared = space.update(now.to_sec(), writer.bytes, writer.count)
+        if appeared:
+            self.log.warn('%s', warning)
+        self.storage_pub.publish(storage_message(writer, self.store.error, now, warning)[0])
+        if warning != before:
+            self.publish_status()
 
     def _on_fault(self, reason):
         """A fault of this process (the loop's own included: it has ended): ``aborted``
@@ -276,7 +295,7 @@ class MissionOwner(object):
             self._announce()
 
     def _on_shutdown(self):
-        for output in self.outputs.values():
+        for output in self.drivers.values():
             output.halt('node shutdown')
         self.store.writer.close()
 
@@ -291,14 +310,6 @@ class MissionOwner(object):
                      self.mission.reason or self.mission.state or '')
 
     # --- services ------------------------------------------------------------------------------
-    def _reply(self, request, what, refusal, done):
-        sender = request._connection_header.get('callerid', '?')
-        if refusal is not None:
-            self.log.warn('%s from %s %s', what, sender, refusal)
-            return TriggerResponse(success=False, message=refusal)
-        self.log.info('%s from %s: %s', what, sender, done)
-        return TriggerResponse(success=True, message=done)
-
     def _on_go_home(self, request):
         """Requested, then answered once the loop acted on it (at most ``server_timeout``)."""
         with self.stepped:
@@ -307,18 +318,16 @@ class MissionOwner(object):
                 self.stepped.wait_for(lambda: 'go_home' not in self.mission.requests,
                                       self.params.server_timeout)
             current = self.mission.state
-        return self._reply(request, 'go_home', refusal, 'returning home: the mission is %s'
-                           % current)
+        return reply(self.log, request, 'go_home', refusal, GO_HOME_DONE % current)
 
     def _on_cancel(self, request):
         with self.lock:
             refusal = self.mission.cancel()
             if refusal is None:
-                for output in self.outputs.values():
+                for output in self.drivers.values():
                     output.halt(state.CANCELLED)
                 self._announce()
-        return self._reply(request, 'cancel', refusal, 'stopped: the mission is aborted (%s)'
-                           % state.CANCELLED)
+        return reply(self.log, request, 'cancel', refusal, CANCELLED)
 
     def _on_new_mission(self, request):
         with self.lock:
@@ -328,7 +337,7 @@ class MissionOwner(object):
                 self.store.writer.close()
                 self.store = self._open_store()
                 refusal = self.mission.new_mission(self.store)
+                self.outputs.new_mission()
                 self._announce()
-        return self._reply(request, 'new_mission', refusal, 'mission %d: idle; recording into a '
-                           'new file behind %s' % (mission_number(self.layer.current_mission_id()),
-                                                   self.landmark_file))
+        return reply(self.log, request, 'new_mission', refusal, new_mission_done(
+            mission_number(self.layer.current_mission_id()), self.landmark_file))

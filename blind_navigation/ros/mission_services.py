@@ -1,4 +1,5 @@
-"""The mission owner's services (std_srvs/Trigger), served by back_travel_client.
+"""The mission owner's services (std_srvs/Trigger), served by back_travel_client (their
+replies, :func:`reply`, also by ros/mission_owner.py).
 
 ``go_home`` (in ``recording``: the return, as ``vision_lost``), ``cancel`` (``aborted``,
 every output halted) and ``new_mission`` (from a terminal state: a new mission id, state
@@ -16,6 +17,32 @@ from blind_navigation.core.mission_files import mission_number, next_mission_id
 from blind_navigation.ros.layer import MISSION_ID
 
 
+#: The answers of an acknowledged ``go_home`` (% the state) and ``cancel``.
+GO_HOME_DONE = 'returning home: the mission is %s'
+CANCELLED = 'stopped: the mission is aborted (%s)' % state.CANCELLED
+
+
+def caller(request):
+    """The node that called a service (its connection header's callerid), or '?'."""
+    return request._connection_header.get('callerid', '?')
+
+
+def reply(log, request, what, refusal, done):
+    """The Trigger response of the service ``what``: refused for ``refusal`` (WARN), else
+    acknowledged with ``done`` (INFO); the log names the caller. Every mission owner's."""
+    if refusal is not None:
+        log.warn('%s from %s %s', what, caller(request), refusal)
+        return TriggerResponse(success=False, message=refusal)
+    log.info('%s from %s: %s', what, caller(request), done)
+    return TriggerResponse(success=True, message=done)
+
+
+def new_mission_done(number, landmark_file):
+    """The answer of an acknowledged ``new_mission``: mission ``number``'s file."""
+    return ('mission %d: idle; recording into a new file behind %s from the first landmark'
+            % (number, landmark_file))
+
+
 class MissionServices(object):
     """``go_home``, ``cancel`` and ``new_mission`` of ``mission`` (the BackTravelClient)."""
 
@@ -29,47 +56,36 @@ class MissionServices(object):
 
     def _on_go_home(self, request):
         m = self.mission
-        sender = request._connection_header.get('callerid', '?')
         refusal = state.go_home_refusal(m.state)
-        if refusal is None and m.begin_return('return requested (go_home by %s)' % sender):
-            return TriggerResponse(success=True, message='returning home: the mission is %s'
-                                   % m.state)
-        refusal = refusal or 'the return did not start: the mission is %s (%s)' % (m.state, m.reason)
-        m.log.warn('go_home from %s %s', sender, refusal)
-        return TriggerResponse(success=False, message=refusal)
+        if refusal is None and not m.begin_return('return requested (go_home by %s)'
+                                                  % caller(request)):
+            refusal = 'the return did not start: the mission is %s (%s)' % (m.state, m.reason)
+        return reply(m.log, request, 'go_home', refusal, GO_HOME_DONE % m.state)
 
     def _on_cancel(self, request):
         m = self.mission
-        sender = request._connection_header.get('callerid', '?')
         refusal = state.cancel_refusal(m.state)
         if refusal is None and m.abort(state.CANCELLED):     # every MotionOutput halts
             m.runner.cancel()
-            m.log.warn('cancel from %s: stopped', sender)
-            return TriggerResponse(success=True, message='stopped: the mission is aborted (%s)'
-                                   % state.CANCELLED)
-        refusal = refusal or state.cancel_refusal(m.state)
-        m.log.warn('cancel from %s %s', sender, refusal)
-        return TriggerResponse(success=False, message=refusal)
+        else:
+            refusal = refusal or state.cancel_refusal(m.state)
+        return reply(m.log, request, 'cancel', refusal, CANCELLED)
 
     def _on_new_mission(self, request):
         m = self.mission
-        sender = request._connection_header.get('callerid', '?')
         with self._new_lock:
-            old = m.state
+            old, done = m.state, None
             refusal = state.new_mission_refusal(old)
             if refusal is None:
                 new_id = next_mission_id(m.layer.current_mission_id())
                 rospy.set_param(MISSION_ID, new_id)         # before the roles see idle
                 number = mission_number(m.layer.current_mission_id())
                 self._forget_return()
-                if m.move(old, state.IDLE, 'mission %d (new_mission by %s)' % (number, sender)):
-                    return TriggerResponse(success=True, message=(
-                        'mission %d: idle; recording into a new file behind %s from the first '
-                        'landmark' % (number, m.landmark_file)))
-                # only new_mission (under this lock) leaves a terminal state: not reached
-                refusal = 'refused: the mission became %s meanwhile' % m.state
-            m.log.warn('new_mission from %s %s', sender, refusal)
-            return TriggerResponse(success=False, message=refusal)
+                if m.move(old, state.IDLE, 'mission %d (new_mission by %s)' % (number, caller(request))):
+                    done = new_mission_done(number, m.landmark_file)
+                else:   # only new_mission (under this lock) leaves a terminal state: not reached
+                    refusal = 'refused: the mission became %s meanwhile' % m.state
+        return reply(m.log, request, 'new_mission', refusal, done)
 
     def _forget_return(self):
         """The last mission's return forgotten: its progress (the file is replaced at the next

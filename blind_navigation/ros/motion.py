@@ -3,7 +3,8 @@
 :class:`SafetyMonitor` halts every output of the process at once on a bumper, cliff or
 wheel drop. :class:`MotionOutput` publishes ``cmd_vel`` for one role only while it may
 move (core/mission_state.may_move), clamped; after ``halt`` every command is zero until
-``release``; zero for good after a fault; nothing at all during a takeover.
+``release`` (or, for a safety halt, :meth:`MotionOutput.contact_over`); zero for good after a
+fault; nothing at all during a takeover.
 """
 import threading
 
@@ -18,6 +19,8 @@ from . import faults, kobuki_msgs_compat as kobuki
 from .common import subscribe_checked, twist
 
 #: kind -> (message class, field naming the sensor)
+#: How a halt by a safety event begins (MotionOutput.halted)
+SAFETY_HALT = 'safety: '
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
                'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
 
@@ -86,10 +89,11 @@ class MotionOutput(object):
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
         self.takeover = takeover    # ros/takeover.TakeoverWatch: silent while it is active
+        self.safety = safety        # the SafetyMonitor that halts it (contact_over asks it)
         self._lock = threading.Lock()
         self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
         if safety is not None:
-            safety.on_trip(lambda reason: self.halt('safety: ' + reason))
+            safety.on_trip(lambda reason: self.halt(SAFETY_HALT + reason))
         if mission is not None:
             mission.on_change(self._on_state)
         faults.on_fault(self.halt)
@@ -127,6 +131,14 @@ class MotionOutput(object):
     def release(self):
         with self._lock:
             self.halted = None
+
+    def contact_over(self):
+        """Release a halt of a safety event once no safety condition is active (its owner
+        drives on: the mission has waited its contact_wait); any other halt stays."""
+        with self._lock:
+            if self.halted and self.halted.startswith(SAFETY_HALT) and self.safety is not None \
+                    and not self.safety.active:
+                self.halted = None
 
     def _send(self, v, w):
         if self.takeover is not None and self.takeover.active():

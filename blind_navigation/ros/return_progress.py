@@ -1,13 +1,18 @@
-"""The back-travel client's persisted return progress (core/progress.py), next to the
-landmark file: written atomically at each step, read at start-up for the first state
-(resume, abort or idle) and a restarted layer's route and heading correction. A progress
-that cannot be written is a warning (the stale file removed), never a reason to stop.
+"""The persisted return progress (core/progress.py), next to the landmark file: written
+atomically at each step, read at start-up for the first state (resume, abort or idle) and a
+restarted layer's route and heading correction; back_travel_client's (ProgressKeeper) and
+the mission owner's (MissionProgress). A progress that cannot be written is a warning (the
+stale file removed), never a reason to stop.
 """
 import os
 import time
+from types import SimpleNamespace
 
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.progress import (ProgressError, kept_heading, progress_path,
+from blind_navigation.core.geometry import distance
+from blind_navigation.core.landmark import Limits
+from blind_navigation.core.progress import (ProgressError, ReturnProgress, file_digest,
+                                            heading_record, kept_heading, progress_path,
                                             route_record, save_progress)
 from blind_navigation.core.resume import ABORT, IGNORE, resume_from_file, settle_abort
 
@@ -90,3 +95,85 @@ class ProgressKeeper(object):
             except ValueError as error:
                 return 'cannot resume: %s' % error
         return None
+
+
+class MissionProgress(object):
+    """The progress of a core/mission.Mission's returns (ros/mission_owner.py), kept by a
+    :class:`ProgressKeeper` at the same steps as back_travel_client's; ``mission_id()`` and
+    ``frame_id()`` name the mission and the odometry frame. A return a previous run left is
+    not resumed: the mission starts aborted (:meth:`first_state`)."""
+
+    def __init__(self, landmark_file, mission_id, frame_id, log, changed=None):
+        self.landmark_file, self.mission_id, self.frame_id = landmark_file, mission_id, frame_id
+        self.mission = None
+        self.keeper = ProgressKeeper(landmark_file, SimpleNamespace(to_plain=self._heading), log,
+                                     changed)
+        self.forget()
+
+    def forget(self):
+        """A new mission: the last return's progress forgotten (its file replaced at the next)."""
+        self.keeper.progress, self.at, self.travelled, self.route = None, None, 0.0, None
+
+    def _heading(self):
+        m = self.mission
+        return heading_record(m.correction, m.reference) if m.config.heading_correction else None
+
+    def first_state(self, mission, position, params):
+        """Abort ``mission`` (naming why) if a previous run left a return of this mission:
+        one that cannot continue (core/resume.py) or one that could (not resumed yet)."""
+        first, reason = self.keeper.first_state(position, self.mission_id(), params,
+                                                Limits(params.max_v, params.max_w))
+        if first == state.RETURNING:
+            reason = ('an unfinished return of this mission: not resumed (owner:=mission does not '
+                      'resume a return yet; owner:=layer does)')
+            self.keeper.save(self.keeper.progress.finish(state.ABORTED, reason, time.time()))
+        if first != state.IDLE:
+            mission.cancel(reason)
+
+    def update(self, m, route):
+        """After a step of ``m``: the turn began (its correction), the return began
+        (``route``, its goals), a goal was done."""
+        self.mission, progress = m, self.keeper.progress
+        if progress is None and m.correction is not None:
+            self.keeper.save(ReturnProgress.begin(self.landmark_file, m.anchor, self.frame_id(),
+                                                  time.time(), self.mission_id()))
+        elif route is not None and self.route is None and progress is not None \
+                and progress.status == state.ROTATING:
+            self.route = route
+            self._start(progress, len(m.drive.goals))
+        elif m.state == state.RETURNING and m.last is not None:
+            self._driven(m, progress)
+
+    def _start(self, progress, goals):
+        try:
+            digest = file_digest(progress.landmark_file)
+        except OSError as error:
+            self.keeper.log.warn('no return progress: cannot read %s: %s', progress.landmark_file,
+                                 error.strerror)
+            return
+        self.keeper.save(progress.start(digest, goals, time.time(),
+                                        route=self.keeper.route_data(self.route)))
+
+    def _driven(self, m, progress):
+        if self.at is not None:
+            self.travelled += distance(self.at[0], self.at[1], m.last.x, m.last.y)
+        self.at = [m.last.x, m.last.y]
+        done = getattr(m.drive, 'index', 0)
+        if progress is not None and progress.status == state.RETURNING and done > progress.completed:
+            self.keeper.save(progress.goal_done(min(done, progress.landmarks), time.time(),
+                                                self.at, self.travelled))
+
+    def ending(self, new, reason):
+        """The mission becomes ``new`` for ``reason``: a terminal state ends the return's progress."""
+        progress, m = self.keeper.progress, self.mission
+        if progress is None or not progress.unfinished or new not in state.TERMINAL:
+            return
+        position = [m.last.x, m.last.y] if m.last is not None else None
+        try:
+            if new == state.HOME and progress.status == state.RETURNING:    # its last goal
+                progress = progress.goal_done(progress.landmarks, time.time(), position)
+            progress = progress.finish(new, reason, time.time(), position)
+        except ProgressError as error:      # home, but the return's start was never kept
+            self.keeper.log.warn('the return progress keeps its last step: %s', error)
+            return
+        self.keeper.save(progress)

@@ -16,7 +16,8 @@ Asserted: the state walks idle -> recording -> rotating -> returning -> home;
 the goals sent are the recorder's (``~recorder`` variant) landmarks in reverse
 order (in the heading correction's frame), every one of them (owner:=mission,
 which has no action: its final status counts them); the robot ends within ``~max_error`` m of its start
-on /ground_truth/odom and stands still there.
+on /ground_truth/odom and stands still there; RViz's latched paths, the heading correction and the
+return's progress file (home, every landmark) are there as a user finds them after the mission.
 """
 import os
 import sys
@@ -24,13 +25,17 @@ import unittest
 
 import rospy
 import rostest
+from nav_msgs.msg import Path
 from std_msgs.msg import String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import PSI_TOLERANCE, HomeMission, STOPPED_SPEED, MissionRun  # noqa: E402
 from recording_tools import Collector  # noqa: E402
 
+from blind_navigation import names  # noqa: E402
 from blind_navigation.core.geometry import wrap_angle  # noqa: E402
+from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
+from blind_navigation.msg import HeadingCorrection  # noqa: E402
 from blind_navigation.sim.mission import load_mission  # noqa: E402
 
 
@@ -123,6 +128,26 @@ class MissionTest(HomeMission, unittest.TestCase):
         self.assertGreater(self.loaded.total_distance, 0.9 * nominal,
                            'recorded %.2f m of the %.2f m mission: the operator lapsed (rtf too '
                            'high for the machine load?)' % (self.loaded.total_distance, nominal))
+
+    def test_the_paths_the_correction_and_the_progress_are_kept(self):
+        latched = {topic: rospy.wait_for_message(topic, msg_type, timeout=10.0)
+                   for topic, msg_type in ((names.RECORDED_PATH, Path), (names.RETURN_ROUTE, Path),
+                                           (names.RETURN_PATH, Path),
+                                           (names.HEADING_CORRECTION, HeadingCorrection))}
+        landmarks = len(self.loaded.landmarks)
+        # the recording's start and one pose per landmark; the route from where it stopped
+        self.assertEqual(len(latched[names.RECORDED_PATH].poses), landmarks + 1)
+        self.assertGreater(len(latched[names.RETURN_ROUTE].poses), 1)
+        recorded = self.loaded.total_distance
+        driven = latched[names.RETURN_PATH].poses
+        self.assertGreater(len(driven), recorded / 0.1, 'return_path: a pose every 0.02 m driven')
+        self.assertIn(latched[names.HEADING_CORRECTION].status, ('full', 'bias', 'scale', 'none'))
+        storage = self.mission_run.storage_msgs.snapshot()[-1]
+        progress = load_progress(progress_path(os.path.join(os.path.dirname(storage.file),
+                                                            'landmarks.yaml')))
+        self.assertEqual((progress.status, progress.landmarks, progress.completed),
+                         ('home', landmarks, landmarks))
+        self.assertEqual(progress.landmark_file, os.path.realpath(storage.file))
 
     def test_robot_ends_near_its_start(self):
         self.assertLessEqual(self.error, self.max_error,

@@ -1,0 +1,85 @@
+"""What the mission owner (ros/mission_owner.py) shows and keeps of its core Mission beside
+the state, as the default layer's roles do: the RViz paths (recorded_path, return_route,
+return_path), the latched heading correction and the return's progress file
+(ros/return_progress.MissionProgress).
+"""
+from array import array
+
+import rospy
+from nav_msgs.msg import Path
+
+from blind_navigation import names
+from blind_navigation.core import mission_state as state
+from blind_navigation.core.return_plan import plan_return
+from blind_navigation.msg import HeadingCorrection
+from blind_navigation.ros.common import wait_wall
+from blind_navigation.ros.heading_correction import correction_message
+from blind_navigation.ros.landmark_saving import path_message
+from blind_navigation.ros.return_paths import ReturnPaths
+from blind_navigation.ros.return_progress import MissionProgress
+
+
+class MissionOutputs(object):
+    """The outputs of ``owner`` (a MissionOwner: its mission, layer, params, log, landmark
+    file and publish_status), brought up to date by :meth:`stepped` and :meth:`ending`."""
+
+    def __init__(self, owner):
+        self.owner, self.odometry = owner, owner.layer.odometry
+        self.paths = ReturnPaths(owner.params.path_spacing)
+        self.recorded_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
+        self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
+                                              queue_size=1, latch=True)
+        self.progress = MissionProgress(owner.landmark_file, owner.layer.current_mission_id,
+                                        lambda: self.odometry.frame_id, owner.log,
+                                        changed=owner.publish_status)
+        self._fresh()
+
+    def _fresh(self):
+        self.poses = array('d')     # x, y, yaw of the recording's start and every landmark
+        self.shown = 0              # of them published
+        self.correction = self.route = None
+
+    def first_state(self):
+        """A return a previous run left: the mission aborted (MissionProgress.first_state)."""
+        self.progress.first_state(self.owner.mission, self._position, self.owner.params)
+
+    def _position(self):
+        timeout = self.owner.params.odom_timeout
+        wait_wall(lambda: self.odometry.fresh(timeout) is not None, self.owner.params.server_timeout)
+        odom = self.odometry.fresh(timeout)
+        return [odom.x, odom.y] if odom is not None else None
+
+    def new_mission(self):
+        """Both RViz paths emptied, the last return's progress forgotten."""
+        self._fresh()
+        self.progress.forget()
+        self.paths.clear()
+        self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(), self.odometry.frame_id))
+
+    def stepped(self, stored):
+        """After a step that stored the landmarks ``stored`` (the owner's lock held)."""
+        m = self.owner.mission
+        if m.raw is not None and m.recording.started and not self.poses:
+            self.poses.extend((m.raw.x, m.raw.y, m.raw.yaw))    # where the recording began
+        for _ in stored:
+            self.poses.extend((m.raw.x, m.raw.y, m.raw.yaw))
+        if len(self.poses) > self.shown and (self.recorded_pub.get_num_connections()
+                                             or m.state != state.RECORDING):
+            self.shown = len(self.poses)        # every pose once the recording is over
+            self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(),
+                                                   self.odometry.frame_id))
+        if m.correction is not None and self.correction is None:
+            self.correction = m.correction
+            if m.config.heading_correction:
+                self.correction_pub.publish(correction_message(m.correction, m.reference,
+                                                               self.odometry.frame_id))
+        if getattr(m.drive, 'goals', None) is not None and self.route is None:
+            self.route = m.route or plan_return(m.landmarks, m.anchor, self.owner.params, False)[0]
+            self.paths.publish_route(self.route, self.odometry.frame_id)
+        if m.state == state.RETURNING and m.last is not None:
+            self.paths.driven(m.raw.stamp, self.odometry.frame_id, m.last)
+        self.progress.update(m, self.route)
+
+    def ending(self, new, reason):
+        """The mission becomes ``new`` for ``reason`` (the owner's lock held)."""
+        self.progress.ending(new, reason)
