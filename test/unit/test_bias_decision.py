@@ -10,6 +10,7 @@ from blind_navigation.core.geometry import OdomState, wrap_angle
 from blind_navigation.core.gyro_bias import BiasEstimate, StandstillBias
 from blind_navigation.core.gyro_fit import GyroVisualFit
 from blind_navigation.core.heading_correction import estimate_correction
+from blind_navigation.evaluation.standing_lead import lead_row, table
 from blind_navigation.sim.harness import run_mission
 from blind_navigation.sim.kobuki import load_profile
 
@@ -63,3 +64,10 @@ def test_a_standing_lead_leaves_the_return_alone_when_the_bias_is_known():
         assert run.heading_correction.status == 'bias' and run.heading_correction.bias_std < 1e-8
     assert runs[1].heading_correction.bias == pytest.approx(runs[0].heading_correction.bias, abs=1e-8)
     assert runs[1].position_error == pytest.approx(runs[0].position_error, abs=0.005)   # m
+
+
+def test_the_lead_evaluation_reports_the_bias_against_the_robots():
+    row = lead_row('reversing', 'reversing', 5001, 5.0, 'kinematic')
+    assert row['status'] == 'home' and row['applied'] and row['standstill_s'] >= 5.0
+    assert abs(row['bias'] - row['true_bias']) <= 3.0 * row['bias_std'], row
+    assert 'bias left out' in table([row])
