@@ -2,9 +2,9 @@
 corrected odometry frame the pi turn and the return drive on.
 
 :func:`estimate_correction` (the :class:`GyroCorrection`: bias and scale, each only when
-significant and sane), :class:`CorrectedOdometry` (raw odometry in the corrected frame,
-equal to the raw one at the reference) and :func:`correct_landmarks` (the recorded
-landmarks in that frame). docs/back_travel.md, "Gyro heading correction".
+sane and, but a bias measured standing still, significant), :class:`CorrectedOdometry`
+(raw odometry in the corrected frame, equal to the raw one at the reference),
+:func:`correct_landmarks` (the landmarks in it). docs/back_travel.md, "Gyro heading correction".
 """
 import math
 from collections import namedtuple
@@ -18,7 +18,8 @@ from .period_model import period_turn
 CORRECTION_DEFAULTS = {
     'max_bias': 0.01,            # rad/s, a larger bias estimate is rejected (Kobuki gyro: ~6e-4)
     'max_scale': 0.05,           # a larger |scale error| estimate is rejected
-    'significance': math.sqrt(2.0),  # a term is used only if |estimate| > this many standard errors
+    'significance': math.sqrt(2.0),  # without a standstill, the (visual-odometry) bias is used
+                                     # only if |estimate| > this many standard errors
     'scale_significance': 3.0,   # the calibrated scale is used only if beyond this many standard
                                  # errors (core/gyro_calibration.py)
 }
@@ -100,8 +101,8 @@ def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
         notes.append('only %d windows with valid visual odometry (need %d)'
                      % (used, int(fit.min_windows)))
     bias, bias_std = fuse_bias([e for e in (visual, standstill) if e is not None])
-    problem = _bias_problem(bias, bias_std, params) if math.isfinite(bias_std) else \
-        'no bias measurement'
+    problem = _bias_problem(bias, bias_std, params, standstill is not None) \
+        if math.isfinite(bias_std) else 'no bias measurement'
     if problem:
         notes.insert(0, problem)
         bias, bias_std = 0.0, float('inf')
@@ -110,12 +111,14 @@ def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
     return GyroCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
 
 
-def _bias_problem(bias, bias_std, params):
-    """Why the bias estimate is not used, or None."""
+def _bias_problem(bias, bias_std, params, measured=False):
+    """Why the bias estimate is not used, or None. With a standstill (``measured``) any
+    bias but 0 within ``max_bias`` is used, else only beyond ``significance`` std
+    (docs/back_travel.md, "Gyro heading correction")."""
     max_bias = _param(params, 'max_bias')
     if abs(bias) > max_bias:
         return 'bias estimate %.2e rad/s beyond %.2e' % (bias, max_bias)
-    if abs(bias) <= _param(params, 'significance') * bias_std:
+    if bias == 0.0 or (not measured and abs(bias) <= _param(params, 'significance') * bias_std):
         return 'bias %.2e rad/s not significant (std %.1e)' % (bias, bias_std)
     return None
 
