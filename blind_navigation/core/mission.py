@@ -67,29 +67,32 @@ Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: re
 
 RECORDING, STANDSTILL, TURN, TURNED, SETTLE, ENDED = (
     'recording', 'standstill', 'turn', 'turned', 'settle', 'ended')
+#: Why a mission starts ``returning`` (the default layer's reason too).
+RESUMED = 'resume after a restart'
 
 
 class Mission(object):
     """One mission (module docstring). ``params``: the controllers' (core/rotation,
     core/goal, core/route, core/allowance, core/pause names); ``store``: ``append(landmark)``,
     ``load()`` -> core/store.LoadedPath and ``loss()`` -> core/return_plan.WriteLoss (the
-    landmarks it could not write); ``settings``: :data:`MISSION_DEFAULTS`."""
+    landmarks it could not write); ``settings``: :data:`MISSION_DEFAULTS`; ``kept``: a
+    core/resume.KeptReturn, the return a previous run left, resumed (``returning``)."""
 
-    def __init__(self, params, store, **settings):
+    def __init__(self, params, store, kept=None, **settings):
         self.params, self.store = params, store
         self.config = types.SimpleNamespace(**dict(MISSION_DEFAULTS, **_known(settings)))
         self.machine = state.MissionState()
-        self.transitions = []       # (now, old, new, reason) of every change
-        self.now = None
-        self._move(None, state.IDLE)
+        self.transitions, self.now = [], None   # (now, old, new, reason) of every change
         self._new(store)
+        _resume(self, kept)
+        self._move(None, state.IDLE if kept is None else state.RETURNING, RESUMED if kept else '')
 
     def _new(self, store):
         self.store, self.phase = store, RECORDING
         self.recording = MissionRecording(store, self.config)
         self.raw = self.last = self.corrector = self.correction = None
         self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
-        self.drive = None
+        self.drive = self.kept = None
         self.pauses = Pauses(self.params)
         self.requests, self.halt, self.vision_loss = [], False, False
 
@@ -120,8 +123,7 @@ class Mission(object):
         return refusal
 
     def configure_return(self, **settings):
-        """Change the return's settings (mode, prune_loops, ...) or its ``landmarks``
-        (recording order) before it starts (phase ``turned``)."""
+        """Change the return's settings or ``landmarks`` (recording order) before it starts."""
         if self.phase != TURNED:
             raise RuntimeError('the return is configured before it starts, not in %s' % self.phase)
         self.landmarks = settings.pop('landmarks', self.landmarks)
@@ -151,9 +153,9 @@ class Mission(object):
             return self._standstill(now, inputs)
         if self.phase == SETTLE:
             return self._settle(now)
-        if self.phase == TURNED:
+        if self.phase == TURNED and self.last is not None:     # resumed: once odometry came
             self._plan()
-        return self._drive(now, inputs)
+        return self._drive(now, inputs) if self.drive is not None else None
 
     def odom(self):
         """The latest odometry as the return sees it (corrected once the correction is known)."""
@@ -266,19 +268,21 @@ class Mission(object):
         return False
 
     def _plan(self):
-        """The return's route (closed_loop, pruned with prune_loops) and its goals."""
-        c, follower = self.config, None
+        """The return's route (closed_loop; pruned with prune_loops; or kept) and its goals."""
+        c, follower, kept = self.config, None, self.kept
         labels = getattr(self.loaded, 'labels', [])
         goals = return_goals(labels if len(labels) == len(self.landmarks) else
                              [str(number + 1) for number in range(len(self.landmarks))], self.landmarks)
         if c.mode == 'closed_loop':
-            self.route, self.pruning = plan_return(self.landmarks, self.anchor, self.params,
-                                                   c.prune_loops, self.correction)
+            self.route, self.pruning = (kept.route, None) if kept else plan_return(
+                self.landmarks, self.anchor, self.params, c.prune_loops, self.correction)
             follower = None if c.remote_goals else RouteFollower(self.route, self.params)
-        self.pauses = Pauses(self.params)
-        watch = ReturnWatch(self.landmarks, self.landmarks, c.limits or self.params, self.now)
+        self.pauses, done = Pauses(self.params), kept.done if kept else 0
+        watch = ReturnWatch(self.landmarks, [landmark for _, landmark in goals[done:]],
+                            c.limits or self.params, self.now)
         self.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
             goals, c.mode, self.params, follower, c, self._feed, self.odom, watch)
+        self.drive.index, self.drive.driven = done, kept.travelled if kept else 0.0
 
     def _drive(self, now, inputs):
         """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""
@@ -312,12 +316,22 @@ class Mission(object):
 
     def _vision_back(self, inputs):
         """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""
-        if not inputs.vision_back or not self.vision_loss:
-            return False
-        if state.vision_back_state(self.state, True, self.config.on_vision_back) != state.RECOVERED:
-            return False
-        self._end(state.RECOVERED, _recovered(self.drive if self.state == state.RETURNING else None))
-        return True
+        recovered = inputs.vision_back and self.vision_loss and state.vision_back_state(
+            self.state, True, self.config.on_vision_back) == state.RECOVERED
+        return recovered and self._end(state.RECOVERED, _recovered(
+            self.drive if self.state == state.RETURNING else None)) is ZERO
+
+
+def _resume(m, kept):
+    """Mission ``m`` set to drive the return ``kept`` (core/resume.KeptReturn, None: none) from
+    its next goal."""
+    if kept is None:
+        return
+    m.kept, m.phase, m.loaded, m.landmarks, m.anchor = kept, TURNED, kept.loaded, kept.landmarks, \
+        kept.anchor
+    m.correction, m.reference = kept.correction, kept.reference
+    m.corrector = None if kept.correction is None else CorrectedOdometry.started(
+        kept.correction, kept.reference, snapshot=kept.frame)
 
 
 def _recovered(returning):

@@ -15,6 +15,8 @@ import yaml
 
 from . import mission_state as state
 from .files import FileContentError, NotRegularFileError, read_regular_file, write_atomically
+from .geometry import OdomState
+from .heading_correction import GyroCorrection
 from .route import Route
 
 #: Defaults of the resume rule (the client exposes them as ~params).
@@ -135,6 +137,18 @@ def kept_route(progress):
 def kept_heading(progress):
     """The plain heading correction ``progress`` keeps, or None."""
     return progress.route['heading'] if progress.route is not None else None
+
+
+def plain_correction(plain):
+    """(GyroCorrection, the raw OdomState where its frame starts, the frame's snapshot or
+    None) of a :func:`heading_record`; ValueError if it is not readable."""
+    try:
+        correction = GyroCorrection(*(float('inf') if v is None else v for v in plain['correction']))
+        reference = OdomState(*(float(v) for v in plain['reference'][:3]), 0.0, 0.0,
+                              float(plain['reference'][3]))
+        return correction, reference, plain.get('frame')
+    except (KeyError, TypeError, ValueError, IndexError):
+        raise ValueError('the kept heading correction is not readable: %r' % (plain,))
 
 
 def _field_problem(progress):

@@ -3,7 +3,8 @@
 already, :func:`resume_decision`) answers :data:`RESUME`, :data:`IGNORE`
 (nothing was under way) or :data:`ABORT` (a return was under way and cannot
 safely continue, or the file cannot be trusted: docs/safety.md, "Faults");
-:func:`settle_abort` then records the abort, so the next start is clean.
+:func:`settle_abort` then records the abort, so the next start is clean;
+:func:`kept_return` is what a resumed return continues from.
 """
 import datetime
 import enum
@@ -12,11 +13,12 @@ import os
 from collections import namedtuple
 
 from . import mission_state as state
+from .heading_correction import CorrectedOdometry, correct_landmarks
 from .plausibility import Limits
 from .progress import (PROGRESS_DEFAULTS, ProgressError, ReturnProgress, as_point, file_digest,
-                       load_progress, save_progress)
+                       kept_heading, kept_route, load_progress, plain_correction, save_progress)
+from .return_plan import recording_problem
 from .store import LandmarkFileError, load_landmarks
-
 
 
 class Action(enum.Enum):
@@ -157,3 +159,50 @@ def settle_abort(path, decision, now):
         os.rename(path, aside)
     save_progress(path, ReturnProgress.aborted(decision.reason, now))
     return aside
+
+
+KeptReturn = namedtuple('KeptReturn', 'loaded landmarks route correction reference frame done '
+                        'travelled anchor')
+KeptReturn.__doc__ = ('What a resumed return continues from: the landmark file ``loaded``, its '
+                      '``landmarks`` in the corrected frame, the ``route``, the heading ``correction``, '
+                      'its ``reference`` and ``frame`` (core/heading_correction.CorrectedOdometry, '
+                      'None without one), the goals ``done``, m ``travelled``, the ``anchor``.')
+
+
+def resumed_route(progress, digest, goals, path):
+    """(route, problem): the route ``progress`` (kept at ``path``) keeps, if the landmark file
+    (sha256 ``digest``, ``goals`` landmarks) is still the one its return started over."""
+    if digest != progress.digest or goals != progress.landmarks:
+        return None, 'landmark file %s changed since the return started' % progress.landmark_file
+    try:
+        return kept_route(progress), None
+    except ValueError as error:
+        return None, 'cannot resume: the route in %s: %s' % (path, error)
+
+
+def kept_return(progress, path, limits=Limits()):
+    """(:class:`KeptReturn`, None) of a RESUME decision's ``progress`` (kept at ``path``; the
+    landmark file loaded with ``limits``), or (None, why it cannot be resumed)."""
+    try:
+        loaded = load_landmarks(progress.landmark_file, limits=limits)
+        digest = file_digest(progress.landmark_file)
+    except OSError as error:
+        return None, 'landmark file unusable: %s: cannot read: %s' % (progress.landmark_file,
+                                                                     error.strerror)
+    except LandmarkFileError as error:
+        return None, 'landmark file unusable: %s' % error
+    route, problem = resumed_route(progress, digest, len(loaded.landmarks), path)
+    problem = problem or recording_problem(loaded, None)
+    if problem:
+        return None, problem
+    correction = reference = frame = None
+    landmarks = loaded.landmarks
+    if kept_heading(progress) is not None:
+        try:
+            correction, reference, frame = plain_correction(kept_heading(progress))
+            CorrectedOdometry.started(correction, reference, snapshot=frame)
+        except ValueError as error:
+            return None, 'cannot resume: %s' % error
+        landmarks = correct_landmarks(landmarks, correction)
+    return KeptReturn(loaded, landmarks, route, correction, reference, frame, progress.completed,
+                      progress.travelled, tuple(progress.anchor)), None

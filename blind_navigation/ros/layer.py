@@ -13,7 +13,7 @@ from .. import names
 from ..core.mission_state import IDLE, RECORDING
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
-from ..core.progress import heading_record
+from ..core.progress import heading_record, plain_correction
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
@@ -224,12 +224,5 @@ class CorrectionReceiver(object):
     def install_plain(self, plain):
         """Install a correction kept by :meth:`to_plain` (a resumed return), unless one
         arrived already; ValueError naming what is wrong with ``plain``."""
-        try:
-            correction = GyroCorrection(*(float('inf') if v is None else v
-                                          for v in plain['correction']))
-            reference = OdomState(*(float(v) for v in plain['reference'][:3]), 0.0, 0.0,
-                                  float(plain['reference'][3]))
-            frame = plain.get('frame')
-        except (KeyError, TypeError, ValueError, IndexError):
-            raise ValueError('the kept heading correction is not readable: %r' % (plain,))
+        correction, reference, frame = plain_correction(plain)
         self._install(correction, reference, frame)

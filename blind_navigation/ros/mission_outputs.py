@@ -40,8 +40,9 @@ class MissionOutputs(object):
         self.correction = self.route = None
 
     def first_state(self):
-        """A return a previous run left: the mission aborted (MissionProgress.first_state)."""
-        self.progress.first_state(self.owner.mission, self._position, self.owner.params)
+        """A return a previous run left: its core/resume.KeptReturn or None, the mission
+        aborted if it cannot continue (MissionProgress.first_state)."""
+        return self.progress.first_state(self.owner.mission, self._position, self.owner.params)
 
     def _position(self):
         timeout = self.owner.params.odom_timeout

@@ -19,7 +19,7 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
-from blind_navigation.core.mission import Inputs, Mission
+from blind_navigation.core.mission import RECORDING, Inputs, Mission
 from blind_navigation.core.recorder import SpaceWatch
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
 from blind_navigation.core.return_plan import write_loss
@@ -173,7 +173,9 @@ class MissionOwner(object):
         self.takeover = takeover
         self.outputs = MissionOutputs(self)
         self._subscribe()
-        self.outputs.first_state()      # a return a previous run left: aborted
+        kept = self.outputs.first_state()   # a return a previous run left: resumed or aborted
+        if kept is not None:
+            self.mission = Mission(self.params, self.store, kept=kept, **settings)
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
@@ -224,7 +226,7 @@ class MissionOwner(object):
                 self.stepped.notify_all()
 
     def _step(self, now, odom, visual, events):
-        if not self.mission.recording.started and \
+        if self.mission.phase == RECORDING and not self.mission.recording.started and \
                 self.sample_pub.get_num_connections() < self.params.listeners:
             odom = None
         active, terminal = self.layer.safety.active, self.layer.safety.terminal

@@ -14,7 +14,7 @@ from blind_navigation.core.landmark import Limits
 from blind_navigation.core.progress import (ProgressError, ReturnProgress, file_digest,
                                             heading_record, kept_heading, progress_path,
                                             route_record, save_progress)
-from blind_navigation.core.resume import ABORT, IGNORE, resume_from_file, settle_abort
+from blind_navigation.core.resume import ABORT, IGNORE, kept_return, resume_from_file, settle_abort
 
 
 class ProgressKeeper(object):
@@ -100,8 +100,8 @@ class ProgressKeeper(object):
 class MissionProgress(object):
     """The progress of a core/mission.Mission's returns (ros/mission_owner.py), kept by a
     :class:`ProgressKeeper` at the same steps as back_travel_client's; ``mission_id()`` and
-    ``frame_id()`` name the mission and the odometry frame. A return a previous run left is
-    not resumed: the mission starts aborted (:meth:`first_state`)."""
+    ``frame_id()`` name the mission and the odometry frame; a return a previous run left is
+    resumed or aborted (:meth:`first_state`)."""
 
     def __init__(self, landmark_file, mission_id, frame_id, log, changed=None):
         self.landmark_file, self.mission_id, self.frame_id = landmark_file, mission_id, frame_id
@@ -116,19 +116,26 @@ class MissionProgress(object):
 
     def _heading(self):
         m = self.mission
-        return heading_record(m.correction, m.reference) if m.config.heading_correction else None
+        frame = m.corrector.snapshot() if m.corrector is not None else None
+        return heading_record(m.correction, m.reference, frame) if m.config.heading_correction \
+            else None
 
     def first_state(self, mission, position, params):
-        """Abort ``mission`` (naming why) if a previous run left a return of this mission:
-        one that cannot continue (core/resume.py) or one that could (not resumed yet)."""
-        first, reason = self.keeper.first_state(position, self.mission_id(), params,
-                                                Limits(params.max_v, params.max_w))
+        """A return of this mission a previous run left: the core/resume.KeptReturn to resume
+        it from, or None with ``mission`` aborted naming why it cannot continue
+        (core/resume.py); None if there is none."""
+        limits = Limits(params.max_v, params.max_w)
+        first, reason = self.keeper.first_state(position, self.mission_id(), params, limits)
+        kept = None
         if first == state.RETURNING:
-            reason = ('an unfinished return of this mission: not resumed (owner:=mission does not '
-                      'resume a return yet; owner:=layer does)')
-            self.keeper.save(self.keeper.progress.finish(state.ABORTED, reason, time.time()))
-        if first != state.IDLE:
+            kept, reason = kept_return(self.keeper.progress, self.keeper.path, limits)
+            if kept is None:
+                self.keeper.save(self.keeper.progress.finish(state.ABORTED, reason, time.time()))
+        if first != state.IDLE and kept is None:
             mission.cancel(reason)
+        if kept is not None:
+            self.route, self.travelled = kept.route, kept.travelled
+        return kept
 
     def update(self, m, route):
         """After a step of ``m``: the turn began (its correction), the return began
@@ -160,8 +167,9 @@ class MissionProgress(object):
         self.at = [m.last.x, m.last.y]
         done = getattr(m.drive, 'index', 0)
         if progress is not None and progress.status == state.RETURNING and done > progress.completed:
-            self.keeper.save(progress.goal_done(min(done, progress.landmarks), time.time(),
-                                                self.at, self.travelled))
+            progress = progress.goal_done(min(done, progress.landmarks), time.time(), self.at,
+                                          self.travelled)
+            self.keeper.save(progress._replace(route=self.keeper.route_data(self.route)).checked())
 
     def ending(self, new, reason):
         """The mission becomes ``new`` for ``reason``: a terminal state ends the return's progress."""

@@ -17,9 +17,10 @@ from blind_navigation.core.back_travel import home_check, stopped
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.mission_limits import ReturnWatch
 from blind_navigation.core.pause import CONTACT_DEFAULTS, PauseLog
-from blind_navigation.core.progress import file_digest, kept_route
+from blind_navigation.core.progress import file_digest
 from blind_navigation.core.return_plan import (plan_route, recording_problem, return_goals,
                                                return_warning)
+from blind_navigation.core.resume import resumed_route
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import BackTravelAction, BackTravelGoal
 from blind_navigation.ros.common import wait_wall
@@ -144,13 +145,7 @@ class ReturnRunner(object):
 
     def _kept_route(self, digest, goals):
         """(route, problem): the route of the return this one resumes."""
-        progress = self.mission.keeper.progress
-        if digest != progress.digest or goals != progress.landmarks:
-            return None, 'landmark file %s changed since the return started' % progress.landmark_file
-        try:
-            return kept_route(progress), None
-        except ValueError as error:
-            return None, 'cannot resume: the route in %s: %s' % (self.mission.keeper.path, error)
+        return resumed_route(self.mission.keeper.progress, digest, goals, self.mission.keeper.path)
 
     def _new_route(self, landmarks, digest, goals):
         """(route, problem): the route planned from where recording stopped, persisted."""

@@ -41,7 +41,8 @@ def _landmark_file(tmp_path):
 def _mission():
     """What MissionProgress reads of a core/mission.Mission."""
     m = types.SimpleNamespace(
-        raw=None, last=None, state=state.RECORDING, correction=None, reference=None, anchor=None,
+        raw=None, last=None, state=state.RECORDING, correction=None, corrector=None,
+        reference=None, anchor=None,
         drive=None, config=types.SimpleNamespace(heading_correction=True), cancelled=None)
     m.cancel = lambda reason=None: setattr(m, 'cancelled', reason)
     return m
@@ -112,17 +113,31 @@ def test_a_return_whose_start_was_not_kept_does_not_end_home_in_the_file(tmp_pat
     assert [level for level, _ in progress.keeper.log.lines] == ['warn', 'warn']
 
 
-def test_a_return_left_by_a_previous_run_is_not_resumed_but_aborted(tmp_path):
-    path, params = _landmark_file(tmp_path), types.SimpleNamespace(
-        max_v=0.7, max_w=2.0, resume_timeout=600.0, resume_max_offset=0.5)
+PARAMS = types.SimpleNamespace(max_v=0.7, max_w=2.0, resume_timeout=600.0, resume_max_offset=0.5)
+
+
+def test_a_return_left_by_a_previous_run_is_kept_to_resume(tmp_path):
+    path = _landmark_file(tmp_path)
     _return(_progress(path), _mission())        # then the process dies
     restarted = _mission()
-    _progress(path).first_state(restarted, lambda: [0.2, 0.0], params)
-    assert 'not resumed' in restarted.cancelled
+    kept = _progress(path).first_state(restarted, lambda: [0.2, 0.0], PARAMS)
+    assert restarted.cancelled is None
+    assert (kept.done, kept.anchor, kept.travelled) == (1, (0.4, 0.0), pytest.approx(0.2))
+    assert kept.correction.bias == 1e-4 and kept.reference.x == 0.4
+
+
+def test_a_return_whose_landmark_file_changed_is_aborted_as_the_default_layer_does(tmp_path):
+    path = _landmark_file(tmp_path)
+    _return(_progress(path), _mission())
+    with open(path, 'a') as extra:
+        extra.write('landmark_000003: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n')
+    restarted = _mission()
+    assert _progress(path).first_state(restarted, lambda: [0.2, 0.0], PARAMS) is None
+    assert restarted.cancelled == 'landmark file %s changed since the return started' % path
     kept = load_progress(progress_path(path))
     assert (kept.status, kept.reason) == (state.ABORTED, restarted.cancelled)
     again = _mission()
-    _progress(path).first_state(again, lambda: [0.2, 0.0], params)     # the next start: idle
+    _progress(path).first_state(again, lambda: [0.2, 0.0], PARAMS)     # the next start: idle
     assert again.cancelled is None
 
 
