@@ -49,6 +49,7 @@ class Inbox(object):
 
     def _clear(self):
         self.odoms, self.visual, self.events = [], [], {}
+        self.reset_at = 0           # the index of the first odometry state after an untrusted reset
 
     def put(self, **events):
         """Events by Inputs field name (the first of each kind until taken is kept)."""
@@ -57,8 +58,11 @@ class Inbox(object):
                 self.events.setdefault(name, value)
             self._ready.notify()
 
-    def odom(self, odom):
+    def odom(self, odom, reset=None):
+        """An odometry state; ``reset``: the untrusted reset it is the first state after."""
         with self._ready:
+            if reset is not None and 'reset' not in self.events:
+                self.events['reset'], self.reset_at = reset, len(self.odoms)
             self.odoms.append(odom)
             self._ready.notify()
 
@@ -67,11 +71,12 @@ class Inbox(object):
             self.visual.append((stamp, yaw))
 
     def take(self, timeout):
-        """(odometry states, visual frames, events), waiting at most ``timeout`` wall s for any."""
+        """(odometry states, visual frames, events, the index of the first state after a reset),
+        waiting at most ``timeout`` wall s for any."""
         with self._ready:
             if not self.odoms and not self.events:
                 self._ready.wait(timeout)
-            taken = self.odoms, self.visual, self.events
+            taken = self.odoms, self.visual, self.events, self.reset_at
             self._clear()
             return taken
 
@@ -90,6 +95,15 @@ class FileStore(object):
         except StorageError as error:
             self.error = str(error)
             rospy.logerr('%s: landmark lost: %s', rospy.get_name(), error)
+
+    def note_gap(self, reason):
+        try:
+            gap = self.writer.note_gap(reason)
+            rospy.logerr('%s: odometry discontinuity: %s noted in %s; the next landmark counts '
+                         'from the new odometry', rospy.get_name(), gap, self.writer.path)
+        except StorageError as error:
+            self.error = str(error)
+            rospy.logerr('%s: gap not noted: %s', rospy.get_name(), error)
 
     def load(self):
         try:
@@ -156,6 +170,7 @@ class MissionOwner(object):
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
+        self.lost = None                    # the odometry feed's lost frame last seen (a reset)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
@@ -185,8 +200,7 @@ class MissionOwner(object):
     def _subscribe(self):
         guard, layer, inbox = self.guard, self.layer, self.inbox
         layer.odometry.acquire(self.ROLE)
-        layer.odometry.add_listener(guard(inbox.odom))
-        layer.odometry.on_reanchor(guard(lambda reason, trusted: trusted or inbox.put(reset=reason)))
+        layer.odometry.add_listener(guard(self._on_odom))
         layer.visual_odometry.acquire(self.ROLE)
         layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
         subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)),
@@ -194,6 +208,12 @@ class MissionOwner(object):
         subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)),
                   queue_size=5)
         faults.on_fault(self._on_fault)
+
+    def _on_odom(self, odom):
+        """A state; the feed's frame newly lost (an untrusted reset) comes in with it."""
+        lost = self.layer.odometry.lost
+        reset, self.lost = (lost if lost != self.lost else None), lost
+        self.inbox.odom(odom, reset)
 
     def _on_visual(self, wire):
         if wire_lost_reason(wire) is None:
@@ -212,15 +232,16 @@ class MissionOwner(object):
         clock = LoopClock(self.ROLE, self.log, then='a turn or a return ends aborted')
         period = 1.0 / self.params.control_rate
         while not rospy.is_shutdown():
-            odoms, visual, events = self.inbox.take(period)
+            odoms, visual, events, reset_at = self.inbox.take(period)
+            reset = {'reset': events.pop('reset')} if 'reset' in events else {}
             moved_back = clock.moved_back
             now = clock.now()
             if clock.moved_back > moved_back:
                 events.setdefault('time_back', describe(*clock.last_jump))
             with self.lock:
                 for index, odom in enumerate(odoms or [None]):
-                    self._step(now, odom, visual if index == 0 else (),
-                               events if index == 0 else {})
+                    self._step(now, odom, visual if index == 0 else (), dict(
+                        events if index == 0 else {}, **(reset if index == reset_at else {})))
                 self.stepped.notify_all()
 
     def _step(self, now, odom, visual, events):
