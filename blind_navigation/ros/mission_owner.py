@@ -19,7 +19,7 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
-from blind_navigation.core.mission import Inputs, Mission
+from blind_navigation.core.mission import RECORDING, Inputs, Mission
 from blind_navigation.core.recorder import SpaceWatch
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
 from blind_navigation.core.return_plan import write_loss
@@ -30,9 +30,10 @@ from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
-from blind_navigation.ros.heading_correction import calibration_file
+from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
 from blind_navigation.ros.landmark_saving import landmark_file, storage_message
 from blind_navigation.ros.layer import MISSION_ID
+from blind_navigation.ros.mission_diagnostics import file_status, odometry_status
 from blind_navigation.ros.mission_outputs import MissionOutputs
 from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
                                                       reply)
@@ -171,6 +172,8 @@ class MissionOwner(object):
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
         self.lost = None                    # the odometry feed's lost frame last seen (a reset)
+        self.vo_heard = None                # rospy time of the last visual odometry
+        self.vo_since = rospy.get_time()    # ... of the mission's start (its vo_timeout counts)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
@@ -192,7 +195,7 @@ class MissionOwner(object):
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
-        layer.diagnostics.add('mission', self._diagnose)
+        self._add_diagnostics(settings)
         rospy.on_shutdown(self._on_shutdown)
         with self.lock:
             self._announce()
@@ -216,6 +219,7 @@ class MissionOwner(object):
         self.inbox.odom(odom, reset)
 
     def _on_visual(self, wire):
+        self.vo_heard = rospy.get_time()
         if wire_lost_reason(wire) is None:
             self.inbox.frame(wire.stamp, yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw))
 
@@ -320,6 +324,26 @@ class MissionOwner(object):
             output.halt('node shutdown')
         self.store.writer.close()
 
+    def _add_diagnostics(self, settings):
+        """The mission's statuses and, as the roles of owner:=layer name them, the odometry's,
+        the landmark file's and the heading correction's (ros/mission_diagnostics.py,
+        ros/heading_correction.py)."""
+        add, client = self.layer.diagnostics.add, settings['limits']
+        add('mission', self._diagnose)
+        add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
+                                                     client.odom_timeout))
+        add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
+        if not settings['heading_correction']:
+            return
+        heading = settings['standstill']
+        path = calibration_file(heading.gyro_calibration_file)
+        add('heading correction: visual odometry', lambda stat: vo_status(
+            stat, self.mission.phase != RECORDING, None if self.vo_heard is None else
+            rospy.get_time() - self.vo_heard, rospy.get_time() - self.vo_since, heading.vo_timeout,
+            len(getattr(self.mission.recording.fit, 'rows', ()))))
+        add('heading correction: gyro calibration',
+            lambda stat: calibration_status(stat, path, settings['scale_prior']))
+
     def _diagnose(self, stat):
         mission_id = self.layer.current_mission_id()
         stat.add('state', self.mission.state)
@@ -358,6 +382,7 @@ class MissionOwner(object):
                 self.store.writer.close()
                 self.store = self._open_store()
                 refusal = self.mission.new_mission(self.store)
+                self.vo_since = rospy.get_time()
                 self.outputs.new_mission()
                 self._announce()
         return reply(self.log, request, 'new_mission', refusal, new_mission_done(
