@@ -18,8 +18,8 @@ from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDriv
 from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
 from .pause import PAUSE
-from .return_plan import (nothing_to_retrace, plan_return, recording_problem, return_goals,
-                          still_loss)
+from .return_plan import (frame_lost, nothing_to_retrace, plan_return, recording_problem,
+                          return_goals, still_loss)
 from .route_follower import RouteFollower
 
 #: The mission's settings beyond the controllers' params (each overridable by keyword).
@@ -74,9 +74,9 @@ RESUMED = 'resume after a restart'
 class Mission(object):
     """One mission (module docstring). ``params``: the controllers' (core/rotation,
     core/goal, core/route, core/allowance, core/pause names); ``store``: ``append(landmark)``,
-    ``load()`` -> core/store.LoadedPath and ``loss()`` -> core/return_plan.WriteLoss (the
-    landmarks it could not write); ``settings``: :data:`MISSION_DEFAULTS`; ``kept``: a
-    core/resume.KeptReturn, the return a previous run left, resumed (``returning``)."""
+    ``load()`` -> core/store.LoadedPath, ``loss()`` -> core/return_plan.WriteLoss (the
+    landmarks it could not write), ``note_gap(reason)``; ``settings``: :data:`MISSION_DEFAULTS`;
+    ``kept``: a core/resume.KeptReturn, the return a previous run left, resumed (``returning``)."""
 
     def __init__(self, params, store, kept=None, **settings):
         self.params, self.store = params, store
@@ -190,6 +190,8 @@ class Mission(object):
     # --- phases --------------------------------------------------------------------------------
     def _record(self, now, inputs, stored):
         rec = self.recording
+        if inputs.reset:
+            rec.reset(self.raw, inputs.reset)
         if inputs.odom is not None and not rec.started:
             rec.begin(inputs.odom)
         elif inputs.odom is not None:
@@ -345,9 +347,12 @@ def _recovered(returning):
 
 
 def _no_turn(recording, store, raw, reason):
-    """(state, why) when the loss (``reason``) at ``raw`` ends the mission with no turn:
-    nothing to retrace (``home``), or landmarks ``store`` lost beyond a standstill
-    (``aborted``: core/return_plan.recording_problem, the file read back); else None."""
+    """(state, why) when the loss (``reason``) at ``raw`` ends the mission with no turn: an
+    untrusted odometry reset while recording (``aborted``), nothing to retrace (``home``), or
+    landmarks ``store`` lost beyond a standstill (``aborted``: core/return_plan.recording_problem,
+    the file read back); else None."""
+    if recording.lost:
+        return state.ABORTED, '%s, but %s' % (reason, frame_lost(recording.lost))
     nothing = nothing_to_retrace(recording.distance, recording.start, (raw.x, raw.y),
                                  BACK_TRAVEL_DEFAULTS['finish_tolerance'])
     if nothing:
@@ -364,7 +369,7 @@ def _interrupted(inputs, phase, current):
     where = 'the pi turn' if phase in (STANDSTILL, TURN) else 'the return'
     lost = inputs.time_back or inputs.reset
     if lost and current in (state.ROTATING, state.RETURNING):
-        return '%s during %s: the way back is unknown; not travelling back' % (lost, where)
+        return frame_lost('%s during %s' % (lost, where))
     if inputs.tripped and phase not in (RECORDING, ENDED):
         return '%s: safety stop: %s' % (where, inputs.tripped)
     return None

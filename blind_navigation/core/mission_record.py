@@ -26,6 +26,7 @@ class MissionRecording(object):
         self.period = self.next_tick = self.last_tick = None
         self.landmarks = []         # as appended, recording order
         self.start = None           # odometry (x, y) where it began
+        self.lost = None            # an untrusted odometry reset while recording: why
 
     @property
     def started(self):
@@ -73,6 +74,17 @@ class MissionRecording(object):
         if now - self.last_tick > 1e-9:
             self._take(odom, now - self.last_tick, taken)
         return taken
+
+    def reset(self, odom, reason):
+        """An untrusted odometry reset (``reason``) at ``odom`` (the new frame): the store
+        notes a gap naming it (``note_gap``), the next landmark's d counts from ``odom``; the
+        states kept for the ticks and events are of the old frame: dropped. The way back
+        is lost (``lost``: why)."""
+        self.lost = self.lost or reason
+        if self.started:
+            self.store.note_gap(reason)
+            self.recorder.restart(odom)
+            self.history.clear()
 
     def resume(self):
         """Vision came back before the turn: the next tick one period after the last landmark."""

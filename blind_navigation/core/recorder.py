@@ -160,6 +160,13 @@ class PathRecorder(object):
             self.origin = (odom_state.x, odom_state.y)
             self._previous = self.origin
 
+    def restart(self, odom_state):
+        """A new ``d`` chain from ``odom_state`` (after an odometry discontinuity: the next
+        landmark's ``d`` counts from there); the count and the total distance go on."""
+        if self.origin is None:
+            self.origin = (odom_state.x, odom_state.y)
+        self._previous = (odom_state.x, odom_state.y)
+
     def take(self, odom_state, yaw, period):
         """The landmark for a tick with yaw ``yaw`` (rad) and period ``period`` (s).
 

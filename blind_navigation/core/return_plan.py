@@ -58,6 +58,12 @@ def recording_problem(loaded, loss=None):
     return None
 
 
+def frame_lost(lost):
+    """Why a mission whose odometry frame was lost (``lost``: an untrusted reset's reason,
+    the time moving back) cannot go back."""
+    return '%s: the way back is unknown; not travelling back' % lost
+
+
 def gaps_warning(loaded):
     """The mission's warning for a recording with gaps, or ''."""
     if not loaded.gaps:

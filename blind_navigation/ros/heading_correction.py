@@ -232,23 +232,34 @@ class HeadingCorrectionRole(object):
 
     # --- diagnostics ---------------------------------------------------------------------------
     def _vo_status(self, stat):
-        if self.standstill is not None or self.result is not None:
-            stat.summary(diagnostics.OK, 'vision lost: visual odometry no longer used')
-            return
-        age = None if self._vo_last is None else rospy.get_time() - self._vo_last
-        missing = diagnostics.WARN if rospy.get_time() - self._started > self.params.vo_timeout \
-            else diagnostics.OK
-        diagnostics.age_status(stat, 'visual odometry', age, self.params.vo_timeout,
-                               diagnostics.WARN, missing)
-        stat.add('windows', len(self.fit.rows))
+        vo_status(stat, self.standstill is not None or self.result is not None,
+                  None if self._vo_last is None else rospy.get_time() - self._vo_last,
+                  rospy.get_time() - self._started, self.params.vo_timeout, len(self.fit.rows))
 
     def _calibration_status(self, stat):
-        stat.add('file', self.calibration_path)
-        if self.scale_prior is None:
-            stat.summary(diagnostics.WARN, 'no usable gyro calibration: run `%s`' % CALIBRATE_COMMAND)
-            return
-        modified = datetime.datetime.fromtimestamp(os.path.getmtime(self.calibration_path)) \
-            if os.path.exists(self.calibration_path) else None
-        stat.add('calibrated', modified.isoformat(timespec='seconds') if modified else '?')
-        stat.add('scale error', '%+.5f +- %.5f' % (self.scale_prior.scale, self.scale_prior.scale_std))
-        stat.summary(diagnostics.OK, 'gyro calibration %s' % self.scale_prior.describe())
+        calibration_status(stat, self.calibration_path, self.scale_prior)
+
+
+def vo_status(stat, lost, age, waited, timeout, windows):
+    """The visual odometry's diagnostics: ``lost`` (vision lost: no longer used), its ``age``
+    (s, None: never heard), ``waited`` s since the mission began, ``timeout`` (vo_timeout),
+    the fit's ``windows``."""
+    if lost:
+        stat.summary(diagnostics.OK, 'vision lost: visual odometry no longer used')
+        return
+    missing = diagnostics.WARN if waited > timeout else diagnostics.OK
+    diagnostics.age_status(stat, 'visual odometry', age, timeout, diagnostics.WARN, missing)
+    stat.add('windows', windows)
+
+
+def calibration_status(stat, path, scale_prior):
+    """The gyro calibration's diagnostics: its file ``path``, ``scale_prior`` (None: unusable)."""
+    stat.add('file', path)
+    if scale_prior is None:
+        stat.summary(diagnostics.WARN, 'no usable gyro calibration: run `%s`' % CALIBRATE_COMMAND)
+        return
+    modified = datetime.datetime.fromtimestamp(os.path.getmtime(path)) \
+        if os.path.exists(path) else None
+    stat.add('calibrated', modified.isoformat(timespec='seconds') if modified else '?')
+    stat.add('scale error', '%+.5f +- %.5f' % (scale_prior.scale, scale_prior.scale_std))
+    stat.summary(diagnostics.OK, 'gyro calibration %s' % scale_prior.describe())

@@ -271,9 +271,10 @@ class LandmarkSaving(object):
             if self.finished or not self.recorder.started:
                 return
             latest = self.odometry.latest()
-            self.recorder = PathRecorder()
             if latest is not None:
-                self.recorder.start(latest)
+                self.recorder.restart(latest)
+            else:
+                self.recorder = PathRecorder()
             try:
                 gap = self.writer.note_gap(reason)
                 self.log.error('odometry discontinuity: %s noted in %s; the next landmark counts '

@@ -15,8 +15,9 @@ def add_mission_diagnostics(client):
     """Register the diagnostics of ``client`` (a BackTravelClient) on its layer."""
     updater = client.layer.diagnostics
     updater.add('mission', lambda stat: _mission_status(client, stat))
-    updater.add('odometry', lambda stat: _odometry_status(client, stat))
-    updater.add('landmark file', lambda stat: _file_status(client, stat))
+    updater.add('odometry', lambda stat: odometry_status(
+        stat, client.odometry, client.state, client.params.odom_timeout))
+    updater.add('landmark file', lambda stat: file_status(stat, client.landmark_file, client.state))
 
 
 def _mission_status(client, stat):
@@ -44,24 +45,26 @@ def _mission_status(client, stat):
                                                ': ' + client.reason if client.reason else ''))
 
 
-def _odometry_status(client, stat):
-    odometry = client.odometry
-    level = diagnostics.ERROR if client.state in (state.ROTATING, state.RETURNING) \
-        else diagnostics.WARN
-    diagnostics.age_status(stat, 'odometry', odometry.age(), client.params.odom_timeout,
-                           level, level, listening=odometry.listening())
+def odometry_status(stat, odometry, current, timeout):
+    """The ``odometry`` feed's age (stale beyond ``timeout`` s: an error while the mission,
+    ``current``, turns or returns, else a warning) and its refused messages."""
+    level = diagnostics.ERROR if current in (state.ROTATING, state.RETURNING) else diagnostics.WARN
+    diagnostics.age_status(stat, 'odometry', odometry.age(), timeout, level, level,
+                           listening=odometry.listening())
     stat.add('refused messages', odometry.refused)
 
 
-def _file_status(client, stat):
-    stat.add('file', client.landmark_file)
+def file_status(stat, landmark_file, current):
+    """The configured ``landmark_file``, the mission's file and its size (unreadable: an
+    error while the mission, ``current``, records, turns or returns)."""
+    stat.add('file', landmark_file)
     try:
-        real = os.path.realpath(client.landmark_file)
+        real = os.path.realpath(landmark_file)
         stat.add('mission file', real)
         stat.add('bytes', os.path.getsize(real))
         stat.summary(diagnostics.OK, os.path.basename(real))
     except OSError as error:
-        level = diagnostics.ERROR if client.state in (state.RECORDING, state.ROTATING,
-                                                      state.RETURNING) else diagnostics.OK
+        level = diagnostics.ERROR if current in (state.RECORDING, state.ROTATING,
+                                                 state.RETURNING) else diagnostics.OK
         stat.summary(level, 'no landmark file yet' if level == diagnostics.OK else
                      'landmark file unreadable: %s' % error.strerror)

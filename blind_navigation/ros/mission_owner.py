@@ -30,9 +30,10 @@ from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
-from blind_navigation.ros.heading_correction import calibration_file
+from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
 from blind_navigation.ros.landmark_saving import landmark_file, storage_message
 from blind_navigation.ros.layer import MISSION_ID
+from blind_navigation.ros.mission_diagnostics import file_status, odometry_status
 from blind_navigation.ros.mission_outputs import MissionOutputs
 from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
                                                       reply)
@@ -49,6 +50,7 @@ class Inbox(object):
 
     def _clear(self):
         self.odoms, self.visual, self.events = [], [], {}
+        self.reset_at = 0           # the index of the first odometry state after an untrusted reset
 
     def put(self, **events):
         """Events by Inputs field name (the first of each kind until taken is kept)."""
@@ -57,8 +59,11 @@ class Inbox(object):
                 self.events.setdefault(name, value)
             self._ready.notify()
 
-    def odom(self, odom):
+    def odom(self, odom, reset=None):
+        """An odometry state; ``reset``: the untrusted reset it is the first state after."""
         with self._ready:
+            if reset is not None and 'reset' not in self.events:
+                self.events['reset'], self.reset_at = reset, len(self.odoms)
             self.odoms.append(odom)
             self._ready.notify()
 
@@ -67,11 +72,12 @@ class Inbox(object):
             self.visual.append((stamp, yaw))
 
     def take(self, timeout):
-        """(odometry states, visual frames, events), waiting at most ``timeout`` wall s for any."""
+        """(odometry states, visual frames, events, the index of the first state after a reset),
+        waiting at most ``timeout`` wall s for any."""
         with self._ready:
             if not self.odoms and not self.events:
                 self._ready.wait(timeout)
-            taken = self.odoms, self.visual, self.events
+            taken = self.odoms, self.visual, self.events, self.reset_at
             self._clear()
             return taken
 
@@ -90,6 +96,15 @@ class FileStore(object):
         except StorageError as error:
             self.error = str(error)
             rospy.logerr('%s: landmark lost: %s', rospy.get_name(), error)
+
+    def note_gap(self, reason):
+        try:
+            gap = self.writer.note_gap(reason)
+            rospy.logerr('%s: odometry discontinuity: %s noted in %s; the next landmark counts '
+                         'from the new odometry', rospy.get_name(), gap, self.writer.path)
+        except StorageError as error:
+            self.error = str(error)
+            rospy.logerr('%s: gap not noted: %s', rospy.get_name(), error)
 
     def load(self):
         try:
@@ -156,6 +171,9 @@ class MissionOwner(object):
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
+        self.lost = None                    # the odometry feed's lost frame last seen (a reset)
+        self.vo_heard = None                # rospy time of the last visual odometry
+        self.vo_since = rospy.get_time()    # ... of the mission's start (its vo_timeout counts)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
@@ -179,7 +197,7 @@ class MissionOwner(object):
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
-        layer.diagnostics.add('mission', self._diagnose)
+        self._add_diagnostics(settings)
         rospy.on_shutdown(self._on_shutdown)
         with self.lock:
             self._announce()
@@ -187,8 +205,7 @@ class MissionOwner(object):
     def _subscribe(self):
         guard, layer, inbox = self.guard, self.layer, self.inbox
         layer.odometry.acquire(self.ROLE)
-        layer.odometry.add_listener(guard(inbox.odom))
-        layer.odometry.on_reanchor(guard(lambda reason, trusted: trusted or inbox.put(reset=reason)))
+        layer.odometry.add_listener(guard(self._on_odom))
         layer.visual_odometry.acquire(self.ROLE)
         layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
         subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)),
@@ -197,7 +214,14 @@ class MissionOwner(object):
                   queue_size=5)
         faults.on_fault(self._on_fault)
 
+    def _on_odom(self, odom):
+        """A state; the feed's frame newly lost (an untrusted reset) comes in with it."""
+        lost = self.layer.odometry.lost
+        reset, self.lost = (lost if lost != self.lost else None), lost
+        self.inbox.odom(odom, reset)
+
     def _on_visual(self, wire):
+        self.vo_heard = rospy.get_time()
         if wire_lost_reason(wire) is None:
             self.inbox.frame(wire.stamp, yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw))
 
@@ -214,15 +238,16 @@ class MissionOwner(object):
         clock = LoopClock(self.ROLE, self.log, then='a turn or a return ends aborted')
         period = 1.0 / self.params.control_rate
         while not rospy.is_shutdown():
-            odoms, visual, events = self.inbox.take(period)
+            odoms, visual, events, reset_at = self.inbox.take(period)
+            reset = {'reset': events.pop('reset')} if 'reset' in events else {}
             moved_back = clock.moved_back
             now = clock.now()
             if clock.moved_back > moved_back:
                 events.setdefault('time_back', describe(*clock.last_jump))
             with self.lock:
                 for index, odom in enumerate(odoms or [None]):
-                    self._step(now, odom, visual if index == 0 else (),
-                               events if index == 0 else {})
+                    self._step(now, odom, visual if index == 0 else (), dict(
+                        events if index == 0 else {}, **(reset if index == reset_at else {})))
                 self.stepped.notify_all()
 
     def _step(self, now, odom, visual, events):
@@ -301,6 +326,26 @@ class MissionOwner(object):
             output.halt('node shutdown')
         self.store.writer.close()
 
+    def _add_diagnostics(self, settings):
+        """The mission's statuses and, as the roles of owner:=layer name them, the odometry's,
+        the landmark file's and the heading correction's (ros/mission_diagnostics.py,
+        ros/heading_correction.py)."""
+        add, client = self.layer.diagnostics.add, settings['limits']
+        add('mission', self._diagnose)
+        add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
+                                                     client.odom_timeout))
+        add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
+        if not settings['heading_correction']:
+            return
+        heading = settings['standstill']
+        path = calibration_file(heading.gyro_calibration_file)
+        add('heading correction: visual odometry', lambda stat: vo_status(
+            stat, self.mission.phase != RECORDING, None if self.vo_heard is None else
+            rospy.get_time() - self.vo_heard, rospy.get_time() - self.vo_since, heading.vo_timeout,
+            len(getattr(self.mission.recording.fit, 'rows', ()))))
+        add('heading correction: gyro calibration',
+            lambda stat: calibration_status(stat, path, settings['scale_prior']))
+
     def _diagnose(self, stat):
         mission_id = self.layer.current_mission_id()
         stat.add('state', self.mission.state)
@@ -339,6 +384,7 @@ class MissionOwner(object):
                 self.store.writer.close()
                 self.store = self._open_store()
                 refusal = self.mission.new_mission(self.store)
+                self.vo_since = rospy.get_time()
                 self.outputs.new_mission()
                 self._announce()
         return reply(self.log, request, 'new_mission', refusal, new_mission_done(

@@ -14,6 +14,7 @@ from std_msgs.msg import Empty, String
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
 from blind_navigation.core.progress import ReturnProgress
+from blind_navigation.core.return_plan import frame_lost
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.takeover import after_unpaused
@@ -100,7 +101,7 @@ class TurnStart(object):
         c = self.client
         lost = c.lost or c.odometry.lost
         if lost:
-            return '%s: the way back is unknown; not travelling back' % lost
+            return frame_lost(lost)
         return c.runner.recording_problem()
 
     def _save_anchor(self):

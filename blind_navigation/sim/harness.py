@@ -24,6 +24,7 @@ from ..core.landmark import Landmark
 from ..core.landmark_writer import LandmarkWriter
 from ..core.mission import RECORDING, SETTLE, STANDSTILL, TURN, TURNED, Inputs, Mission
 from ..core.mission_drive import FAILED, FINAL, GOAL, HANDOVER
+from ..core.odometry_reset import UNTRUSTED
 from ..core.return_plan import write_loss
 from ..core.store import load_landmarks
 from .kobuki import load_profile, make_profile
@@ -160,6 +161,12 @@ class _Store(object):
     def loss(self):
         return write_loss(self.writer, self.error)
 
+    def note_gap(self, reason):
+        try:
+            self.writer.note_gap(reason)
+        except StorageError as error:
+            self.error = str(error)
+
     def load(self):
         self.writer.close()
         self.size = os.path.getsize(self.path)
@@ -182,6 +189,9 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
     command or None); the scripted ``events`` (sim/mission_events.py) come in."""
     now = run.base.t
     frames, run.frames = run.frames, []
+    reset = events.fire('odometry_reset', now)
+    if reset and hasattr(run.base, 'reset_odometry'):
+        run.base.reset_odometry()       # the odometry restarts from the origin, as kobuki_node's
     odom = run.base.odom if feed is None or feed.arrives(now) else None
     if not events.events:       # the bench's runs: no scripted event
         if vision_lost:
@@ -201,8 +211,7 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
                     bumper=events.window('bumper', now) is not None,
                     operator='scripted operator' if takeover else None, next_goal=next_goal,
                     tripped='cliff (scripted)' if events.fire('cliff', now) else None,
-                    reset='an untrusted odometry reset (scripted)' if events.fire('odometry_reset', now)
-                    else None,
+                    reset='%s (scripted)' % UNTRUSTED if reset else None,
                     time_back='the time moved back (scripted)' if events.fire('time_back', now) else None)
     return mission.step(now, inputs), takeover and takeover.command
 

@@ -1,6 +1,7 @@
 """The harness plays the recovery cases through core/mission.Mission (the object the
 ROS layer drives): brief loss, bumps, takeovers, cancel, go_home, nothing to retrace,
 vision back, resets; each checked on the simulated robot's ground truth."""
+import contextlib
 import math
 
 import pytest
@@ -9,7 +10,10 @@ from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.drive import SUCCEEDED, Outcome
 from blind_navigation.core.goal import make_goal
 from blind_navigation.core.mission import Inputs, Mission
+from blind_navigation.core.geometry import OdomState
+from blind_navigation.core.odometry_reset import UNTRUSTED, is_untrusted_reset
 from blind_navigation.core.route_follower import RouteFollower
+from blind_navigation.core.store import load_landmarks
 from blind_navigation.sim import harness
 from blind_navigation.sim.harness import play
 from blind_navigation.sim.mission import Mission as Script, load_mission
@@ -147,6 +151,49 @@ def test_a_reset_the_time_moving_back_or_a_cliff_aborts_naming_it(event, origin,
     played = _play((event, origin, 2.0))
     assert played.result.status == 'aborted' and says in played.result.reason
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
+
+
+@pytest.mark.parametrize('events', [False, True])
+def test_an_untrusted_reset_while_recording_notes_a_gap_and_aborts_at_the_loss(events, monkeypatch,
+                                                                               tmp_path):
+    # the recording's file kept (the harness writes it in a temporary directory)
+    monkeypatch.setattr(harness.tempfile, 'TemporaryDirectory',
+                        lambda dir=None: contextlib.nullcontext(str(tmp_path)))
+    played = _play(('odometry_reset', 'start', 12.0), event_sampling=events)
+    odom, true = played.run.base.odom, played.run.base.true_pose
+    assert math.hypot(true.x - odom.x, true.y - odom.y) > 0.5   # odometry restarted from 0
+    assert _states(played) == ['idle', 'recording', 'aborted']      # no turn, never home
+    assert played.result.reason.startswith('vision lost, but odometry reset not re-anchored')
+    assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
+    loaded = load_landmarks(str(tmp_path / 'landmarks.yaml'))
+    assert [is_untrusted_reset(gap.reason) for gap in loaded.gaps] == [True], loaded.gaps
+    assert 0 < loaded.labels.index(loaded.gaps[0].before) < len(loaded.labels) - 1
+
+
+class _ListStore(object):
+    def __init__(self):
+        self.entries = []
+
+    def append(self, landmark):
+        self.entries.append(landmark)
+
+    def note_gap(self, reason):
+        self.entries.append(reason)
+
+
+def test_a_reset_after_a_silence_counts_the_next_landmark_from_the_new_frame():
+    # driving straight at 0.1 m/s, 2 s without odometry, then the driver from its origin
+    store = _ListStore()
+    mission = Mission(None, store, event_sampling=True, heading_correction=False)
+    for k in range(301):
+        mission.step(k * 0.02, Inputs(OdomState(0.002 * k, 0.0, 0.0, 0.1, 0.0, k * 0.02)))
+    for k in range(101):
+        t = 8.0 + k * 0.02
+        mission.step(t, Inputs(OdomState(0.002 * k, 0.0, 0.0, 0.1, 0.0, t),
+                               reset='%s (a test)' % UNTRUSTED if k == 0 else None))
+    gap = store.entries.index('%s (a test)' % UNTRUSTED)
+    assert 0 < gap < len(store.entries) - 1 and mission.state == 'recording'
+    assert all(landmark.d <= 0.1 * landmark.T + 0.01 for landmark in store.entries[gap + 1:])
 
 
 def test_new_mission_starts_again_from_a_terminal_state_only():
