@@ -72,11 +72,10 @@ RESUMED = 'resume after a restart'
 
 
 class Mission(object):
-    """One mission (module docstring). ``params``: the controllers' (core/rotation,
-    core/goal, core/route, core/allowance, core/pause names); ``store``: ``append(landmark)``,
-    ``load()`` -> core/store.LoadedPath, ``loss()`` -> core/return_plan.WriteLoss (the
-    landmarks it could not write), ``note_gap(reason)``; ``settings``: :data:`MISSION_DEFAULTS`;
-    ``kept``: a core/resume.KeptReturn, the return a previous run left, resumed (``returning``)."""
+    """One mission (module docstring). ``params``: the controllers' (core/rotation, goal, route,
+    allowance, pause names); ``store``: ``append(landmark)``, ``load()`` -> core/store.LoadedPath,
+    ``loss()`` -> core/return_plan.WriteLoss, ``note_gap(reason)``; ``settings``:
+    :data:`MISSION_DEFAULTS`; ``kept``: a core/resume.KeptReturn to resume (``returning``)."""
 
     def __init__(self, params, store, kept=None, **settings):
         self.params, self.store = params, store
