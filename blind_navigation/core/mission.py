@@ -2,7 +2,7 @@
 terminal, over core/mission_state, stepped by its owner's one loop
 (``step(now, inputs) -> Step``): what was observed since the last step in, what to
 publish out. No threads, no clock, no transport: the ROS layer and sim/harness.py
-both drive it. docs/DESIGN.md, "The mission object".
+both drive it. docs/DESIGN.md, "The default layer: one mission, one loop".
 """
 import collections
 import types

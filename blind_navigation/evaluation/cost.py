@@ -21,15 +21,14 @@ from .ros_runs import free_port, stop_group
 LAP_V, LAP_W, LAP_STRAIGHT = 0.086, 0.097, 20.0
 #: name -> (what it is, cost.launch args, what ends the run: cost_probe --until)
 CONFIGS = {
-    'default': ('blind_navigation.launch (the default: every role in one process)',
+    'default': ('blind_navigation.launch (the default: one process, the core mission object, '
+                'one loop thread)',
                 {'layout': 'blind_navigation'}, 'home'),
     'recording': ('the recording part: blind_navigation.launch with auto_detect false, '
                   'heading_correction false (one process: recorder, sampling publisher and the '
                   'idle pi turn, back-travel server and client)',
                   {'layout': 'blind_navigation', 'auto_detect': 'false',
                    'heading_correction': 'false'}, 'windows'),
-    'owner': ('blind_navigation.launch owner:=mission (one process: the core mission object, '
-              'one loop thread)', {'layout': 'blind_navigation', 'owner': 'mission'}, 'home'),
     'paper': ('paper.launch (one process per role, the paper\'s configuration)',
               {'layout': 'paper'}, 'home'),
 }
@@ -291,7 +290,7 @@ def summary_table(ok):
 
 def _verdict(config, these):
     """The budget of :data:`BUDGET` against the worst run of a one-process default layer."""
-    if config not in ('default', 'owner'):
+    if config != 'default':
         return '(no budget)'
     def check(values, limit, what, unit):
         values = [v for v in values if v is not None]

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""The layer as one mission object in one process (blind_navigation.launch ``owner:=mission``).
+"""The layer in one process, blind_navigation.launch's default (node blind_navigation).
 
-ros/mission_owner.MissionOwner, with the vision monitor when ``~auto_detect``; the node
-params are blind_navigation_node.py's.
+ros/mission_owner.MissionOwner, with the vision monitor when ``~auto_detect``; node params
+``recorder`` (``topic``|``service``), ``auto_detect``, ``correct_heading``.
 """
 import rospy
 

@@ -4,7 +4,7 @@ Callbacks (odometry, visual odometry, vision, safety, takeover, resets, the cloc
 put observations into an :class:`Inbox`; the loop steps the mission once per odometry
 state (or once a control period without one) and publishes its command, state, status
 and storage (paths, correction, progress: ros/mission_outputs.py). The services ask the
-mission under its lock. ``owner:=mission`` selects it (docs/DESIGN.md, "The mission object").
+mission under its lock: blind_navigation.launch's one process (docs/DESIGN.md).
 """
 import os
 import threading

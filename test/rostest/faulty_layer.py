@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Test-only (role_failure_*.test): a layer node run by its normal main()
-(nodes/blind_navigation_node.py, the one process; or the node script named by the second
+(nodes/mission_owner.py, the one process; or the node script named by the second
 argument, e.g. rotate_pi.py of the paper's layout), with ONE method of one role's code
 made to raise, as a bug would. The first argument names the fault (:data:`FAULTS`):
 
@@ -57,7 +57,7 @@ def main():
     if len(args) not in (2, 3) or args[1] not in FAULTS:
         sys.exit('usage: faulty_layer.py %s [NODE_SCRIPT] [ROS args]' % '|'.join(sorted(FAULTS)))
     FAULTS[args[1]]()
-    script = args[2] if len(args) == 3 else 'blind_navigation_node.py'
+    script = args[2] if len(args) == 3 else 'mission_owner.py'
     found = roslib.packages.find_node('blind_navigation', script)
     if not found:
         sys.exit('%s not found in package blind_navigation' % script)

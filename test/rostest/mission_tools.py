@@ -327,12 +327,13 @@ class MissionRun(object):
         return [r.status.status for r in self.results.snapshot()]
 
     def mission_object(self):
-        """True when the layer runs owner:=mission (ros/mission_owner.py): no BackTravel action."""
-        return rospy.get_param(ONE_PROCESS + '/owner', 'layer') == 'mission'
+        """True when the layer runs in one process (ros/mission_owner.py): its return drives
+        no BackTravel goals."""
+        return self.compact
 
     def goals_started(self):
         """Goals the return has begun: those seen on the action's goal topic, or with
-        owner:=mission those its status counted while returning."""
+        in one process those its status counted while returning."""
         if not self.mission_object():
             return len(self.goals.snapshot())
         return max([min(s.completed + 1, s.landmarks) for s in self.status.snapshot()

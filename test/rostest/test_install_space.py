@@ -26,7 +26,7 @@ PACKAGE = 'blind_navigation'
 BUILD_TIMEOUT = 240.0
 DEMO_TIMEOUT = 240.0
 #: what install/lib/blind_navigation must hold: every node launch files start, and the tool
-INSTALLED = {'blind_navigation_node.py', 'mission_owner.py', 'back_travel_client.py', 'back_travel_server.py',
+INSTALLED = {'mission_owner.py', 'back_travel_client.py', 'back_travel_server.py',
              'calibrate_gyro.py', 'heading_correction.py', 'landmark_saver.py', 'record_client.py',
              'record_server.py', 'rotate_pi.py', 'sampling_publisher.py', 'vision_monitor.py',
              'cmd_vel_mux.py', 'fake_kobuki.py', 'fake_vision.py', 'mission_driver.py',

@@ -23,7 +23,6 @@ starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions per
   ends ``home`` without a turn.
 
 The .test's arg ``one_process:=false`` runs the paper's node layout instead; the test's
-``~owner`` ``mission`` the layer with owner:=mission (ros/mission_owner.py).
 """
 import os
 import sys
@@ -73,11 +72,6 @@ ABORT_WITHIN = 1.0
 CHATTER_POLL = 0.002
 
 
-def owner_args(args=()):
-    """The layer's launch args: ``args``, and ``owner:=mission`` when the test's ``~owner`` says."""
-    return tuple(args) + (('owner:=mission',) if rospy.get_param('~owner', 'layer') == 'mission' else ())
-
-
 def moving(commands):
     return [c for c in commands if c[1] != 0.0 or c[2] != 0.0]
 
@@ -92,7 +86,7 @@ class RecoverCase(unittest.TestCase):
 
     def start_return(self, label, args=()):
         """A fresh layer: the mission recorded, vision lost, the robot driving back."""
-        m = self.mission = FindingMission(label, args=owner_args(args),
+        m = self.mission = FindingMission(label, args=tuple(args),
                                           one_process=rospy.get_param('~one_process', True))
         m.run.wait_for_layer()
         m.run.play_mission(MISSION)
@@ -300,7 +294,7 @@ class EdgesTest(RecoverCase):
         self.assert_never_home_far(m, 0.03, 'operator takeover')
 
     def test_4_go_home_before_moving_is_home_without_a_turn(self):
-        m = self.mission = FindingMission('nothing', args=owner_args(),
+        m = self.mission = FindingMission('nothing', args=(),
                                           one_process=rospy.get_param('~one_process', True))
         m.run.wait_for_layer()
         rospy.wait_for_service(names.GO_HOME, 30.0)

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""rostest (role_failure_{client,server,rotate,paper_rotate}.test): a role that fails ends
-the mission safely.
+"""rostest (role_failure_server.test, role_failure_paper_rotate.test): a role that fails
+ends the mission safely.
 
-The layer runs in its default layout (one process) through faulty_layer.py, which
-makes one method of one role raise (``~fault``): the client's route building after
-vision loss (issue 21's Python 3.8 TypeError), the server's control step
-mid-return, or rotate_pi's turn step mid-turn. In the paper's layout
+The layer runs in its default layout (one process, the mission loop) through
+faulty_layer.py, which makes one method of the core raise (``~fault``): the route
+building after vision loss (``client``: issue 21's Python 3.8 TypeError), the return's
+control step mid-return (``server``), or the pi turn's step mid-turn (``rotate``). In the paper's layout
 (``~replace``: a node, e.g. rotate_pi) this test replaces that node, before the
 recording starts, by faulty_layer.py running the node's script under the same
 name (the launch's params stay on the master), so the failure crosses processes
@@ -43,12 +43,12 @@ from blind_navigation import names  # noqa: E402
 from blind_navigation.core.geometry import wrap_angle, yaw_from_quaternion  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
 
-#: fault -> (the reason the mission must end with, the last state before aborted)
+#: fault -> (the paper layout's failing role, the exception the reason names, the last
+#: state before aborted); the one process names its mission owner (one loop runs every role)
 EXPECTED = {
-    'client': ('back_travel_client failed: TypeError: ' + BISECT_KEY, 'returning'),
-    'server': ('back_travel_server failed: ZeroDivisionError: injected in the control step',
-               'returning'),
-    'rotate': ('rotate_pi failed: RuntimeError: injected in the turn step', 'rotating'),
+    'client': ('back_travel_client', 'TypeError: ' + BISECT_KEY, 'returning'),
+    'server': ('back_travel_server', 'ZeroDivisionError: injected in the control step', 'returning'),
+    'rotate': ('rotate_pi', 'RuntimeError: injected in the turn step', 'rotating'),
 }
 #: s of sim time: zero velocity on teleop at most this far from the abort (the fake
 #: Kobuki's own command timeout is 0.6 s: the zero must come before it would stop the base)
@@ -97,7 +97,8 @@ class RoleFailureTest(unittest.TestCase):
         cls.node = cls.replace or 'blind_navigation'
         cls.owner = 'back_travel_client' if cls.replace else 'blind_navigation'
         cls.replacement = None
-        cls.reason, cls.before = EXPECTED[cls.fault]
+        role, error, cls.before = EXPECTED[cls.fault]
+        cls.reason = '%s failed: %s' % (role if cls.replace else 'mission_owner', error)
         cls.mission = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
         cls.teleop = TimedTwists(TELEOP_TOPIC)
         cls.truth = Truth()

@@ -110,8 +110,8 @@ def test_a_file_default_is_the_nodes(launch, arg, env, tmp_path, monkeypatch):
 #: node type -> the schema of the role it hosts (the one-process node: by ``<role>/`` prefix)
 ROLE_NODES = {'%s.py' % (s.role if s.role != 'landmark_saver' else name): s
               for s in role_params.SCHEMAS for name in ('landmark_saver', 'record_server')}
-#: params of the one-process node itself (nodes/blind_navigation_node.py, ros/layer.py)
-NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading', 'mission_owner', 'diagnostic_period', 'owner'}
+#: params of the one-process node itself (nodes/mission_owner.py, ros/layer.py)
+NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading', 'mission_owner', 'diagnostic_period'}
 SCHEMA_OF = {s.role: s for s in role_params.SCHEMAS}
 SCHEMA_OF['record_server'] = role_params.LANDMARK_SAVING
 
@@ -126,16 +126,13 @@ def node_params(path):
         for tag in node.iter('rosparam'):
             if not tag.get('param') and (tag.text or '').strip():
                 names += list(yaml.safe_load(tag.text))
-        # the one-process node's type is an eval of ``owner`` (blind_navigation.launch)
-        node_type = 'blind_navigation_node.py' if 'blind_navigation_node.py' in node.get('type') \
-            else node.get('type')
-        out += [(node_type, name) for name in names]
+        out += [(node.get('type'), name) for name in names]
     root = ElementTree.parse(path).getroot()
     nested = {id(tag) for kind in ('node', 'test') for parent in root.iter(kind) for tag in parent.iter()}
     for tag in root.iter('param'):      # a rig's ``$(arg roles)<role>/name`` for the whole layer
         role, _, name = tag.get('name').replace('$(arg roles)', '').rpartition('/')
         if id(tag) not in nested and role in SCHEMA_OF and name not in NODE_PARAMS:
-            out.append(('blind_navigation_node.py', role + '/' + name))
+            out.append(('mission_owner.py', role + '/' + name))
     return out
 
 
@@ -145,7 +142,7 @@ def node_params(path):
 def test_every_role_param_a_file_sets_is_one_a_user_can_set(path):
     ignored = []
     for node_type, name in node_params(path):
-        if node_type == 'blind_navigation_node.py':
+        if node_type == 'mission_owner.py':
             role, _, param = name.rpartition('/')
             schema = SCHEMA_OF.get(role) if role else None
             if not role and name in NODE_PARAMS:

@@ -77,7 +77,7 @@ PRODUCT = python_files('core') + python_files('ros') + python_files('nodes') + \
 
 def test_the_files_are_found():
     assert len(python_files('core')) > 10 and len(python_files('ros')) > 10
-    assert any(path.endswith('blind_navigation_node.py') for path in PRODUCT)
+    assert any(path.endswith('mission_owner.py') for path in PRODUCT)
 
 
 def test_the_product_never_imports_the_simulator_or_the_evaluation():

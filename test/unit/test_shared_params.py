@@ -14,8 +14,8 @@ from blind_navigation.core.role_params import SCHEMAS, SHARED
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
 
-#: The one-process node's own params (nodes/blind_navigation_node.py, mission_owner.py), not a role's.
-NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading', 'owner'}
+#: The one-process node's own params (nodes/mission_owner.py), not a role's.
+NODE_PARAMS = {'recorder', 'auto_detect', 'correct_heading'}
 
 
 def process_wide_params():
