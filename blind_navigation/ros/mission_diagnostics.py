@@ -34,15 +34,20 @@ def _mission_status(client, stat):
         stat.add('warnings', warnings)
     if client.state == state.ROTATING:
         stat.add('pi turn', 'begun' if client.turn.begun else 'waiting (vision may come back)')
-    if client.state == state.ABORTED:
-        stat.summary(diagnostics.ERROR, 'aborted: %s' % client.reason)
-    elif client.state == state.RECOVERED:     # stopped away from home: someone takes the robot
-        stat.summary(diagnostics.WARN, 'recovered: %s' % client.reason)
+    mission_summary(stat, client.state, client.reason, warnings)
+
+
+def mission_summary(stat, current, reason, warnings=''):
+    """The mission status's level and line: ``aborted`` an ERROR, ``recovered`` (stopped away
+    from home: someone takes the robot) or a degraded mission a WARN."""
+    if current == state.ABORTED:
+        stat.summary(diagnostics.ERROR, 'aborted: %s' % reason)
+    elif current == state.RECOVERED:
+        stat.summary(diagnostics.WARN, 'recovered: %s' % reason)
     elif warnings:
-        stat.summary(diagnostics.WARN, '%s: %s' % (client.state, warnings))
+        stat.summary(diagnostics.WARN, '%s: %s' % (current, warnings))
     else:
-        stat.summary(diagnostics.OK, '%s%s' % (client.state,
-                                               ': ' + client.reason if client.reason else ''))
+        stat.summary(diagnostics.OK, '%s%s' % (current or '', ': ' + reason if reason else ''))
 
 
 def odometry_status(stat, odometry, current, timeout):

@@ -16,16 +16,12 @@ from std_srvs.srv import Trigger
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.files import StorageError
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.mission import RECORDING, Inputs, Mission
-from blind_navigation.core.recorder import SpaceWatch
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
-from blind_navigation.core.return_plan import write_loss
 from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
                                                HEADING_CORRECTION, ROTATE_PI, SAMPLING_PUBLISHER)
-from blind_navigation.core.store import load_landmarks
 from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
 from blind_navigation.ros.clock import LoopClock, describe
@@ -33,12 +29,13 @@ from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
 from blind_navigation.ros.landmark_saving import landmark_file, storage_message
 from blind_navigation.ros.layer import MISSION_ID
-from blind_navigation.ros.mission_diagnostics import file_status, odometry_status
+from blind_navigation.ros.mission_diagnostics import file_status, mission_summary, odometry_status
 from blind_navigation.ros.mission_outputs import MissionOutputs
+from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
                                                       reply)
 from blind_navigation.ros.motion import MotionOutput
-from blind_navigation.ros import diagnostics, faults
+from blind_navigation.ros import faults
 
 
 class Inbox(object):
@@ -80,41 +77,6 @@ class Inbox(object):
             taken = self.odoms, self.visual, self.events, self.reset_at
             self._clear()
             return taken
-
-
-class FileStore(object):
-    """The mission's landmark file as core/mission's store (append, load, loss); a failed
-    write is counted by the writer (lost) and kept in ``error``; ``space``: its free space."""
-
-    def __init__(self, writer):
-        self.writer, self.error = writer, ''
-        self.space = SpaceWatch(os.path.dirname(writer.path))
-
-    def append(self, landmark):
-        try:
-            self.writer.append(landmark)
-        except StorageError as error:
-            self.error = str(error)
-            rospy.logerr('%s: landmark lost: %s', rospy.get_name(), error)
-
-    def note_gap(self, reason):
-        try:
-            gap = self.writer.note_gap(reason)
-            rospy.logerr('%s: odometry discontinuity: %s noted in %s; the next landmark counts '
-                         'from the new odometry', rospy.get_name(), gap, self.writer.path)
-        except StorageError as error:
-            self.error = str(error)
-            rospy.logerr('%s: gap not noted: %s', rospy.get_name(), error)
-
-    def load(self):
-        try:
-            self.writer.finish()
-        except StorageError as error:
-            self.error = self.error or str(error)
-        return load_landmarks(self.writer.path)
-
-    def loss(self):
-        return write_loss(self.writer, self.error)
 
 
 def owner_params(layer):
@@ -292,11 +254,15 @@ class MissionOwner(object):
     def _progress(self):
         return self.mission.state, getattr(self.mission.drive, 'index', None)
 
+    def warnings(self):
+        """What is degraded though the mission goes on ('' if nothing)."""
+        m = self.mission
+        return '; '.join(w for w in (self.store.error, self.store.space.warning,
+                                     self.outputs.progress.keeper.warning,
+                                     m.pauses.describe(m.now or 0.0)) if w)
+
     def publish_status(self):
-        m, self.progress = self.mission, self._progress()
-        warnings = '; '.join(w for w in (self.store.error, self.store.space.warning,
-                                         self.outputs.progress.keeper.warning,
-                                         m.pauses.describe(m.now or 0.0)) if w)
+        m, self.progress, warnings = self.mission, self._progress(), self.warnings()
         goals = getattr(m.drive, 'goals', None)
         msg = MissionStatus(state=m.state or '', reason=m.reason or '', warnings=warnings,
                             landmarks=len(m.landmarks or ()) if goals is None else len(goals),
@@ -327,7 +293,7 @@ class MissionOwner(object):
         self.store.writer.close()
 
     def _add_diagnostics(self, settings):
-        """The mission's statuses and, as the roles of owner:=layer name them, the odometry's,
+        """The mission's statuses and, as the paper layout's roles name them, the odometry's,
         the landmark file's and the heading correction's (ros/mission_diagnostics.py,
         ros/heading_correction.py)."""
         add, client = self.layer.diagnostics.add, settings['limits']
@@ -353,8 +319,7 @@ class MissionOwner(object):
         stat.add('mission', mission_number(mission_id))     # in this launch
         stat.add('mission id', mission_id)
         stat.add('mission file', os.path.realpath(self.landmark_file))
-        stat.summary(diagnostics.ERROR if self.mission.state == state.ABORTED else diagnostics.OK,
-                     self.mission.reason or self.mission.state or '')
+        mission_summary(stat, self.mission.state, self.mission.reason, self.warnings())
 
     # --- services ------------------------------------------------------------------------------
     def _on_go_home(self, request):
