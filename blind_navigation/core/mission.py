@@ -19,7 +19,7 @@ from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
 from .pause import PAUSE
 from .return_plan import (frame_lost, nothing_to_retrace, plan_return, recording_problem,
-                          return_goals, still_loss)
+                          return_goals, return_warning, still_loss)
 from .route_follower import RouteFollower
 
 #: The mission's settings beyond the controllers' params (each overridable by keyword).
@@ -91,7 +91,7 @@ class Mission(object):
         self.recording = MissionRecording(store, self.config)
         self.raw = self.last = self.corrector = self.correction = None
         self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
-        self.drive = self.kept = None
+        self.drive, self.kept, self.warning = None, None, ''    # warning: the return's
         self.pauses = Pauses(self.params)
         self.requests, self.halt, self.vision_loss = [], False, False
 
@@ -233,8 +233,8 @@ class Mission(object):
 
     def _commit(self, now, correction):
         """The turn begins: the recording ends, the correction is fixed, the pi turn starts."""
-        self.loaded = self.store.load()
-        problem = recording_problem(self.loaded, self.store.loss())
+        self.loaded, loss = self.store.load(), self.store.loss()
+        problem, self.warning = recording_problem(self.loaded, loss), return_warning(self.loaded, loss)
         if problem:
             return self._end(state.ABORTED, 'before the pi turn: %s' % problem)
         self.correction, self.corrector = correction, CorrectedOdometry(correction)
@@ -313,7 +313,7 @@ class Mission(object):
             return None
         return self._end(*home_verdict(odom, self.route, len(self.drive.goals), self.config.mode,
                                        getattr(self.params, 'home_tolerance',
-                                               BACK_TRAVEL_DEFAULTS['home_tolerance'])))
+                                               BACK_TRAVEL_DEFAULTS['home_tolerance']), self.warning))
 
     def _vision_back(self, inputs):
         """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""

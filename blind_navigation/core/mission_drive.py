@@ -24,15 +24,18 @@ class _Held(Behaviour):
         self.hold = hold or (lambda seconds: None)
 
 
-def home_verdict(odom, route, goals, mode, tolerance):
+def home_verdict(odom, route, goals, mode, tolerance, warning=''):
     """(state, reason) once every goal is done and the robot stopped at ``odom``: ``home``
     within ``tolerance`` m of the ``route``'s end (closed_loop; None: the paper's modes,
-    every landmark replayed), else ``aborted`` (core/back_travel.home_check)."""
+    every landmark replayed), else ``aborted`` (core/back_travel.home_check); a ``home``
+    reason ends with the return's ``warning`` (core/return_plan.return_warning), if any."""
+    warning = '; ' + warning if warning else ''
     if route is None:
-        return mission_state.HOME, 'travelled %d landmarks (%s mode: not checked)' % (goals, mode)
+        return mission_state.HOME, 'travelled %d landmarks (%s mode: not checked)%s' % (
+            goals, mode, warning)
     home, text = home_check(odom, (route.x[-1], route.y[-1]), tolerance)
-    return (mission_state.HOME, 'travelled %d landmarks; %s' % (goals, text)) if home else \
-        (mission_state.ABORTED, text)
+    return (mission_state.HOME, 'travelled %d landmarks; %s%s' % (goals, text, warning)) if home \
+        else (mission_state.ABORTED, text)
 
 
 def with_defaults(params, defaults):

@@ -72,6 +72,13 @@ def gaps_warning(loaded):
         len(loaded.gaps), loaded.missing)
 
 
+def damage_warning(loss, path):
+    """The mission's warning while landmarks could not be written (``loss``, a WriteLoss)
+    to ``path``."""
+    return ('RECORDING DAMAGED: %d landmark(s) (%.3f m, %.2f rad of the path) could not be '
+            'written to %s: %s' % (loss.count, loss.distance, loss.turn, path, loss.error))
+
+
 def return_warning(loaded, loss=None):
     """The mission's warning for a return over ``loaded`` after ``loss`` (a WriteLoss or
     None) that :func:`recording_problem` let pass: its gaps, the landmarks lost standing still."""

@@ -18,7 +18,7 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.mission_limits import rotation_timeout
-from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, nothing_to_retrace
+from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, damage_warning, nothing_to_retrace
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
@@ -160,9 +160,8 @@ class BackTravelClient(object):
         if msg.lost:
             self.losses[os.path.realpath(msg.file)] = msg
         if msg.lost or msg.error:
-            warning = ('RECORDING DAMAGED: %d landmark(s) (%.3f m, %.2f rad of the path) could not '
-                       'be written to %s: %s' % (msg.lost, msg.lost_distance, msg.lost_turn,
-                                                 msg.file, msg.error))
+            warning = damage_warning(WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn,
+                                               msg.error), msg.file)
             if warning != self.warnings:
                 self.warnings = warning
                 self.log.error('%s', warning)

@@ -40,11 +40,15 @@ class Diagnostics(object):
         self.updater.add(name, task)
 
     def now(self):
-        """Publish every status now."""
+        """Publish every status now; while the master cannot be reached (the updater asks it
+        for its period), the statuses wait: a warning, never a fault that ends the mission."""
         try:
             self.updater.force_update()
         except rospy.ROSException:
             pass  # shutting down
+        except OSError as error:
+            rospy.logwarn_throttle(10.0, '%s: diagnostics not published: %s (the master?)',
+                                   rospy.get_name(), error)
 
 
 def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR, listening=None):

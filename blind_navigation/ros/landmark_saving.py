@@ -83,7 +83,8 @@ class LandmarkSaving(object):
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         layer.mission.on_new_mission(self.guard(self._new_mission))
-        layer.diagnostics.add('%s: recording' % role, lambda stat: diagnose(self, stat))
+        layer.diagnostics.add('%s: recording' % role, lambda stat: recording_status(
+            stat, self.writer, self.error, self.space.warning, self.finished))
 
     def when_ready(self, start):
         """Call ``start()`` (it subscribes to the samples, or serves them) once the feed has
@@ -257,7 +258,7 @@ class LandmarkSaving(object):
     def _write_failed(self, error):
         """A landmark could not be written: ERROR, and the storage message says so."""
         self.error = str(error)
-        self.log.error('LANDMARK LOST: %s', error)
+        landmark_lost(self.log, error)
         self._publish_storage(rospy.Time.now())
         return '', self.error
 
@@ -276,9 +277,7 @@ class LandmarkSaving(object):
             else:
                 self.recorder = PathRecorder()
             try:
-                gap = self.writer.note_gap(reason)
-                self.log.error('odometry discontinuity: %s noted in %s; the next landmark counts '
-                               'from the new odometry', gap, self.writer.path)
+                note_gap(self.writer, reason, self.log)
             except StorageError as error:
                 self._write_failed(error)
 
@@ -309,18 +308,18 @@ class LandmarkSaving(object):
         return warning
 
 
-def diagnose(saving, stat):
-    """The recording's diagnostics of ``saving`` (a LandmarkSaving)."""
-    writer = saving.writer
+def recording_status(stat, writer, error, space_warning, finished):
+    """The recording's diagnostics: ``writer``'s file, its last ``error``, the free space's
+    warning, whether the recording has ``finished``."""
     stat.add('file', writer.path)
     stat.add('landmarks', writer.count)
     stat.add('bytes', writer.bytes)
     stat.add('lost', writer.lost)
-    if saving.error:
-        stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (writer.lost, saving.error))
-    elif saving.space.warning:
-        stat.summary(diagnostics.WARN, saving.space.warning)
-    elif saving.finished:
+    if error:
+        stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (writer.lost, error))
+    elif space_warning:
+        stat.summary(diagnostics.WARN, space_warning)
+    elif finished:
         stat.summary(diagnostics.OK, 'recording finished: %d landmarks' % writer.count)
     else:
         stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
@@ -349,3 +348,15 @@ def path_message(poses, stamp, frame_id):
         set_pose(pose.pose, *poses[index:index + 3])
         path.poses.append(pose)
     return path
+
+
+def landmark_lost(log, error):
+    """Log a landmark the file could not take (``error``), as an ERROR."""
+    log.error('LANDMARK LOST: %s', error)
+
+
+def note_gap(writer, reason, log):
+    """Note an odometry gap (``reason``) in ``writer``'s file and log it (raises StorageError)."""
+    gap = writer.note_gap(reason)
+    log.error('odometry discontinuity: %s noted in %s; the next landmark counts from the new '
+              'odometry', gap, writer.path)

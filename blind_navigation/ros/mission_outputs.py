@@ -29,7 +29,7 @@ class MissionOutputs(object):
         self.recorded_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
                                               queue_size=1, latch=True)
-        self.progress = MissionProgress(owner.landmark_file, owner.layer.current_mission_id,
+        self.progress = MissionProgress(owner.landmark_file, lambda: owner.layer.mission_id,
                                         lambda: self.odometry.frame_id, owner.log,
                                         changed=owner.publish_status)
         self._fresh()

@@ -27,7 +27,7 @@ from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
-from blind_navigation.ros.landmark_saving import landmark_file, storage_message
+from blind_navigation.ros.landmark_saving import landmark_file, recording_status, storage_message
 from blind_navigation.ros.layer import MISSION_ID
 from blind_navigation.ros.mission_diagnostics import file_status, mission_summary, odometry_status
 from blind_navigation.ros.mission_outputs import MissionOutputs
@@ -257,7 +257,7 @@ class MissionOwner(object):
     def warnings(self):
         """What is degraded though the mission goes on ('' if nothing)."""
         m = self.mission
-        return '; '.join(w for w in (self.store.error, self.store.space.warning,
+        return '; '.join(w for w in (m.warning or self.store.warning(), self.store.space.warning,
                                      self.outputs.progress.keeper.warning,
                                      m.pauses.describe(m.now or 0.0)) if w)
 
@@ -301,6 +301,9 @@ class MissionOwner(object):
         add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
                                                      client.odom_timeout))
         add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
+        add('recording', lambda stat: recording_status(stat, self.store.writer, self.store.error,
+                                                       self.store.space.warning,
+                                                       self.mission.phase != RECORDING))
         if not settings['heading_correction']:
             return
         heading = settings['standstill']
@@ -313,7 +316,7 @@ class MissionOwner(object):
             lambda stat: calibration_status(stat, path, settings['scale_prior']))
 
     def _diagnose(self, stat):
-        mission_id = self.layer.current_mission_id()
+        mission_id = self.layer.mission_id      # cached: no master call (an outage)
         stat.add('state', self.mission.state)
         stat.add('phase', self.mission.phase)
         stat.add('mission', mission_number(mission_id))     # in this launch

@@ -6,8 +6,10 @@ import rospy
 
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import SpaceWatch
-from blind_navigation.core.return_plan import write_loss
+from blind_navigation.core.return_plan import damage_warning, write_loss
 from blind_navigation.core.store import load_landmarks
+from blind_navigation.ros.landmark_saving import landmark_lost, note_gap
+from blind_navigation.ros.layer import RoleLog
 
 
 class FileStore(object):
@@ -15,7 +17,7 @@ class FileStore(object):
     write is counted by the writer (lost) and kept in ``error``; ``space``: its free space."""
 
     def __init__(self, writer):
-        self.writer, self.error = writer, ''
+        self.writer, self.error, self.log = writer, '', RoleLog(rospy.get_name())
         self.space = SpaceWatch(os.path.dirname(writer.path))
 
     def append(self, landmark):
@@ -23,16 +25,14 @@ class FileStore(object):
             self.writer.append(landmark)
         except StorageError as error:
             self.error = str(error)
-            rospy.logerr('%s: landmark lost: %s', rospy.get_name(), error)
+            landmark_lost(self.log, error)
 
     def note_gap(self, reason):
         try:
-            gap = self.writer.note_gap(reason)
-            rospy.logerr('%s: odometry discontinuity: %s noted in %s; the next landmark counts '
-                         'from the new odometry', rospy.get_name(), gap, self.writer.path)
+            note_gap(self.writer, reason, self.log)
         except StorageError as error:
             self.error = str(error)
-            rospy.logerr('%s: gap not noted: %s', rospy.get_name(), error)
+            self.log.error('gap not noted: %s', error)
 
     def load(self):
         try:
@@ -43,3 +43,8 @@ class FileStore(object):
 
     def loss(self):
         return write_loss(self.writer, self.error)
+
+    def warning(self):
+        """RECORDING DAMAGED while landmarks could not be written, else ''."""
+        loss = self.loss()
+        return damage_warning(loss, self.writer.path) if loss.count or self.error else ''

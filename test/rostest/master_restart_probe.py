@@ -86,10 +86,15 @@ def main():
              reason=(status.snapshot() or [MissionStatus()])[-1].reason, restarted=restarted,
              final_at=final_at, late=len(late), moved=moved, turned=turned,
              turned_after_loss=track.turned(rotating_at[0], final_at) if rotating_at else 0.0,
-             displaced=track.motion(rotating_at[0], final_at + SETTLE + WATCH)[0] if rotating_at else 0.0)
+             displaced=track.motion(rotating_at[0], final_at + SETTLE + WATCH)[0] if rotating_at else 0.0,
+             home_error=_distance(track.at(recording_at), track.at(final_at + SETTLE)))
     finally:
         operator.terminate()
         operator.wait(10.0)
+
+
+def _distance(a, b):
+    return ((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) ** 0.5
 
 
 if __name__ == '__main__':

@@ -636,9 +636,10 @@ class TestE_WriteFailure(MissionCase):
         cls.storage = run.storage_msgs.snapshot()[-1]
         cls.loaded = load_landmarks(cls.file)
         cls.lost_lines = m.logged('LANDMARK LOST')
-        cls.saver_status = m.diagnostics.status('%s: landmark_saver: recording' % m.owner.lstrip('/'))
+        recording = '%s: recording' % m.owner.lstrip('/')     # the one process's recording status
+        cls.saver_status = m.diagnostics.status(recording)
         cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
-        cls.level = (m.diagnostics.level('%s: landmark_saver: recording' % m.owner.lstrip('/')),
+        cls.level = (m.diagnostics.level(recording),
                      m.diagnostics.level('%s: mission' % m.owner.lstrip('/')))
         cls.displaced, cls.turned = m.track.motion(cls.lost_at, cls.final_at + WATCH)
         cls.turns = turn_lines(m)
@@ -1066,9 +1067,11 @@ class PrivateMaster(object):
 class TestJ_MasterRestart(unittest.TestCase):
     """The fake TurtleBot and the layer on a master of their own; the master is restarted
     (terminated, started again on its port) mid-recording. The nodes keep the connections
-    they made, but the new master knows none of them: the return's action client, made when
-    the return starts, finds no server, and the mission ends aborted, the robot where the
-    pi turn left it (master_restart_probe.py watches it from inside that world)."""
+    they made, but the new master knows none of them. The one process needs no new
+    connection: its diagnostics wait out the outage, the mission goes on and comes home
+    (master_restart_probe.py watches it from inside that world). The paper's layout's action
+    client, made when the return starts, would find no server: aborted, the robot where the
+    pi turn left it (before issue 30's switch, the default's outcome)."""
 
     @classmethod
     def setUpClass(cls):
@@ -1124,16 +1127,17 @@ class TestJ_MasterRestart(unittest.TestCase):
 
     def test_finding7d_master_restart_mid_recording_ends_aborted(self):
         s = self.summary
-        report('7d', 'master restarted %.1f s (sim) into the recording: states %s: %r; turned %.2f rad '
-               'after vision loss, moved %.3f m from there in all; after %s: %d motion commands, moved '
-               '%.4f m, turned %.4f rad', self.restart_at - s['recording_at'], s['states'], s['reason'],
-               s['turned_after_loss'], s['displaced'], s['states'][-1], s['late'], s['moved'], s['turned'])
-        self.assertEqual(s['states'], ['idle', 'recording', 'rotating', 'returning', 'aborted'])
-        self.assertIn('not available', s['reason'])
+        report('7d', 'master restarted %.1f s (sim) into the recording: states %s: %r, %.3f m from the '
+               'start; turned %.2f rad after vision loss, moved %.3f m from there in all; after %s: %d '
+               'motion commands, moved %.4f m, turned %.4f rad', self.restart_at - s['recording_at'],
+               s['states'], s['reason'], s['home_error'], s['turned_after_loss'], s['displaced'],
+               s['states'][-1], s['late'], s['moved'], s['turned'])
+        self.assertEqual(s['states'], HOME_WALK, s['reason'])
+        self.assertLessEqual(s['home_error'], NORMAL_ACCURACY, 'home %.3f m from the start (normal '
+                             'accuracy %.3f m)' % (s['home_error'], NORMAL_ACCURACY))
         self.assertEqual(s['late'], 0)
         self.assertLess(s['moved'], 0.005)
         self.assertLess(s['turned'], 0.01)
-        self.assertLess(s['displaced'], 0.05, 'the robot drove after the master restart')
 
 
 def selected():
