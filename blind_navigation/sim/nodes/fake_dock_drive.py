@@ -5,8 +5,7 @@ As kobuki_auto_docking: on a goal, sim/dock_drive.DockDrive runs once per
 ``mobile_base/sensors/dock_ir`` message on it, the latest ``mobile_base/sensors/core``
 (bumper, charger) and ``odom`` heading, publishes its velocity straight to the base
 (``mobile_base/commands/velocity``, past the mux) and its state as feedback; the goal
-succeeds in DONE (on the charger), a new goal while one runs is rejected (aborted), cancel
-preempts. The fake also aborts (sim/docking.verdict): dock not seen, dock lost, time limit,
+succeeds in DONE (on the charger); cancel or a new goal preempts it. The fake also aborts (sim/docking.verdict): dock not seen, dock lost, time limit,
 with a zero velocity. Param ``~time_limit`` (s of sim time).
 """
 import threading
@@ -41,22 +40,19 @@ class FakeDockDrive(object):
         self.server.start()
 
     def on_goal(self):
+        self.server.accept_new_goal()
         with self.lock:
-            if self.drive is not None:
-                self.server.accept_new_goal()
-                self.server.set_aborted(kobuki_msgs.AutoDockingResult(text='Rejected: dock_drive is already enabled.'))
-                return
-            self.server.accept_new_goal()
             self.drive, self.started = DockDrive(), rospy.get_time()
         rospy.loginfo('fake_dock_drive: new goal received and accepted')
 
     def on_preempt(self):
+        """Cancel, or a new goal (it preempts the running one, as kobuki_auto_docking's)."""
         with self.lock:
             self.drive = None
-            self._stop()
-            text = 'Preempted: New goal received.' if self.server.is_new_goal_available() \
-                else 'Cancelled: Cancel requested.'
-            self.server.set_preempted(kobuki_msgs.AutoDockingResult(text=text), text)
+        self._stop()
+        text = 'Preempted: New goal received.' if self.server.is_new_goal_available() \
+            else 'Cancelled: Cancel requested.'
+        self.server.set_preempted(kobuki_msgs.AutoDockingResult(text=text), text)
         rospy.loginfo('fake_dock_drive: %s', text)
 
     def on_odom(self, msg):
@@ -67,24 +63,23 @@ class FakeDockDrive(object):
         self.core = msg
 
     def on_ir(self, msg):
-        with self.lock:
-            if self.drive is None or self.core is None or self.heading is None:
-                return
+        with self.lock:                 # the server is called outside it: actionlib calls in with its own
             drive = self.drive
+            if drive is None or self.core is None or self.heading is None:
+                return
             v, w = drive.update(bytearray(msg.data), self.core.bumper, self.core.charger, self.heading)
             ended = verdict(drive, rospy.get_time() - self.started, self.time_limit)
-            if ended is None:
-                self.velocity.publish(twist(v, w))
-                self.server.publish_feedback(kobuki_msgs.AutoDockingFeedback(state=drive.state, text=''))
-                return
-            self.drive = None
-            self._stop()
-            succeeded, text = ended
-            result = kobuki_msgs.AutoDockingResult(text=text)
-            if succeeded:
-                self.server.set_succeeded(result, text)
-            else:
-                self.server.set_aborted(result, text)
+            if ended is not None:
+                self.drive = None
+        if ended is None:
+            self.velocity.publish(twist(v, w))
+            self.server.publish_feedback(kobuki_msgs.AutoDockingFeedback(state=drive.state, text=''))
+            return
+        self._stop()
+        succeeded, text = ended
+        if self.server.is_active():
+            (self.server.set_succeeded if succeeded else self.server.set_aborted)(
+                kobuki_msgs.AutoDockingResult(text=text), text)
         (rospy.loginfo if succeeded else rospy.logwarn)('fake_dock_drive: %s', text)
 
     def _stop(self):
