@@ -18,6 +18,10 @@ the wall time its period was due (launch with use_sim_time false), so what a
 node costs is measured without the /clock every node under sim time receives
 (evaluation/cost.py).
 
+At 50 Hz too ``mobile_base/sensors/core`` (kobuki_msgs/SensorState: ``battery`` from
+``~battery`` V, ``charger`` and ``bumper`` from the dock and the arena) and, with a ``~dock``
+(sim/dock.py: ``start`` or ``x y yaw``), ``mobile_base/sensors/dock_ir``.
+
 Test rig (no kobuki_node counterpart): a std_msgs/Float64 on ``~odometry_gap``
 (``mobile_base/odometry_gap``) starts an odometry gap of that many seconds of
 sim time: no ``odom`` and no ``odom`` TF until it has passed, as when a loaded
@@ -51,11 +55,12 @@ from geometry_msgs.msg import TransformStamped, Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
-from std_msgs.msg import Empty, Float64
+from std_msgs.msg import Empty, Float64, Header
 
 from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
+from blind_navigation.sim.dock import bumper_bits, charger_state, dock_from_spec
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
@@ -77,13 +82,14 @@ class FakeKobuki(object):
     follow another node's /clock (false; ``rtf`` then unused); ``wall_time``: no /clock, stamps
     in wall time, paced at ``rtf`` 1 (the only rtf it accepts; ``clock`` then unused); ``base``
     kinematic or mujoco; with mujoco ``physics_world`` (config/worlds name or path) and a payload
-    of ``payload_mass`` kg centred ``payload_x``, ``payload_y`` m from the axle's middle.
+    of ``payload_mass`` kg centred ``payload_x``, ``payload_y`` m from the axle's middle;
+    ``dock`` (sim/dock.dock_from_spec); ``battery`` V.
     """
     DEFAULTS = {'rtf': 1.0, 'seed': 0, 'noise': 'ideal', 'world': '', 'clock_period': 0.01,
                 'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
                 'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True,
                 'wall_time': False, 'base': 'kinematic', 'physics_world': 'tile', 'payload_mass': 0.0,
-                'payload_x': 0.0, 'payload_y': 0.0}
+                'payload_x': 0.0, 'payload_y': 0.0, 'dock': '', 'battery': 16.0}
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
@@ -123,6 +129,10 @@ class FakeKobuki(object):
             'wheel_drop': rospy.Publisher('mobile_base/events/wheel_drop', kobuki_msgs.WheelDropEvent,
                                           queue_size=10)}
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
+        self.dock = dock_from_spec(p.dock, self.base.true_pose)
+        self.core_pub = rospy.Publisher('mobile_base/sensors/core', kobuki_msgs.SensorState, queue_size=SYNCHRONOUS)
+        self.ir_pub = rospy.Publisher('mobile_base/sensors/dock_ir', kobuki_msgs.DockInfraRed,
+                                      queue_size=SYNCHRONOUS) if self.dock else None
         self._messages()
         self._contacts = self.base.contacts
         subscribe('mobile_base/commands/velocity', Twist, self.on_velocity, queue_size=10)
@@ -244,7 +254,19 @@ class FakeKobuki(object):
         set_pose(gt.pose.pose, truth.x, truth.y, truth.yaw)
         gt.twist.twist.linear.x, gt.twist.twist.angular.z = base.true_twist
         self.truth_pub.publish(gt)
+        self.publish_core(stamp)
         self.publish_events()
+
+    def publish_core(self, stamp):
+        """SensorState (the dock's charger, the bumper) and, with a dock, its IR bytes."""
+        truth, battery = self.base.true_pose, self.params.battery
+        contact = self.dock.contact(truth) if self.dock else None
+        docked = bool(contact and contact.docked)
+        self.core_pub.publish(kobuki_msgs.SensorState(
+            header=Header(stamp=stamp), battery=int(round(battery * 10.0)), charger=charger_state(docked, battery),
+            bumper=bumper_bits(self.base.contacts) | (contact.bumper if contact else 0)))
+        if self.dock:
+            self.ir_pub.publish(kobuki_msgs.DockInfraRed(header=Header(stamp=stamp), data=self.dock.ir(truth)))
 
     def publish_events(self):
         """One event message per sensor whose state changed, as kobuki_node does."""

@@ -1,0 +1,53 @@
+"""A docking run in plain Python: :class:`sim.dock_drive.DockDrive` on a simulated base before a dock.
+
+The fake's action server (sim/nodes/fake_dock_drive.py) ends a goal by :func:`verdict`;
+:func:`run_docking` plays a whole goal on a base (kinematic or MuJoCo) without ROS, as the
+unit tests and a bench do: the IR, bumper and charger from sim/dock.py each 50 Hz cycle.
+"""
+import math
+from collections import namedtuple
+
+from .dock import charger_state
+from .dock_drive import DockDrive
+from .kobuki import SENSOR_PERIOD
+
+TIME_LIMIT = 120.0            # s of sim time a goal may take (the fake's; docs/fake_turtlebot.md)
+LOST_TIME = 5.0               # s driving with no receiver seeing any beam: the dock is lost (the fake's)
+SUCCEEDED = 'Arrived on docking station successfully.'   # kobuki_auto_docking's result text
+
+DockingResult = namedtuple('DockingResult', 'docked text state time farthest')
+DockingResult.__doc__ = ('docked: the goal succeeded; text: the result text; state: the dock drive\'s '
+                         'last state; time: s of sim time; farthest: m from the start at most.')
+
+
+def verdict(drive, elapsed, time_limit=TIME_LIMIT):
+    """None while the goal goes on, else (succeeded, result text)."""
+    if drive.done:
+        return True, SUCCEEDED
+    if drive.state == 'UNKNOWN':
+        return False, 'Aborted: dock not seen: no dock IR beam found in a full turn (state UNKNOWN).'
+    if drive.unseen_time > LOST_TIME:
+        return False, 'Aborted: dock lost: no dock IR beam for %g s while driving (state %s).' % (
+            LOST_TIME, drive.state)
+    if elapsed > time_limit:
+        return False, 'Aborted: not docked within the time limit of %g s (state %s).' % (time_limit, drive.state)
+    return None
+
+
+def run_docking(base, dock, time_limit=TIME_LIMIT, battery=16.0):
+    """Play one docking goal on ``base`` (SimulatedKobuki or MujocoKobuki) before ``dock``
+    (sim/dock.Dock) until :func:`verdict` ends it; the base is left standing."""
+    drive, start, elapsed, farthest = DockDrive(), base.true_pose, 0.0, 0.0
+    while True:
+        pose = base.true_pose
+        farthest = max(farthest, math.hypot(pose.x - start.x, pose.y - start.y))
+        contact = dock.contact(pose)
+        v, w = drive.update(dock.ir(pose), contact.bumper, charger_state(contact.docked, battery),
+                            base.odom.yaw)
+        ended = verdict(drive, elapsed, time_limit)
+        if ended is not None:
+            base.command(0.0, 0.0)
+            return DockingResult(ended[0], ended[1], drive.state, elapsed, farthest)
+        base.command(v, w)
+        base.step(SENSOR_PERIOD)
+        elapsed += SENSOR_PERIOD
