@@ -10,7 +10,9 @@ Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
 gyro heading and wheel angles from zero, twist continuous); publishes at
 50 Hz ``odom`` (+ TF ``odom`` -> ``base_footprint``), ``mobile_base/sensors/imu_data``,
 ``joint_states``, ``ground_truth/odom`` (frame ``world``), Kobuki safety events on
-``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and
+``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena,
+``mobile_base/sensors/core`` (kobuki_msgs/SensorState: ``battery`` in 0.1 V from
+sim/battery.py's model, ``~battery`` V at start, and ``charger``) at :data:`CORE_RATE`, and
 ``/clock`` at ``rtf`` x wall time. Stamps are sim time (launch with use_sim_time).
 
 With ``~wall_time`` it runs as a robot does: no /clock, ``rtf`` 1, every stamp
@@ -56,12 +58,16 @@ from std_msgs.msg import Empty, Float64
 from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
+from blind_navigation.sim.battery import SIM_BATTERY_DEFAULTS, SimBattery
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import load_params, set_pose, subscribe
 
 DBL_MAX = sys.float_info.max
+#: Hz of mobile_base/sensors/core (the Kobuki streams it at 50 Hz; 10 Hz spares the CPU at a high
+#: rtf and is enough for the battery: the layer's watch debounces over seconds, core/battery.py)
+CORE_RATE = 10.0
 # The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
 # mode): a queue thread per connection costs more CPU than the write itself.
 SYNCHRONOUS = None
@@ -84,6 +90,7 @@ class FakeKobuki(object):
                 'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True,
                 'wall_time': False, 'base': 'kinematic', 'physics_world': 'tile', 'payload_mass': 0.0,
                 'payload_x': 0.0, 'payload_y': 0.0}
+    DEFAULTS.update(SIM_BATTERY_DEFAULTS)
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
@@ -107,6 +114,8 @@ class FakeKobuki(object):
         if p.base == 'mujoco':
             rospy.loginfo('fake_kobuki: physics base on %s (world %s, payload %g kg at %g, %g m)',
                           engine_name(), p.physics_world, p.payload_mass, p.payload_x, p.payload_y)
+        self.battery = SimBattery(float(p.battery), float(p.battery_drain), float(p.battery_motion),
+                                  float(p.battery_noise), seed=int(p.seed) + 7)
         self.lock = threading.Lock()
         self.ticks = 0
         self.clock_zero = 0.0            # base time (s) the clock last (re)started from
@@ -122,6 +131,8 @@ class FakeKobuki(object):
             'cliff': rospy.Publisher('mobile_base/events/cliff', kobuki_msgs.CliffEvent, queue_size=10),
             'wheel_drop': rospy.Publisher('mobile_base/events/wheel_drop', kobuki_msgs.WheelDropEvent,
                                           queue_size=10)}
+        self.core_pub = rospy.Publisher('mobile_base/sensors/core', kobuki_msgs.SensorState, queue_size=10)
+        self.core_every = int(round(1.0 / (CORE_RATE * p.clock_period)))
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
         self._messages()
         self._contacts = self.base.contacts
@@ -246,6 +257,13 @@ class FakeKobuki(object):
         self.truth_pub.publish(gt)
         self.publish_events()
 
+    def publish_core(self, stamp):
+        """kobuki_msgs/SensorState: the battery (0.1 V) and the charger (sim/battery.py)."""
+        msg = kobuki_msgs.SensorState(battery=self.battery.reading(), charger=self.battery.charger,
+                                      time_stamp=int(self.base.t * 1000.0) % 65536)
+        msg.header.stamp = stamp
+        self.core_pub.publish(msg)
+
     def publish_events(self):
         """One event message per sensor whose state changed, as kobuki_node does."""
         old, new = self._contacts, self.base.contacts
@@ -268,10 +286,13 @@ class FakeKobuki(object):
         sim time reached: ``start`` (s) plus the base's own time."""
         with self.lock:
             self.base.step(self.params.clock_period)
+            self.battery.step(self.params.clock_period, *self.base.true_twist)
             self.ticks += 1
             now = rospy.Time.from_sec(start + self.base.t - self.clock_zero)
             if self.ticks % self.sensor_every == 0:
                 self.publish_sensors(now)
+            if self.ticks % self.core_every == 0:
+                self.publish_core(now)
         return now
 
     def run(self):
