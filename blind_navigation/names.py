@@ -29,6 +29,8 @@ VO_ODOM_INFO = 'rtabmap/odom_info_lite'
 SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
                  'cliff': 'mobile_base/events/cliff',
                  'wheel_drop': 'mobile_base/events/wheel_drop'}
+#: kobuki_msgs/SensorState, the Kobuki's core sensors (battery in 0.1 V): read with battery_low
+CORE_SENSORS = 'mobile_base/sensors/core'
 
 # --- the layer's own names (INTERFACE.md)
 #: std_msgs/Empty: vision has failed

@@ -39,24 +39,26 @@ MISSION_DEFAULTS = {
     'vision_back_grace': LIMIT_DEFAULTS['vision_back_grace'],   # s the turn waits for vision
                                     # back after a loss without heading correction
     'limits': None,                 # the allowances' params (core/mission_limits), None: params'
+    'battery_low': 0.0,             # V: Inputs.battery below it while recording starts the
+                                    # return as go_home does (core/battery); 0: off
 }
 
 
 class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_back bumper operator '
-                                    'tripped reset time_back next_goal goal_result')):
+                                    'tripped reset time_back next_goal goal_result battery')):
     """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
     (pressed: True or a tuple naming the bumpers), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
     what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
     how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
-    core/drive.Outcome of the goal sent)."""
+    core/drive.Outcome of the goal sent), ``battery`` (V: the battery's reading, None: none)."""
     __slots__ = ()
 
     def __new__(cls, odom=None, visual=(), vision_lost=False, vision_back=False, bumper=False,
                 operator=None, tripped=None, reset=None, time_back=None, next_goal=False,
-                goal_result=None):
-        return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper,
-                                          operator, tripped, reset, time_back, next_goal, goal_result)
+                goal_result=None, battery=None):
+        return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper, operator,
+                                          tripped, reset, time_back, next_goal, goal_result, battery)
 
 
 Step = collections.namedtuple('Step', 'command phase state stored goal')
@@ -198,10 +200,10 @@ class Mission(object):
             stored.extend(rec.step(inputs.odom, now))
         if stored:
             self._move(state.IDLE, state.RECORDING)
-        if (inputs.vision_lost or 'go_home' in self.requests) and self.state == state.RECORDING:
+        why = _return_reason(now, inputs, self.recording.battery, self.requests)
+        if why and self.state == state.RECORDING:
             self.requests = []
-            return self._lose(now, stored, 'vision lost' if inputs.vision_lost else
-                              'return requested (go_home)', inputs.vision_lost)
+            return self._lose(now, stored, why, inputs.vision_lost)
         return None
 
     def _lose(self, now, stored, reason, vision):
@@ -343,6 +345,16 @@ def _recovered(returning):
     return 'vision back during %s: stopped (on_vision_back stop), %s left to home' % (
         'the pi turn' if returning is None else 'the return',
         'the whole path' if left is None else '%.2f m' % max(left, 0.0))
+
+
+def _return_reason(now, inputs, battery, requests):
+    """Why the recording ends in a return at ``now``: vision lost, the battery low (the
+    core/battery.BatteryWatch ``battery`` given ``inputs.battery``), go_home in ``requests``;
+    else None."""
+    low = battery.update(now, inputs.battery)
+    if inputs.vision_lost:
+        return 'vision lost'
+    return low or ('return requested (go_home)' if 'go_home' in requests else None)
 
 
 def _no_turn(recording, store, raw, reason):

@@ -3,6 +3,7 @@ schedule, the path recorder, the optional motion-event samples and, with heading
 correction, the gyro/visual fit; landmarks go to an injected store. Then the
 standstill after the loss that fixes the heading correction. Used by core/mission.Mission.
 """
+from .battery import BatteryWatch
 from .gyro_bias import StandstillBias, standstill_complete, standstill_timeout
 from .gyro_fit import GyroVisualFit
 from .heading_correction import estimate_correction, no_correction, visual_bias
@@ -27,6 +28,7 @@ class MissionRecording(object):
         self.landmarks = []         # as appended, recording order
         self.start = None           # odometry (x, y) where it began
         self.lost = None            # an untrusted odometry reset while recording: why
+        self.battery = BatteryWatch(getattr(config, 'battery_low', 0.0))    # fed while recording
 
     @property
     def started(self):

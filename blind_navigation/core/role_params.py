@@ -8,6 +8,7 @@ is generated from :data:`SCHEMAS` (scripts/param_table.py).
 """
 from .allowance import ALLOWANCE_DEFAULTS
 from .back_travel import BACK_TRAVEL_DEFAULTS, MODES
+from .battery import BATTERY_DEFAULTS, PLAUSIBLE
 from .goal import HANDOVER_FOLLOW
 from .gyro_bias import STANDSTILL_DEFAULTS
 from .gyro_calibration import SPIN_DEFAULTS
@@ -191,6 +192,12 @@ CALIBRATE_GYRO = Schema('calibrate_gyro', (
 ), fixed=dict(SPIN_DEFAULTS, **GYRO_FIT_DEFAULTS, max_scale=CORRECTION_DEFAULTS['max_scale'],
               control_rate=50.0))         # Hz of the spin's control loop (the odometry's rate)
 
+MISSION_OWNER = Schema('mission_owner', (
+    Param('battery_low', 0.0, 'V', 'the one process only: the Kobuki battery (mobile_base/sensors/core) '
+          'below this while recording starts the return as go_home does (its median held '
+          'battery_hold s, never one reading: core/battery.py); 0: off', lo=0.0, hi=PLAUSIBLE[1]),
+), fixed=BATTERY_DEFAULTS)
+
 #: Every role's schema, in the order the docs list them.
 SCHEMAS = (SAMPLING_PUBLISHER, LANDMARK_SAVING, RECORD_CLIENT, HEADING_CORRECTION, ROTATE_PI,
-           BACK_TRAVEL_SERVER, BACK_TRAVEL_CLIENT, VISION_MONITOR, CALIBRATE_GYRO)
+           BACK_TRAVEL_SERVER, BACK_TRAVEL_CLIENT, VISION_MONITOR, CALIBRATE_GYRO, MISSION_OWNER)

@@ -21,9 +21,11 @@ from blind_navigation.core.gyro_calibration import CalibrationError, load_calibr
 from blind_navigation.core.mission import RECORDING, Inputs, Mission
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
 from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
-                                               HEADING_CORRECTION, ROTATE_PI, SAMPLING_PUBLISHER)
+                                               HEADING_CORRECTION, MISSION_OWNER, ROTATE_PI,
+                                               SAMPLING_PUBLISHER)
 from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
+from blind_navigation.ros.battery import subscribe_battery
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
@@ -87,6 +89,7 @@ def owner_params(layer):
     rotate = layer.params('rotate_pi', ROTATE_PI)
     sampling = layer.params('sampling_publisher', SAMPLING_PUBLISHER)
     heading = layer.params('heading_correction', HEADING_CORRECTION)
+    owner = layer.params('mission_owner', MISSION_OWNER)
     merged = rotate._asdict()
     for role in (client, server):      # the server's drive limits and timeouts last
         merged.update(role._asdict())
@@ -102,7 +105,7 @@ def owner_params(layer):
         prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
         handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
         turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
-        limits=client)
+        limits=client, battery_low=owner.battery_low)
     return params, settings, landmark_file(client.landmark_file), rotate.max_w
 
 
@@ -121,6 +124,7 @@ class MissionOwner(object):
     """Hosts one core Mission and its loop (module docstring); a role of ros/layer."""
 
     ROLE = 'mission_owner'
+    SCHEMA = MISSION_OWNER
 
     def __init__(self, layer):
         self.layer, self.log, self.guard = layer, layer.logger(self.ROLE), layer.guard(self.ROLE)
@@ -175,6 +179,7 @@ class MissionOwner(object):
         subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)),
                   queue_size=5)
         faults.on_fault(self._on_fault)
+        subscribe_battery(self.mission.config.battery_low, inbox, guard, self.log)
 
     def _on_odom(self, odom):
         """A state; the feed's frame newly lost (an untrusted reset) comes in with it."""

@@ -27,6 +27,7 @@ from ..core.mission_drive import FAILED, FINAL, GOAL, HANDOVER
 from ..core.odometry_reset import UNTRUSTED
 from ..core.return_plan import write_loss
 from ..core.store import load_landmarks
+from .battery import SimBattery
 from .kobuki import load_profile, make_profile
 from .mujoco_kobuki import make_base
 from .mission import load_mission
@@ -74,11 +75,14 @@ SIMULATION_DEFAULTS = {
     'prune_loops': False,      # closed_loop: cut loops and doubled-back stretches from the route
                                # (core/pruning.py, its params from ``params``), as the client's
                                # prune_loops does
+    'battery': None,           # the Kobuki battery: sim/battery.SimBattery's keyword arguments
+                               # (volts, drain, motion, noise), read each step; None: no reading
+    'battery_low': 0.0,        # V: the mission's battery_low (core/battery; 0: off)
 }
 #: Settings the core/mission.Mission takes as they are.
 _MISSION_SETTINGS = ('straight_period', 'curved_period', 'deadband', 'event_sampling',
                      'heading_correction', 'handover_timeout', 'handover_follow', 'on_vision_back',
-                     'vision_back_grace', 'limits')
+                     'vision_back_grace', 'limits', 'battery_low')
 #: Settings that change only the return: modes differing in them share a recording (run_modes).
 RETURN_SETTINGS = ('prune_loops',)
 
@@ -117,11 +121,14 @@ class _Run(object):
         self.vision = DriftingOdometry(seed + 1, **VO_DRIFT_DEFAULTS)
         self.next_frame = 0.0
         self.odometry_log = None      # a list: every odometry state is appended
+        self.battery = None           # a sim/battery.SimBattery, drained as the robot moves
 
     def advance(self, command=None):
         if command is not None:
             self.base.command(*command)
         self.base.step(self.dt)
+        if self.battery is not None:
+            self.battery.step(self.dt, *self.base.true_twist)
         if self.odometry_log is not None:
             self.odometry_log.append(self.base.odom)
         pose = self.base.true_pose
@@ -193,10 +200,12 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
     if reset and hasattr(run.base, 'reset_odometry'):
         run.base.reset_odometry()       # the odometry restarts from the origin, as kobuki_node's
     odom = run.base.odom if feed is None or feed.arrives(now) else None
+    battery = None if run.battery is None else run.battery.reading() / 10.0
     if not events.events:       # the bench's runs: no scripted event
         if vision_lost:
             run.vision_on = False
-        return mission.step(now, Inputs(odom, frames, vision_lost, next_goal=next_goal)), None
+        return mission.step(now, Inputs(odom, frames, vision_lost, next_goal=next_goal,
+                                        battery=battery)), None
     if events.fire('cancel', now):
         mission.cancel()
     if events.fire('go_home', now):
@@ -212,7 +221,8 @@ def _step(run, mission, events, feed=None, vision_lost=False, next_goal=False):
                     operator='scripted operator' if takeover else None, next_goal=next_goal,
                     tripped='cliff (scripted)' if events.fire('cliff', now) else None,
                     reset='%s (scripted)' % UNTRUSTED if reset else None,
-                    time_back='the time moved back (scripted)' if events.fire('time_back', now) else None)
+                    time_back='the time moved back (scripted)' if events.fire('time_back', now) else None,
+                    battery=battery)
     return mission.step(now, inputs), takeover and takeover.command
 
 
@@ -385,6 +395,7 @@ class _Recorded(object):
         run = self.run = _Run(self.profile, seed, settings['control_dt'], settings['heading_correction'],
                               (settings['base'], settings['world'], tuple(settings['payload'])))
         run.events = ScriptedEvents(settings['events'])
+        run.battery = SimBattery(seed=seed, **settings['battery']) if settings['battery'] else None
         if settings['floor']:
             run.odometry_log = [run.base.odom]
         start = run.base.true_pose

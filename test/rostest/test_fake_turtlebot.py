@@ -13,6 +13,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Image, Imu, JointState
 from std_msgs.msg import String
 
+from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.ros.common import twist
 
 import waiting
@@ -73,7 +74,8 @@ class FakeTurtlebotTest(unittest.TestCase):
     def test_1_topics_at_their_rates_with_kobuki_frames(self):
         topics = {'/odom': (Odometry, 50.0), '/mobile_base/sensors/imu_data': (Imu, 50.0),
                   '/joint_states': (JointState, 50.0), '/ground_truth/odom': (Odometry, 50.0),
-                  '/camera/rgb/image_rect_color': (Image, 30.0), '/rtabmap/odom': (Odometry, 30.0)}
+                  '/camera/rgb/image_rect_color': (Image, 30.0), '/rtabmap/odom': (Odometry, 30.0),
+                  '/mobile_base/sensors/core': (kobuki.SensorState, 10.0)}
         recorders = {name: Recorder(name, cls) for name, (cls, _) in topics.items()}
         for name, recorder in recorders.items():
             wait_for(lambda: recorder.messages, 'a first message on %s' % name)
@@ -91,6 +93,8 @@ class FakeTurtlebotTest(unittest.TestCase):
                          [0.1, 0.1, 1e10, 1e10, 1e10, 0.05])
         self.assertEqual(recorders['/mobile_base/sensors/imu_data'].messages[-1].header.frame_id, 'gyro_link')
         self.assertEqual(recorders['/ground_truth/odom'].messages[-1].header.frame_id, 'world')
+        core = recorders['/mobile_base/sensors/core'].messages[-1]     # full, 0.6 V/h: 16.5 V
+        self.assertEqual((core.battery, core.charger), (165, kobuki.SensorState.DISCHARGING))
         self.assertEqual(recorders['/joint_states'].messages[-1].name, ['wheel_left_joint', 'wheel_right_joint'])
         image = recorders['/camera/rgb/image_rect_color'].messages[-1]
         self.assertEqual((image.encoding, len(image.data)), ('rgb8', image.width * image.height * 3))

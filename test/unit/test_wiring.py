@@ -99,3 +99,15 @@ def test_a_failing_listener_does_not_keep_the_others_from_hearing(fatal, monkeyp
     wiring.refuse('/mobile_base/events/cliff', wiring.Expected(('kobuki_msgs/CliffEvent',)), 'std_msgs/String')
     assert len(fatal) == 1 and len(heard) == 1
     assert errors and 'RuntimeError: broken listener' in errors[0]
+
+
+def test_sensor_state_is_kobuki_msgs_own_and_another_type_is_refused(fatal):
+    """kobuki_msgs 0.7.0's SensorState (the MD5 sum its generated code carries), so a real
+    Kobuki's mobile_base/sensors/core connects; a Twist there is refused (battery_low)."""
+    state = kobuki_msgs_compat.SensorState
+    assert (state._type, state._md5sum) == ('kobuki_msgs/SensorState', '430a4bfd78449c8740bfef32b26613a6')
+    assert state().DOCKING_CHARGING == 6 and state(battery=161).battery == 161
+    expected = wiring.Expected.of(state)
+    assert expected.accepts('mobile_base/sensors/core', header(state._type, state._md5sum))
+    assert not expected.accepts('mobile_base/sensors/core', header('geometry_msgs/Twist', '*'))
+    assert len(fatal) == 1 and 'expected kobuki_msgs/SensorState' in fatal[0]

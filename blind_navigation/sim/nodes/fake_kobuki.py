@@ -10,17 +10,16 @@ Speaks kobuki_node's topics: subscribes ``mobile_base/commands/velocity``
 gyro heading and wheel angles from zero, twist continuous); publishes at
 50 Hz ``odom`` (+ TF ``odom`` -> ``base_footprint``), ``mobile_base/sensors/imu_data``,
 ``joint_states``, ``ground_truth/odom`` (frame ``world``), Kobuki safety events on
-``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena, and
-``/clock`` at ``rtf`` x wall time. Stamps are sim time (launch with use_sim_time).
+``mobile_base/events/{bumper,cliff,wheel_drop}`` when it meets the arena,
+``mobile_base/sensors/core`` (kobuki_msgs/SensorState: ``battery`` in 0.1 V from
+sim/battery.py's model, ``~battery`` V at start; ``charger`` and ``bumper`` from the dock and
+the arena) at :data:`CORE_RATE`, with a ``~dock`` (sim/dock.py: ``start`` or ``x y yaw``)
+``mobile_base/sensors/dock_ir`` at 50 Hz, and ``/clock`` at ``rtf`` x wall time. Stamps are sim time (launch with use_sim_time).
 
 With ``~wall_time`` it runs as a robot does: no /clock, ``rtf`` 1, every stamp
 the wall time its period was due (launch with use_sim_time false), so what a
 node costs is measured without the /clock every node under sim time receives
 (evaluation/cost.py).
-
-At 50 Hz too ``mobile_base/sensors/core`` (kobuki_msgs/SensorState: ``battery`` from
-``~battery`` V, ``charger`` and ``bumper`` from the dock and the arena) and, with a ``~dock``
-(sim/dock.py: ``start`` or ``x y yaw``), ``mobile_base/sensors/dock_ir``.
 
 Test rig (no kobuki_node counterpart): a std_msgs/Float64 on ``~odometry_gap``
 (``mobile_base/odometry_gap``) starts an odometry gap of that many seconds of
@@ -60,6 +59,7 @@ from std_msgs.msg import Empty, Float64, Header
 from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
+from blind_navigation.sim.battery import SIM_BATTERY_DEFAULTS, SimBattery
 from blind_navigation.sim.dock import bumper_bits, charger_state, dock_from_spec
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
@@ -67,6 +67,9 @@ from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import load_params, set_pose, subscribe
 
 DBL_MAX = sys.float_info.max
+#: Hz of mobile_base/sensors/core (the Kobuki streams it at 50 Hz; 10 Hz spares the CPU at a high
+#: rtf and is enough for the battery: the layer's watch debounces over seconds, core/battery.py)
+CORE_RATE = 10.0
 # The 50 Hz x rtf streams are written in the publishing thread (rospy's synchronous
 # mode): a queue thread per connection costs more CPU than the write itself.
 SYNCHRONOUS = None
@@ -89,7 +92,8 @@ class FakeKobuki(object):
                 'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
                 'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True,
                 'wall_time': False, 'base': 'kinematic', 'physics_world': 'tile', 'payload_mass': 0.0,
-                'payload_x': 0.0, 'payload_y': 0.0, 'dock': '', 'battery': 16.0}
+                'payload_x': 0.0, 'payload_y': 0.0, 'dock': ''}
+    DEFAULTS.update(SIM_BATTERY_DEFAULTS)
 
     def __init__(self):
         self.params = p = load_params(self.DEFAULTS)
@@ -113,6 +117,8 @@ class FakeKobuki(object):
         if p.base == 'mujoco':
             rospy.loginfo('fake_kobuki: physics base on %s (world %s, payload %g kg at %g, %g m)',
                           engine_name(), p.physics_world, p.payload_mass, p.payload_x, p.payload_y)
+        self.battery = SimBattery(float(p.battery), float(p.battery_drain), float(p.battery_motion),
+                                  float(p.battery_noise), seed=int(p.seed) + 7)
         self.lock = threading.Lock()
         self.ticks = 0
         self.clock_zero = 0.0            # base time (s) the clock last (re)started from
@@ -128,9 +134,10 @@ class FakeKobuki(object):
             'cliff': rospy.Publisher('mobile_base/events/cliff', kobuki_msgs.CliffEvent, queue_size=10),
             'wheel_drop': rospy.Publisher('mobile_base/events/wheel_drop', kobuki_msgs.WheelDropEvent,
                                           queue_size=10)}
+        self.core_pub = rospy.Publisher('mobile_base/sensors/core', kobuki_msgs.SensorState, queue_size=10)
+        self.core_every = int(round(1.0 / (CORE_RATE * p.clock_period)))
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
         self.dock = dock_from_spec(p.dock, self.base.true_pose)
-        self.core_pub = rospy.Publisher('mobile_base/sensors/core', kobuki_msgs.SensorState, queue_size=SYNCHRONOUS)
         self.ir_pub = rospy.Publisher('mobile_base/sensors/dock_ir', kobuki_msgs.DockInfraRed,
                                       queue_size=SYNCHRONOUS) if self.dock else None
         self._messages()
@@ -254,19 +261,21 @@ class FakeKobuki(object):
         set_pose(gt.pose.pose, truth.x, truth.y, truth.yaw)
         gt.twist.twist.linear.x, gt.twist.twist.angular.z = base.true_twist
         self.truth_pub.publish(gt)
-        self.publish_core(stamp)
+        if self.dock:
+            self.ir_pub.publish(kobuki_msgs.DockInfraRed(header=Header(stamp=stamp),
+                                                         data=self.dock.ir(truth)))
         self.publish_events()
 
     def publish_core(self, stamp):
-        """SensorState (the dock's charger, the bumper) and, with a dock, its IR bytes."""
-        truth, battery = self.base.true_pose, self.params.battery
-        contact = self.dock.contact(truth) if self.dock else None
-        docked = bool(contact and contact.docked)
-        self.core_pub.publish(kobuki_msgs.SensorState(
-            header=Header(stamp=stamp), battery=int(round(battery * 10.0)), charger=charger_state(docked, battery),
-            bumper=bumper_bits(self.base.contacts) | (contact.bumper if contact else 0)))
-        if self.dock:
-            self.ir_pub.publish(kobuki_msgs.DockInfraRed(header=Header(stamp=stamp), data=self.dock.ir(truth)))
+        """kobuki_msgs/SensorState: the battery (0.1 V, sim/battery.py), the charger (the dock's
+        contacts, sim/dock.py) and the bumper bits."""
+        contact = self.dock.contact(self.base.true_pose) if self.dock else None
+        self.battery.charger = charger_state(bool(contact and contact.docked), self.battery.volts)
+        msg = kobuki_msgs.SensorState(battery=self.battery.reading(), charger=self.battery.charger,
+                                      time_stamp=int(self.base.t * 1000.0) % 65536,
+                                      bumper=bumper_bits(self.base.contacts) | (contact.bumper if contact else 0))
+        msg.header.stamp = stamp
+        self.core_pub.publish(msg)
 
     def publish_events(self):
         """One event message per sensor whose state changed, as kobuki_node does."""
@@ -290,10 +299,13 @@ class FakeKobuki(object):
         sim time reached: ``start`` (s) plus the base's own time."""
         with self.lock:
             self.base.step(self.params.clock_period)
+            self.battery.step(self.params.clock_period, *self.base.true_twist)
             self.ticks += 1
             now = rospy.Time.from_sec(start + self.base.t - self.clock_zero)
             if self.ticks % self.sensor_every == 0:
                 self.publish_sensors(now)
+            if self.ticks % self.core_every == 0:
+                self.publish_core(now)
         return now
 
     def run(self):
