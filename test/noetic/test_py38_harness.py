@@ -23,7 +23,7 @@ MODES = {'time': ('time', False), 'time+prune': ('time', True),
          'closed_loop': ('closed_loop', False), 'closed_loop+prune': ('closed_loop', True)}
 #: the issue's bound for the default return: within 2 % of the path
 DEFAULT_SHARE = 0.02
-#: a pruned figure eight drives less than 60 % of the unpruned route (mission_figure_eight_pruned.test)
+#: a pruned figure eight drives less than 60 % of the unpruned route (as its rostest of issue 29 did)
 PRUNED_SHARE = 0.6
 
 

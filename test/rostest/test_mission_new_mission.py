@@ -4,7 +4,8 @@
 the paper's node layout).
 
 Mission 1: a short mission is recorded and ``go_home`` brings it home;
-``new_mission`` called while the mission is ``rotating`` is refused naming it.
+``new_mission`` called while the mission is ``rotating`` is refused naming it, and
+``cancel`` at ``home`` is refused naming it.
 Then ``new_mission`` at ``home`` is acknowledged: the state goes ``idle`` and
 ``recording`` again without a relaunch, the ``landmark_file`` symlink points at
 a new file, and the mission 1 file stays byte-identical (SHA-256 before and
@@ -27,7 +28,7 @@ from std_srvs.srv import SetBool
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import MISSION_DONE_TOPIC, MissionRun  # noqa: E402
 from recording_tools import Collector, Diagnostics  # noqa: E402
-from test_mission_services import MAX_RELATIVE_ERROR, trigger  # noqa: E402
+from test_mission_services import trigger  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
@@ -35,6 +36,8 @@ from blind_navigation.core.store import load_landmarks  # noqa: E402
 
 
 SET_VISION = '/fake_turtlebot/set_vision'
+#: Each return must end within this fraction of the recorded path's length of the start.
+MAX_RELATIVE_ERROR = 0.02
 #: m: half the scripted mission (test_left_arc, 1.97 m): mission 2 recorded the driving.
 DRIVEN_AT_LEAST = 1.0
 
@@ -54,12 +57,14 @@ class NewMissionTest(unittest.TestCase):
         cls.diagnostics = Diagnostics()
         cls.status = Collector(names.STATUS, MissionStatus)
         go_home, new_mission = trigger(names.GO_HOME), trigger(names.NEW_MISSION)
+        cancel = trigger(names.CANCEL)
         try:
             run.wait_for_layer()
             run.play_mission(mission)
             cls.go_home_1 = go_home()
             cls.refused_rotating = new_mission()
             cls.outcome_1 = run.outcome()
+            cls.cancel_at_home = cancel()
             cls.file_1 = os.path.realpath(cls.outcome_1.loaded.path)
             cls.digest_1 = digest(cls.file_1)
             run.stop_operator()
@@ -101,6 +106,10 @@ class NewMissionTest(unittest.TestCase):
                              (self.refused_recording, 'recording')):
             self.assertFalse(reply.success, reply.message)
             self.assertIn('the mission is %s' % state, reply.message)
+
+    def test_cancel_at_home_is_refused_naming_it(self):
+        self.assertFalse(self.cancel_at_home.success, self.cancel_at_home.message)
+        self.assertIn('home', self.cancel_at_home.message)
 
     def test_both_missions_come_home(self):
         self.assertTrue(self.go_home_1.success and self.go_home_2.success,

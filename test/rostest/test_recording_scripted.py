@@ -3,19 +3,16 @@
 
 This test node owns sim time: it publishes /clock and nav_msgs/Odometry for a
 scripted straight/arc/straight path (test/scripted_path.py) at ``~rtf`` times
-real time, so its expectations are exact. Scenarios (``~scenario``):
-
-- ``compare``: the topic variant (landmark_saver) and the service variant
-  (record_server + record_client) record the same sampling publisher at once;
-  vision is lost mid-cycle. Checks the sample stream against the core sampling
-  rule (core/segment.SamplingSchedule), the files against the truth and each
-  other, the storage and recorded-path topics, refusals of bad commands, and
-  that the yaml-cpp reader (landmark_info) reads the numbers PyYAML reads.
-  This node is the mission's owner (the sampling publisher's ~mission_owner):
-  vision loss is the mission state moving from recording to rotating, which
-  ends the recording.
-- ``kill``: the saver is killed with SIGKILL mid-mission; its file must load
-  with every landmark it reported saved before the kill.
+real time, so its expectations are exact (recording_compare.test). The topic
+variant (landmark_saver) and the service variant (record_server + record_client)
+record the same sampling publisher at once; vision is lost mid-cycle. Checks the
+sample stream against the core sampling rule (core/segment.SamplingSchedule), the
+files against the truth and each other, the storage and recorded-path topics,
+refusals of bad commands, and that the yaml-cpp reader (landmark_info) reads the
+numbers PyYAML reads. This node is the mission's owner (the sampling publisher's
+~mission_owner): vision loss is the mission state moving from recording to
+rotating, which ends the recording. (A saver killed mid-mission:
+recording_fake_turtlebot.test.)
 """
 import math
 import os
@@ -41,7 +38,7 @@ from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import StorageUsage, PathSample  # noqa: E402
 from blind_navigation.srv import RecordedSamples, RecordLandmark  # noqa: E402
 from mission_owner import MissionOwner  # noqa: E402
-from recording_tools import (WALL_TIMEOUT, Collector, kill_node, landmark_info,  # noqa: E402
+from recording_tools import (WALL_TIMEOUT, Collector, landmark_info,  # noqa: E402
                              subscribers_of, wait_for)
 
 SIM_BASE = 100.0            # sim time when the clock starts (non-zero: rospy treats 0 as unset)
@@ -49,7 +46,6 @@ PREROLL = 2.0               # s standing still before the path starts
 CLOCK_STEP = 0.01           # s of sim time per /clock message
 ODOM_PERIOD = 0.02          # s, 50 Hz like kobuki_node
 VISION_LOST_AT = 39.5       # s into the path: mid-cycle of the last straight
-KILL_AT = 25.0              # s into the path (kill scenario)
 #: A tick fires on the first /clock at or after its time and reads the latest
 #: odometry: periods and yaws may be late by a clock step plus scheduling delay.
 #: Scheduling delay under a loaded 2-core machine, in sim time at rtf 2: < 0.1 s.
@@ -331,42 +327,6 @@ class CompareTest(RecordingTestBase):
             self.assertEqual(info['bytes'], os.path.getsize(loaded.path))
 
 
-class KillTest(RecordingTestBase):
-    """SIGKILL of the saver mid-mission leaves a loadable file with every landmark it saved."""
-
-    expected_subscribers = ((names.SAMPLE, ('/landmark_saver',)),
-                            ('/odom', ('/landmark_saver', '/sampling_publisher')))
-
-    @classmethod
-    def run_scenario(cls):
-        cls.killed = {}
-
-        def kill():
-            cls.killed['storage_msgs'] = len(cls.storage_msgs.snapshot())
-            cls.killed['samples'] = len(cls.samples.snapshot())
-            cls.killed['pid'] = kill_node('/landmark_saver')
-        cls.world.run_until(KILL_AT + 4.0, [(KILL_AT, kill)])
-
-    def test_file_survives_kill_9(self):
-        self.assertIn('pid', self.killed, 'the saver was not killed')
-        loaded = load_landmarks(rospy.get_param('~topic_file'))
-        saved_before_kill = self.killed['storage_msgs']
-        self.assertGreater(saved_before_kill, 10, 'too few landmarks before the kill to mean much')
-        # Every landmark reported saved is in the file; at most the ones whose
-        # report was still in flight at the kill come on top (never more than
-        # the samples published before it).
-        self.assertGreaterEqual(len(loaded.landmarks), saved_before_kill)
-        self.assertLessEqual(len(loaded.landmarks), self.killed['samples'])
-        self.assertEqual(loaded.labels, ['landmark_%06d' % i
-                                         for i in range(1, len(loaded.landmarks) + 1)])
-        self.assertLessEqual(len(loaded.warnings), 1)
-        info = landmark_info(loaded.path)
-        self.assertEqual(info['landmarks'], len(loaded.landmarks))
-
-
-SCENARIOS = {'compare': CompareTest, 'kill': KillTest}
-
 if __name__ == '__main__':
     rospy.init_node('test_recording')
-    scenario = rospy.get_param('~scenario')
-    rostest.rosrun('blind_navigation', 'recording_' + scenario, SCENARIOS[scenario])
+    rostest.rosrun('blind_navigation', 'recording_compare', CompareTest)

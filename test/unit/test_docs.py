@@ -104,3 +104,23 @@ def test_the_links_between_the_docs_resolve(path):
                 anchor(heading) for heading in headings(linked)}:
             broken.append(target)
     assert not broken, '%s: links that do not resolve: %s' % (os.path.relpath(path, REPO), broken)
+
+
+#: a rostest file's name as the repository writes it (``mission_*.test``: a glob)
+TEST_NAME = re.compile(r'(?<![\w./*$-])([A-Za-z0-9_*]+)\.test\b')
+
+
+def test_every_named_rostest_exists():
+    """Every ``<name>.test`` the docs, tests, scripts and launch files name is a file of
+    test/rostest or test/noetic (a name with ``*`` matches one); CHANGELOG.rst is history."""
+    have = [os.path.basename(path)[:-len('.test')]
+            for folder in ('rostest', 'noetic') for path in glob.glob(os.path.join(REPO, 'test', folder, '*.test'))]
+    missing = set()
+    for path, text in text_files():
+        if path in ('CHANGELOG.rst', os.path.join('test', 'unit', 'test_docs.py')):
+            continue
+        for name in TEST_NAME.findall(text):
+            pattern = re.compile(re.escape(name).replace(r'\*', '.*') + '$')
+            if not any(pattern.match(known) for known in have):
+                missing.add('%s: %s.test' % (path, name))
+    assert not missing, 'rostests that do not exist are named: %s' % sorted(missing)

@@ -54,6 +54,17 @@ def test_arcs_come_home_closed_loop(mission):
     assert _length(played.result.forward_path) > 0.9 * played.result.distance
 
 
+# --- time mode on arcs (test_mission.py, ideal profile, limit 30 % of the path) ------------
+@pytest.mark.parametrize('mission, limit', [('test_right_arc', 0.59), ('test_s_curve', 1.06)])
+def test_arcs_come_home_in_time_mode(mission, limit):
+    """Replaces mission_right_arc_time and mission_s_curve_time (mission_left_arc_time.test
+    keeps the left arc over ROS, the paper's layout): the paper's rule replays the arcs'
+    first samples without their turn, so even the ideal robot misses the start; the limit is
+    30 % of the path (1.97 m, 3.54 m), and a turn replayed unmirrored ends metres away."""
+    played = play(mission, 'ideal', 'time', 0, **LAUNCH)
+    _home_within(played, limit)
+
+
 # --- real paths (test_mission_real_paths.py: paper noise, the README's calibration, 2 %) ----
 def _on_mujoco(mission):
     """(mission, 'mujoco'), skipped where mujoco is not installed (the Noetic lane)."""
@@ -185,7 +196,9 @@ def test_an_odometry_gap_in_the_return_holds_it_then_comes_home(holds):
                   'ros/odometry.py (core/odometry_reset.ResetCarrier) before the Mission sees odometry; '
                   'the Mission takes only an untrusted reset (Inputs.reset), so the harness cannot play it')
 def test_an_odometry_reset_in_the_return_is_re_anchored_and_comes_home():
-    """Would replace mission_odometry_reset_return."""
+    """Would replace mission_odometry_reset_return (deleted): the re-anchoring is
+    interfaces.test's odometry_feed (every message carried in the old frame) and
+    mission_odometry_reset_recording_paper.test (a re-anchored reset, then home)."""
 
 
 def test_the_clock_moving_back_at_the_turn_aborts_naming_it_robot_still():
