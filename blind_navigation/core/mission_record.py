@@ -1,7 +1,8 @@
 """The mission's recording, stepped on each odometry state: the two-rate sampling
-schedule, the path recorder, the optional motion-event samples and, with heading
-correction, the gyro/visual fit; landmarks go to an injected store. Then the
-standstill after the loss that fixes the heading correction. Used by core/mission.Mission.
+schedule, the path recorder, the optional motion-event samples, the landmarks requested
+(core/landmark_request) and, with heading correction, the gyro/visual fit; landmarks go
+to an injected store. Then the standstill after the loss that fixes the heading
+correction. Used by core/mission.Mission.
 """
 from .battery import BatteryWatch
 from .gyro_bias import StandstillBias, standstill_complete, standstill_timeout
@@ -13,8 +14,8 @@ from .segment import SamplingSchedule
 
 
 class MissionRecording(object):
-    """One recording into ``store`` (``append(landmark)``); ``config``: straight_period,
-    curved_period, deadband, event_sampling, heading_correction."""
+    """One recording into ``store`` (``append(landmark)`` -> its label, None: not written);
+    ``config``: straight_period, curved_period, deadband, event_sampling, heading_correction."""
 
     def __init__(self, store, config):
         self.store = store
@@ -29,6 +30,7 @@ class MissionRecording(object):
         self.start = None           # odometry (x, y) where it began
         self.lost = None            # an untrusted odometry reset while recording: why
         self.battery = BatteryWatch(getattr(config, 'battery_low', 0.0))    # fed while recording
+        self.requested = []         # core/landmark_request.LandmarkRequest handed in, not taken
 
     @property
     def started(self):
@@ -54,9 +56,10 @@ class MissionRecording(object):
     def step(self, odom, now):
         """Sample ``odom`` (every state, in order) at ``now``; returns the landmarks taken."""
         taken = []
+        self.history.append(odom)       # the ticks' (event sampling) and the requests' states
         if self.events is not None:
-            self.history.append(odom)
             self.events.odometry(odom)
+        self._take_requested(odom, now, self.next_tick, taken)
         if now >= self.next_tick + self.latency - 1e-9:
             # with event sampling the tick is taken latency s late, from the odometry at its
             # stamp (as the saver reads it), so events dated back before it come first
@@ -66,12 +69,14 @@ class MissionRecording(object):
             self._take(state, period, taken)
             self.period = self.schedule.update(state.yaw)
             self.next_tick = state.stamp + self.period
+        self._take_requested(odom, now, float('inf'), taken)
         return taken
 
     def end(self, odom, now):
         """Vision is lost at ``odom`` (``now``): the events left, then a final landmark over the
         partial cycle; returns the landmarks taken. Recording may go on (:meth:`resume`)."""
         taken = []
+        self._refuse_requested('the recording ended (vision lost or go_home) before it was taken')
         self._take_events(now + 1.0, taken)
         if now - self.last_tick > 1e-9:
             self._take(odom, now - self.last_tick, taken)
@@ -83,6 +88,7 @@ class MissionRecording(object):
         states kept for the ticks and events are of the old frame: dropped. The way back
         is lost (``lost``: why)."""
         self.lost = self.lost or reason
+        self._refuse_requested('an odometry reset (%s) came before it was taken' % reason)
         if self.started:
             self.store.note_gap(reason)
             self.recorder.restart(odom)
@@ -96,14 +102,38 @@ class MissionRecording(object):
         for state, period in self.events.before(before, self.history.at) if self.events else ():
             self._take(state, period, taken)
 
-    def _take(self, state, period, taken):
-        taken.append(self._append(self.recorder.take(state, state.yaw, period)))
-        self.last_tick = state.stamp
-
-    def _append(self, landmark):
-        self.store.append(landmark)
+    def _take(self, state, period, taken, yaw=None):
+        landmark = self.recorder.take(state, state.yaw if yaw is None else yaw, period)
+        taken.append(landmark)
         self.landmarks.append(landmark)
-        return landmark
+        self.last_tick = state.stamp
+        return self.store.append(landmark)
+
+    def _take_requested(self, odom, now, before, taken):
+        """Take the requests stamped before ``before`` whose state is known at ``odom``
+        (``now``, after the events' latency), in time order: the events before each, then
+        its landmark at the odometry at its stamp, never older than the last landmark's
+        (psi and T the request's); answer each."""
+        for request in self.requested:
+            if request.stamp is None:       # unstamped: this state
+                request.stamp = odom.stamp
+        due = sorted((r for r in self.requested if r.stamp < before and r.stamp <= odom.stamp
+                      and now >= r.stamp + self.latency - 1e-9), key=lambda r: r.stamp)
+        for request in due:
+            self.requested.remove(request)
+            self._take_events(request.stamp, taken)
+            state = self.history.at(max(request.stamp, self.last_tick) + 1e-9)
+            try:
+                label = self._take(state, request.period, taken, request.yaw)
+            except ValueError as error:
+                request.reply('', 'refused: bad sample: %s' % error)
+                continue
+            request.reply(label, 'not written: the landmark file failed (the status says why)')
+
+    def _refuse_requested(self, why):
+        for request in self.requested:
+            request.reply('', 'not taken: ' + why)
+        self.requested = []
 
     @property
     def distance(self):

@@ -37,6 +37,7 @@ from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
                                                       reply)
 from blind_navigation.ros.motion import MotionOutput
+from blind_navigation.ros.owner_paper_names import PaperNames
 from blind_navigation.ros import faults
 
 
@@ -130,10 +131,6 @@ class MissionOwner(object):
         self.layer, self.log, self.guard = layer, layer.logger(self.ROLE), layer.guard(self.ROLE)
         self.params, settings, self.landmark_file, turn_w = owner_params(layer)
         self.recorder = str(rospy.get_param('~recorder', 'topic'))
-        if self.recorder != 'topic':    # the file's metadata says which was asked for
-            self.log.warn('recorder %s: the mission records in this process; no %s service '
-                          '(owner:=layer serves it)', self.recorder,
-                          rospy.resolve_name(names.RECORD_LANDMARK))
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
@@ -163,6 +160,7 @@ class MissionOwner(object):
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
+        self.paper_names = PaperNames(self)     # record_landmark (recorder service), back_travel
         self._add_diagnostics(settings)
         rospy.on_shutdown(self._on_shutdown)
         with self.lock:

@@ -22,7 +22,7 @@ class FileStore(object):
 
     def append(self, landmark):
         try:
-            self.writer.append(landmark)
+            return self.writer.append(landmark)
         except StorageError as error:
             self.error = str(error)
             landmark_lost(self.log, error)
