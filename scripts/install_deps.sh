@@ -6,7 +6,8 @@
 # where ROS Noetic lives in /opt/ros/noetic, from the ros-noetic-* packages.
 # "a|b" installs a, or b where the distribution has no a.
 # Then the pinned virtual environments (scripts/venvs.sh, requirements/): tools
-# (vermin) and, where a Python 3.8 is found, py38 (the Noetic lane).
+# (vermin) and, for each Python lane whose interpreter is found (3.8, 3.12, 3.13: pyenv's
+# or on PATH), its pyXY venv (scripts/python_lane.sh).
 set -euo pipefail
 
 COMMON=(g++ cmake make libyaml-cpp-dev python3-yaml python3-numpy python3-rospkg
@@ -84,9 +85,12 @@ fi
 source "$(dirname "$0")/venvs.sh"
 make_venv tools /usr/bin/python3 tools.txt
 make_venv sim /usr/bin/python3 sim.txt --system-site-packages   # the fake's physics engine (MuJoCo)
-if python38=$(find_python38); then
-  make_venv py38 "$python38" py38.txt
-  debian_ros_behind "$BN_WS/venvs/py38"
-else
-  echo "install_deps: no Python 3.8 (pyenv or python3.8 on PATH): no py38 venv, the Noetic lane will not run"
-fi
+for version in $LANE_PYTHONS; do
+  lane=py${version/./}
+  if python=$(find_python "$version"); then
+    make_venv "$lane" "$python" "$lane.txt"
+    debian_ros_behind "$BN_WS/venvs/$lane"
+  else
+    echo "install_deps: no Python $version (pyenv or python$version on PATH): no $lane venv, its lane will be skipped"
+  fi
+done

@@ -1,17 +1,20 @@
 """One xunit test case for a whole check (a linter's run), so that make test counts a
 problem it finds as a failed test (scripts/test_summary.py reads lint-*.xml).
 
-write_case(path, suite, command, target, status, problems, output): ``command`` ran on
-``target`` and exited ``status``; ``problems`` are its problem lines, ``output`` all it said.
+write_case(path, suite, command, target, status, problems, output, skipped=None): ``command``
+ran on ``target`` and exited ``status``; ``problems`` are its problem lines, ``output`` all it
+said; ``skipped``, a reason, marks a check that could not run here (a skipped case).
 """
 import os
 import xml.etree.ElementTree as ET
 
 
-def write_case(path, suite_name, command, target, status, problems, output):
+def write_case(path, suite_name, command, target, status, problems, output, skipped=None):
     suite = ET.Element('testsuite', name=suite_name, tests='1', failures='1' if status else '0',
-                       errors='0')
+                       errors='0', skipped='1' if skipped else '0')
     case = ET.SubElement(suite, 'testcase', classname=suite_name, name=command)
+    if skipped:
+        ET.SubElement(case, 'skipped', message=skipped)
     if status:
         failure = ET.SubElement(case, 'failure', message='%d problem(s): %s' % (
             len(problems), problems[0] if problems else 'exit %d' % status))

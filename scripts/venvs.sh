@@ -1,9 +1,12 @@
-# Sourced by scripts/install_deps.sh and scripts/noetic_lane.sh: the pinned Python
-# virtual environments under $BN_WS/venvs (docs/testing.md, "The Noetic lane").
+# Sourced by scripts/install_deps.sh and scripts/python_lane.sh: the pinned Python
+# virtual environments under $BN_WS/venvs (docs/testing.md, "The Python lanes").
+#   LANE_PYTHONS: the lanes' Python versions (3.8 Noetic, 3.12 ROS-O, 3.13 Debian trixie);
+#     lane VERSION's venv is $BN_WS/venvs/pyXY from requirements/pyXY.txt.
 #   make_venv NAME PYTHON REQUIREMENTS [--system-site-packages]
 #     $BN_WS/venvs/NAME from PYTHON with requirements/REQUIREMENTS (pinned); done again
 #     only when the interpreter or the requirements file changed (a stamp file).
-#   find_python38: prints a Python 3.8 interpreter (pyenv's, else python3.8 on PATH).
+#   find_python VERSION: prints a Python VERSION interpreter (pyenv's, else pythonVERSION
+#     on PATH).
 #   debian_ros_behind VENV: Debian's pure-Python ROS libraries importable in VENV,
 #     after the venv's own packages (a .pth file, read last).
 
@@ -32,12 +35,14 @@ make_venv() {
   echo "$stamp" > "$dir/.bn_stamp"
 }
 
-find_python38() {
-  local root candidate
+LANE_PYTHONS="3.8 3.12 3.13"
+
+find_python() {
+  local version=$1 root candidate
   root=$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")
-  for candidate in "$root"/versions/3.8.*/bin/python3.8 "$(command -v python3.8 || true)"; do
-    if [ -x "$candidate" ] && "$candidate" -c 'import sys, venv; assert sys.version_info[:2] == (3, 8)' \
-        2>/dev/null; then
+  for candidate in "$root"/versions/"$version".*/bin/python"$version" "$(command -v python"$version" || true)"; do
+    if [ -x "$candidate" ] && "$candidate" -c 'import sys, venv
+assert "%d.%d" % sys.version_info[:2] == sys.argv[1]' "$version" 2>/dev/null; then
       echo "$candidate"
       return 0
     fi

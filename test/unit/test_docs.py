@@ -112,9 +112,9 @@ TEST_NAME = re.compile(r'(?<![\w./*$-])([A-Za-z0-9_*]+)\.test\b')
 
 def test_every_named_rostest_exists():
     """Every ``<name>.test`` the docs, tests, scripts and launch files name is a file of
-    test/rostest or test/noetic (a name with ``*`` matches one); CHANGELOG.rst is history."""
+    test/rostest or test/lanes (a name with ``*`` matches one); CHANGELOG.rst is history."""
     have = [os.path.basename(path)[:-len('.test')]
-            for folder in ('rostest', 'noetic') for path in glob.glob(os.path.join(REPO, 'test', folder, '*.test'))]
+            for folder in ('rostest', 'lanes') for path in glob.glob(os.path.join(REPO, 'test', folder, '*.test'))]
     missing = set()
     for path, text in text_files():
         if path in ('CHANGELOG.rst', os.path.join('test', 'unit', 'test_docs.py')):

@@ -1,10 +1,10 @@
 """Copy a rostest run's result files into catkin's results dir under a prefix, so
-that a second run of the same tests (the Noetic lane, scripts/noetic_lane.sh)
+that a second run of the same tests (a Python lane, scripts/python_lane.sh)
 counts beside the first: rosunit-NAME.xml -> rosunit-PREFIXNAME.xml, and the
 rostest-*.xml entry of each test node (testNAME, scripts/test_summary.py's
 fallback when a node wrote no result) -> testPREFIXNAME in rostest-PREFIX*.xml.
 
-Usage: /usr/bin/python3 scripts/py38_results.py RUN_DIR RESULTS_DIR PREFIX
+Usage: /usr/bin/python3 scripts/lane_results.py RUN_DIR RESULTS_DIR PREFIX
 When RUN_DIR holds no rostest result (rostest did not start), writes a failed
 MISSING-PREFIX*.xml case instead and exits 1.
 """
@@ -41,7 +41,7 @@ def main(argv):
     run_dir, results_dir, prefix = argv[1:]
     if not copy_results(run_dir, results_dir, prefix):
         message = 'no rostest result in %s' % run_dir
-        print('py38_results: ' + message)
+        print('lane_results: ' + message)
         name = os.path.basename(os.path.dirname(os.path.abspath(run_dir)))
         write_case(os.path.join(results_dir, 'MISSING-%s%s.xml' % (prefix, name)), 'rostest',
                    'rostest ' + name, run_dir, 1, [message], '')

@@ -1,11 +1,13 @@
-"""The Noetic lane (scripts/noetic_lane.sh, under Python 3.8 with Ubuntu 20.04's
-numpy and PyYAML): the interpreter and libraries are the lane's, no extension
-module built for another Python is loaded, and the plain-Python harness runs every
-control mode with and without loop pruning on a Table VI mission, a loop mission
-and a real-like path (paper noise); the default return (closed_loop, pruning on)
-comes home within 2 % of the path on loops_figure_eight and table6_test3 (issue 21)."""
+"""A Python lane (scripts/python_lane.sh VERSION, its venv from requirements/pyXY.txt):
+the interpreter and the pinned numpy and PyYAML are the lane's, no extension module
+built for another Python is loaded, and the plain-Python harness runs every control
+mode with and without loop pruning on a Table VI mission, a loop mission and a
+real-like path (paper noise); the default return (closed_loop, pruning on) comes home
+within 2 % of the path on loops_figure_eight and table6_test3 (issue 21).
+Skipped outside a lane (no BN_LANE)."""
 import math
 import os
+import re
 import sys
 
 import numpy
@@ -15,8 +17,13 @@ import yaml
 from blind_navigation.sim.command_series import load_trajectory
 from blind_navigation.sim.harness import run_mission, run_modes
 
-#: Python and library versions of ROS Noetic's Ubuntu 20.04 (requirements/py38.txt)
-LANE = {'python': (3, 8), 'numpy': '1.17.4', 'yaml': '5.3.1'}
+#: the lane's name (py38, py312, py313: scripts/python_lane.sh) and its pinned requirements
+LANE = os.environ.get('BN_LANE', '')
+REQUIREMENTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', 'requirements',
+                            LANE + '.txt')
+if not LANE:
+    pytest.skip('not in a Python lane (scripts/python_lane.sh sets BN_LANE)', allow_module_level=True)
+
 #: label: (control mode, prune_loops)
 MODES = {'time': ('time', False), 'time+prune': ('time', True),
          'distance': ('distance', False), 'distance+prune': ('distance', True),
@@ -27,9 +34,17 @@ DEFAULT_SHARE = 0.02
 PRUNED_SHARE = 0.6
 
 
-def test_the_lane_runs_python_3_8_with_ubuntu_20_04_libraries():
-    assert sys.version_info[:2] == LANE['python'], sys.version
-    assert numpy.__version__ == LANE['numpy'] and yaml.__version__ == LANE['yaml'], \
+def pinned(name):
+    """The version requirements/LANE.txt pins ``name`` to."""
+    with open(REQUIREMENTS) as text:
+        found = re.findall(r'^%s==(\S+)' % re.escape(name), text.read(), re.MULTILINE | re.IGNORECASE)
+    assert len(found) == 1, '%s pins %s %d times' % (REQUIREMENTS, name, len(found))
+    return found[0]
+
+
+def test_the_lane_runs_its_python_with_its_distributions_libraries():
+    assert LANE == 'py%d%d' % sys.version_info[:2], (LANE, sys.version)
+    assert (numpy.__version__, yaml.__version__) == (pinned('numpy'), pinned('PyYAML')), \
         (numpy.__version__, numpy.__file__, yaml.__version__, yaml.__file__)
 
 
@@ -37,6 +52,7 @@ def test_no_extension_module_of_another_python_is_loaded():
     import actionlib  # noqa: F401 (what the nodes import: Debian's pure-Python ROS libraries)
     import rosbag  # noqa: F401
     import rosgraph.network
+    import roslaunch  # noqa: F401 (rostest's; from 3.12 on its distutils is setuptools' shim)
     import rospy  # noqa: F401
     import blind_navigation.ros.layer  # noqa: F401
     import blind_navigation.evaluation.bench  # noqa: F401

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
-"""rostest of the Noetic lane (scripts/noetic_lane.sh): every node of the test's
-launch runs under the lane's Python 3.8.
+"""rostest of a Python lane (scripts/python_lane.sh): every node of the test's
+launch runs under the lane's Python.
 
 Waits until the master lists each of ``~nodes`` (the layer's), then asks each
 for its pid and reads the process's executable (/proc/PID/exe). Asserted: this
 test script runs under Python ``~python`` (it was started as `#!/usr/bin/env
 python3`, like the package's test scripts), and every one of ``~nodes`` runs
 under this script's interpreter. The other nodes' interpreters are logged (the
-fake TurtleBot's base and camera run under Debian's: scripts/noetic_lane.sh).
+fake TurtleBot's base and camera run under Debian's: scripts/python_lane.sh).
 """
 import os
 import sys
