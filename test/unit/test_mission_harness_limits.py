@@ -8,6 +8,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from blind_navigation.core import outcome
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.landmark_writer import LandmarkWriter
@@ -102,10 +103,11 @@ def test_the_return_watch_budget_and_a_remote_goals_backstop():
     watch = ReturnWatch(landmarks, landmarks, None, 0.0)
     watch.goal(landmarks[0], 0.0)
     assert watch.problem(1.0, 3.9) is None                      # 1.5 x 2 m + 1 m
-    assert 'more than its budget of 4.00 m' in watch.problem(1.0, 4.1)
+    assert watch.problem(1.0, 4.1).code == outcome.TIMEOUT
+    assert 'more than its budget of 4.00 m' in watch.problem(1.0, 4.1).reason
     watch.resumed(100.0)                                        # a pause: the backstop anew
     assert watch.problem(120.0, 1.0) is None
-    assert 'backstop' in watch.problem(155.1, 1.0)              # 5 x 5 s + 10 s
+    assert 'backstop' in watch.problem(155.1, 1.0).reason       # 5 x 5 s + 10 s
 
 
 # --- vision back within the grace --------------------------------------------------------------

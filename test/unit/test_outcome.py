@@ -1,0 +1,56 @@
+"""The outcome codes (core/outcome.py) are MissionStatus's OUTCOME_* constants, one per
+cause, documented in docs/safety.md and the README (issue 31, item 3)."""
+import os
+import re
+
+from blind_navigation.core import drive, outcome
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), '..', '..'))
+CONSTANT = re.compile(r'^\s*uint16\s+OUTCOME_([A-Z_]+)\s*=\s*(\d+)', re.M)
+
+
+def read(relative):
+    with open(os.path.join(REPO, relative)) as text:
+        return text.read()
+
+
+def msg_constants():
+    return {int(number): name for name, number in CONSTANT.findall(read('msg/MissionStatus.msg'))}
+
+
+def test_the_message_constants_are_the_cores():
+    assert msg_constants() == dict(outcome.NAMES)
+
+
+def test_one_number_per_name_and_none_is_zero():
+    assert len(set(outcome.NAMES.values())) == len(outcome.NAMES)
+    assert outcome.NAMES[0] == 'NONE' and outcome.NONE == 0
+
+
+def test_the_status_field_follows_the_old_fields():
+    fields = [line.split()[1] for line in read('msg/MissionStatus.msg').splitlines()
+              if line.strip() and not line.lstrip().startswith('#') and '=' not in line]
+    assert fields == ['header', 'state', 'reason', 'warnings', 'landmarks', 'completed', 'outcome']
+
+
+def test_every_code_is_documented():
+    safety, readme = read('docs/safety.md'), read('README.md')
+    for code, name in outcome.NAMES.items():
+        assert re.search(r'\| %d \| `%s` \|' % (code, name), safety), (code, name)
+        assert '%d `%s`' % (code, name) in readme or name == 'NONE', (code, name)
+
+
+def test_the_log_line_names_the_code():
+    assert outcome.phrase(outcome.CANCELLED, 'cancelled by request') == \
+        'cancelled by request [outcome CANCELLED (20)]'
+    assert outcome.phrase(outcome.NONE, 'vision lost') == 'vision lost'
+    assert outcome.describe(99) == 'UNKNOWN (99)'
+
+
+def test_a_drive_outcome_carries_its_cause():
+    assert drive.Outcome(drive.TIMED_OUT, 'late').cause == outcome.TIMEOUT
+    assert drive.Outcome(drive.SAFETY_STOP, 'bumper', outcome.CONTACTS).cause == outcome.CONTACTS
+    assert drive.Outcome(drive.SUCCEEDED, '').cause == outcome.NONE
+    assert set(drive.KIND_CODES) == {drive.SUCCEEDED, drive.CANCELLED, drive.FAILED, drive.TIMED_OUT,
+                                     drive.SAFETY_STOP, drive.ODOMETRY_LOST, drive.PREEMPTED,
+                                     drive.TAKEN_OVER}
