@@ -67,17 +67,18 @@ class TurnDrive(object):
 
     def step(self, now, inputs):
         if self.clock.elapsed(now) > self.timeout:
-            return self._fail(outcome.TIMEOUT, 'no finished pi turn within %.0f s of vision loss (rotation_timeout: the '
-                              'standstill\'s timeout + rotation_margin + vision_back_grace); not '
-                              'travelling back' % self.timeout)
+            return self._fail(outcome.TIMEOUT, 'no finished pi turn within %.0f s of vision loss '
+                              '(rotation_timeout: the standstill\'s timeout + rotation_margin + '
+                              'vision_back_grace); not travelling back' % self.timeout)
         decision, odom, message = self.feed(self.cycle)
         if decision == ABORT:
             return self._fail(outcome.ODOMETRY, 'the pi rotation: %s; not travelling back' % message)
         command = self.rotation.step(odom) if decision == DRIVE else ZERO
         self.yaw = odom.yaw if odom is not None else self.yaw
         if self.rotation.failed:
-            return self._fail(outcome.TIMEOUT, 'the pi rotation failed (not done within its time_allowance of %.0f s); '
-                              'not travelling back' % self.rotation.time_allowance)
+            return self._fail(outcome.TIMEOUT, 'the pi rotation failed (not done within its '
+                              'time_allowance of %.0f s); not travelling back'
+                              % self.rotation.time_allowance)
         if not self.rotation.done:
             return command
         problem = turn_problem(self.start_yaw, self.yaw, self.tolerance)
