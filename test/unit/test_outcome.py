@@ -54,3 +54,17 @@ def test_a_drive_outcome_carries_its_cause():
     assert set(drive.KIND_CODES) == {drive.SUCCEEDED, drive.CANCELLED, drive.FAILED, drive.TIMED_OUT,
                                      drive.SAFETY_STOP, drive.ODOMETRY_LOST, drive.PREEMPTED,
                                      drive.TAKEN_OVER}
+
+
+def test_a_takeover_with_on_takeover_abort_and_a_bumper_in_the_turn_carry_their_codes():
+    """Played by the harness on core/mission.Mission (test_mission_harness's mission)."""
+    from test_mission_harness import _play
+    from test_mission_harness_limits import _params
+    taken = _play(('takeover', 'return', 5.0, 1.0, (0.0, 0.0)), params=_params(on_takeover='abort'))
+    assert (taken.result.status, taken.mission.machine.outcome) == ('aborted', outcome.TAKEOVER), \
+        taken.result.reason
+    assert 'on_takeover abort' in taken.result.reason
+    bumped = _play(('bumper', 'turn', 1.0, 0.5), heading_correction=False)     # the turn at once
+    assert (bumped.result.status, bumped.mission.machine.outcome) == ('aborted', outcome.CONTACTS), \
+        bumped.result.reason
+    assert 'the pi turn: safety stop: bumper' in bumped.result.reason
