@@ -122,6 +122,7 @@ class VisionBackTest(unittest.TestCase):
         rospy.loginfo('RECOVERED: %s; base stopped %.3f s (sim) after, speed %.4f m/s %.1f s after',
                       reason, stops[0] - at, self.speed, STILL_WITHIN)
         self.assertIn(' m left to home', reason)
+        self.assertEqual(recovered[0].outcome, MissionStatus.OUTCOME_VISION_BACK, reason)
         self.assertLessEqual(stops[0] - at, STILL_WITHIN)
         self.assertLess(self.speed, STOPPED_SPEED)
 
