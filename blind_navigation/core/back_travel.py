@@ -7,6 +7,7 @@ interface for all: core/goal.make_goal (docs/back_travel.md, "Control modes").
 """
 import math
 
+from . import outcome
 from .geometry import distance
 from .safety import SAFETY_DEFAULTS
 
@@ -127,6 +128,7 @@ class _Controller(Odometer):
         self.done = False
         self.failed = False
         self.reason = ''
+        self.code = outcome.NONE    # core/outcome's cause once failed
         self.started = None
         self._last = None
 
@@ -136,7 +138,7 @@ class _Controller(Odometer):
     def moved_while_paused(self, metres):
         """A replay goes on only from where it paused: moved farther, it fails."""
         if metres > self.paused_move:
-            self.failed = True
+            self.failed, self.code = True, outcome.OFF_ROUTE
             self.reason = ('the robot was moved %.2f m while the return was paused (a takeover or a '
                            'contact): the %s mode replays landmarks and cannot rejoin the path from '
                            'there' % (metres, self.MODE))
@@ -156,7 +158,7 @@ class _Controller(Odometer):
         if self._count_step(odom_state):
             return 0.0, 0.0
         if self.elapsed(odom_state) > self.allowance:
-            self.failed = True
+            self.failed, self.code = True, outcome.TIMEOUT
             return 0.0, 0.0
         v, w = self.command(odom_state)
         if self.done:

@@ -8,6 +8,7 @@ mission leaving its state, the odometry grace. Run by ros/drive_loop.DriveLoop
 """
 import collections
 
+from . import outcome
 from .allowance import ABORT, HOLD, OdomGrace
 
 SUCCEEDED, CANCELLED, FAILED, TIMED_OUT = 'succeeded', 'cancelled', 'failed', 'timed out'
@@ -15,13 +16,26 @@ SAFETY_STOP, ODOMETRY_LOST, PREEMPTED = 'safety stop', 'odometry lost', 'preempt
 TAKEN_OVER = 'taken over'      # an operator took the robot (on_takeover abort)
 
 
-class Outcome(collections.namedtuple('Outcome', 'kind reason')):
-    """How a behaviour ended: ``kind`` (one of the names above) and why."""
+#: The core/outcome code of a kind, where the Outcome names none.
+KIND_CODES = {SUCCEEDED: outcome.NONE, CANCELLED: outcome.CANCELLED, FAILED: outcome.ROLE_FAILURE,
+              TIMED_OUT: outcome.TIMEOUT, SAFETY_STOP: outcome.SAFETY_EVENT,
+              ODOMETRY_LOST: outcome.ODOMETRY, PREEMPTED: outcome.CANCELLED,
+              TAKEN_OVER: outcome.TAKEOVER}
+
+
+class Outcome(collections.namedtuple('Outcome', 'kind reason code', defaults=(outcome.NONE,))):
+    """How a behaviour ended: ``kind`` (one of the names above), why, and where the kind
+    does not say it, the core/outcome ``code`` of the cause."""
     __slots__ = ()
 
     @property
     def ok(self):
         return self.kind == SUCCEEDED
+
+    @property
+    def cause(self):
+        """The core/outcome code: ``code``, else the kind's (:data:`KIND_CODES`)."""
+        return self.code or KIND_CODES[self.kind]
 
 
 class Behaviour(object):

@@ -22,7 +22,7 @@ class SectionGoal(object):
         self.follower = follower
         self.index = index
         self.done = self.failed = False
-        self.reason = ''
+        self.reason, self.code = '', 0
         self._travelled_before = 0.0
         self._since = since
 
@@ -48,7 +48,7 @@ class SectionGoal(object):
 
     def step(self, odom_state):
         command = self.follower.step(odom_state)
-        self.failed, self.reason = self.follower.failed, self.follower.reason
+        self.failed, self.reason, self.code = self.follower.failed, self.follower.reason, self.follower.code
         self.done = not self.failed and self.follower.section_finished(self.index)
         return (0.0, 0.0) if self.done or self.failed else command
 
@@ -61,6 +61,7 @@ class ControllerGoal(object):
 
     done = property(lambda self: self.controller.done)
     failed = property(lambda self: self.controller.failed)
+    code = property(lambda self: self.controller.code)
     travelled = property(lambda self: self.controller.travelled)
 
     @property

@@ -7,7 +7,7 @@ both drive it. docs/DESIGN.md, "The default layer: one mission, one loop".
 import collections
 import types
 
-from . import mission_state as state
+from . import mission_state as state, outcome
 from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import BACK_TRAVEL_DEFAULTS, stopped
 from .drive import Outcome
@@ -108,11 +108,11 @@ class Mission(object):
             self.requests.append('go_home')
         return refusal
 
-    def cancel(self, reason=None):
-        """Abort for ``reason`` (an owner's fault names it): zero velocity; the refusal or None."""
+    def cancel(self, reason=None, code=outcome.CANCELLED):
+        """Abort for ``reason``, core/outcome ``code`` (a fault names both); the refusal or None."""
         refusal = state.cancel_refusal(self.state)
         if refusal is None:
-            self._end(state.ABORTED, reason or state.CANCELLED)
+            self._end(state.ABORTED, code, reason or state.CANCELLED)
         return refusal
 
     def new_mission(self, store):
@@ -139,7 +139,7 @@ class Mission(object):
             self.last = self.odom()
         why = _interrupted(inputs, self.phase, self.state)
         if why:
-            self._end(state.ABORTED, why)
+            self._end(state.ABORTED, *why)
         command = self._step(now, inputs, stored)
         self.halt = self.halt and ended     # the step that ended the mission returned zero
         return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None))
@@ -173,13 +173,13 @@ class Mission(object):
         return (HOLD, None, message) if decision == HOLD else \
             (DRIVE, self.last._replace(stamp=self.now), message)
 
-    def _end(self, new, reason):
+    def _end(self, new, code, reason):
         if self.drive is not None or self.state == state.RETURNING:
             pauses = self.pauses.describe(self.now or 0.0)
             reason = '%s; %s' % (reason, pauses) if pauses and pauses not in reason else reason
         old = self.state
-        if self.machine.abort(reason)[0] if new == state.ABORTED else \
-                self.machine.transition(old, new, reason):
+        if self.machine.abort(reason, code)[0] if new == state.ABORTED else \
+                self.machine.transition(old, new, reason, code):
             self.transitions.append((self.now, old, new, reason))
         self.phase, self.halt = ENDED, True
         return ZERO
@@ -238,7 +238,7 @@ class Mission(object):
         self.loaded, loss = self.store.load(), self.store.loss()
         problem, self.warning = recording_problem(self.loaded, loss), return_warning(self.loaded, loss)
         if problem:
-            return self._end(state.ABORTED, 'before the pi turn: %s' % problem)
+            return self._end(state.ABORTED, problem.code, 'before the pi turn: %s' % problem.reason)
         self.correction, self.corrector = correction, CorrectedOdometry(correction)
         self.corrector.update(self.reference)
         self.landmarks = correct_landmarks(self.loaded.landmarks, correction)
@@ -261,12 +261,12 @@ class Mission(object):
         if pause == PAUSE:
             return ZERO
         if pause:
-            return self._end(state.ABORTED, '%s: safety stop: %s' % (self.drive.where(), pause))
+            return self._end(state.ABORTED, outcome.CONTACTS, '%s: safety stop: %s' % (self.drive.where(), pause))
         resumed = self.pauses.resume(now)
         if resumed is not None:
             seconds, taken = resumed
             if taken and self.pauses.takeover.policy == 'abort':
-                return self._end(state.ABORTED, '%s (on_takeover abort)' % taken)
+                return self._end(state.ABORTED, outcome.TAKEOVER, '%s (on_takeover abort)' % taken)
             self.drive.resumed(seconds)
         return False
 
@@ -296,7 +296,7 @@ class Mission(object):
             return paused
         command = self.drive.step(now, inputs)
         if self.drive.phase == FAILED:
-            return self._end(state.ABORTED, self.drive.reason)
+            return self._end(state.ABORTED, self.drive.code, self.drive.reason)
         if self.drive.phase != DONE:
             self.phase = self.drive.phase
             return command
@@ -321,7 +321,7 @@ class Mission(object):
         """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""
         recovered = inputs.vision_back and self.vision_loss and state.vision_back_state(
             self.state, True, self.config.on_vision_back) == state.RECOVERED
-        return recovered and self._end(state.RECOVERED, _recovered(
+        return recovered and self._end(state.RECOVERED, outcome.VISION_BACK, _recovered(
             self.drive if self.state == state.RETURNING else None)) is ZERO
 
 
@@ -358,31 +358,31 @@ def _return_reason(now, inputs, battery, requests):
 
 
 def _no_turn(recording, store, raw, reason):
-    """(state, why) when the loss (``reason``) at ``raw`` ends the mission with no turn: an
+    """(state, code, why) when the loss (``reason``) at ``raw`` ends the mission with no turn: an
     untrusted odometry reset while recording (``aborted``), nothing to retrace (``home``), or
     landmarks ``store`` lost beyond a standstill (``aborted``: core/return_plan.recording_problem,
     the file read back); else None."""
     if recording.lost:
-        return state.ABORTED, '%s, but %s' % (reason, frame_lost(recording.lost))
+        return state.ABORTED, outcome.ODOMETRY, '%s, but %s' % (reason, frame_lost(recording.lost))
     nothing = nothing_to_retrace(recording.distance, recording.start, (raw.x, raw.y),
                                  BACK_TRAVEL_DEFAULTS['finish_tolerance'])
     if nothing:
-        return state.HOME, '%s: %s' % (reason, nothing)
+        return state.HOME, outcome.NOTHING_TO_RETRACE, '%s: %s' % (reason, nothing)
     loss = store.loss()
-    if loss.count and not still_loss(loss):
-        return state.ABORTED, '%s, but %s' % (reason, recording_problem(store.load(), loss))
-    return None
+    problem = recording_problem(store.load(), loss) if loss.count and not still_loss(loss) else None
+    return (state.ABORTED, problem.code, '%s, but %s' % (reason, problem.reason)) if problem else None
 
 
 def _interrupted(inputs, phase, current):
-    """Why ``inputs`` end a mission in ``phase`` (state ``current``), or None: a reset or the
-    time moving back in the turn or the return, a safety stop once the recording is over."""
+    """(code, why) ``inputs`` end a mission in ``phase`` (state ``current``), or None: a reset
+    or the time moving back in the turn or the return, a safety stop once the recording is over."""
     where = 'the pi turn' if phase in (STANDSTILL, TURN) else 'the return'
     lost = inputs.time_back or inputs.reset
     if lost and current in (state.ROTATING, state.RETURNING):
-        return frame_lost('%s during %s' % (lost, where))
+        return (outcome.CLOCK if inputs.time_back else outcome.ODOMETRY,
+                frame_lost('%s during %s' % (lost, where)))
     if inputs.tripped and phase not in (RECORDING, ENDED):
-        return '%s: safety stop: %s' % (where, inputs.tripped)
+        return outcome.SAFETY_EVENT, '%s: safety stop: %s' % (where, inputs.tripped)
     return None
 
 

@@ -4,7 +4,7 @@ core/drive.DriveCycle; between goals HandoverBridge or CommandHold; after the la
 command held ``handover_timeout`` s) or sent to a remote driver (RemoteReturn), the pauses of
 a drive (core/pause: Contacts, Takeover, PauseLog) and the home verdict. Used by core/mission.
 """
-from . import mission_state
+from . import mission_state, outcome
 from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import home_check
 from .drive import Behaviour, DriveCycle
@@ -25,17 +25,17 @@ class _Held(Behaviour):
 
 
 def home_verdict(odom, route, goals, mode, tolerance, warning=''):
-    """(state, reason) once every goal is done and the robot stopped at ``odom``: ``home``
-    within ``tolerance`` m of the ``route``'s end (closed_loop; None: the paper's modes,
-    every landmark replayed), else ``aborted`` (core/back_travel.home_check); a ``home``
-    reason ends with the return's ``warning`` (core/return_plan.return_warning), if any."""
+    """(state, core/outcome code, reason) once every goal is done and the robot stopped at
+    ``odom``: ``home`` within ``tolerance`` m of the ``route``'s end (closed_loop; None: the
+    paper's modes, every landmark replayed), else ``aborted`` (core/back_travel.home_check); a
+    ``home`` reason ends with the return's ``warning`` (core/return_plan.return_warning), if any."""
     warning = '; ' + warning if warning else ''
     if route is None:
-        return mission_state.HOME, 'travelled %d landmarks (%s mode: not checked)%s' % (
+        return mission_state.HOME, outcome.HOME, 'travelled %d landmarks (%s mode: not checked)%s' % (
             goals, mode, warning)
     home, text = home_check(odom, (route.x[-1], route.y[-1]), tolerance)
-    return (mission_state.HOME, 'travelled %d landmarks; %s%s' % (goals, text, warning)) if home \
-        else (mission_state.ABORTED, text)
+    return (mission_state.HOME, outcome.HOME, 'travelled %d landmarks; %s%s' % (goals, text, warning)) \
+        if home else (mission_state.ABORTED, outcome.NOT_HOME, text)
 
 
 def with_defaults(params, defaults):
@@ -56,7 +56,7 @@ class TurnDrive(object):
         self.cycle = DriveCycle(_Held(self.rotation.hold), params)
         self.rotation.start(odom)
         self.start_yaw, self.yaw = odom.yaw, odom.yaw
-        self.phase, self.reason = 'turn', ''
+        self.phase, self.reason, self.code = 'turn', '', outcome.NONE
 
     def where(self):
         return 'the pi turn'
@@ -67,27 +67,28 @@ class TurnDrive(object):
 
     def step(self, now, inputs):
         if self.clock.elapsed(now) > self.timeout:
-            return self._fail('no finished pi turn within %.0f s of vision loss (rotation_timeout: the '
-                              'standstill\'s timeout + rotation_margin + vision_back_grace); not '
-                              'travelling back' % self.timeout)
+            return self._fail(outcome.TIMEOUT, 'no finished pi turn within %.0f s of vision loss '
+                              '(rotation_timeout: the standstill\'s timeout + rotation_margin + '
+                              'vision_back_grace); not travelling back' % self.timeout)
         decision, odom, message = self.feed(self.cycle)
         if decision == ABORT:
-            return self._fail('the pi rotation: %s; not travelling back' % message)
+            return self._fail(outcome.ODOMETRY, 'the pi rotation: %s; not travelling back' % message)
         command = self.rotation.step(odom) if decision == DRIVE else ZERO
         self.yaw = odom.yaw if odom is not None else self.yaw
         if self.rotation.failed:
-            return self._fail('the pi rotation failed (not done within its time_allowance of %.0f s); '
-                              'not travelling back' % self.rotation.time_allowance)
+            return self._fail(outcome.TIMEOUT, 'the pi rotation failed (not done within its '
+                              'time_allowance of %.0f s); not travelling back'
+                              % self.rotation.time_allowance)
         if not self.rotation.done:
             return command
         problem = turn_problem(self.start_yaw, self.yaw, self.tolerance)
         if problem:
-            return self._fail('the pi turn: %s' % problem)
+            return self._fail(outcome.TURN, 'the pi turn: %s' % problem)
         self.phase = DONE
         return ZERO
 
-    def _fail(self, reason):
-        self.phase, self.reason = FAILED, reason
+    def _fail(self, code, reason):
+        self.phase, self.reason, self.code = FAILED, reason, code
         return ZERO
 
 
@@ -110,7 +111,7 @@ class ReturnDrive(object):
         self.index = 0              # the goal driven, or next
         self.goal = self.bridge = self.since = self.final_at = self.cycle = None
         self.phase = HANDOVER     # the first goal starts at the first step
-        self.reason = ''
+        self.reason, self.code = '', outcome.NONE
 
     @property
     def remaining(self):
@@ -145,14 +146,14 @@ class ReturnDrive(object):
                 continue
             problem = self.watch.problem(now, self.driven + self.goal.travelled)
             decision, odom, message = self.feed(self.cycle)
-            if problem or decision == ABORT:
-                return self._fail(problem or message)
+            if problem or decision == ABORT:     # a limit, or the odometry grace gave up
+                return self._fail(*problem) if problem else self._fail(outcome.ODOMETRY, message)
             if decision == HOLD:
                 self.command = ZERO
                 return ZERO
             command = self.goal.step(odom)
             if self.goal.failed:
-                return self._fail(self.goal.reason)
+                return self._fail(self.goal.code, self.goal.reason)
             if not self.goal.done:
                 self.command = command
                 self.hold.published(now)
@@ -167,8 +168,8 @@ class ReturnDrive(object):
         elif self.bridge is not None:
             self.follower.pause_ended()
 
-    def _fail(self, reason):
-        self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, reason)
+    def _fail(self, code, reason):
+        self.phase, self.reason, self.code = FAILED, 'goal %d: %s' % (self.index + 1, reason), code
         return ZERO
 
     def _start_goal(self):
@@ -212,7 +213,7 @@ class RemoteReturn(object):
     core/drive.Outcome; nothing is published here meanwhile."""
 
     def __init__(self, goals):
-        self.goals, self.index, self.phase, self.reason = goals, 0, GOAL, ''
+        self.goals, self.index, self.phase, self.reason, self.code = goals, 0, GOAL, '', outcome.NONE
         self.send, self._sent = None, None
 
     remaining = ReturnDrive.remaining
@@ -227,6 +228,7 @@ class RemoteReturn(object):
         if result is not None and self._sent == self.index:
             if not result.ok:
                 self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, result.reason)
+                self.code = result.cause
                 return None
             self.index += 1
         if self.index == len(self.goals):

@@ -4,6 +4,7 @@ and a return's (:class:`ReturnWatch`: each goal's backstop, the whole return's t
 allowance, its distance budget); paused time (takeovers, bumper presses) not counted.
 """
 from .gyro_bias import standstill_timeout
+from .outcome import TIMEOUT, Ending
 from .plausibility import RouteBudget
 from .role_params import BACK_TRAVEL_CLIENT
 from .safety import expected_duration, return_allowance
@@ -89,12 +90,15 @@ class ReturnWatch(object):
 
     def problem(self, now, travelled):
         """Why the return must stop at ``now`` having driven ``travelled`` m, or None: the
-        goal's backstop, the whole return's allowance, the distance budget."""
+        goal's backstop, the whole return's allowance, the distance budget (a core/outcome
+        Ending, code TIMEOUT)."""
         self.last_heard = now if self.last_heard is None else self.last_heard
         if self.goal_allowance is not None and now > self.last_heard + self.goal_allowance:
-            return ('no result and no feedback for %.0f s (the goal\'s backstop: goal_timeout_factor x '
-                    'its expected duration + goal_timeout_margin)' % self.goal_allowance)
-        if self.clock.elapsed(now) > self.allowance:
-            return ('the return exceeded its time allowance of %.0f s (return_timeout_factor x its '
-                    'expected duration + return_timeout_margin)' % self.allowance)
-        return self.budget.problem(travelled)
+            why = ('no result and no feedback for %.0f s (the goal\'s backstop: goal_timeout_factor x '
+                   'its expected duration + goal_timeout_margin)' % self.goal_allowance)
+        elif self.clock.elapsed(now) > self.allowance:
+            why = ('the return exceeded its time allowance of %.0f s (return_timeout_factor x its '
+                   'expected duration + return_timeout_margin)' % self.allowance)
+        else:
+            why = self.budget.problem(travelled)
+        return Ending(TIMEOUT, why) if why else None

@@ -114,38 +114,42 @@ def check_transition(old, new):
 
 
 class MissionState(object):
-    """The mission's state and its reason, changed only by :meth:`transition` and
-    :meth:`abort` (atomic: check and set under one lock)."""
+    """The mission's state, its reason and its outcome code (core/outcome: the cause of a
+    terminal state, 0 before), changed only by :meth:`transition` and :meth:`abort`
+    (atomic: check and set under one lock)."""
 
     def __init__(self):
         self._lock = threading.Lock()
         self.state = None
         self.reason = ''
+        self.outcome = 0
 
     def __deepcopy__(self, _memo):
         """A copy with its own lock (sim/harness.py tries several returns from one state)."""
         copied = MissionState()
-        copied.state, copied.reason = self.state, self.reason
+        copied.state, copied.reason, copied.outcome = self.state, self.reason, self.outcome
         return copied
 
-    def transition(self, expected, new, reason=''):
+    def transition(self, expected, new, reason='', outcome=0):
         """Move ``expected -> new`` if the state is ``expected``; True if it moved,
         False if the state was another (an event late or raced: the caller ignores
-        it). An ``expected -> new`` the table forbids raises IllegalTransition."""
+        it). An ``expected -> new`` the table forbids raises IllegalTransition.
+        ``outcome``: the code of a terminal ``new`` (0 for the others)."""
         check_transition(expected, new)
         with self._lock:
             if self.state != expected:
                 return False
-            self.state, self.reason = new, reason
+            self.state, self.reason, self.outcome = new, reason, outcome if new in TERMINAL else 0
             return True
 
-    def abort(self, reason):
-        """Move any unfinished state to ``aborted``: (moved, the state before); a
-        mission that had already ended is not moved (only ``new_mission`` leaves a terminal state)."""
+    def abort(self, reason, outcome):
+        """Move any unfinished state to ``aborted`` with the code ``outcome``: (moved, the
+        state before); a mission that had already ended is not moved (only ``new_mission``
+        leaves a terminal state)."""
         with self._lock:
             old = self.state
             if old in TERMINAL:
                 return False, old
             check_transition(old, ABORTED)
-            self.state, self.reason = ABORTED, reason
+            self.state, self.reason, self.outcome = ABORTED, reason, outcome
             return True, old

@@ -192,7 +192,7 @@ def kept_return(progress, path, limits=Limits()):
     except LandmarkFileError as error:
         return None, 'landmark file unusable: %s' % error
     route, problem = resumed_route(progress, digest, len(loaded.landmarks), path)
-    problem = problem or recording_problem(loaded, None)
+    problem = problem or getattr(recording_problem(loaded, None), 'reason', None)
     if problem:
         return None, problem
     correction = reference = frame = None

@@ -8,6 +8,7 @@ return starts; :func:`still_loss` is bridged), :func:`return_warning`, :func:`pl
 import math
 from collections import namedtuple
 
+from . import outcome
 from .odometry_reset import is_untrusted_reset
 from .pruning import prune_route
 from .route import build_route
@@ -38,23 +39,26 @@ def still_loss(loss):
 
 def recording_problem(loaded, loss=None):
     """Why the recording (core/store.LoadedPath, possibly still growing) gives no way
-    back, or None: the question asked before the pi turn and again when the return
-    starts. ``loss`` (a WriteLoss; None when the return resumes: it was judged before
-    it started): landmarks lost to write failures that were not all taken standing
-    still (:func:`still_loss`); or an odometry reset the recording could not carry."""
+    back (a core/outcome.Ending), or None: the question asked before the pi turn and again
+    when the return starts. ``loss`` (a WriteLoss; None when the return resumes: it was
+    judged before it started): landmarks lost to write failures that were not all taken
+    standing still (:func:`still_loss`, STORAGE); or an odometry reset the recording could
+    not carry (ODOMETRY)."""
     if loss is not None and loss.count and not still_loss(loss):
         tail = loaded.lost_after_end(loss.count)
         what, where = (('the last %d landmark(s) of the recording' % tail, 'from here') if tail else
                        ('%d landmark(s) within the recording' % loss.count, 'across them'))
-        return ('%s could not be written (%s): %.3f m and %.2f rad of the path are in no file (a '
-                'standstill is at most %.3f m and %.2f rad): the way back %s is unknown; not '
-                'travelling back' % (what, loss.error, loss.distance, loss.turn,
-                                     STILL_LOSS_DISTANCE, STILL_LOSS_TURN, where))
+        return outcome.Ending(outcome.STORAGE, (
+            '%s could not be written (%s): %.3f m and %.2f rad of the path are in no file (a '
+            'standstill is at most %.3f m and %.2f rad): the way back %s is unknown; not '
+            'travelling back' % (what, loss.error, loss.distance, loss.turn,
+                                 STILL_LOSS_DISTANCE, STILL_LOSS_TURN, where)))
     resets = [gap for gap in loaded.gaps if is_untrusted_reset(gap.reason)]
     if resets:
-        return ('the recording crossed an odometry reset it could not carry across '
-                '(%s, before %s): the way back across it is unknown; not travelling '
-                'back' % (resets[-1].reason, resets[-1].before))
+        return outcome.Ending(outcome.ODOMETRY, (
+            'the recording crossed an odometry reset it could not carry across (%s, before %s): '
+            'the way back across it is unknown; not travelling back' % (resets[-1].reason,
+                                                                        resets[-1].before)))
     return None
 
 

@@ -7,6 +7,7 @@ BACK_TRAVEL_DEFAULTS; the why: docs/back_travel.md, "The route follower".
 import math
 from types import SimpleNamespace
 
+from . import outcome
 from .allowance import ProgressWatch
 from .back_travel import BACK_TRAVEL_DEFAULTS, Odometer, _param
 from .geometry import distance, wrap_angle
@@ -52,7 +53,7 @@ class RouteFollower(Odometer):
                         for sec, limit in zip(route.sections, self.limits)]
         self.watch = ProgressWatch(sum(self.nominal), params)
         self.done = self.failed = False
-        self.reason = ''
+        self.reason, self.code = '', outcome.NONE   # why it failed, core/outcome's cause
         self.mode = None
         self.section = 0
         self.late = []
@@ -142,7 +143,7 @@ class RouteFollower(Odometer):
             command, heading_error = self._turn(odom_state)
         why = self.watch.update(odom_state.stamp, self._mark[0], heading_error)
         if why and not self.done and not self.failed:
-            self._fail(why)
+            self._fail(outcome.TIMEOUT, why)
         if self.done or self.failed:
             return 0.0, 0.0
         return self._limit().clamp(*command)
@@ -153,7 +154,7 @@ class RouteFollower(Odometer):
         else failed (docs/safety.md, "home")."""
         off = self.off_end(odom)
         if off > self.finish_tolerance:
-            self._fail('the route ends %.2f m from where the robot stops (finish_tolerance %.2f m)'
+            self._fail(outcome.NOT_HOME, 'the route ends %.2f m from where the robot stops (finish_tolerance %.2f m)'
                        % (off, self.finish_tolerance))
             return
         self.mode = FINISHED
@@ -167,8 +168,8 @@ class RouteFollower(Odometer):
         return distance(odom.x + coast * math.cos(odom.yaw), odom.y + coast * math.sin(odom.yaw),
                         self.route.x[-1], self.route.y[-1])
 
-    def _fail(self, reason):
-        self.failed, self.reason = True, reason
+    def _fail(self, code, reason):
+        self.failed, self.reason, self.code = True, reason, code
 
     def _piece_end(self):
         return self.route.corners[self._piece + 1]
@@ -200,7 +201,7 @@ class RouteFollower(Odometer):
         along, off = self._locate(odom.x, odom.y)
         if off > self.route_max_offset:
             # pushed or driven off (a takeover): never across space the robot has not driven
-            self._fail('the robot is %.2f m off the route at %.2f m along it (route_max_offset '
+            self._fail(outcome.OFF_ROUTE, 'the robot is %.2f m off the route at %.2f m along it (route_max_offset '
                        '%.2f m): not rejoining it' % (off, along, self.route_max_offset))
             return (0.0, 0.0), None
         end_vertex = self._piece_end()

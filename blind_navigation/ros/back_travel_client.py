@@ -14,7 +14,7 @@ import rospy
 from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation import names
-from blind_navigation.core import mission_state as state
+from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.mission_limits import rotation_timeout
@@ -91,17 +91,17 @@ class BackTravelClient(object):
     def reason(self):
         return self.machine.reason
 
-    def move(self, expected, new_state, reason=''):
-        """``expected -> new_state`` through the state machine (core/mission_state);
-        announced if it moved. False if the state was another (the event is late)."""
-        if not self.machine.transition(expected, new_state, reason):
+    def move(self, expected, new_state, reason='', code=outcome.NONE):
+        """``expected -> new_state`` (core/mission_state; ``code``: a terminal state's core/outcome
+        cause), announced if it moved. False if the state was another (the event is late)."""
+        if not self.machine.transition(expected, new_state, reason, code):
             return False
         self._announce(expected, new_state, reason)
         return True
 
-    def abort(self, reason):
-        """Any unfinished state -> ``aborted``; False if the mission had already ended."""
-        moved, old = self.machine.abort(reason)
+    def abort(self, reason, code):
+        """Any unfinished state -> ``aborted`` (core/outcome ``code``); False if it had ended."""
+        moved, old = self.machine.abort(reason, code)
         if moved:
             self._announce(old, state.ABORTED, reason)
         return moved
@@ -111,7 +111,7 @@ class BackTravelClient(object):
             self.keeper.save(self.keeper.progress.finish(new_state, reason, time.time(),
                                                      self.position()))  # before it is announced
         (self.log.error if new_state == state.ABORTED else self.log.info)(
-            'state %s -> %s%s', old, new_state, ': ' + reason if reason else '')
+            'state %s -> %s%s', old, new_state, ': ' + outcome.phrase(self.machine.outcome, reason) if reason else '')
         if new_state == state.IDLE:
             self.recorded, self.start_position = 0.0, None     # a new mission
         self.layer.mission.set_local(new_state)
@@ -133,7 +133,8 @@ class BackTravelClient(object):
     def publish_status(self):
         msg = MissionStatus(state=self.state or '', reason=self.reason, warnings=self.all_warnings(),
                             landmarks=self.keeper.progress.landmarks if self.keeper.progress else 0,
-                            completed=self.keeper.progress.completed if self.keeper.progress else 0)
+                            completed=self.keeper.progress.completed if self.keeper.progress else 0,
+                            outcome=self.machine.outcome)
         msg.header.stamp = rospy.Time.now()
         self.status_pub.publish(msg)
 
@@ -141,7 +142,7 @@ class BackTravelClient(object):
         """The first state, from the progress a previous run left (ros/return_progress.py)."""
         first, reason = self.keeper.first_state(self._wait_for_position, self.layer.mission_id,
                                                 self.params, self.limits)
-        if self.move(None, first, reason) and first == state.RETURNING:
+        if self.move(None, first, reason, outcome.RESUME) and first == state.RETURNING:
             self._return.set()
 
     def position(self):
@@ -188,7 +189,7 @@ class BackTravelClient(object):
         here = self.odometry.latest()
         if nothing := nothing_to_retrace(self.recorded, self.start_position, here and [here.x, here.y],
                                          BACK_TRAVEL_DEFAULTS['finish_tolerance']):
-            return self.move(state.RECORDING, state.HOME, '%s: %s' % (reason, nothing))
+            return self.move(state.RECORDING, state.HOME, '%s: %s' % (reason, nothing), outcome.NOTHING_TO_RETRACE)
         return self.turn.begin(reason, vision)
 
     def _on_rotation_done(self, msg):
@@ -197,12 +198,12 @@ class BackTravelClient(object):
         lost = self.lost or self.odometry.lost
         if lost:
             self.move(state.ROTATING, state.ABORTED, 'the pi rotation: %s; not travelling back'
-                       % lost)
+                       % lost, outcome.ODOMETRY)
             return
         if not msg.data:
             safety = self.trip or ', '.join(self.layer.safety.active)
             self.move(state.ROTATING, state.ABORTED, 'the pi rotation failed%s; not travelling '
-                       'back' % (' (safety stop: %s)' % safety if safety else ''))
+                       'back' % (' (safety stop: %s)' % safety if safety else ''), _failed_turn(safety))
             return
         latest = self.odometry.latest()
         problem = 'the pi turn has not begun (the recording goes on)' if not self.turn.begun \
@@ -219,8 +220,8 @@ class BackTravelClient(object):
     def _on_fault(self, reason):
         """A fault of this process (ros/wiring.py: a refused topic, a role's exception,
         ros/faults.py) or of another (``blind_navigation/role_failure``): the mission
-        ends ``aborted`` with ``reason``."""
-        if not self.abort(reason):
+        ends ``aborted`` with ``reason`` (its code: ros/faults.code_of)."""
+        if not self.abort(reason, faults.code_of(reason)):
             self.log.error('%s (the mission had ended %s)', reason, self.state)
 
     def _on_failure_report(self, msg):
@@ -247,7 +248,7 @@ class BackTravelClient(object):
         self.lost = '%s during %s' % (clock.describe(jump, before, now), 'the pi turn'
                                       if current == state.ROTATING else 'the return')
         if self.move(current, state.ABORTED, '%s: its times and odometry are of the old clock; '
-                     'not travelling back' % self.lost) and current == state.RETURNING:
+                     'not travelling back' % self.lost, outcome.CLOCK) and current == state.RETURNING:
             self.runner.cancel()
 
     def _on_odom(self, raw):
@@ -273,12 +274,19 @@ class BackTravelClient(object):
             if shutting_down():
                 return
             self._return.clear()
-            ok, reason = self.runner.travel_back()
+            code, reason = self.runner.travel_back()
             if not rospy.is_shutdown():
-                self.move(state.RETURNING, state.HOME if ok else state.ABORTED, reason)
+                self.move(state.RETURNING, state.HOME if code == outcome.HOME else state.ABORTED, reason, code)
 
     def _wait_for_position(self):
         """The robot's odometry [x, y], waiting (wall-bounded) for it; None if none came."""
         self.odometry.acquire(self.ROLE)
         wait_wall(lambda: self.position() is not None, self.params.server_timeout)
         return self.position()
+
+
+def _failed_turn(safety):
+    """The core/outcome code of a pi rotation that failed, ``safety``: the safety stop behind
+    it ('' if none)."""
+    return outcome.TURN if not safety else outcome.CONTACTS if is_contact(safety) else \
+        outcome.SAFETY_EVENT

@@ -257,7 +257,7 @@ class BackTravelServer(object):
         if outcome.ok and not bridge:
             self._schedule_handover()
         end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
-        end.get(outcome.kind, handle.set_aborted)(result, outcome.reason)
+        end.get(outcome.kind, handle.set_aborted)(_coded(result, outcome), outcome.reason)
         if bridge:
             drive_between_goals(self, follower)
 
@@ -285,6 +285,13 @@ class BackTravelServer(object):
     def _inactive(self):
         return None if self.layer.mission.state == mission_state.RETURNING else \
             'the mission is %s' % self.layer.mission.state
+
+
+def _coded(result, outcome):
+    """``result`` (a BackTravelResult) carrying the core/outcome code of ``outcome`` (the
+    goal's core/drive.Outcome): the client ends the mission with it."""
+    result.outcome = outcome.cause
+    return result
 
 
 def _report_late(follower, log):
@@ -319,7 +326,7 @@ class _Goal(drive.Behaviour):
     def step(self, odom, now):
         v, w = self.goal.step(odom)
         if self.goal.failed:
-            return drive.Outcome(drive.FAILED, self.goal.reason)
+            return drive.Outcome(drive.FAILED, self.goal.reason, self.goal.code)
         if self.goal.done:
             return drive.Outcome(drive.SUCCEEDED, '')
         self.command_hold.published(now)

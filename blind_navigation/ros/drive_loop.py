@@ -9,6 +9,7 @@ from collections import deque
 
 import rospy
 
+from blind_navigation.core import outcome
 from blind_navigation.core.allowance import HOLD
 from blind_navigation.core.drive import (CANCELLED, FAILED, ODOMETRY_LOST, PREEMPTED, SAFETY_STOP,
                                          TAKEN_OVER, DriveCycle, Outcome)
@@ -73,7 +74,8 @@ class DriveLoop(object):
             return 'bumper contact %d (%s): holding' % (self.contacts.count,
                                                         ', '.join(self.safety.active) or 'released')
         if decision:
-            return Outcome(SAFETY_STOP, '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision))
+            return Outcome(SAFETY_STOP, '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision),
+                           outcome.CONTACTS)
         return None
 
     def _resumed(self, behaviour, label, paused):
@@ -105,7 +107,7 @@ class DriveLoop(object):
         try:
             while True:
                 if not first and rate.sleep():
-                    return Outcome(FAILED, describe(*clock.last_jump))
+                    return Outcome(FAILED, describe(*clock.last_jump), outcome.CLOCK)
                 first = False
                 now, age = rospy.get_time(), odometry.age()
                 pause = self._pause(now)

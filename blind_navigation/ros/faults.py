@@ -13,6 +13,8 @@ import traceback
 
 import rospy
 
+from blind_navigation.core import outcome
+
 from . import diagnostics as diag
 
 #: s (wall) between two log lines of a failure repeating at one place
@@ -21,6 +23,7 @@ REPEAT_LOG_PERIOD = 5.0
 # The process's fault registry: a refused topic (ros/wiring.py) or a failed role.
 _lock = threading.Lock()
 _faults = {}          # key (a resolved topic, a role and place) -> the fault's text
+_codes = {}           # the fault's text -> its core/outcome code
 _listeners = []       # f(fault)
 _shutting_down = threading.Event()
 rospy.on_shutdown(_shutting_down.set)   # the first hook of the process: it imports this early
@@ -33,13 +36,15 @@ def shutting_down():
     return _shutting_down.is_set()
 
 
-def declare(key, fault):
-    """A fault of this process (``key``: where, e.g. a topic; ``fault``: its text):
-    once per key, every :func:`on_fault` listener is called. False if ``key`` had one."""
+def declare(key, fault, code=outcome.ROLE_FAILURE):
+    """A fault of this process (``key``: where, e.g. a topic; ``fault``: its text; ``code``:
+    its core/outcome cause, :func:`code_of`): once per key, every :func:`on_fault` listener
+    is called. False if ``key`` had one."""
     with _lock:
         if key in _faults:
             return False
         _faults[key] = fault
+        _codes.setdefault(fault, code)
         listeners = list(_listeners)
     for listener in listeners:      # each one: a failing listener must not keep an output moving
         try:
@@ -57,6 +62,13 @@ def on_fault(callback):
         faults = list(_faults.values())
     for fault in faults:
         callback(fault)
+
+
+def code_of(fault):
+    """The core/outcome code :func:`declare` was given with the text ``fault``; a fault this
+    process did not declare (another process's report): ROLE_FAILURE."""
+    with _lock:
+        return _codes.get(fault, outcome.ROLE_FAILURE)
 
 
 def fault():

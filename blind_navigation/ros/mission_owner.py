@@ -15,7 +15,7 @@ from std_msgs.msg import Empty, String
 from std_srvs.srv import Trigger
 
 from blind_navigation import names
-from blind_navigation.core import mission_state as state
+from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.mission import RECORDING, Inputs, Mission
@@ -244,8 +244,9 @@ class MissionOwner(object):
         while self.announced < len(self.mission.transitions):   # a fault may add one meanwhile
             _, old, new, reason = self.mission.transitions[self.announced]
             self.announced += 1
+            code = self.mission.machine.outcome if new in state.TERMINAL else outcome.NONE
             (self.log.error if new == state.ABORTED else self.log.info)(
-                'state %s -> %s%s', old, new, ': ' + reason if reason else '')
+                'state %s -> %s%s', old, new, ': ' + outcome.phrase(code, reason) if reason else '')
             self.outputs.ending(new, reason)
             self.layer.mission.set_local(new)
             if new in self.drivers and not self.layer.safety.terminal:
@@ -269,7 +270,8 @@ class MissionOwner(object):
         goals = getattr(m.drive, 'goals', None)
         msg = MissionStatus(state=m.state or '', reason=m.reason or '', warnings=warnings,
                             landmarks=len(m.landmarks or ()) if goals is None else len(goals),
-                            completed=getattr(m.drive, 'index', 0) if goals is not None else 0)
+                            completed=getattr(m.drive, 'index', 0) if goals is not None else 0,
+                            outcome=m.machine.outcome)
         msg.header.stamp = rospy.Time.now()
         self.status_pub.publish(msg)
 
@@ -287,7 +289,7 @@ class MissionOwner(object):
         """A fault of this process (the loop's own included: it has ended): ``aborted``
         naming it, announced from the reporting thread; every output is zero for good."""
         with self.lock:
-            self.mission.cancel(reason)
+            self.mission.cancel(reason, faults.code_of(reason))
             self._announce()
 
     def _on_shutdown(self):

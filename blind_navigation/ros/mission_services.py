@@ -12,7 +12,7 @@ import rospy
 from std_srvs.srv import Trigger, TriggerResponse
 
 from blind_navigation import names
-from blind_navigation.core import mission_state as state
+from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.mission_files import mission_number, next_mission_id
 from blind_navigation.ros.layer import MISSION_ID
 
@@ -65,7 +65,7 @@ class MissionServices(object):
     def _on_cancel(self, request):
         m = self.mission
         refusal = state.cancel_refusal(m.state)
-        if refusal is None and m.abort(state.CANCELLED):     # every MotionOutput halts
+        if refusal is None and m.abort(state.CANCELLED, outcome.CANCELLED):     # every MotionOutput halts
             m.runner.cancel()
         else:
             refusal = refusal or state.cancel_refusal(m.state)

@@ -8,7 +8,7 @@ import os
 import time
 from types import SimpleNamespace
 
-from blind_navigation.core import mission_state as state
+from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.progress import (ProgressError, ReturnProgress, file_digest,
@@ -132,7 +132,7 @@ class MissionProgress(object):
             if kept is None:
                 self.keeper.save(self.keeper.progress.finish(state.ABORTED, reason, time.time()))
         if first != state.IDLE and kept is None:
-            mission.cancel(reason)
+            mission.cancel(reason, outcome.RESUME)
         if kept is not None:
             self.route, self.travelled = kept.route, kept.travelled
         return kept

@@ -12,7 +12,7 @@ import rospy
 from std_msgs.msg import Empty, String
 
 from blind_navigation import names
-from blind_navigation.core import mission_state as state
+from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.progress import ReturnProgress
 from blind_navigation.core.return_plan import frame_lost
 from blind_navigation.ros.clock import LoopClock
@@ -43,7 +43,8 @@ class TurnStart(object):
                 return False
             problem = self._problem()
             if problem:
-                c.move(state.RECORDING, state.ABORTED, '%s, but %s' % (reason, problem))
+                c.move(state.RECORDING, state.ABORTED, '%s, but %s' % (reason, problem.reason),
+                       problem.code)
                 return False
             if not c.move(state.RECORDING, state.ROTATING, reason):
                 return False
@@ -82,7 +83,8 @@ class TurnStart(object):
                 if self._ready():
                     problem = self._problem()
                     if problem:
-                        c.move(state.ROTATING, state.ABORTED, 'before the pi turn: %s' % problem)
+                        c.move(state.ROTATING, state.ABORTED, 'before the pi turn: %s'
+                               % problem.reason, problem.code)
                         return
                     self.begun = True
                     self._save_anchor()
@@ -96,12 +98,12 @@ class TurnStart(object):
 
     def _problem(self):
         """What already ends the mission, asked before the standstill and again before the
-        turn (lock held): the odometry's frame lost, or a recording that gives no way back
-        (core/return_plan.recording_problem); None if the return can go on."""
+        turn (lock held), a core/outcome.Ending: the odometry's frame lost, or a recording
+        that gives no way back (core/return_plan.recording_problem); None if the return can go on."""
         c = self.client
         lost = c.lost or c.odometry.lost
         if lost:
-            return frame_lost(lost)
+            return outcome.Ending(outcome.ODOMETRY, frame_lost(lost))
         return c.runner.recording_problem()
 
     def _save_anchor(self):
@@ -119,7 +121,8 @@ class TurnStart(object):
     def _check_rotation(self, episode):
         if episode == self.episode:
             self.client.move(state.ROTATING, state.ABORTED, 'no finished pi turn within %.0f s '
-                             'of vision loss (is rotate_pi running?)' % self.client.rotation_timeout)
+                             'of vision loss (is rotate_pi running?)' % self.client.rotation_timeout,
+                             outcome.TIMEOUT)
 
     def on_vision_back(self, msg):
         """Vision back: ``recording`` again before the turn, else ``on_vision_back``."""
@@ -145,5 +148,5 @@ class TurnStart(object):
         where = 'the pi turn' if current == state.ROTATING else 'the return'
         if c.move(current, state.RECOVERED, '%s during %s: stopped (on_vision_back stop), %s left '
                   'to home' % (msg.data, where, 'the whole path' if left is None
-                               else '%.2f m' % left)):
+                               else '%.2f m' % left), outcome.VISION_BACK):
             c.runner.cancel()

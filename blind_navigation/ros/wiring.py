@@ -7,6 +7,8 @@ fault declared (outputs zero for good, the mission ``aborted``; docs/safety.md, 
 """
 import rospy
 
+from blind_navigation.core import outcome
+
 from . import faults
 
 
@@ -54,7 +56,7 @@ def refuse(topic, expected, found):
     ros/faults.on_fault), then one FATAL line (per topic and process)."""
     topic = rospy.resolve_name(topic)
     fault = 'wrong wiring: %s carries %s, expected %s' % (topic, found, expected)
-    if faults.declare(topic, fault):    # once per topic: the outputs stopped, the owner told
+    if faults.declare(topic, fault, outcome.WIRING):    # once per topic: the outputs stopped, the owner told
         rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
                        rospy.get_name(), fault)
 

@@ -288,13 +288,17 @@ class FindingMission(object):
         else of the last status (latched, from the owner). The owner publishes the state and
         then the status on two topics, so the state can arrive first: once the state is final,
         this waits for its status."""
+        return self.final_status().reason
+
+    def final_status(self):
+        """The MissionStatus :meth:`final_reason` reads (its ``outcome``: the end's code)."""
         def final_statuses():
             return [msg for msg in self.status.snapshot() if msg.state in FINAL_STATES]
         if self.final_state():
             self.wait(final_statuses, 'the mission status of the final state')
-            return final_statuses()[-1].reason
+            return final_statuses()[-1]
         statuses = self.status.snapshot()
-        return statuses[-1].reason if statuses else ''
+        return statuses[-1] if statuses else MissionStatus()
 
     def refused_odometry(self):
         """Odometry messages the layer refused so far (the owner's 'odometry' diagnostics)."""

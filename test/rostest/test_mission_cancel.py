@@ -7,7 +7,8 @@ goal is cancelled on /blind_navigation/back_travel/cancel. Asserted: zero
 velocity reaches the mux input (teleop) sooner than the base's own 0.6 s
 command timeout would stop it, no motion command follows (at most the one a
 control cycle already had in flight), the base stops and stays put, the
-client sends no further goal and the state ends ``aborted``.
+client sends no further goal and the state ends ``aborted`` with the server's cause, the
+goal's BackTravel result ``outcome``: OUTCOME_CANCELLED on the status.
 With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf,
 the rest (from the vision loss on) at the launch's rtf.
 """
@@ -20,6 +21,8 @@ import rostest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import STOPPED_SPEED, TELEOP_TOPIC, MissionRun, TimedTwists  # noqa: E402
+
+from blind_navigation.msg import MissionStatus  # noqa: E402
 
 #: m/s on ground truth: the robot is really driving back when the cancel is sent
 #: (the return replays about 0.1 m/s).
@@ -89,6 +92,10 @@ class CancelTest(unittest.TestCase):
         self.assertEqual(self.mission_run.state_names()[-1], 'aborted')
         self.assertEqual(len(self.mission_run.goals.snapshot()), self.goals_at_cancel)
         self.assertLess(self.goals_at_cancel, self.landmarks, 'the cancel came after the last goal')
+        ended = [msg for msg in self.mission_run.status.snapshot() if msg.state == 'aborted']
+        self.assertTrue(ended, 'no status in state aborted')
+        self.assertEqual({msg.outcome for msg in ended}, {MissionStatus.OUTCOME_CANCELLED},
+                         ended[-1].reason)
 
 
 if __name__ == '__main__':

@@ -171,6 +171,7 @@ class OdometryResetMissionTest(unittest.TestCase):
         cls.final = cls.mission_run.state_names()[-1]
         statuses = [s for s in cls.status.snapshot() if s.state == cls.final]
         cls.reason = statuses[-1].reason if statuses else ''
+        cls.code = statuses[-1].outcome if statuses else None
         cls.forward = cls.paths.of('recording')
         rospy.loginfo('ODOMETRY RESET %s in %s: state %s (%s), %.3f m from the start = %.2f %% of '
                       'the %.2f m driven, %d landmarks, %d gap(s)', cls.mission, cls.trigger.state,
@@ -208,6 +209,10 @@ class OdometryResetMissionTest(unittest.TestCase):
             if not self.restart or self.trigger.state == 'recording':
                 self.assertIn('odometry reset', self.reason)
         self.assertEqual(self.final, self.expect, 'ended %s (%s)' % (self.final, self.reason))
+        # the cause as a code: every abort here is the odometry's (a reset it cannot carry, or
+        # the odometry silent past its grace), the clock's move back only named in the reason
+        self.assertEqual(self.code, MissionStatus.OUTCOME_HOME if self.final == 'home' else
+                         MissionStatus.OUTCOME_ODOMETRY, self.reason)
 
     def test_robot_stands_still_at_the_end(self):
         self.assertLess(self.speed, STOPPED_SPEED)

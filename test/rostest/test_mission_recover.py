@@ -40,6 +40,7 @@ from recording_tools import Collector, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
+from blind_navigation.msg import MissionStatus  # noqa: E402
 from blind_navigation.core.pause import CONTACT_DEFAULTS, TAKEOVER_DEFAULTS  # noqa: E402
 from blind_navigation.evaluation.survival import chatter_bumper, press_bumper  # noqa: E402
 from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
@@ -104,6 +105,7 @@ class RecoverCase(unittest.TestCase):
     def assert_home_within(self, m, fraction):
         final, _ = m.wait_final()
         self.assertEqual(m.run.state_names(), HOME_WALK, m.final_reason())
+        self.assertEqual(m.final_status().outcome, MissionStatus.OUTCOME_HOME, m.final_reason())
         m.wait_sim(1.0)
         length = sum(landmark.d for landmark in m.run.recorded().landmarks)
         error = m.run.error()
@@ -112,12 +114,14 @@ class RecoverCase(unittest.TestCase):
         self.assertLessEqual(error, fraction * length, '%s: home %.3f m from the start, more than '
                              '%.0f %% of %.3f m' % (m.label, error, 100 * fraction, length))
 
-    def assert_aborted(self, m, text):
+    def assert_aborted(self, m, text, code):
+        """Aborted, the reason naming ``text``, the status's outcome ``code`` (MissionStatus)."""
         final, _ = m.wait_final()
         reason = m.final_reason()
         print('RECOVER %s: %s: %s' % (m.label, final, reason))
         self.assertEqual(final, 'aborted', reason)
         self.assertIn(text, reason)
+        self.assertEqual(m.final_status().outcome, code, reason)
 
 
     def operate(self, m, seconds, v, w, wait_for_layer=True):
@@ -192,7 +196,7 @@ class BumpTest(RecoverCase):
                'the layer drives again after the first contact')
         m.wait_sim(0.5)
         self.press(m, 0.5)
-        self.assert_aborted(m, 'bumper contact 2 of at most 1 (max_contacts)')
+        self.assert_aborted(m, 'bumper contact 2 of at most 1 (max_contacts)', MissionStatus.OUTCOME_CONTACTS)
 
     def test_3_a_chattering_bumper_is_one_contact_bounded_by_contact_timeout(self):
         m = self.start_return('chatter')
@@ -217,6 +221,7 @@ class BumpTest(RecoverCase):
         self.assertEqual(final, 'aborted', reason)
         self.assertIn('bumper center pressed', reason)
         self.assertIn('longer than contact_timeout', reason)
+        self.assertEqual(m.final_status().outcome, MissionStatus.OUTCOME_CONTACTS, reason)
         self.assertLessEqual(at - first, timeout + ABORT_WITHIN)
         self.assertGreater(at - first, timeout, 'aborted before contact_timeout')
         self.assertEqual(drove, [], 'motion commanded during the chatter')
@@ -257,7 +262,7 @@ class TakeoverTest(RecoverCase):
     def test_2_on_takeover_abort_ends_aborted(self):
         m = self.start_return('takeover_abort', ['on_takeover:=abort'])
         first, last = self.drive(m, DRIVE)
-        self.assert_aborted(m, 'operator takeover by')
+        self.assert_aborted(m, 'operator takeover by', MissionStatus.OUTCOME_TAKEOVER)
         self.assert_silent(m, first, last)
 
 
@@ -308,6 +313,7 @@ class EdgesTest(RecoverCase):
         self.assertTrue(answer.success, answer.message)
         self.assertEqual((final, m.run.state_names()), ('home', ['idle', 'recording', 'home']), reason)
         self.assertIn('nothing to retrace', reason)
+        self.assertEqual(m.final_status().outcome, MissionStatus.OUTCOME_NOTHING_TO_RETRACE, reason)
         self.assertEqual(late, [], 'motion commanded')
         self.assertLess(turned, 0.01, 'the robot turned')
 

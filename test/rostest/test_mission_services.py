@@ -8,7 +8,8 @@ reason says it was requested); called again while returning it is refused
 naming the state. ``/blind_navigation/cancel`` mid-return is acknowledged; the first
 zero on the mux input (teleop) comes promptly (:data:`PROMPT`; the delay in control
 cycles is logged), the base's ground-truth stop at most one of its 50 Hz samples later; the
-state ends ``aborted`` with "cancelled by request" and no goal follows.
+state ends ``aborted`` with "cancelled by request" and no goal follows. The status carries
+the outcome code of the end: ``OUTCOME_HOME``, ``OUTCOME_CANCELLED``.
 With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf
 and the rest (from go_home on) runs at the launch's rtf again.
 """
@@ -102,6 +103,12 @@ class ServicesTest(unittest.TestCase):
     def reasons(self, state):
         return [msg.reason for msg in self.status.snapshot() if msg.state == state]
 
+    def outcomes(self, state):
+        """The outcome codes of the statuses published in ``state``, waiting (at most 5 s)
+        for the first of them."""
+        self.mission_run.wait(lambda: self.reasons(state), 'no status in state %s' % state, 5.0)
+        return [msg.outcome for msg in self.status.snapshot() if msg.state == state]
+
     def test_go_home_while_recording_starts_the_return(self):
         reply = self.go_home_recording
         self.assertTrue(reply.success, reply.message)
@@ -120,6 +127,9 @@ class ServicesTest(unittest.TestCase):
         self.assertTrue(self.cancel_reply.success, self.cancel_reply.message)
         self.assertEqual(run.state_names()[-1], 'aborted')
         self.assertEqual(self.reasons('aborted')[-1:], ['cancelled by request'])
+        self.assertEqual(set(self.outcomes('aborted')), {MissionStatus.OUTCOME_CANCELLED})
+        self.assertEqual({msg.outcome for msg in self.status.snapshot() if msg.state not in
+                          ('home', 'aborted', 'recovered')}, {MissionStatus.OUTCOME_NONE})
         self.assertEqual(run.goals_started(), self.goals_at_cancel, 'a goal after the cancel')
         self.assertLess(self.goals_at_cancel, len(self.loaded.landmarks), 'cancel after the last goal')
 

@@ -161,6 +161,7 @@ class RoleFailureTest(unittest.TestCase):
         self.assertEqual(states[-2:], [self.before, 'aborted'], 'states %s' % states)
         reason = self.status.snapshot()[-1].reason
         self.assertIn(self.reason, reason)
+        self.assertEqual(self.status.snapshot()[-1].outcome, MissionStatus.OUTCOME_ROLE_FAILURE)
         if self.fault != 'server':
             self.assertEqual(self.mission.goal_values(), [], 'goals were sent: %s' % self.mission.goal_values())
 

@@ -24,7 +24,7 @@ from actionlib_msgs.msg import GoalID
 from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS
 from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.core.safety import recorded_speed
-from blind_navigation.msg import BackTravelAction, BackTravelActionGoal
+from blind_navigation.msg import BackTravelAction, BackTravelActionGoal, MissionStatus
 
 from fake_base import FakeBase
 from safety_rig import (CLIENT_PARAMS, Collector, Layer, Node, SimClock, first_zero_after, moving,
@@ -162,6 +162,7 @@ class SafetyStopsTest(unittest.TestCase):
                                     'aborted %.2f s after the cut, before odom_grace'
                                     % (aborted - last_odom))
             self.assertIn('odometry', self.abort_reason())
+            self.assertIn('[outcome ODOMETRY (%d)]' % MissionStatus.OUTCOME_ODOMETRY, self.abort_reason())
         finally:
             self.base.publish_odom = True
 
@@ -195,6 +196,7 @@ class SafetyStopsTest(unittest.TestCase):
             self.assert_stopped_after(pressed, CONTROL_PERIOD, 'the bumper event')
             self.assertIn('bumper center pressed', self.abort_reason())
             self.assertIn('longer than contact_timeout', self.abort_reason())
+            self.assertIn('[outcome CONTACTS (%d)]' % MissionStatus.OUTCOME_CONTACTS, self.abort_reason())
             # a new mission's return while the bumper is still pressed: its first goal is
             # aborted naming the bumper, nothing moves
             self.client.kill()
@@ -217,6 +219,7 @@ class SafetyStopsTest(unittest.TestCase):
         self.assertEqual(self.layer.wait_final(since), 'aborted')
         self.assert_stopped_after(cancelled, CONTROL_PERIOD, 'the cancel')
         self.assertIn('PREEMPTED', self.abort_reason())
+        self.assertIn('[outcome CANCELLED (%d)]' % MissionStatus.OUTCOME_CANCELLED, self.abort_reason())
 
     def test_5_no_progress_aborts(self):
         # a closed-loop return fails when it stops making progress (stall_timeout), no
@@ -226,6 +229,7 @@ class SafetyStopsTest(unittest.TestCase):
         try:
             self.assertEqual(self.layer.wait_final(since, timeout=60.0), 'aborted')
             self.assertIn('no progress', self.abort_reason())
+            self.assertIn('[outcome TIMEOUT (%d)]' % MissionStatus.OUTCOME_TIMEOUT, self.abort_reason())
             self.assertEqual(self.base.commands[-1][1:], (0.0, 0.0))
         finally:
             self.base.stuck = False
@@ -236,6 +240,7 @@ class SafetyStopsTest(unittest.TestCase):
         self.assertEqual(self.layer.wait_final(since), 'aborted')
         reason = self.abort_reason()
         self.assertIn('exceeded its time allowance of 2 s', reason)
+        self.assertIn('[outcome TIMEOUT (%d)]' % MissionStatus.OUTCOME_TIMEOUT, reason)
         wait_for(lambda: self.base.commands[-1][1:] == (0.0, 0.0), 'zero velocity after the abort')
 
     def test_9_server_shutdown_publishes_zero(self):

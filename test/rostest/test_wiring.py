@@ -19,6 +19,8 @@ from std_msgs.msg import Empty, String
 from recording_tools import Collector
 from waiting import wait_for
 
+from blind_navigation.msg import MissionStatus
+
 LAYER = '/blind_navigation'
 ODOM = '/wiring_test/odom_is_twist'
 BUMPER = '/mobile_base/events/bumper'
@@ -84,6 +86,7 @@ class WiringTest(unittest.TestCase):
                   ((ODOM, 'geometry_msgs/Twist'), (BUMPER, 'std_msgs/String'), (ODOM_INFO, 'std_msgs/String'))]
         self.assertTrue(reasons and any(fault in reasons[-1] for fault in faults),
                         'the abort names one of the faults %s: %s' % (faults, reasons))
+        self.assertIn('[outcome WIRING (%d)]' % MissionStatus.OUTCOME_WIRING, reasons[-1])   # its code
         vision_lost = rospy.Publisher(LAYER + '/vision_lost', Empty, queue_size=1, latch=True)
         for _ in range(10):
             vision_lost.publish(Empty())

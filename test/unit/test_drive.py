@@ -30,9 +30,9 @@ def test_end_comes_before_every_other_check():
 
 def test_safety_then_cancel_then_preempted_in_that_order():
     cycle = drive.DriveCycle(Counting(5), GRACE)
-    assert cycle.decide(1.0, 1.0, 'bumper', True, 'x')[0] == (drive.SAFETY_STOP, 'bumper')
+    assert cycle.decide(1.0, 1.0, 'bumper', True, 'x')[0][:2] == (drive.SAFETY_STOP, 'bumper')
     assert cycle.decide(1.0, 1.0, None, True, 'x')[0].kind == drive.CANCELLED
-    assert cycle.decide(1.0, 1.0, None, False, 'left')[0] == (drive.PREEMPTED, 'left')
+    assert cycle.decide(1.0, 1.0, None, False, 'left')[0][:2] == (drive.PREEMPTED, 'left')
     assert cycle.decide(1.0, 1.0)[0] is None
 
 

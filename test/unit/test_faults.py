@@ -10,7 +10,8 @@ import pytest
 
 rospy = pytest.importorskip('rospy')
 
-from blind_navigation.ros import diagnostics, faults  # noqa: E402
+from blind_navigation.core import outcome  # noqa: E402
+from blind_navigation.ros import diagnostics, faults, wiring  # noqa: E402
 from blind_navigation.ros.motion import MotionOutput  # noqa: E402
 
 
@@ -19,6 +20,7 @@ def registry(monkeypatch):
     """A fresh process fault registry (ros/faults.py)."""
     monkeypatch.setattr(faults, '_faults', {})
     monkeypatch.setattr(faults, '_listeners', [])
+    monkeypatch.setattr(faults, '_codes', {})
 
 
 class FakeDiagnostics(object):
@@ -163,3 +165,16 @@ def test_a_role_failure_stops_every_output_for_good():
         output.release()                # a new turn or goal would release: not after a failure
         output.publish(0.1, 0.5)
     assert set(sent) == {(0.0, 0.0)} and len(sent) == 4
+
+
+def test_a_fault_carries_its_outcome_code_to_the_owner():
+    """The owner ends the mission with the code the fault was declared with (ros/faults.code_of):
+    a role's exception ROLE_FAILURE, a refused topic WIRING; another process's report (a text
+    this process never declared) ROLE_FAILURE."""
+    rig = Rig()
+    rig.faults.guard('rotate_pi')(pruning)()
+    wiring.refuse('/odom', 'nav_msgs/Odometry', 'std_msgs/String')
+    failed, refused = rig.reported
+    assert refused.startswith('wrong wiring: /odom carries std_msgs/String')
+    assert (faults.code_of(failed), faults.code_of(refused)) == (outcome.ROLE_FAILURE, outcome.WIRING)
+    assert faults.code_of('rotate_pi failed: OSError: gone (/rotate_pi)') == outcome.ROLE_FAILURE

@@ -10,6 +10,7 @@ from types import SimpleNamespace
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from blind_navigation.core import outcome
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, make_controller
 from blind_navigation.core.geometry import OdomState, Pose2D, distance
 from blind_navigation.core.goal import make_goal
@@ -59,7 +60,7 @@ def test_finished_only_within_the_home_tolerance_of_the_routes_end(landmarks, pu
         assert off <= TOLERANCE + 1e-9, 'finished %.3f m from the start (%s)' % (off, push)
     assert follower.done or follower.failed, 'neither finished nor failed'
     if follower.failed:
-        assert follower.reason
+        assert follower.reason and follower.code in (outcome.OFF_ROUTE, outcome.NOT_HOME), follower.reason
 
 
 def test_pushed_past_the_end_fails_naming_the_offset():
@@ -68,7 +69,7 @@ def test_pushed_past_the_end_fails_naming_the_offset():
     end = (route.x[-1], route.y[-1])
     robot, follower = _drive_with_push(route, (200, -2.5 - 1.2, 0.0, math.pi))
     assert follower.failed and not follower.done, follower.reason
-    assert 'off the route' in follower.reason, follower.reason
+    assert 'off the route' in follower.reason and follower.code == outcome.OFF_ROUTE, follower.reason
     assert distance(robot.x, robot.y, *end) > 2.0
 
 
@@ -85,6 +86,7 @@ def test_a_finished_start_far_from_the_end_fails():
     follower = RouteFollower(route, SimpleNamespace(stop_lead=0.0))
     follower.start(OdomState(3.0, 0.0, 0.0, 0.0, 0.0, 0.0), section=len(route.sections))
     assert follower.failed and not follower.done, follower.reason
+    assert follower.code == outcome.NOT_HOME
 
 
 def test_a_replay_moved_while_paused_fails_and_does_not_count_the_move():
@@ -95,6 +97,7 @@ def test_a_replay_moved_while_paused_fails_and_does_not_count_the_move():
         goal.resumed(30.0)
         goal.step(OdomState(1.5, 0.0, 0.0, 0.0, 0.0, 30.1))
         assert goal.failed and 'moved 1.49 m' in goal.reason, (mode, goal.reason)
+        assert goal.code == outcome.OFF_ROUTE
         assert goal.travelled < 0.02
 
 

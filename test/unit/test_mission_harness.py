@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from blind_navigation.core import outcome
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.drive import SUCCEEDED, Outcome
 from blind_navigation.core.goal import make_goal
@@ -25,6 +26,11 @@ HOME_TOLERANCE = BACK_TRAVEL_DEFAULTS['home_tolerance']
 def _play(*events, **settings):
     return play(MISSION, 'paper', settings.pop('mode', 'closed_loop'), 0, floor=False,
                 events=events, **settings)
+
+
+def _code(played):
+    """The name of the mission's outcome code (core/outcome), as MissionStatus carries it."""
+    return outcome.NAMES[played.mission.machine.outcome]
 
 
 def _states(played):
@@ -50,7 +56,7 @@ def _ended_at(played):
 def test_the_plain_mission_comes_home():
     played = _play()
     assert played.result.status == 'home', played.result.reason
-    assert played.result.position_error < 0.1
+    assert played.result.position_error < 0.1 and _code(played) == 'HOME'
     assert _states(played) == ['idle', 'recording', 'rotating', 'returning', 'home']
     assert _speed(played) < 1e-3
 
@@ -68,20 +74,21 @@ def test_a_brief_loss_goes_on_recording_and_comes_home():
 def test_a_bump_during_the_return_pauses_then_comes_home():
     played = _play(('bumper', 'return', 5.0, 1.0))
     assert played.result.status == 'home', played.result.reason
-    assert '1 bumper contact' in played.mission.reason
+    assert '1 bumper contact' in played.mission.reason and _code(played) == 'HOME'
     assert played.result.position_error < 0.1 and _speed(played) < 1e-3
 
 
 def test_bumps_beyond_max_contacts_abort_with_the_robot_still():
     played = _play(*[('bumper', 'return', 5.0 + 5.0 * k, 0.5) for k in range(4)])
     assert played.result.status == 'aborted'
-    assert 'max_contacts' in played.result.reason
+    assert 'max_contacts' in played.result.reason and _code(played) == 'CONTACTS'
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
 
 
 def test_a_bumper_held_beyond_contact_timeout_aborts_with_the_robot_still():
     played = _play(('bumper', 'return', 5.0, 15.0))
     assert played.result.status == 'aborted' and 'contact_timeout' in played.result.reason
+    assert _code(played) == 'CONTACTS'
     assert _ended_at(played) == pytest.approx(played.mission.transitions[-2][0] + 5.0 + 10.0, abs=0.1)
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
 
@@ -89,7 +96,7 @@ def test_a_bumper_held_beyond_contact_timeout_aborts_with_the_robot_still():
 def test_a_small_takeover_rejoins_the_route_and_comes_home():
     played = _play(('takeover', 'return', 5.0, 1.0, (0.05, 0.0)))
     assert played.result.status == 'home', played.result.reason
-    assert '1 operator takeover' in played.mission.reason
+    assert '1 operator takeover' in played.mission.reason and _code(played) == 'HOME'
     assert played.result.position_error < HOME_TOLERANCE and _speed(played) < 1e-3
 
 
@@ -99,6 +106,7 @@ def test_a_takeover_far_off_the_route_aborts_naming_it_never_a_false_home():
     played = _play(turn_away, drive_off)
     assert played.result.status == 'aborted'
     assert 'off the route' in played.result.reason and 'operator takeover' in played.result.reason
+    assert _code(played) == 'OFF_ROUTE'
     assert played.result.position_error > HOME_TOLERANCE     # truly far: so never home
     assert _speed(played) < 1e-3
 
@@ -115,6 +123,7 @@ def test_takeovers_never_end_home_far_from_the_start(mode):
 def test_cancel_aborts_and_the_robot_stays_still():
     played = _play(('cancel', 'return', 5.0))
     assert played.result.status == 'aborted' and played.result.reason == 'cancelled by request'
+    assert _code(played) == 'CANCELLED'
     assert _still_after(played, _ended_at(played) + 0.5)
     assert _speed(played) < 1e-3
 
@@ -131,7 +140,7 @@ def test_go_home_starts_the_return_before_vision_is_lost():
 def test_nothing_to_retrace_is_home_without_a_turn():
     played = play(Script([(0.0, 0.0, 5.0)], name='still'), 'paper', 'closed_loop', 0, floor=False)
     assert played.result.status == 'home'
-    assert 'nothing to retrace' in played.mission.reason
+    assert 'nothing to retrace' in played.mission.reason and _code(played) == 'NOTHING_TO_RETRACE'
     assert 'rotating' not in _states(played)
     assert played.result.position_error < 0.01 and _speed(played) < 1e-3
 
@@ -139,17 +148,20 @@ def test_nothing_to_retrace_is_home_without_a_turn():
 def test_vision_back_during_the_return_with_stop_is_recovered():
     played = _play(('vision_back', 'return', 5.0), on_vision_back='stop')
     assert played.result.status == 'recovered'
-    assert 'left to home' in played.mission.reason
+    assert 'left to home' in played.mission.reason and _code(played) == 'VISION_BACK'
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
     assert _play(('vision_back', 'return', 5.0)).result.status == 'home'     # on_vision_back home
 
 
-@pytest.mark.parametrize('event, origin, says', [('odometry_reset', 'return', 'odometry reset'),
-                                                  ('time_back', 'turn', 'time moved back'),
-                                                  ('cliff', 'return', 'safety stop: cliff')])
-def test_a_reset_the_time_moving_back_or_a_cliff_aborts_naming_it(event, origin, says):
+@pytest.mark.parametrize('event, origin, says, code', [
+    ('odometry_reset', 'return', 'odometry reset', 'ODOMETRY'),
+    ('time_back', 'turn', 'time moved back', 'CLOCK'), ('time_back', 'return', 'time moved back', 'CLOCK'),
+    ('cliff', 'return', 'safety stop: cliff', 'SAFETY_EVENT'),
+    ('cliff', 'turn', 'safety stop: cliff', 'SAFETY_EVENT')])
+def test_a_reset_the_time_moving_back_or_a_cliff_aborts_naming_it(event, origin, says, code):
     played = _play((event, origin, 2.0))
     assert played.result.status == 'aborted' and says in played.result.reason
+    assert _code(played) == code, played.result.reason
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
 
 
@@ -164,6 +176,7 @@ def test_an_untrusted_reset_while_recording_notes_a_gap_and_aborts_at_the_loss(e
     assert math.hypot(true.x - odom.x, true.y - odom.y) > 0.5   # odometry restarted from 0
     assert _states(played) == ['idle', 'recording', 'aborted']      # no turn, never home
     assert played.result.reason.startswith('vision lost, but odometry reset not re-anchored')
+    assert _code(played) == 'ODOMETRY'
     assert _still_after(played, _ended_at(played) + 0.5) and _speed(played) < 1e-3
     loaded = load_landmarks(str(tmp_path / 'landmarks.yaml'))
     assert [is_untrusted_reset(gap.reason) for gap in loaded.gaps] == [True], loaded.gaps

@@ -8,6 +8,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from blind_navigation.core import outcome
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.landmark_writer import LandmarkWriter
@@ -31,9 +32,11 @@ def _entered(played, new):
     return next(t for t, _, state, _ in played.mission.transitions if state == new)
 
 
-def _aborted_still(played, says):
+def _aborted_still(played, says, code='TIMEOUT'):
+    """Aborted saying ``says`` with the outcome code named ``code`` (core/outcome), the robot still."""
     assert played.result.status == 'aborted', played.mission.reason
     assert says in played.result.reason
+    assert outcome.NAMES[played.mission.machine.outcome] == code, played.result.reason
     assert _still_after(played, _ended_at(played)) and _speed(played) < 1e-3
 
 
@@ -64,7 +67,7 @@ def test_a_takeover_in_the_turn_does_not_count_against_rotation_timeout():
 
 def test_odometry_that_stops_in_the_turn_ends_it_at_odom_grace():
     played = _play(odometry_gaps=((1.0, BLOCKED),))
-    _aborted_still(played, 'odom_grace')
+    _aborted_still(played, 'odom_grace', 'ODOMETRY')
     assert 'returning' not in _states(played)
 
 
@@ -95,6 +98,7 @@ def test_a_takeover_longer_than_the_allowance_still_comes_home():
     played = _play(('takeover', 'return', 5.0, 200.0, (0.0, 0.0)))
     assert played.result.status == 'home', played.mission.reason
     assert '1 operator takeover' in played.mission.reason and played.result.position_error < 0.1
+    assert played.mission.machine.outcome == outcome.HOME
 
 
 def test_the_return_watch_budget_and_a_remote_goals_backstop():
@@ -102,10 +106,11 @@ def test_the_return_watch_budget_and_a_remote_goals_backstop():
     watch = ReturnWatch(landmarks, landmarks, None, 0.0)
     watch.goal(landmarks[0], 0.0)
     assert watch.problem(1.0, 3.9) is None                      # 1.5 x 2 m + 1 m
-    assert 'more than its budget of 4.00 m' in watch.problem(1.0, 4.1)
+    assert watch.problem(1.0, 4.1).code == outcome.TIMEOUT
+    assert 'more than its budget of 4.00 m' in watch.problem(1.0, 4.1).reason
     watch.resumed(100.0)                                        # a pause: the backstop anew
     assert watch.problem(120.0, 1.0) is None
-    assert 'backstop' in watch.problem(155.1, 1.0)              # 5 x 5 s + 10 s
+    assert 'backstop' in watch.problem(155.1, 1.0).reason       # 5 x 5 s + 10 s
 
 
 # --- vision back within the grace --------------------------------------------------------------
@@ -138,6 +143,7 @@ def test_landmarks_lost_while_driving_abort_at_the_loss(monkeypatch):
     assert _states(played) == ['idle', 'recording', 'aborted']
     assert played.result.reason.startswith('vision lost, but 2 landmark(s) within the recording could '
                                            'not be written')
+    assert played.mission.machine.outcome == outcome.STORAGE
     assert _still_after(played, _ended_at(played)) and _speed(played) < 1e-3
 
 
@@ -147,6 +153,7 @@ def test_landmarks_lost_at_the_end_abort_at_the_loss(monkeypatch):
     assert _states(played) == ['idle', 'recording', 'aborted']
     assert 'the last' in played.result.reason and 'the way back from here is unknown' in \
         played.result.reason
+    assert played.mission.machine.outcome == outcome.STORAGE
     assert _still_after(played, _ended_at(played)) and _speed(played) < 1e-3
 
 

@@ -9,6 +9,7 @@ import pytest
 
 rospy = pytest.importorskip('rospy')
 
+from blind_navigation.core import outcome
 from blind_navigation.core import mission_state as state  # noqa: E402
 from blind_navigation.core.geometry import OdomState  # noqa: E402
 from blind_navigation.core.heading_correction import GyroCorrection  # noqa: E402
@@ -44,7 +45,7 @@ def _mission():
         raw=None, last=None, state=state.RECORDING, correction=None, corrector=None,
         reference=None, anchor=None,
         drive=None, config=types.SimpleNamespace(heading_correction=True), cancelled=None)
-    m.cancel = lambda reason=None: setattr(m, 'cancelled', reason)
+    m.cancel = lambda reason=None, code=None: setattr(m, 'cancelled', reason) or setattr(m, 'code', code)
     return m
 
 
@@ -134,6 +135,7 @@ def test_a_return_whose_landmark_file_changed_is_aborted_as_the_default_layer_do
     restarted = _mission()
     assert _progress(path).first_state(restarted, lambda: [0.2, 0.0], PARAMS) is None
     assert restarted.cancelled == 'landmark file %s changed since the return started' % path
+    assert restarted.code == outcome.RESUME
     kept = load_progress(progress_path(path))
     assert (kept.status, kept.reason) == (state.ABORTED, restarted.cancelled)
     again = _mission()

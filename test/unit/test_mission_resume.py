@@ -11,6 +11,7 @@ import pytest
 
 pytest.importorskip('rospy')
 
+from blind_navigation.core import outcome
 from blind_navigation.core import mission_state as state  # noqa: E402
 from blind_navigation.core.landmark_writer import LandmarkWriter  # noqa: E402
 from blind_navigation.core.mission import RESUMED, Mission  # noqa: E402
@@ -117,10 +118,12 @@ def test_a_stale_or_mismatching_progress_is_refused_with_the_default_layers_reas
     params = types.SimpleNamespace(max_v=0.7, max_w=2.0, resume_timeout=600.0,
                                    resume_max_offset=0.5)
     restarted = types.SimpleNamespace(cancelled=None)
-    restarted.cancel = lambda reason=None: setattr(restarted, 'cancelled', reason)
+    restarted.cancel = lambda reason=None, code=None: setattr(restarted, 'cancelled', reason) or \
+        setattr(restarted, 'code', code)
     default = resume_from_file(kept_path, time.time(), position, 'mission_1')   # owner:=layer's
     owner = MissionProgress(path, lambda: 'mission_1', lambda: 'odom', Log())
     assert owner.first_state(restarted, lambda: position, params) is None
     assert (default.action, restarted.cancelled) == (ABORT, default.reason)
+    assert restarted.code == outcome.RESUME
     assert says % {'path': os.path.realpath(path)} in restarted.cancelled
     assert load_progress(kept_path).status == state.ABORTED

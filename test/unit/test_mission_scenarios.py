@@ -8,6 +8,7 @@ import os
 
 import pytest
 
+from blind_navigation.core import outcome
 from blind_navigation.core.allowance import ALLOWANCE_DEFAULTS, OdomGrace
 from blind_navigation.core.gyro_calibration import load_calibration
 from blind_navigation.sim.harness import play
@@ -31,7 +32,7 @@ def _home_within(played, limit):
     """Home, states walked in order, within ``limit`` m of the start (ground truth), still."""
     result = played.result
     assert result.status == 'home', result.reason
-    assert _states(played) == HOME
+    assert _states(played) == HOME and played.mission.machine.outcome == outcome.HOME
     assert result.position_error <= limit, '%.3f m > %.3f m' % (result.position_error, limit)
     assert _speed(played) < 1e-3
 
@@ -207,6 +208,7 @@ def test_the_clock_moving_back_at_the_turn_aborts_naming_it_robot_still():
     played = play('test_s_curve', 'ideal', 'closed_loop', 0, events=[('time_back', 'turn', 0.0)], **LAUNCH)
     assert played.result.status == 'aborted'
     assert 'time moved back' in played.result.reason and 'the pi turn' in played.result.reason
+    assert played.mission.machine.outcome == outcome.CLOCK
     assert _states(played) == ['idle', 'recording', 'rotating', 'aborted']
     assert _ended_at(played) == pytest.approx(_entered(played, 'rotating'), abs=0.05)
     assert _still_after(played, _ended_at(played)) and _speed(played) < 1e-3
@@ -220,6 +222,7 @@ def test_the_clock_moving_back_in_the_return_aborts_naming_it_robot_still():
     played = play('test_s_curve', 'ideal', 'closed_loop', 0, events=[('time_back', 'return', at)], **LAUNCH)
     assert played.result.status == 'aborted'
     assert 'time moved back' in played.result.reason and 'the return' in played.result.reason
+    assert played.mission.machine.outcome == outcome.CLOCK
     assert _states(played) == ['idle', 'recording', 'rotating', 'returning', 'aborted']
     assert _still_after(played, _ended_at(played) + 2.0) and _speed(played) < 1e-3
 
@@ -236,5 +239,6 @@ def test_vision_back_in_the_return_with_stop_is_recovered_robot_still():
                   **settings)
     assert played.result.status == 'recovered', played.result.reason
     assert ' m left to home' in played.result.reason
+    assert played.mission.machine.outcome == outcome.VISION_BACK
     assert _states(played) == ['idle', 'recording', 'rotating', 'returning', 'recovered']
     assert _still_after(played, _ended_at(played) + 1.0) and _speed(played) < 1e-3

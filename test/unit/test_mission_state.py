@@ -6,7 +6,7 @@ import time
 
 import pytest
 
-from blind_navigation.core import mission_state as ms
+from blind_navigation.core import mission_state as ms, outcome
 
 LEGAL = [(old, new) for old, targets in ms.TRANSITIONS.items() for new in targets]
 ILLEGAL = [(old, new) for old in ms.TRANSITIONS for new in ms.ALL + (None,)
@@ -64,15 +64,17 @@ def test_a_transition_from_another_state_does_not_move():
 @pytest.mark.parametrize('old', [None, ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING])
 def test_abort_ends_every_unfinished_state(old):
     machine = in_state(old)
-    assert machine.abort('fault') == (True, old)
-    assert (machine.state, machine.reason) == (ms.ABORTED, 'fault')
+    assert machine.abort('fault', outcome.ROLE_FAILURE) == (True, old)
+    assert (machine.state, machine.reason, machine.outcome) == (ms.ABORTED, 'fault',
+                                                                outcome.ROLE_FAILURE)
 
 
 @pytest.mark.parametrize('old', ms.TERMINAL)
 def test_abort_leaves_an_ended_mission_alone(old):
     machine = in_state(old)
-    assert machine.abort('late fault') == (False, old)
-    assert (machine.state, machine.reason) == (old, '')
+    code = machine.outcome
+    assert machine.abort('late fault', outcome.ROLE_FAILURE) == (False, old)
+    assert (machine.state, machine.reason, machine.outcome) == (old, '', code)
 
 
 @pytest.mark.parametrize('second', [ms.RETURNING, ms.ABORTED])
@@ -105,11 +107,11 @@ def test_abort_racing_a_transition_leaves_one_consistent_end():
 
         def home():
             start.wait(5.0)
-            results['home'] = machine.transition(ms.RETURNING, ms.HOME)
+            results['home'] = machine.transition(ms.RETURNING, ms.HOME, 'home', outcome.HOME)
 
         def abort():
             start.wait(5.0)
-            results['abort'] = machine.abort('fault')[0]
+            results['abort'] = machine.abort('fault', outcome.ROLE_FAILURE)[0]
 
         threads = [threading.Thread(target=home), threading.Thread(target=abort)]
         for thread in threads:
@@ -117,7 +119,8 @@ def test_abort_racing_a_transition_leaves_one_consistent_end():
         for thread in threads:
             thread.join(5.0)
         assert results['home'] != results['abort'], results
-        assert machine.state == (ms.HOME if results['home'] else ms.ABORTED)
+        assert (machine.state, machine.outcome) == ((ms.HOME, outcome.HOME) if results['home'] else
+                                                    (ms.ABORTED, outcome.ROLE_FAILURE))
 
 
 def test_go_home_starts_the_return_only_while_recording():
@@ -132,8 +135,9 @@ def test_cancel_aborts_every_unfinished_state_and_refuses_an_ended_one():
         assert ms.cancel_refusal(unfinished) is None
         machine = ms.MissionState()
         machine.state = unfinished
-        assert machine.abort(ms.CANCELLED) == (True, unfinished)
-        assert (machine.state, machine.reason) == (ms.ABORTED, 'cancelled by request')
+        assert machine.abort(ms.CANCELLED, outcome.CANCELLED) == (True, unfinished)
+        assert (machine.state, machine.reason, machine.outcome) == (ms.ABORTED, 'cancelled by request',
+                                                                    outcome.CANCELLED)
     for ended in ms.TERMINAL + (None,):
         assert ms.cancel_refusal(ended).startswith('refused: the mission is %s ' % ended)
 
@@ -162,8 +166,11 @@ def test_recovered_is_terminal_and_nobody_moves_in_it():
     machine = ms.MissionState()
     for old, new in ((None, ms.IDLE), (ms.IDLE, ms.RECORDING), (ms.RECORDING, ms.ROTATING),
                      (ms.ROTATING, ms.RETURNING), (ms.RETURNING, ms.RECOVERED)):
-        assert machine.transition(old, new)
-    assert machine.abort('late') == (False, ms.RECOVERED)
+        assert machine.transition(old, new, '', outcome.VISION_BACK)
+        assert machine.outcome == (outcome.VISION_BACK if new in ms.TERMINAL else outcome.NONE)
+    assert machine.abort('late', outcome.ROLE_FAILURE) == (False, ms.RECOVERED)
+    assert machine.outcome == outcome.VISION_BACK
+    assert machine.transition(ms.RECOVERED, ms.IDLE) and machine.outcome == outcome.NONE
 
 
 def test_the_recording_goes_on_while_rotating_until_the_owner_ends_it():

@@ -7,6 +7,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from blind_navigation.core import outcome
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.odometry_reset import UNTRUSTED
 from blind_navigation.core.pruning import prune_route
@@ -51,12 +52,14 @@ def test_a_loss_taken_standing_still_is_bridged_anywhere(recorded):
 def test_a_loss_that_drove_or_turned_refuses_the_return_at_the_end_or_within(recorded):
     holes = recorded([1, 2, 5, 6])
     drove = WriteLoss(5, STILL_LOSS_DISTANCE + 0.001, 0.0, 'disk full')
-    problem = recording_problem(holes, drove)
+    ending = recording_problem(holes, drove)
+    problem = ending.reason
+    assert ending.code == outcome.STORAGE
     assert problem.startswith('the last 3 landmark(s) of the recording could not be written '
                               '(disk full): 0.006 m and 0.00 rad of the path are in no file')
     assert problem.endswith('the way back from here is unknown; not travelling back')
     turned = WriteLoss(2, 0.0, STILL_LOSS_TURN + 0.01, 'EIO')
-    problem = recording_problem(holes, turned)
+    problem = recording_problem(holes, turned).reason
     assert problem.startswith('2 landmark(s) within the recording could not be written (EIO): '
                               '0.000 m and 0.11 rad')
     assert 'the way back across them is unknown' in problem
@@ -80,7 +83,9 @@ def test_still_loss_bounds_distance_and_turn():
 def test_an_untrusted_reset_refuses_the_return_naming_the_last():
     gaps = [SimpleNamespace(before='landmark_000002', reason=UNTRUSTED + ' a'),
             SimpleNamespace(before='landmark_000005', reason=UNTRUSTED + ' b')]
-    problem = recording_problem(SimpleNamespace(gaps=gaps))
+    ending = recording_problem(SimpleNamespace(gaps=gaps))
+    problem = ending.reason
+    assert ending.code == outcome.ODOMETRY
     assert 'could not carry across (%s b, before landmark_000005)' % UNTRUSTED in problem
 
 
