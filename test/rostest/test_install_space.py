@@ -29,7 +29,7 @@ DEMO_TIMEOUT = 240.0
 INSTALLED = {'mission_owner.py', 'back_travel_client.py', 'back_travel_server.py',
              'calibrate_gyro.py', 'heading_correction.py', 'landmark_saver.py', 'record_client.py',
              'record_server.py', 'rotate_pi.py', 'sampling_publisher.py', 'vision_monitor.py',
-             'cmd_vel_mux.py', 'fake_kobuki.py', 'fake_vision.py', 'mission_driver.py',
+             'cmd_vel_mux.py', 'fake_dock_drive.py', 'fake_kobuki.py', 'fake_vision.py', 'mission_driver.py',
              'demo_observer.py', 'bench_probe.py', 'landmark_info'}
 #: the system's ROS: Debian's packages live in /usr; Noetic's setup, when present
 SYSTEM_SETUP = '[ -f /opt/ros/noetic/setup.bash ] && source /opt/ros/noetic/setup.bash; '
