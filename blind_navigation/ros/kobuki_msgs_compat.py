@@ -34,7 +34,6 @@ DEFINITIONS = {
                    'uint8 over_current\nuint16 digital_input\nuint16[] analog_input\n',
 }
 #: kobuki_msgs/AutoDocking.action as genaction expands it (goal empty, result text, feedback state, text).
-ACTION = 'AutoDocking'
 ACTION_DEFINITIONS = {
     'AutoDockingAction': 'AutoDockingActionGoal action_goal\nAutoDockingActionResult action_result\n'
                          'AutoDockingActionFeedback action_feedback\n',
