@@ -56,8 +56,8 @@ class MissionRecording(object):
     def step(self, odom, now):
         """Sample ``odom`` (every state, in order) at ``now``; returns the landmarks taken."""
         taken = []
-        if now < self.last_tick - 1e-9:
-            self._clock_back(now)
+        if odom.stamp < self.last_tick - 1e-9:      # the clock moved back
+            self._clock_back(odom.stamp)
         self.history.append(odom)       # the ticks' (event sampling) and the requests' states
         if self.events is not None:
             self.events.odometry(odom)
@@ -97,8 +97,8 @@ class MissionRecording(object):
             self.history.clear()
 
     def _clock_back(self, now):
-        """The clock moved back to ``now`` (a restarted simulator): the schedule counts from it
-        (the next tick a period on); the states kept for the ticks are of the old time."""
+        """The odometry's clock moved back to ``now`` (a restarted simulator): the schedule
+        counts from it (the next tick a period on); the states kept are of the old time."""
         self.next_tick, self.last_tick = now + self.period, now
         self.history.clear()
         self._refuse_requested('the clock moved back before it was taken')
