@@ -83,7 +83,7 @@ class InterfacesTest(unittest.TestCase):
 
     def test_action_goal_is_a_landmark(self):
         self.assertEqual(BackTravelGoal.__slots__, ['v', 'w', 'd', 'T', 'psi'])
-        self.assertEqual(BackTravelResult.__slots__, ['distance', 'duration'])
+        self.assertEqual(BackTravelResult.__slots__, ['distance', 'duration', 'outcome'])
         self.assertEqual(BackTravelFeedback.__slots__, ['distance'])
 
     def test_topic_round_trip(self):
