@@ -15,6 +15,8 @@ from blind_navigation.sim import harness
 from blind_navigation.sim.dock import CHARGING, Dock, charger_state
 from blind_navigation.sim.harness import play
 
+from test_dock_drive import BASES  # noqa: E402 (kinematic, and mujoco where it is installed)
+
 MISSION = 'table6_test1'        # 2.6 m, 30 s of driving
 ASIDE = 1.5                     # m the dock is moved sideways (issue 31)
 #: m the robot may move while the dock drive looks for an unseen dock: it turns on the spot
@@ -30,8 +32,9 @@ def _states(played):
     return [new for _, _, new, _ in played.mission.transitions]
 
 
-def test_a_mission_that_started_on_its_dock_ends_docked_on_the_charger():
-    played = _play(dock='start')
+@pytest.mark.parametrize('base', BASES)
+def test_a_mission_that_started_on_its_dock_ends_docked_on_the_charger(base):
+    played = _play(dock='start', base=base)
     assert _states(played)[-3:] == [ms.RETURNING, ms.DOCKING, ms.DOCKED]
     assert played.result.status == ms.DOCKED
     assert 'docked on the charger' in played.mission.reason
