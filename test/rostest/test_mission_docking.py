@@ -3,7 +3,7 @@
 turns, returns and docks (mission_docking.test).
 
 The states walk idle, recording, rotating, returning, docking, docked; the status names the
-charger; the fake's SensorState reports charging (6) once docked and the robot stands on
+charger, outcome DOCKED; the fake's SensorState reports charging (6) once docked and the robot stands on
 the dock (ground truth: stopped, where the dock's contacts are).
 """
 import math
@@ -20,6 +20,7 @@ from recording_tools import Collector  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.core.geometry import Pose2D  # noqa: E402
+from blind_navigation.msg import MissionStatus  # noqa: E402
 from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
 from blind_navigation.sim.dock import CHARGING, Dock  # noqa: E402
 
@@ -59,6 +60,7 @@ class DockingTest(unittest.TestCase):
                       self.core.snapshot()[-1].charger)
         self.assertEqual(run.state_names(), DOCK_WALK)
         self.assertIn('docked on the charger', status.reason)
+        self.assertEqual(status.outcome, MissionStatus.OUTCOME_DOCKED)
         self.assertLess(math.hypot(x - docked.x, y - docked.y), ON_THE_DOCK)
         self.assertLess(run.truth.speed(), STOPPED_SPEED)
 

@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from blind_navigation.core import mission_state as ms
+from blind_navigation.core import mission_state as ms, outcome
 from blind_navigation.core.docking import DOCK, DockingResult
 from blind_navigation.core.geometry import Pose2D
 from blind_navigation.core.mission import Inputs
@@ -38,6 +38,7 @@ def test_a_mission_that_started_on_its_dock_ends_docked_on_the_charger(base):
     assert _states(played)[-3:] == [ms.RETURNING, ms.DOCKING, ms.DOCKED]
     assert played.result.status == ms.DOCKED
     assert 'docked on the charger' in played.mission.reason
+    assert played.mission.machine.outcome == outcome.DOCKED
     assert 'from the start by odometry' in played.mission.reason     # the return's verdict kept
     contact = played.run.dock.contact(played.run.base.true_pose)
     assert contact.docked and charger_state(contact.docked, 16.0) == CHARGING
@@ -57,6 +58,7 @@ def test_a_dock_moved_aside_ends_home_naming_it_without_wandering():
     reason = played.mission.reason
     assert reason.startswith('docking failed: ') and 'dock not seen' in reason, reason
     assert 'from the start by odometry' in reason
+    assert played.mission.machine.outcome == outcome.DOCK_FAILED
     assert not played.run.docking.docked and played.run.docking.farthest < NO_WANDERING
     for _ in range(100):            # 2 s with no new command: the base was left commanded zero
         played.run.advance()
@@ -89,17 +91,19 @@ def test_in_docking_the_goal_is_asked_for_once_and_nothing_is_published(docking)
     assert mission.drive.start is False
 
 
-@pytest.mark.parametrize('inputs,state,words', [
+@pytest.mark.parametrize('inputs,state,code,words', [
     (dict(docking=DockingResult(True, 'Arrived on docking station successfully.')), ms.DOCKED,
-     'docked on the charger (Arrived'),
-    (dict(docking=DockingResult(False, 'Aborted: dock lost')), ms.HOME, 'docking failed: Aborted: dock lost'),
-    (dict(operator='operator takeover by /teleop'), ms.HOME, 'docking failed: operator takeover by /teleop'),
-    (dict(tripped='cliff left'), ms.ABORTED, 'the docking: safety stop: cliff left'),
+     outcome.DOCKED, 'docked on the charger (Arrived'),
+    (dict(docking=DockingResult(False, 'Aborted: dock lost')), ms.HOME, outcome.DOCK_FAILED,
+     'docking failed: Aborted: dock lost'),
+    (dict(operator='operator takeover by /teleop'), ms.HOME, outcome.DOCK_FAILED,
+     'docking failed: operator takeover by /teleop'),
+    (dict(tripped='cliff left'), ms.ABORTED, outcome.SAFETY_EVENT, 'the docking: safety stop: cliff left'),
 ])
-def test_a_docking_ends_by_its_result_a_takeover_or_a_cliff(docking, inputs, state, words):
+def test_a_docking_ends_by_its_result_a_takeover_or_a_cliff(docking, inputs, state, code, words):
     mission = copy.deepcopy(docking)
     step = _step(mission, **inputs)
-    assert (step.state, step.command) == (state, (0.0, 0.0))
+    assert (step.state, step.command, mission.machine.outcome) == (state, (0.0, 0.0), code)
     assert words in mission.reason
 
 
@@ -109,6 +113,8 @@ def test_a_docking_ends_home_past_its_allowance_and_aborted_on_cancel(docking):
     assert late.state == ms.DOCKING
     late.step(late.drive.started + late.drive.timeout + 0.5, Inputs())
     assert late.state == ms.HOME and 'not docked within 180 s' in late.reason
+    assert late.machine.outcome == outcome.DOCK_FAILED
     cancelled = copy.deepcopy(docking)
     assert cancelled.cancel() is None
     assert cancelled.state == ms.ABORTED and cancelled.reason.startswith(ms.CANCELLED)
+    assert cancelled.machine.outcome == outcome.CANCELLED
