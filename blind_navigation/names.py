@@ -31,6 +31,8 @@ SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
                  'wheel_drop': 'mobile_base/events/wheel_drop'}
 #: kobuki_msgs/SensorState, the Kobuki's core sensors (battery in 0.1 V): read with battery_low
 CORE_SENSORS = 'mobile_base/sensors/core'
+#: kobuki_msgs/AutoDocking, kobuki_auto_docking's action (it drives MUX_OUTPUT itself): with dock_at_home
+DOCK_DRIVE = 'dock_drive_action'
 
 # --- the layer's own names (INTERFACE.md)
 #: std_msgs/Empty: vision has failed

@@ -10,6 +10,7 @@ import types
 from . import mission_state as state, outcome
 from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import BACK_TRAVEL_DEFAULTS, stopped
+from .docking import DOCK, Docking
 from .drive import Outcome
 from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
@@ -36,36 +37,37 @@ MISSION_DEFAULTS = {
     'on_vision_back': 'home',       # core/mission_state.ON_VISION_BACK
     'settle_time': 2.0,             # s the home check waits for the robot to stop
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
-    'vision_back_grace': LIMIT_DEFAULTS['vision_back_grace'],   # s the turn waits for vision
-                                    # back after a loss without heading correction
+    'vision_back_grace': LIMIT_DEFAULTS['vision_back_grace'],   # s the turn waits for vision back
     'limits': None,                 # the allowances' params (core/mission_limits), None: params'
     'battery_low': 0.0,             # V: Inputs.battery below it while recording starts the
                                     # return as go_home does (core/battery); 0: off
+    'dock_at_home': False, 'dock_timeout': None,    # core/docking: dock once home (None: its default)
 }
 
 
 class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_back bumper operator '
-                                    'tripped reset time_back next_goal goal_result battery')):
+                                    'tripped reset time_back next_goal goal_result battery docking')):
     """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
     (pressed: True or a tuple naming the bumpers), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
     what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
     how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
-    core/drive.Outcome of the goal sent), ``battery`` (V: the battery's reading, None: none)."""
+    core/drive.Outcome of the goal sent), ``battery`` (V: the battery's reading, None: none),
+    ``docking`` (dock_at_home: the core/docking.DockingResult of the docking goal sent)."""
     __slots__ = ()
 
     def __new__(cls, odom=None, visual=(), vision_lost=False, vision_back=False, bumper=False,
                 operator=None, tripped=None, reset=None, time_back=None, next_goal=False,
-                goal_result=None, battery=None):
-        return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper, operator,
-                                          tripped, reset, time_back, next_goal, goal_result, battery)
+                goal_result=None, battery=None, docking=None):
+        return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper, operator, tripped,
+                                          reset, time_back, next_goal, goal_result, battery, docking)
 
 
-Step = collections.namedtuple('Step', 'command phase state stored goal')
+Step = collections.namedtuple('Step', 'command phase state stored goal dock')
 Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: recording, '
                 'standstill, turn, turned, goal, hand-over, final hold, settle, ended; '
                 '``state``; ``stored``: the landmarks stored this step; ``goal``: (index, landmark) '
-                'to send now (remote_goals), else None.')
+                'to send now (remote_goals), else None; ``dock``: send the docking goal now (core/docking).')
 
 RECORDING, STANDSTILL, TURN, TURNED, SETTLE, ENDED = (
     'recording', 'standstill', 'turn', 'turned', 'settle', 'ended')
@@ -142,7 +144,8 @@ class Mission(object):
             self._end(state.ABORTED, *why)
         command = self._step(now, inputs, stored)
         self.halt = self.halt and ended     # the step that ended the mission returned zero
-        return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None))
+        return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None),
+                    self.phase == DOCK and self.drive.requested())
 
     def _step(self, now, inputs, stored):
         if self.phase == ENDED:
@@ -154,8 +157,11 @@ class Mission(object):
             return self._standstill(now, inputs)
         if self.phase == SETTLE:
             return self._settle(now)
+        if self.phase == DOCK:      # the dock drive drives: nothing published until it ends
+            ended = self.drive.step(now, inputs)
+            return ended and self._end(*ended)
         if self.phase == TURNED and self.last is not None:     # resumed: once odometry came
-            self._plan()
+            _plan(self)
         return self._drive(now, inputs) if self.drive is not None else None
 
     def odom(self):
@@ -270,23 +276,6 @@ class Mission(object):
             self.drive.resumed(seconds)
         return False
 
-    def _plan(self):
-        """The return's route (closed_loop; pruned with prune_loops; or kept) and its goals."""
-        c, follower, kept = self.config, None, self.kept
-        labels = getattr(self.loaded, 'labels', [])
-        goals = return_goals(labels if len(labels) == len(self.landmarks) else
-                             [str(number + 1) for number in range(len(self.landmarks))], self.landmarks)
-        if c.mode == 'closed_loop':
-            self.route, self.pruning = (kept.route, None) if kept else plan_return(
-                self.landmarks, self.anchor, self.params, c.prune_loops, self.correction)
-            follower = None if c.remote_goals else RouteFollower(self.route, self.params)
-        self.pauses, done = Pauses(self.params), kept.done if kept else 0
-        watch = ReturnWatch(self.landmarks, [landmark for _, landmark in goals[done:]],
-                            c.limits or self.params, self.now)
-        self.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
-            goals, c.mode, self.params, follower, c, self._feed, self.odom, watch)
-        self.drive.index, self.drive.driven = done, kept.travelled if kept else 0.0
-
     def _drive(self, now, inputs):
         """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""
         if self._vision_back(inputs):
@@ -313,9 +302,13 @@ class Mission(object):
         odom = self.odom()
         if not stopped(odom) and now < self.settle_until - 1e-9:
             return None
-        return self._end(*home_verdict(odom, self.route, len(self.drive.goals), self.config.mode,
-                                       getattr(self.params, 'home_tolerance',
-                                               BACK_TRAVEL_DEFAULTS['home_tolerance']), self.warning))
+        verdict = home_verdict(odom, self.route, len(self.drive.goals), self.config.mode, getattr(
+            self.params, 'home_tolerance', BACK_TRAVEL_DEFAULTS['home_tolerance']), self.warning)
+        if verdict[0] != state.HOME or not self.config.dock_at_home:
+            return self._end(*verdict)
+        self._move(state.RETURNING, state.DOCKING, verdict[2])
+        self.phase, self.drive = DOCK, Docking(verdict[2], now, self.config.dock_timeout)
+        return ZERO
 
     def _vision_back(self, inputs):
         """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""
@@ -325,9 +318,25 @@ class Mission(object):
             self.drive if self.state == state.RETURNING else None)) is ZERO
 
 
+def _plan(m):
+    """Mission ``m``'s return: its route (closed_loop; pruned with prune_loops; or kept) and its goals."""
+    c, follower, kept = m.config, None, m.kept
+    labels = getattr(m.loaded, 'labels', [])
+    goals = return_goals(labels if len(labels) == len(m.landmarks) else
+                         [str(number + 1) for number in range(len(m.landmarks))], m.landmarks)
+    if c.mode == 'closed_loop':
+        m.route, m.pruning = (kept.route, None) if kept else plan_return(
+            m.landmarks, m.anchor, m.params, c.prune_loops, m.correction)
+        follower = None if c.remote_goals else RouteFollower(m.route, m.params)
+    m.pauses, done = Pauses(m.params), kept.done if kept else 0
+    watch = ReturnWatch(m.landmarks, [landmark for _, landmark in goals[done:]], c.limits or m.params, m.now)
+    m.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
+        goals, c.mode, m.params, follower, c, m._feed, m.odom, watch)
+    m.drive.index, m.drive.driven = done, kept.travelled if kept else 0.0
+
+
 def _resume(m, kept):
-    """Mission ``m`` set to drive the return ``kept`` (core/resume.KeptReturn, None: none) from
-    its next goal."""
+    """Mission ``m`` set to drive the return ``kept`` (core/resume.KeptReturn, None: none) on."""
     if kept is None:
         return
     m.kept, m.phase, m.loaded, m.landmarks, m.anchor = kept, TURNED, kept.loaded, kept.landmarks, \
@@ -338,8 +347,7 @@ def _resume(m, kept):
 
 
 def _recovered(returning):
-    """Why vision back ends the mission ``recovered`` (``returning``: the return's drive,
-    None: in the pi turn)."""
+    """Why vision back ends the mission ``recovered`` (``returning``: the return's drive, or None)."""
     left = None if returning is None else \
         sum(abs(landmark.d) for landmark in returning.remaining) - returning.travelled()
     return 'vision back during %s: stopped (on_vision_back stop), %s left to home' % (
@@ -348,9 +356,8 @@ def _recovered(returning):
 
 
 def _return_reason(now, inputs, battery, requests):
-    """Why the recording ends in a return at ``now``: vision lost, the battery low (the
-    core/battery.BatteryWatch ``battery`` given ``inputs.battery``), go_home in ``requests``;
-    else None."""
+    """Why the recording ends in a return at ``now``: vision lost, the battery low (core/battery.
+    BatteryWatch ``battery`` given ``inputs.battery``), go_home in ``requests``; else None."""
     low = battery.update(now, inputs.battery)
     if inputs.vision_lost:
         return 'vision lost'
@@ -359,9 +366,8 @@ def _return_reason(now, inputs, battery, requests):
 
 def _no_turn(recording, store, raw, reason):
     """(state, code, why) when the loss (``reason``) at ``raw`` ends the mission with no turn: an
-    untrusted odometry reset while recording (``aborted``), nothing to retrace (``home``), or
-    landmarks ``store`` lost beyond a standstill (``aborted``: core/return_plan.recording_problem,
-    the file read back); else None."""
+    untrusted odometry reset while recording (``aborted``), nothing to retrace (``home``), or landmarks
+    ``store`` lost beyond a standstill (``aborted``: core/return_plan.recording_problem); else None."""
     if recording.lost:
         return state.ABORTED, outcome.ODOMETRY, '%s, but %s' % (reason, frame_lost(recording.lost))
     nothing = nothing_to_retrace(recording.distance, recording.start, (raw.x, raw.y),
@@ -376,7 +382,7 @@ def _no_turn(recording, store, raw, reason):
 def _interrupted(inputs, phase, current):
     """(code, why) ``inputs`` end a mission in ``phase`` (state ``current``), or None: a reset
     or the time moving back in the turn or the return, a safety stop once the recording is over."""
-    where = 'the pi turn' if phase in (STANDSTILL, TURN) else 'the return'
+    where = {STANDSTILL: 'the pi turn', TURN: 'the pi turn', DOCK: 'the docking'}.get(phase, 'the return')
     lost = inputs.time_back or inputs.reset
     if lost and current in (state.ROTATING, state.RETURNING):
         return (outcome.CLOCK if inputs.time_back else outcome.ODOMETRY,

@@ -1,9 +1,9 @@
 """The mission's one state machine, obeyed by every role of the layer.
 
-States ``idle -> recording -> rotating -> returning -> home``, ``aborted`` and ``recovered``
-(:data:`TERMINAL`, back to ``idle`` only by ``new_mission``); the table ``TRANSITIONS``,
-every change through :meth:`MissionState.transition` (atomic); who may move
-(:data:`MOTION_OWNER`, :func:`may_move`); the services' refusals (``*_refusal``).
+States ``idle -> recording -> rotating -> returning -> home`` (dock_at_home: ``-> docking ->
+docked``), ``aborted`` and ``recovered`` (:data:`TERMINAL`, back to ``idle`` only by ``new_mission``);
+the table ``TRANSITIONS``, every change through :meth:`MissionState.transition` (atomic); who
+may move (:data:`MOTION_OWNER`, :func:`may_move`); the services' refusals (``*_refusal``).
 docs/DESIGN.md, "The state machine".
 """
 import threading
@@ -15,11 +15,13 @@ RETURNING = 'returning'
 HOME = 'home'
 ABORTED = 'aborted'
 RECOVERED = 'recovered'
+DOCKING = 'docking'         # dock_at_home: the Kobuki's auto-docking drives (core/docking)
+DOCKED = 'docked'
 
-ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED, RECOVERED)
+ALL = (IDLE, RECORDING, ROTATING, RETURNING, HOME, ABORTED, RECOVERED, DOCKING, DOCKED)
 #: The mission has ended here; ``new_mission`` starts the next one from any of them
 #: (a new terminal state is one more name here: TRANSITIONS and the rules follow).
-TERMINAL = (HOME, ABORTED, RECOVERED)
+TERMINAL = (HOME, ABORTED, RECOVERED, DOCKED)
 
 #: Allowed transitions: state -> the states it may move to. ``None`` is the owner
 #: before its first state: idle, or (a restarted owner) a resumed return or its abort.
@@ -28,7 +30,8 @@ TRANSITIONS = {
     IDLE: (RECORDING, ABORTED),
     RECORDING: (ROTATING, HOME, ABORTED),      # home: nothing to retrace (nothing_to_retrace)
     ROTATING: (RETURNING, RECORDING, RECOVERED, ABORTED),
-    RETURNING: (HOME, RECOVERED, ABORTED),
+    RETURNING: (HOME, RECOVERED, ABORTED, DOCKING),
+    DOCKING: (DOCKED, HOME, ABORTED),          # home: the docking failed, saying why
 }
 TRANSITIONS.update((ended, (IDLE,)) for ended in TERMINAL)     # new_mission
 
@@ -37,6 +40,7 @@ ROTATION_ROLE = 'rotate_pi'
 BACK_TRAVEL_ROLE = 'back_travel_server'
 #: The one-off gyro calibration runs outside any mission (no state) and may spin then.
 CALIBRATION_ROLE = 'calibrate_gyro'
+#: In ``docking`` none of the layer's roles moves: the Kobuki's dock drive does, past the mux.
 MOTION_OWNER = {ROTATING: ROTATION_ROLE, RETURNING: BACK_TRAVEL_ROLE}
 
 

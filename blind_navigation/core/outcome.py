@@ -10,8 +10,8 @@ NONE = 0                # not terminal (idle, recording, rotating, returning)
 # state home
 HOME = 1                # the return arrived (the home invariant; the paper's modes: replayed)
 NOTHING_TO_RETRACE = 2  # a return asked for before the robot moved: home without a turn
-DOCKED = 3              # reserved, with dock_at_home: docked on the charger (state docked)
-DOCK_FAILED = 4         # reserved, with dock_at_home: the dock not reached (state home)
+DOCKED = 3              # with dock_at_home: docked on the charger (state docked)
+DOCK_FAILED = 4         # with dock_at_home: the dock not reached (state home)
 # state recovered
 VISION_BACK = 10        # vision back during the turn or the return (on_vision_back stop)
 # state aborted

@@ -196,6 +196,9 @@ MISSION_OWNER = Schema('mission_owner', (
     Param('battery_low', 0.0, 'V', 'the one process only: the Kobuki battery (mobile_base/sensors/core) '
           'below this while recording starts the return as go_home does (its median held '
           'battery_hold s, never one reading: core/battery.py); 0: off', lo=0.0, hi=PLAUSIBLE[1]),
+    Param('dock_at_home', False, '', 'the one process only: true: once home, dock on the Kobuki\'s '
+          'charging dock with its auto-docking action dock_drive_action (states docking, docked; '
+          'core/docking.py)'),
 ), fixed=BATTERY_DEFAULTS)
 
 #: Every role's schema, in the order the docs list them.

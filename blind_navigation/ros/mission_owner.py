@@ -28,6 +28,7 @@ from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
 from blind_navigation.ros.battery import subscribe_battery
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.docking import DockingClient
 from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
 from blind_navigation.ros.landmark_saving import landmark_file, recording_status, storage_message
 from blind_navigation.ros.layer import MISSION_ID
@@ -106,7 +107,7 @@ def owner_params(layer):
         prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
         handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
         turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
-        limits=client, battery_low=owner.battery_low)
+        limits=client, battery_low=owner.battery_low, dock_at_home=bool(owner.dock_at_home))
     return params, settings, landmark_file(client.landmark_file), rotate.max_w
 
 
@@ -152,6 +153,7 @@ class MissionOwner(object):
                         state.RETURNING: MotionOutput(state.MOTION_OWNER[state.RETURNING], p.max_v,
                                                       p.max_w, layer.mission, layer.safety, takeover)}
         self.takeover = takeover
+        self.docking = DockingClient(self.inbox, takeover, self.log) if settings['dock_at_home'] else None
         self.outputs = MissionOutputs(self)
         self._subscribe()
         kept = self.outputs.first_state()   # a return a previous run left: resumed or aborted
@@ -229,6 +231,8 @@ class MissionOwner(object):
             self._publish_storage()
         self.outputs.stepped(step.stored)
         self._announce()
+        if step.dock:               # after the announcement: the takeover watch knows it docks
+            self.docking.start()
         if self._progress() != self.progress:      # a goal of the return done: its status
             self.publish_status()
         if step.command is not None:
@@ -249,6 +253,8 @@ class MissionOwner(object):
                 'state %s -> %s%s', old, new, ': ' + outcome.phrase(code, reason) if reason else '')
             self.outputs.ending(new, reason)
             self.layer.mission.set_local(new)
+            if self.docking is not None:
+                self.docking.state(new)     # leaving docking: a pending goal cancelled
             if new in self.drivers and not self.layer.safety.terminal:
                 self.drivers[new].release()     # a cliff or wheel drop keeps it halted
             self.state_pub.publish(String(data=new))
@@ -293,6 +299,8 @@ class MissionOwner(object):
             self._announce()
 
     def _on_shutdown(self):
+        if self.docking is not None:
+            self.docking.cancel('node shutdown')
         for output in self.drivers.values():
             output.halt('node shutdown')
         self.store.writer.close()

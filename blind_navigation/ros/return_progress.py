@@ -172,11 +172,13 @@ class MissionProgress(object):
             self.keeper.save(progress._replace(route=self.keeper.route_data(self.route)).checked())
 
     def ending(self, new, reason):
-        """The mission becomes ``new`` for ``reason``: a terminal state ends the return's progress."""
+        """The mission becomes ``new`` for ``reason``: a terminal state ends the return's progress
+        (``docking``: the return ended home)."""
         progress, m = self.keeper.progress, self.mission
-        if progress is None or not progress.unfinished or new not in state.TERMINAL:
+        if progress is None or not progress.unfinished or new not in state.TERMINAL + (state.DOCKING,):
             return
         position = [m.last.x, m.last.y] if m.last is not None else None
+        new = state.HOME if new == state.DOCKING else new
         try:
             if new == state.HOME and progress.status == state.RETURNING:    # its last goal
                 progress = progress.goal_done(progress.landmarks, time.time(), position)

@@ -2,7 +2,8 @@
 
 A takeover is a command on the layer's mux input from none of the layer's nodes, a
 ``takeover_inputs`` input active on ``cmd_vel_mux/active``, or a moving command on the
-mux output that this process did not send while it drives. While active, MotionOutput
+mux output that this process did not send while it drives (not read while the Kobuki's
+dock drive drives it: :meth:`TakeoverWatch.watch_base`). While active, MotionOutput
 publishes nothing and DriveLoop pauses (docs/safety.md, "Takeover").
 """
 import threading
@@ -28,6 +29,7 @@ class TakeoverWatch(object):
         self.policy = self._takeover.policy
         self._lock = threading.Lock()
         self._own = set(rospy.resolve_name(node) for node in LAYER_NODES) | {rospy.get_name()}
+        self._base = True           # the mux output is read (not while docking)
         subscribe(names.CMD_VEL, Twist, guard(self._on_command), queue_size=10)
         subscribe(names.CMD_VEL_MUX_ACTIVE, String, guard(self._on_mux), queue_size=10)
         subscribe(names.MUX_OUTPUT, Twist, guard(self._on_output), queue_size=10)
@@ -37,8 +39,15 @@ class TakeoverWatch(object):
         with self._lock:
             self._takeover.sent(v, w, rospy.get_time())
 
+    def watch_base(self, on):
+        """Read the mux output (``on``), or not: while docking the dock drive drives it."""
+        with self._lock:
+            self._base = bool(on)
+
     def _on_output(self, msg):
         with self._lock:
+            if not self._base:
+                return
             self._takeover.at_base(msg.linear.x, msg.angular.z, rospy.get_time(),
                                    rospy.resolve_name(names.MUX_OUTPUT))
 

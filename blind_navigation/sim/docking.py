@@ -2,12 +2,15 @@
 
 The fake's action server (sim/nodes/fake_dock_drive.py) ends a goal by :func:`verdict`;
 :func:`run_docking` plays a whole goal on a base (kinematic or MuJoCo) without ROS, as the
-unit tests and a bench do: the IR, bumper and charger from sim/dock.py each 50 Hz cycle.
+unit tests and a bench do: the IR, bumper and charger from sim/dock.py each 50 Hz cycle;
+:func:`dock_mission` plays it for a mission in ``docking`` (sim/harness.py, dock_at_home).
 """
 import math
 from collections import namedtuple
 
-from .dock import charger_state
+from ..core.docking import DOCK, DockingResult as MissionDocking
+from ..core.mission import Inputs
+from .dock import DockContact, charger_state
 from .dock_drive import DockDrive
 from .kobuki import SENSOR_PERIOD
 
@@ -51,3 +54,30 @@ def run_docking(base, dock, time_limit=TIME_LIMIT, battery=16.0):
         base.command(v, w)
         base.step(SENSOR_PERIOD)
         elapsed += SENSOR_PERIOD
+
+
+def dock_mission(run, mission, time_limit=TIME_LIMIT, battery=16.0):
+    """Step ``mission`` (core/mission.Mission in ``docking``) on ``run`` (sim/harness's, its ``dock``
+    a sim/dock.Dock or None) while the dock drive plays its goal, as the fake's action server does,
+    the goal's end given as ``Inputs.docking``; the DockingResult (farthest: m from the arrival)."""
+    base, drive, elapsed, farthest, ended = run.base, DockDrive(), 0.0, 0.0, None
+    start, state = base.true_pose, 'IDLE'
+    while mission.phase == DOCK:
+        outcome = None
+        if drive is not None:
+            pose = base.true_pose
+            contact = run.dock.contact(pose) if run.dock else DockContact(False, 0)
+            v, w = drive.update(run.dock.ir(pose) if run.dock else [0, 0, 0], contact.bumper,
+                                charger_state(contact.docked, battery), base.odom.yaw)
+            ended, state = verdict(drive, elapsed, time_limit), drive.state
+            if ended is not None:
+                v, w, drive, outcome = 0.0, 0.0, None, MissionDocking(*ended)
+            base.command(v, w)
+        run.advance()
+        elapsed += run.dt
+        pose = base.true_pose
+        farthest = max(farthest, math.hypot(pose.x - start.x, pose.y - start.y))
+        mission.step(base.t, Inputs(odom=base.odom, docking=outcome))
+    base.command(0.0, 0.0)
+    docked = ended is not None and ended[0]
+    return DockingResult(docked, ended[1] if ended else mission.reason, state, elapsed, farthest)

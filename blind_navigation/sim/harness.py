@@ -22,12 +22,15 @@ from ..core.gyro_calibration import CalibrationError, SpinCalibration
 from ..core.heading_correction import correct_landmarks
 from ..core.landmark import Landmark
 from ..core.landmark_writer import LandmarkWriter
+from ..core.docking import DOCK
 from ..core.mission import RECORDING, SETTLE, STANDSTILL, TURN, TURNED, Inputs, Mission
 from ..core.mission_drive import FAILED, FINAL, GOAL, HANDOVER
 from ..core.odometry_reset import UNTRUSTED
 from ..core.return_plan import write_loss
 from ..core.store import load_landmarks
 from .battery import SimBattery
+from .dock import Dock, dock_from_spec
+from .docking import dock_mission
 from .kobuki import load_profile, make_profile
 from .mujoco_kobuki import make_base
 from .mission import load_mission
@@ -78,11 +81,14 @@ SIMULATION_DEFAULTS = {
     'battery': None,           # the Kobuki battery: sim/battery.SimBattery's keyword arguments
                                # (volts, drain, motion, noise), read each step; None: no reading
     'battery_low': 0.0,        # V: the mission's battery_low (core/battery; 0: off)
+    'dock': None,              # the Kobuki's dock: a sim/dock.Dock, or dock_from_spec's spec
+                               # ('start': behind the start pose); None: none
+    'dock_at_home': False,     # the mission docks once home (core/docking; sim/docking.dock_mission)
 }
 #: Settings the core/mission.Mission takes as they are.
 _MISSION_SETTINGS = ('straight_period', 'curved_period', 'deadband', 'event_sampling',
                      'heading_correction', 'handover_timeout', 'handover_follow', 'on_vision_back',
-                     'vision_back_grace', 'limits', 'battery_low')
+                     'vision_back_grace', 'limits', 'battery_low', 'dock_at_home')
 #: Settings that change only the return: modes differing in them share a recording (run_modes).
 RETURN_SETTINGS = ('prune_loops',)
 
@@ -122,6 +128,7 @@ class _Run(object):
         self.next_frame = 0.0
         self.odometry_log = None      # a list: every odometry state is appended
         self.battery = None           # a sim/battery.SimBattery, drained as the robot moves
+        self.dock = self.docking = None   # a sim/dock.Dock; the sim/docking.DockingResult of its docking
 
     def advance(self, command=None):
         if command is not None:
@@ -400,6 +407,8 @@ class _Recorded(object):
             run.odometry_log = [run.base.odom]
         start = run.base.true_pose
         run.path_start = (start.x, start.y)
+        dock = settings['dock']
+        run.dock = dock if isinstance(dock, Dock) or dock is None else dock_from_spec(dock, start)
         standstill = SimpleNamespace(**{name: settings[name] for name in STANDSTILL_DEFAULTS
                                         if name in settings})
         with tempfile.TemporaryDirectory(dir=store_dir) as directory:
@@ -435,6 +444,9 @@ class _Recorded(object):
         follower = getattr(owner.drive, 'follower', None)     # None: no return (a failed turn)
         return_time = run.base.t - started
         _stop(run, owner, settings)
+        if owner.phase == DOCK:
+            run.docking = dock_mission(run, owner, battery=16.0 if run.battery is None else
+                                       run.battery.reading() / 10.0)
         driven = run.path[max(0, returned_from):]
         end, odom = run.base.true_pose, run.base.odom
         start = run.path_start

@@ -93,6 +93,17 @@ def test_the_progress_follows_the_return_to_home(tmp_path):
     assert progress.keeper.progress is None
 
 
+@pytest.mark.parametrize('end', [state.DOCKED, state.HOME, state.ABORTED])
+def test_a_docking_ends_the_return_home_and_its_end_leaves_the_progress_alone(tmp_path, end):
+    progress, m = _progress(_landmark_file(tmp_path)), _mission()
+    _return(progress, m)
+    _at(m, 0.0, 11.0)
+    progress.ending(state.DOCKING, 'travelled 2 landmarks')
+    progress.ending(end, 'docked on the charger')
+    home = load_progress(progress_path(progress.landmark_file))
+    assert (home.status, home.completed, home.reason) == (state.HOME, 2, 'travelled 2 landmarks')
+
+
 def test_an_abort_before_the_turn_keeps_no_progress(tmp_path):
     progress, m = _progress(_landmark_file(tmp_path)), _mission()
     progress.update(m, None)

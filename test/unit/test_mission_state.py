@@ -36,7 +36,7 @@ def in_state(state, cls=ms.MissionState):
 def test_the_table_names_every_state_and_the_start():
     assert set(ms.TRANSITIONS) == set(ms.ALL) | {None}
     assert all(set(targets) <= set(ms.ALL) for targets in ms.TRANSITIONS.values())
-    assert len(LEGAL) == 15 + len(ms.TERMINAL)     # recording -> home: nothing to retrace
+    assert len(LEGAL) == 19 + len(ms.TERMINAL)     # recording -> home: nothing to retrace; docking
     assert all(ms.TRANSITIONS[ended] == (ms.IDLE,) for ended in ms.TERMINAL)
 
 
@@ -61,7 +61,7 @@ def test_a_transition_from_another_state_does_not_move():
     assert machine.state == ms.ABORTED
 
 
-@pytest.mark.parametrize('old', [None, ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING])
+@pytest.mark.parametrize('old', [None, ms.IDLE, ms.RECORDING, ms.ROTATING, ms.RETURNING, ms.DOCKING])
 def test_abort_ends_every_unfinished_state(old):
     machine = in_state(old)
     assert machine.abort('fault', outcome.ROLE_FAILURE) == (True, old)
