@@ -457,9 +457,11 @@ class TestB_PaperLayoutFaults(MissionCase):
     def play(cls):
         m = cls.mission = FindingMission('paper_faults', one_process=False)
         run = m.run
-        run.wait_for_layer()
-        # finding 5a: another node's goal while idle
+        m.wait_idle()
+        # finding 5a: another node's goal while idle (the recording starts once this node
+        # takes the samples: wait_for_layer)
         stranger = cls.idle_goal_sent()
+        run.wait_for_layer()
         rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
         # finding 6a: the saver killed mid-recording and restarted
         cls.file_before = os.path.realpath(m.landmark_file)
