@@ -1,32 +1,21 @@
 #!/usr/bin/env python3
-"""rostest: issue 16's findings 1-7, each bullet reproduced on the fake TurtleBot
-(ideal profile, rtf 6, closed_loop, blind_navigation.launch as a user starts it,
-the 2.3 m mission config/missions/test_safety.yaml) and checked to end with the
-robot still or ``home`` within the normal accuracy, no motion commanded after a
-terminal state, and the record intact or its loss reported.
+"""rostest: issue 16's findings 1-7 over ROS on the fake TurtleBot (ideal profile, rtf 6,
+closed_loop, blind_navigation.launch as a user starts it, the 2.3 m mission
+config/missions/test_safety.yaml): each bullet reproduced and checked to end with the
+robot still or ``home`` within the normal accuracy, no motion commanded after a terminal
+state, and the record intact or its loss reported.
 
-One TestCase per mission (findings_rig.FindingMission: a fresh layer, mission id and
-directory); its setUpClass plays the mission with the faults of its findings, each
-at its own phase, and each test method checks one bullet and prints one
-``FINDING`` line with what happened. The param ``~only`` (comma-separated class
-names) runs a subset.
-
-Faults, as the issue tried them: bad odometry published on /odom beside the base's
-(a burst of x = 1e6, impossible twists), stray triggers (`rostopic pub -1`, a flood),
-hand-overs out of order, a second action client, spoofed set_return_route calls
-(also with the owner's callerid forged: ROS 1 has no authentication), node kills
-(SIGKILL) and restarts, a write failure of the landmark file (RLIMIT_FSIZE set on the
-running layer: EFBIG, which takes the path of ENOSPC, core/files.StorageError), a
-landmark_file that is a directory, a symlink planted at the progress file's old
-temporary name, a corrupt or doctored progress file on a client restart, a master
-restart (finding 7d: the fake and the layer on a master of the test's own, watched
-by master_restart_probe.py).
+One TestCase per mission (findings_rig.FindingMission: a fresh layer); its setUpClass
+plays the faults of its findings, each at its own phase, and each test method checks one
+bullet and prints one ``FINDING`` line. TestA attacks the default one process, TestB and
+the restarts the paper's node layout (its own topics, services and nodes). The param
+``~only`` (comma-separated class names) runs a subset. Behaviour alone (a loss while
+standing still, a long takeover) is played in test/unit/test_mission_harness_findings.py.
 """
 import json
 import math
 import os
 import queue
-import re
 import resource
 import shutil
 import socket
@@ -56,7 +45,6 @@ from blind_navigation import names  # noqa: E402
 from blind_navigation.core.landmark import Limits  # noqa: E402
 from blind_navigation.core.plausibility import RouteBudget  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
-from blind_navigation.core.return_plan import STILL_LOSS_DISTANCE  # noqa: E402
 from blind_navigation.core.route import build_route  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.ros.route_wire import route_message  # noqa: E402
@@ -73,6 +61,8 @@ FLOOD_RATE = 1000.0
 IDLE_GOAL = BackTravelGoal(v=0.5, w=0.0, d=1000.0, T=2000.0, psi=0.0)
 #: Finding 5b: what a second client sends during the return (a plausible landmark).
 STRANGER_GOAL = BackTravelGoal(v=0.15, w=0.0, d=0.6, T=4.0, psi=0.0)
+#: Why the one process rejects every back_travel goal (ros/owner_paper_names.REJECTED).
+ONE_PROCESS_REJECTS = 'the one-process layer drives its return itself'
 #: s of sim time watched after a terminal state (longer than a standstill + pi turn
 #: where a turn could follow, finding 4a).
 WATCH = 4.0
@@ -212,6 +202,32 @@ class MissionCase(unittest.TestCase):
             cls.mission = None
 
     @classmethod
+    def idle_goal_sent(cls):
+        """Finding 5a: IDLE_GOAL from a second client while idle, 2 s watched (``idle_goal``:
+        its answer, ``idle_goal_motion``, ``idle_goal_commands``); returns the client."""
+        m, stranger = cls.mission, Stranger()
+        cls.idle_goal_time = rospy.get_time()
+        cls.idle_goal = stranger.send(IDLE_GOAL)
+        m.wait_sim(2.0)
+        cls.idle_goal_motion = m.track.motion(cls.idle_goal_time, rospy.get_time())
+        cls.idle_goal_commands = m.layer_commands()
+        return stranger
+
+    @classmethod
+    def paper_turn(cls, label, before_trigger=lambda m: None):
+        """A mission of the paper's layout nudged 0.3 m, ``before_trigger(mission)`` called,
+        vision lost (from this node) and ``rotating`` reached (``cls.rotating_at``); returns
+        (the mission, what ``before_trigger`` returned)."""
+        m = cls.mission = FindingMission(label, one_process=False)
+        m.run.wait_for_layer()
+        m.nudge()
+        m.wait_sim(2.0)
+        extra = before_trigger(m)
+        m.run.trigger_by_publisher()
+        cls.rotating_at = m.wait_state('rotating')
+        return m, extra
+
+    @classmethod
     def drive_and_lose_vision(cls):
         """Record the whole mission, then the operator's `rostopic pub -1` vision_lost."""
         run = cls.mission.run
@@ -226,13 +242,16 @@ class MissionCase(unittest.TestCase):
                              'accuracy %.3f m)' % (what, self.error, NORMAL_ACCURACY))
 
 
-# --- findings 1, 3, 4c, 4d, 5a, 6d: one mission, each fault at its own phase ------------------
+# --- findings 1, 2, 3, 4b, 4c, 5a, 5b, 6d on the one process: one mission, each at its phase ----
 
-class TestA_RecordingAndTriggers(MissionCase):
-    """While idle: a stray vision_lost (3) and a goal with d = 1000 (5a); while recording: a
-    3 s burst of /odom at x = 1e6 at 100 Hz (1); while rotating, before the turn:
-    rotation_done true (4d); after home: vision_lost and a goal again (4c); all along: a
-    symlink planted at landmarks.progress.yaml.tmp (6d)."""
+class TestA_OneProcessFaults(MissionCase):
+    """The default layer (one process). While idle: a stray vision_lost (3) and a goal with
+    d = 1000 on back_travel (5a); while recording: a 3 s burst of /odom at x = 1e6 at
+    100 Hz (1); the trigger: a vision_lost flood at 1000 Hz until the return has begun
+    (4b); during the return: 3 s of /odom with twist 1e6 at 100 Hz (2) and a second
+    client's goal (5b); after home: vision_lost and a goal again (4c); all along: a
+    symlink planted at landmarks.progress.yaml.tmp (6d). The one process serves
+    back_travel only to reject every goal (ros/owner_paper_names.REJECTED)."""
 
     @classmethod
     def play(cls):
@@ -243,49 +262,53 @@ class TestA_RecordingAndTriggers(MissionCase):
             cls.planted = os.path.join(directory, 'landmarks.progress.yaml.tmp')
             os.symlink(cls.victim, cls.planted)
 
-        m = cls.mission = FindingMission('recording_faults', prepare=plant)
+        m = cls.mission = FindingMission('one_process_faults', prepare=plant)
         run = m.run
-        m.wait_idle()
-        # finding 3: vision_lost while idle, as typed in a shell
-        run.trigger_by_rostopic()
-        cls.idle_trigger = m.wait_logged('ignored in state idle')
-        # finding 5a: another node's goal while idle
-        stranger = Stranger()
-        cls.idle_goal_time = rospy.get_time()
-        cls.idle_goal = stranger.send(IDLE_GOAL)
-        m.wait_sim(2.0)
-        cls.idle_goal_motion = m.track.motion(cls.idle_goal_time, rospy.get_time())
-        cls.idle_goal_commands = m.layer_commands()
-        # finding 1: the burst while recording
-        run.wait_for_layer()
-        cls.states_before_mission = run.state_names()
-        run.start_operator(MISSION)
-        m.wait_sim(5.0)
-        before = m.refused_odometry()
-        cls.burst_count = odometry_burst(m, cls.absurd_odometry)
-        m.wait_sim(1.5)         # a diagnostics period
-        cls.burst_refused = m.refused_odometry() - before
-        cls.burst_warning = (m.logged('odometry on /odom not used') or [''])[-1]
-        run.wait_for_operator(MISSION)
-        # finding 4d: rotation_done true before rotate_pi turned (the trigger from this
-        # node: `rostopic pub -1` blocks for 3 s, the turn would be over)
-        done = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
-        wait_connected(done, m.owner, 'rotation_done')
-        run.trigger_by_publisher()
-        cls.rotating_at = m.wait_state('rotating')
-        done.publish(Bool(data=True))
-        cls.handover_refused = m.wait_logged('rotation_done true refused')
-        cls.refused_at = rospy.get_time()
-        done.unregister()
-        cls.final, cls.final_at = m.wait_final()
-        cls.returning_at = m.state_time('returning')
-        m.wait_sim(1.0)
-        cls.error = run.error()
-        # finding 4c: vision_lost after home, and a goal
-        run.trigger_by_rostopic()
-        cls.home_trigger = m.wait_logged('ignored in state home')
-        cls.home_goal = stranger.send(IDLE_GOAL)
-        cls.still = m.still_after(cls.final_at, WATCH)
+        odometry = BaseOdometry()
+        try:
+            m.wait_idle()
+            # finding 3: vision_lost while idle, as typed in a shell
+            run.trigger_by_rostopic()
+            m.wait_sim(1.0)
+            # finding 5a: another node's goal while idle
+            stranger = cls.idle_goal_sent()
+            # finding 1: the burst while recording
+            run.wait_for_layer()
+            cls.states_before_mission = run.state_names()
+            run.start_operator(MISSION)
+            m.wait_sim(5.0)
+            before = m.refused_odometry()
+            cls.burst_count = odometry_burst(m, cls.absurd_odometry)
+            m.wait_sim(1.5)         # a diagnostics period
+            cls.burst_refused = m.refused_odometry() - before
+            run.wait_for_operator(MISSION)
+            # finding 4b: the trigger is a flood that lasts into the return
+            flood = Flood(m.owner)
+            try:
+                returning = m.wait_state('returning')
+                m.wait(lambda: run.truth.speed() > 0.02, 'the robot moves on the return')
+                m.wait_sim(1.0)
+            finally:
+                flood.stop()
+            cls.flood_count, cls.flood_until = flood.count, rospy.get_time() - returning
+            # finding 2: impossible twists during the return
+            before = m.refused_odometry()
+            cls.twist_count = odometry_burst(m, lambda: fast_copy(odometry.latest))
+            # finding 5b: a second client during the return
+            cls.stranger_goal = stranger.send(STRANGER_GOAL)
+            cls.during_return = m.state_time('home') is None
+            cls.final, cls.final_at = m.wait_final()
+            cls.rotating_at, cls.returning_at = m.state_time('rotating'), m.state_time('returning')
+            m.wait_sim(1.5)         # a diagnostics period after the burst
+            cls.twist_refused = m.refused_odometry() - before
+            cls.error = run.error()
+            # finding 4c: vision_lost after home, and a goal
+            run.trigger_by_rostopic()
+            cls.home_goal = stranger.send(IDLE_GOAL)
+            cls.still = m.still_after(cls.final_at, WATCH)
+            cls.states = run.state_names()
+        finally:
+            odometry.sub.unregister()
         cls.loaded = run.recorded()
         with open(cls.victim) as stream:
             cls.victim_text = stream.read()
@@ -293,7 +316,8 @@ class TestA_RecordingAndTriggers(MissionCase):
         cls.progress = load_progress(progress_path(m.landmark_file))
         cls.leftovers = [name for name in os.listdir(m.directory) if name.endswith('.tmp')
                          and name != os.path.basename(cls.planted)]
-        cls.travelled = float((re.findall(r'travelled ([0-9.]+) m', m.final_reason()) or ['nan'])[0])
+        cls.travelled = m.track.length(cls.returning_at, cls.final_at)
+        cls.turned = abs(m.track.turned(cls.rotating_at, cls.returning_at))
 
     @staticmethod
     def absurd_odometry():
@@ -304,14 +328,17 @@ class TestA_RecordingAndTriggers(MissionCase):
         msg.pose.pose.orientation.w = 1.0
         return msg
 
+    def assert_rejected(self, answer, what):
+        self.assertEqual(answer[0], GoalStatus.REJECTED, what)
+        self.assertIn(ONE_PROCESS_REJECTS, answer[1], what)
+
     def test_finding1_odometry_burst_while_recording(self):
         loaded = self.loaded
         budget = RouteBudget(loaded.landmarks)
-        report(1, '%d /odom messages at x = 1e6 (100 Hz, 3 s) while recording: %d refused (%s); '
+        report(1, '%d /odom messages at x = 1e6 (100 Hz, 3 s) while recording: %d refused; '
                '%d landmarks, %.2f m recorded, largest d %.3f m, %d beyond the limits; return '
                'travelled %.2f m (budget %.2f m); %s %.3f m from the start',
-               self.burst_count, self.burst_refused, self.burst_warning.split('not used: ', 1)[-1][:100],
-               len(loaded.landmarks), loaded.total_distance,
+               self.burst_count, self.burst_refused, len(loaded.landmarks), loaded.total_distance,
                max(lm.d for lm in loaded.landmarks), len(landmarks_beyond_limits(loaded)),
                self.travelled, budget.limit, self.final, self.error)
         self.assertGreaterEqual(self.burst_refused, self.burst_count, 'a burst message was used')
@@ -321,22 +348,183 @@ class TestA_RecordingAndTriggers(MissionCase):
         self.assertLessEqual(self.travelled, budget.limit)
         self.assert_home('finding 1')
 
+    def test_finding2_impossible_twist_during_the_return(self):
+        report(2, '%d /odom messages with twist 1e6 m/s (100 Hz, 3 s) during the return: %d '
+               'refused; %s %.3f m from the start', self.twist_count, self.twist_refused,
+               self.final, self.error)
+        self.assertTrue(self.during_return, 'the return ended before the twist burst')
+        self.assertGreaterEqual(self.twist_refused, self.twist_count)
+        self.assert_home('finding 2')
+
     def test_finding3_stray_vision_lost_while_idle(self):
-        report(3, 'vision_lost while idle: %r; states then %s; %d landmarks, %.2f m recorded '
-               '(the whole 2.3 m); %s %.3f m from the start: %s', self.idle_trigger.split(': ', 1)[-1],
-               self.states_before_mission, len(self.loaded.landmarks), self.loaded.total_distance,
-               self.final, self.error, self.mission.final_reason())
+        report(3, 'vision_lost while idle: states then %s; %d landmarks, %.2f m recorded '
+               '(the whole 2.3 m); %s %.3f m from the start: %s', self.states_before_mission,
+               len(self.loaded.landmarks), self.loaded.total_distance, self.final, self.error,
+               self.mission.final_reason())
         self.assertEqual(self.states_before_mission, ['idle', 'recording'])
         self.assertGreater(self.loaded.total_distance, 0.9 * 2.3, 'the recording stopped early')
         self.assert_home('finding 3')
 
+    def test_finding4b_vision_lost_flood(self):
+        report('4b', '%d vision_lost at %.0f Hz from vision loss until %.1f s into the return: '
+               'states %s, turned %.2f rad before the return; %s %.3f m from the start',
+               self.flood_count, FLOOD_RATE, self.flood_until, self.states, self.turned,
+               self.final, self.error)
+        self.assertGreater(self.flood_until, 0.0, 'the flood did not last into the return')
+        self.assertAlmostEqual(self.turned, math.pi, delta=0.3, msg='not one pi turn')
+        self.assert_home('finding 4b')
+
     def test_finding4c_vision_lost_after_home(self):
         late, moved, turned = self.still
-        report('4c', 'vision_lost after home: %r; a goal after home: %s (%s); %d motion commands '
-               'after home; from home to %.0f s after them it moved %.4f m, turned %.4f rad; '
-               'rotate_pi turned %d time(s)', self.home_trigger.split(': ', 1)[-1],
-               GoalStatus.to_string(self.home_goal[0]), self.home_goal[1], len(late), WATCH, moved,
-               turned, len(turn_lines(self.mission)))
+        report('4c', 'vision_lost after home, a goal after home: %s (%s); states %s; %d motion '
+               'commands after home; from home to %.0f s after them it moved %.4f m, turned %.4f rad',
+               GoalStatus.to_string(self.home_goal[0]), self.home_goal[1], self.states, len(late),
+               WATCH, moved, turned)
+        self.assertEqual(self.final, 'home')
+        self.assertEqual(self.states, HOME_WALK, 'a state after home')
+        self.assert_rejected(self.home_goal, 'a goal after home')
+        self.assertEqual(late, [], 'motion commanded after home')
+        self.assertLess(moved, 0.005)
+        self.assertLess(turned, 0.01)
+
+    def test_finding5a_goal_while_idle(self):
+        moved, turned = self.idle_goal_motion
+        report('5a', 'goal d = 1000 m while idle: %s (%s); moved %.4f m, %d layer commands',
+               GoalStatus.to_string(self.idle_goal[0]), self.idle_goal[1], moved,
+               len(self.idle_goal_commands))
+        self.assert_rejected(self.idle_goal, 'a goal while idle')
+        self.assertEqual([c for c in self.idle_goal_commands if c[1] or c[2]], [])
+        self.assertLess(moved, 0.005)
+
+    def test_finding5b_second_client_during_the_return(self):
+        report('5b', "a second client's goal during the return: %s (%s); %s %.3f m from the start",
+               GoalStatus.to_string(self.stranger_goal[0]), self.stranger_goal[1], self.final, self.error)
+        self.assertTrue(self.during_return, 'the return ended before the goal')
+        self.assert_rejected(self.stranger_goal, 'a goal during the return')
+        self.assert_home('finding 5b')
+
+    def test_finding6d_planted_symlink_at_the_progress_tmp(self):
+        report('6d', 'symlink %s -> %s planted: victim %r after the mission, the link %s; progress '
+               'file %s; other temporary files left: %s', os.path.basename(self.planted),
+               os.path.basename(self.victim), self.victim_text,
+               'untouched' if self.planted_target == self.victim else 'CHANGED',
+               'status %s' % self.progress.status if self.progress else 'missing', self.leftovers)
+        self.assertEqual(self.victim_text, 'not the progress\n', 'the planted symlink was followed')
+        self.assertEqual(self.planted_target, self.victim)
+        self.assertIsNotNone(self.progress)
+        self.assertEqual(self.progress.status, 'home')
+        self.assertEqual(self.leftovers, [])
+
+
+def fast_copy(msg):
+    """``msg`` (the base's odometry) stamped now, with a twist no Kobuki makes."""
+    copy = Odometry()
+    copy.header.stamp, copy.header.frame_id = rospy.Time.now(), msg.header.frame_id
+    copy.child_frame_id, copy.pose = msg.child_frame_id, msg.pose
+    copy.twist.twist.linear.x = BURST_TWIST
+    return copy
+
+
+def saved(mission):
+    """Landmarks the recorder reported saved so far (its last storage message)."""
+    messages = mission.run.storage_msgs.snapshot()
+    return messages[-1].landmarks if messages else 0
+
+
+def unrecorded(mission, loaded):
+    """m of the recording the file does not hold: the ground-truth path length from
+    ``recording`` to ``rotating`` less the recorded sum of d (chords: within millimetres
+    of the arcs on this mission)."""
+    driven = mission.track.length(mission.state_time('recording'), mission.state_time('rotating'))
+    return max(0.0, driven - loaded.total_distance)
+
+
+# --- findings 4d, 5a, 5b, 5c, 6a on the paper's layout: its own topics, services, nodes ---------
+
+class TestB_PaperLayoutFaults(MissionCase):
+    """The paper's node layout (one_process:=false). While idle: a goal with d = 1000 to
+    back_travel_server (5a); while recording: landmark_saver killed (SIGKILL) and started
+    again 10 s later (6a: it continues the mission's file and catches up on the samples it
+    missed, no gap); while rotating, before the turn: rotation_done true (4d); during the
+    return: a second client's goal (5b), set_return_route with a NaN and a 1e6 anchor and
+    completed 99, as a stranger and with the owner's callerid forged (5c); after home: a
+    goal again (4c)."""
+
+    SAVER = 'landmark_saver'
+    SAVER_DOWN = 10.0           # s (sim) without a saver, as in the issue (10-18 s)
+
+    @classmethod
+    def play(cls):
+        m = cls.mission = FindingMission('paper_faults', one_process=False)
+        run = m.run
+        m.wait_idle()
+        # finding 5a: another node's goal while idle (the recording starts once this node
+        # takes the samples: wait_for_layer)
+        stranger = cls.idle_goal_sent()
+        run.wait_for_layer()
+        rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
+        # finding 6a: the saver killed mid-recording and restarted
+        cls.file_before = os.path.realpath(m.landmark_file)
+        run.start_operator(MISSION)
+        m.wait(lambda: saved(m) >= 4, 'the saver saved 4 landmarks')
+        kill_node('/' + cls.SAVER)
+        cls.saved_before = saved(m)
+        cls.killed_at = rospy.get_time()
+        m.wait_sim(cls.SAVER_DOWN)
+        m.start_node('landmark_saver.py', cls.SAVER)
+        m.wait(lambda: [t for t, msg in list(run.storage_msgs.items)
+                        if t > cls.killed_at and msg.landmarks > cls.saved_before],
+               'the restarted saver saves')
+        cls.restarted_at = [t for t, msg in list(run.storage_msgs.items) if t > cls.killed_at][0]
+        run.wait_for_operator(MISSION)
+        # the spoofed routes (built on the recording: one section per landmark sent)
+        recorded = list(reversed(run.recorded().landmarks))
+        far = route_message(build_route(list(reversed(recorded)), (1e6, 1e6)))
+        nan = route_message(build_route(list(reversed(recorded)), (1e6, 1e6)))
+        nan.x = [float('nan')] + list(nan.x[1:])
+        # finding 4d: rotation_done true before rotate_pi turned (the trigger from this node:
+        # `rostopic pub -1` blocks for 3 s, the turn would be over)
+        done = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
+        wait_connected(done, m.owner, 'rotation_done')
+        run.trigger_by_publisher()
+        cls.rotating_at = m.wait_state('rotating')
+        done.publish(Bool(data=True))
+        cls.handover_refused = m.wait_logged('rotation_done true refused')
+        cls.refused_at = rospy.get_time()
+        done.unregister()
+        m.wait_state('returning')
+        m.wait(lambda: run.truth.speed() > 0.02, 'the robot moves on the return')
+        # finding 5b: a second client during the return; 5c: spoofed routes
+        cls.stranger_goal = stranger.send(STRANGER_GOAL)
+        cls.route_answers = [
+            ('stranger, NaN anchor', set_route(nan, recorded, 0)),
+            ('owner forged, NaN anchor', set_route(nan, recorded, 0, m.owner)),
+            ('owner forged, anchor at 1e6', set_route(far, recorded, 0, m.owner)),
+            ('owner forged, completed 99', set_route(far, recorded, 99, m.owner))]
+        cls.during_return = m.state_time('home') is None
+        cls.final, cls.final_at = m.wait_final()
+        cls.returning_at = m.state_time('returning')
+        m.wait_sim(1.0)
+        cls.error = run.error()
+        # finding 4c: a goal after home
+        cls.home_goal = stranger.send(IDLE_GOAL)
+        cls.still = m.still_after(cls.final_at, WATCH)
+        cls.landmarks = len(run.recorded().landmarks)
+        cls.loaded = run.recorded()
+        cls.file_after = os.path.realpath(m.landmark_file)
+        cls.files = sorted(name for name in os.listdir(m.directory) if name.startswith('landmarks-'))
+        cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
+        cls.missing = unrecorded(m, cls.loaded)
+        cls.samples = len(run.samples.snapshot())      # every sample the publisher published
+        cls.samples_while_down = len([t for t, _ in list(run.samples.items)
+                                      if cls.killed_at < t < cls.restarted_at])
+
+    def test_finding4c_goal_after_home(self):
+        late, moved, turned = self.still
+        report('4c', 'paper layout: a goal after home: %s (%s); %d motion commands after home; '
+               'moved %.4f m, turned %.4f rad; rotate_pi turned %d time(s)',
+               GoalStatus.to_string(self.home_goal[0]), self.home_goal[1], len(late), moved, turned,
+               len(turn_lines(self.mission)))
         self.assertEqual(self.final, 'home')
         self.assertEqual(self.home_goal[0], GoalStatus.REJECTED)
         self.assertIn('the mission is home', self.home_goal[1])
@@ -360,7 +548,7 @@ class TestA_RecordingAndTriggers(MissionCase):
 
     def test_finding5a_goal_while_idle(self):
         moved, turned = self.idle_goal_motion
-        report('5a', 'goal d = 1000 m while idle: %s (%s); moved %.4f m, %d layer commands',
+        report('5a', 'paper layout: goal d = 1000 m while idle: %s (%s); moved %.4f m, %d layer commands',
                GoalStatus.to_string(self.idle_goal[0]), self.idle_goal[1], moved,
                len(self.idle_goal_commands))
         self.assertEqual(self.idle_goal[0], GoalStatus.REJECTED)
@@ -368,106 +556,16 @@ class TestA_RecordingAndTriggers(MissionCase):
         self.assertEqual([c for c in self.idle_goal_commands if c[1] or c[2]], [])
         self.assertLess(moved, 0.005)
 
-    def test_finding6d_planted_symlink_at_the_progress_tmp(self):
-        report('6d', 'symlink %s -> %s planted: victim %r after the mission, the link %s; progress '
-               'file %s; other temporary files left: %s', os.path.basename(self.planted),
-               os.path.basename(self.victim), self.victim_text,
-               'untouched' if self.planted_target == self.victim else 'CHANGED',
-               'status %s' % self.progress.status if self.progress else 'missing', self.leftovers)
-        self.assertEqual(self.victim_text, 'not the progress\n', 'the planted symlink was followed')
-        self.assertEqual(self.planted_target, self.victim)
-        self.assertIsNotNone(self.progress)
-        self.assertEqual(self.progress.status, 'home')
-        self.assertEqual(self.leftovers, [])
-
-
-# --- findings 2, 4b, 5b, 5c: faults during the return --------------------------------------
-
-class TestB_ReturnFaults(MissionCase):
-    """The trigger is a vision_lost flood at 1000 Hz (4b) that goes on until the return has
-    begun; during the return: 3 s of /odom with twist 1e6 at 100 Hz (2), a second client's
-    goal (5b), set_return_route with a NaN and a 1e6 anchor and completed 99, as a stranger
-    and with the owner's callerid forged (5c)."""
-
-    @classmethod
-    def play(cls):
-        m = cls.mission = FindingMission('return_faults')
-        run = m.run
-        odometry = BaseOdometry()
-        try:
-            run.wait_for_layer()
-            stranger = Stranger()
-            rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
-            run.play_mission(MISSION)
-            # the spoofed routes (built on the recording so far: one section per landmark sent)
-            recorded = list(reversed(run.recorded().landmarks))
-            far = route_message(build_route(list(reversed(recorded)), (1e6, 1e6)))
-            nan = route_message(build_route(list(reversed(recorded)), (1e6, 1e6)))
-            nan.x = [float('nan')] + list(nan.x[1:])
-            flood = Flood(m.owner)
-            try:
-                returning = m.wait_state('returning')
-                m.wait(lambda: run.truth.speed() > 0.02, 'the robot moves on the return')
-                m.wait_sim(1.0)
-            finally:
-                flood.stop()
-            cls.flood_count, cls.flood_until = flood.count, rospy.get_time() - returning
-            # finding 2: impossible twists during the return
-            before = m.refused_odometry()
-            cls.twist_count = odometry_burst(m, lambda: cls.fast_copy(odometry.latest))
-            cls.twist_during_return = m.state_time('home') is None
-            # finding 5b: a second client during the return
-            cls.stranger_goal = stranger.send(STRANGER_GOAL)
-            # finding 5c: spoofed routes
-            cls.route_answers = [
-                ('stranger, NaN anchor', set_route(nan, recorded, 0)),
-                ('owner forged, NaN anchor', set_route(nan, recorded, 0, m.owner)),
-                ('owner forged, anchor at 1e6', set_route(far, recorded, 0, m.owner)),
-                ('owner forged, completed 99', set_route(far, recorded, 99, m.owner))]
-            cls.spoofs_during_return = m.state_time('home') is None
-            cls.final, cls.final_at = m.wait_final()
-            cls.landmarks = len(run.recorded().landmarks)
-            m.wait_sim(1.5)     # a diagnostics period after the burst
-            cls.twist_refused = m.refused_odometry() - before
-            cls.error = run.error()
-            cls.still = m.still_after(cls.final_at, WATCH)
-        finally:
-            odometry.sub.unregister()
-
-    @staticmethod
-    def fast_copy(msg):
-        copy = Odometry()
-        copy.header.stamp, copy.header.frame_id = rospy.Time.now(), msg.header.frame_id
-        copy.child_frame_id, copy.pose = msg.child_frame_id, msg.pose
-        copy.twist.twist.linear.x = BURST_TWIST
-        return copy
-
-    def test_finding2_impossible_twist_during_the_return(self):
-        report(2, '%d /odom messages with twist 1e6 m/s (100 Hz, 3 s) during the return: %d '
-               'refused; %s %.3f m from the start', self.twist_count, self.twist_refused,
-               self.final, self.error)
-        self.assertTrue(self.twist_during_return, 'the return ended before the twist burst')
-        self.assertGreaterEqual(self.twist_refused, self.twist_count)
-        self.assert_home('finding 2')
-
-    def test_finding4b_vision_lost_flood(self):
-        m = self.mission
-        report('4b', '%d vision_lost at %.0f Hz from vision loss until %.1f s into the return: '
-               'states %s, %d turn(s); %s %.3f m from the start', self.flood_count, FLOOD_RATE,
-               self.flood_until, m.run.state_names(), len(turn_lines(m)), self.final, self.error)
-        self.assertGreater(self.flood_until, 0.0, 'the flood did not last into the return')
-        self.assertEqual(len(turn_lines(m)), 1, 'a second pi turn')
-        self.assert_home('finding 4b')
-
     def test_finding5b_second_client_during_the_return(self):
         m = self.mission
         # actionlib goal ids start with the sending node's name
         outcomes = [r.status.status for r in m.run.results.snapshot()
                     if r.status.goal_id.id.startswith(m.owner + '-')]
-        report('5b', "a second client's goal during the return: %s (%s); the layer's %d goals: %s; "
-               '%s %.3f m from the start', GoalStatus.to_string(self.stranger_goal[0]),
+        report('5b', "paper layout: a second client's goal during the return: %s (%s); the layer's "
+               '%d goals: %s; %s %.3f m from the start', GoalStatus.to_string(self.stranger_goal[0]),
                self.stranger_goal[1], len(outcomes), sorted(set(GoalStatus.to_string(s) for s in outcomes)),
                self.final, self.error)
+        self.assertTrue(self.during_return, 'the return ended before the goal')
         self.assertEqual(self.stranger_goal[0], GoalStatus.REJECTED)
         self.assertIn('only %s sends back-travel goals' % m.owner, self.stranger_goal[1])
         self.assertEqual(outcomes, [GoalStatus.SUCCEEDED] * self.landmarks,
@@ -478,7 +576,7 @@ class TestB_ReturnFaults(MissionCase):
         for what, (ok, message) in self.route_answers:
             report('5c', 'set_return_route (%s): ok=%s, %r', what, ok, message)
         report('5c', '%s %.3f m from the start', self.final, self.error)
-        self.assertTrue(self.spoofs_during_return, 'the return ended before the spoofed routes')
+        self.assertTrue(self.during_return, 'the return ended before the spoofed routes')
         expected = ['only %s sets the return route' % self.mission.owner, 'finite numbers',
                     'from where the route continues', 'completed 99 of only']
         for (what, (ok, message)), text in zip(self.route_answers, expected):
@@ -486,8 +584,33 @@ class TestB_ReturnFaults(MissionCase):
             self.assertIn(text, message, what)
         self.assert_home('finding 5c')
 
+    def test_finding6a_restarted_saver_continues_the_mission_file(self):
+        m, loaded = self.mission, self.loaded
+        succeeded = m.run.goal_outcomes().count(GoalStatus.SUCCEEDED)
+        late, moved, turned = self.still
+        report('6a', 'landmark_saver killed after %d landmarks, saving again %.1f s (sim) later: '
+               'mission files %s, %d landmarks, gaps %s, %d samples published (%d while no saver '
+               'ran); %d goals driven; warnings %r; %s %.3f m from the start (%.3f m of the path '
+               'not in the file); after it %d motion commands, moved %.4f m',
+               self.saved_before, self.restarted_at - self.killed_at, self.files, len(loaded.landmarks),
+               [gap.before for gap in loaded.gaps], self.samples, self.samples_while_down, succeeded,
+               self.warnings[-1:], self.final, self.error, self.missing, len(late), moved)
+        self.assertEqual(self.file_after, self.file_before, 'the restarted saver started a new file')
+        self.assertEqual(len(self.files), 1)
+        self.assertGreaterEqual(self.samples_while_down, 3, 'the saver was not down long enough')
+        self.assertEqual(len(loaded.landmarks), self.samples,
+                         'the file does not hold a landmark for every sample published')
+        self.assertEqual(loaded.gaps, [], 'the restarted saver did not catch up')
+        self.assertEqual(succeeded, len(loaded.landmarks), 'not every landmark was driven back')
+        self.assertEqual(self.warnings, [], 'a complete recording reported as degraded')
+        self.assertEqual(m.run.state_names(), HOME_WALK, m.final_reason())
+        self.assertLess(self.missing, 0.02, 'path missing from the file')
+        self.assertLessEqual(self.error, NORMAL_ACCURACY)
+        self.assertEqual(late, [])
+        self.assertLess(moved, 0.005)
 
-# --- finding 4a: rotation_done false during the standstill -----------------------------------
+
+# --- finding 4a: rotation_done false during the standstill (the paper's node layout) ----------
 
 class TestC_RotationDoneFalse(MissionCase):
     """rotation_done false while the robot stands still for the heading correction:
@@ -495,15 +618,11 @@ class TestC_RotationDoneFalse(MissionCase):
 
     @classmethod
     def play(cls):
-        m = cls.mission = FindingMission('rotation_false')
-        run = m.run
-        run.wait_for_layer()
-        m.nudge()
-        m.wait_sim(2.0)
-        done = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
-        wait_connected(done, m.owner, 'rotation_done')
-        run.trigger_by_publisher()
-        cls.rotating_at = m.wait_state('rotating')
+        def connect(m):
+            publisher = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1)
+            wait_connected(publisher, m.owner, 'rotation_done')
+            return publisher
+        m, done = cls.paper_turn('rotation_false', connect)
         done.publish(Bool(data=False))
         cls.final, cls.final_at = m.wait_final()
         done.unregister()
@@ -521,90 +640,6 @@ class TestC_RotationDoneFalse(MissionCase):
         self.assertEqual(late, [])
         self.assertLess(turned, 0.01)
         self.assertEqual(turn_lines(self.mission), [])
-
-
-def saved(mission):
-    """Landmarks the recorder reported saved so far (its last storage message)."""
-    messages = mission.run.storage_msgs.snapshot()
-    return messages[-1].landmarks if messages else 0
-
-
-def unrecorded(mission, loaded):
-    """m of the recording the file does not hold: the ground-truth path length from
-    ``recording`` to ``rotating`` less the recorded sum of d (chords: within millimetres
-    of the arcs on this mission)."""
-    driven = mission.track.length(mission.state_time('recording'), mission.state_time('rotating'))
-    return max(0.0, driven - loaded.total_distance)
-
-
-# --- finding 6a: landmark_saver restarted mid-mission (the paper's node layout) ----------------
-
-class TestD_SaverRestart(MissionCase):
-    """landmark_saver killed (SIGKILL) mid-recording and started again: it continues the
-    mission's file and catches up on the samples it missed from the sampling publisher's
-    record (no gap); the return drives every landmark and comes home."""
-
-    SAVER = 'landmark_saver'
-    SAVER_DOWN = 10.0           # s (sim) without a saver, as in the issue (10-18 s)
-
-    @classmethod
-    def play(cls):
-        m = cls.mission = FindingMission('saver_restart', one_process=False)
-        run = m.run
-        run.wait_for_layer()
-        cls.file_before = os.path.realpath(m.landmark_file)
-        run.start_operator(MISSION)
-        m.wait(lambda: saved(m) >= 4, 'the saver saved 4 landmarks')
-        kill_node('/' + cls.SAVER)
-        cls.saved_before = saved(m)
-        cls.killed_at = rospy.get_time()
-        m.wait_sim(cls.SAVER_DOWN)
-        m.start_node('landmark_saver.py', cls.SAVER)
-        m.wait(lambda: [t for t, msg in list(run.storage_msgs.items)
-                        if t > cls.killed_at and msg.landmarks > cls.saved_before],
-               'the restarted saver saves')
-        cls.restarted_at = [t for t, msg in list(run.storage_msgs.items) if t > cls.killed_at][0]
-        run.wait_for_operator(MISSION)
-        run.trigger_by_rostopic()
-        cls.final, cls.final_at = m.wait_final()
-        m.wait_sim(1.0)
-        cls.error = run.error()
-        cls.still = m.still_after(cls.final_at, WATCH)
-        cls.loaded = run.recorded()
-        cls.file_after = os.path.realpath(m.landmark_file)
-        cls.files = sorted(name for name in os.listdir(m.directory) if name.startswith('landmarks-'))
-        cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
-        cls.missing = unrecorded(m, cls.loaded)
-        cls.samples = len(run.samples.snapshot())      # every sample the publisher published
-        cls.samples_while_down = len([t for t, _ in list(run.samples.items)
-                                      if cls.killed_at < t < cls.restarted_at])
-
-    def test_finding6a_restarted_saver_continues_the_mission_file(self):
-        m, loaded = self.mission, self.loaded
-        succeeded = m.run.goal_outcomes().count(GoalStatus.SUCCEEDED)
-        late, moved, turned = self.still
-        report('6a', 'landmark_saver killed after %d landmarks, saving again %.1f s (sim) later: '
-               'mission files %s, %d landmarks (%d before the kill), gaps %s, %d samples published '
-               '(%d while no saver ran); '
-               '%d goals driven; warnings %r; %s %.3f m from the start (%.3f m of the path not '
-               'in the file); after it %d motion commands, moved %.4f m',
-               self.saved_before, self.restarted_at - self.killed_at, self.files, len(loaded.landmarks),
-               self.saved_before, [gap.before for gap in loaded.gaps], self.samples,
-               self.samples_while_down, succeeded,
-               self.warnings[-1:], self.final, self.error, self.missing, len(late), moved)
-        self.assertEqual(self.file_after, self.file_before, 'the restarted saver started a new file')
-        self.assertEqual(len(self.files), 1)
-        self.assertGreaterEqual(self.samples_while_down, 3, 'the saver was not down long enough')
-        self.assertEqual(len(loaded.landmarks), self.samples,
-                         'the file does not hold a landmark for every sample published')
-        self.assertEqual(loaded.gaps, [], 'the restarted saver did not catch up')
-        self.assertEqual(succeeded, len(loaded.landmarks), 'not every landmark was driven back')
-        self.assertEqual(self.warnings, [], 'a complete recording reported as degraded')
-        self.assertEqual(m.run.state_names(), HOME_WALK, m.final_reason())
-        self.assertLess(self.missing, 0.02, 'path missing from the file')
-        self.assertLessEqual(self.error, NORMAL_ACCURACY)
-        self.assertEqual(late, [])
-        self.assertLess(moved, 0.005)
 
 
 # --- finding 6b: the landmark file cannot be written any more (a full disk) ------------------
@@ -691,69 +726,6 @@ def limit_file_size(pid, size):
     no limit again): its writes beyond fail with EFBIG, as on a full disk with ENOSPC."""
     hard = resource.prlimit(pid, resource.RLIMIT_FSIZE)[1]
     resource.prlimit(pid, resource.RLIMIT_FSIZE, (resource.RLIM_INFINITY if size is None else size, hard))
-
-
-# --- issue 28: a write failure only while the robot stands still is bridged ------------------
-
-class TestK_StillWriteFailure(MissionCase):
-    """The disk refuses writes only while the robot stands still: at the start, before the
-    operator drives (then accepts again), and at the end, from when the operator is done
-    through the vision loss, the standstill and the return (the file, the progress file:
-    RLIMIT_FSIZE as in TestE). Every lost landmark was taken standing still: a gap the return
-    bridges, with a warning; the progress that cannot be written is a warning too."""
-
-    @classmethod
-    def play(cls):
-        m = cls.mission = file_limited_mission('still_write_failure')
-        run = m.run
-        run.wait_for_layer()
-        pid = node_pid(m.owner)
-        m.wait(lambda: saved(m) >= 1, 'the saver saved a landmark')
-        cls.file = os.path.realpath(m.landmark_file)
-        limit_file_size(pid, os.path.getsize(cls.file))
-        m.wait(lambda: lost(m) >= 2, 'two landmarks lost while standing still')
-        limit_file_size(pid, None)
-        cls.lost_at_start = lost(m)
-        run.play_mission(MISSION)
-        limit_file_size(pid, os.path.getsize(cls.file))
-        cls.limited_at = rospy.get_time()
-        run.trigger_by_rostopic()
-        cls.final, cls.final_at = m.wait_final()
-        m.wait_sim(1.0)
-        cls.error = run.error()
-        cls.still = m.still_after(cls.final_at, WATCH)
-        cls.storage = run.storage_msgs.snapshot()[-1]
-        cls.loaded = load_landmarks(cls.file)
-        cls.driven = m.track.length(m.state_time('recording'), cls.limited_at)
-        cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
-        cls.progress_lines = m.logged('the return progress cannot be written')
-
-    def test_issue28_a_loss_while_standing_still_is_bridged_and_comes_home(self):
-        m, loaded, storage = self.mission, self.loaded, self.storage
-        late, moved, turned = self.still
-        report('28 still', '%d landmarks lost standing still at the start, %d in all (%.4f m, %.4f rad); '
-               'the file holds %d landmarks, %.3f m of %.3f m driven, gaps %s; progress warnings %d; '
-               '%s %.3f m from the start: %r; after it %d motion commands, moved %.4f m',
-               self.lost_at_start, storage.lost, storage.lost_distance, storage.lost_turn,
-               len(loaded.landmarks), loaded.total_distance, self.driven,
-               [gap.before for gap in loaded.gaps], len(self.progress_lines), self.final, self.error,
-               m.final_reason(), len(late), moved)
-        self.assertGreaterEqual(self.lost_at_start, 2)
-        self.assertGreater(storage.lost, self.lost_at_start, 'nothing was lost at the end')
-        self.assertLessEqual(storage.lost_distance, STILL_LOSS_DISTANCE)
-        self.assertEqual(len(loaded.gaps), 1, 'the start\'s loss is not one hole')
-        self.assertLess(self.driven - loaded.total_distance, 0.02, 'driven path missing from the file')
-        self.assert_home('a loss while standing still')
-        self.assertIn('while the robot stood still', m.final_reason())
-        self.assertTrue(any('while the robot stood still' in w for w in self.warnings), self.warnings)
-        self.assertEqual(late, [])
-        self.assertLess(moved, 0.005)
-
-
-def lost(mission):
-    """Landmarks the recorder reported lost so far (its last storage message)."""
-    messages = mission.run.storage_msgs.snapshot()
-    return messages[-1].lost if messages else 0
 
 
 # --- issue 28: a storage that cannot hold a file, or holds few minutes, at start -------------
@@ -912,13 +884,7 @@ class TestG_RotatePiRestart(MissionCase):
 
     @classmethod
     def play(cls):
-        m = cls.mission = FindingMission('rotate_pi_restart', one_process=False)
-        run = m.run
-        run.wait_for_layer()
-        m.nudge()
-        m.wait_sim(2.0)
-        run.trigger_by_publisher()
-        cls.rotating_at = m.wait_state('rotating')
+        m, _ = cls.paper_turn('rotate_pi_restart')
         m.wait(lambda: [c for c in m.layer_commands() if c[3] == '/rotate_pi' and c[2] != 0.0],
                'rotate_pi turns')
         m.wait_sim(1.0)
@@ -946,7 +912,7 @@ class TestG_RotatePiRestart(MissionCase):
         self.assertLess(turned, 0.01)
 
 
-# --- findings 7b, 7c: back_travel_client restarted mid-return with a bad progress file -------
+# --- finding 7b: back_travel_client restarted mid-return with a bad progress file -------------
 
 class ClientRestart(MissionCase):
     """back_travel_client killed (SIGKILL) mid-return, its progress file tampered with
@@ -1005,22 +971,6 @@ class TestH_CorruptProgress(ClientRestart):
 
     def test_finding7b_corrupt_progress_on_a_client_restart(self):
         self.check('7b', 'torn YAML', 'not a YAML text')
-
-
-class TestI_Completed99(ClientRestart):
-    LABEL = 'completed_99'
-
-    @staticmethod
-    def tamper(path):
-        with open(path) as stream:
-            text = stream.read()
-        doctored, count = re.subn(r'^completed: \d+$', 'completed: 99', text, flags=re.M)
-        assert count == 1, 'no completed field in %s' % path
-        with open(path, 'w') as stream:
-            stream.write(doctored)
-
-    def test_finding7c_completed_99_on_a_client_restart(self):
-        self.check('7c', 'completed: 99', 'completed')
 
 
 # --- finding 7d: the master restarted mid-recording ------------------------------------------
