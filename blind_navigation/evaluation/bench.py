@@ -3,7 +3,8 @@
     /usr/bin/python3 -m blind_navigation.evaluation.bench [--seeds 20] [--processes 2]
         [--real-like-paths 60] [--real-like-seed 1000] [--no-real-like-events]
         [--loops-paths 40] [--loops-seed 2000] [--physics-paths 100] [--physics-table6-seeds 3]
-        [--physics-trajectory-seeds 2] [--physics-loop-paths 12] [--no-ros] [--ros-seeds 2] [--rtf 4]
+        [--physics-trajectory-seeds 2] [--physics-loop-paths 12] [--docking-paths 20]
+        [--no-ros] [--ros-seeds 2] [--rtf 4]
         [--ros-harness-seeds 2] [--ros-harness-rtf 5] [--ros-harness-rtf1-runs 3]
         [--ros-set 10] [--ros-set-bases kinematic mujoco]
         [--no-cost] [--cost-reps 3] [--cost-latency-seeds 3] [--survival-seeds 5]
@@ -22,6 +23,8 @@ Sections (docs/evaluation.md says what each number means):
    the closed-loop return pruned and unpruned: return length, time and error;
 7. physics base (evaluation/physics.py): the default launch on the MuJoCo Kobuki
    (sim/mujoco_kobuki.py) beside the kinematic one, same missions and seeds;
+7b. docking (evaluation/docking.py): seeded 5-30 m missions from the Kobuki's dock with
+   dock_at_home, both bases: how many end docked, the time from home to docked;
 8. ROS runs (bench.launch): ROS vs harness on the same missions and seeds,
    the landmark file vs the bag of the same run, detection and rotation latency,
    and run by run on real trajectories and real-like paths (evaluation/ros_harness.py),
@@ -41,7 +44,7 @@ import time
 
 from ..core.back_travel import MODES
 from ..sim.mission import load_mission
-from . import cost, loops, paper, physics, plots, real_like, survival, tables
+from . import cost, docking, loops, paper, physics, plots, real_like, survival, tables
 from .storage import write_odom_bag
 from .forward import record_forward
 from .montecarlo import jobs_for, recording_settings, run_jobs
@@ -341,6 +344,8 @@ def main(argv=None):
     parser.add_argument('--physics-trajectory-seeds', type=int, default=2,
                         help='physics base: seeds per real trajectory')
     parser.add_argument('--physics-loop-paths', type=int, default=12, help='physics base: loop paths')
+    parser.add_argument('--docking-paths', type=int, default=20,
+                        help='missions from the dock per base of the docking section (0: skip)')
     parser.add_argument('--no-ros', action='store_true', help='skip the ROS runs')
     parser.add_argument('--ros-seeds', type=int, default=2)
     parser.add_argument('--rtf', type=float, default=4.0, help='real-time factor of the agreement runs')
@@ -391,6 +396,10 @@ def main(argv=None):
     if args.physics_paths > 0:
         physics_text, physics_rows = timed('physics base', physics.section, args, log)
         write_csv(os.path.join(args.out, 'physics.csv'), physics_rows)
+    docking_text = ''
+    if args.docking_paths > 0:
+        docking_text, _ = timed('docking', docking.section, args.docking_paths, 4000, docking.BASES,
+                                args.processes, args.out, log)
     ros_text = ''
     if not args.no_ros:
         ros_text, _ = timed('ROS runs', ros_section, args, rows)
@@ -428,6 +437,9 @@ def main(argv=None):
     if physics_text:
         sections.append(('physics', 'Physics base: the MuJoCo Kobuki beside the kinematic one (same missions '
                          'and seeds, default launch)', physics_text))
+    if docking_text:
+        sections.append(('docking', 'Docking at home: missions from the Kobuki\'s dock with dock_at_home',
+                         docking_text))
     note = ('\nRecorded statistics (RLV, RAV, samples, memory) are those of the `time` runs, i.e. the '
             'paper\'s configuration (launch/paper.launch, classifier dead-band 0); `closed_loop` records '
             'with blind_navigation.launch\'s dead-band 0.01 rad (montecarlo.csv has every mode\'s).\n')

@@ -217,13 +217,13 @@ def _written(path, rows):
     return rows
 
 
-def path_set(count, first_seed=3000):
+def path_set(count, first_seed=3000, length=SET_LENGTH):
     """(group, key, path seed) of ``count`` seeded paths of :data:`SET_CATEGORIES` in turn, seeds
-    ``first_seed`` on, those whose commands drive :data:`SET_LENGTH` m on an ideal robot."""
+    ``first_seed`` on, those whose commands drive ``length`` (min, max) m on an ideal robot."""
     paths, k = [], 0
     while len(paths) < count:
         key, seed = SET_CATEGORIES[k % len(SET_CATEGORIES)], first_seed + k // len(SET_CATEGORIES)
-        if SET_LENGTH[0] <= mission_of(key, key, seed).nominal_length() <= SET_LENGTH[1]:
+        if length[0] <= mission_of(key, key, seed).nominal_length() <= length[1]:
             paths.append((key, key, seed))
         k += 1
     return paths

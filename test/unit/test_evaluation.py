@@ -206,3 +206,12 @@ def test_logged_contacts_counts_the_servers_contact_lines(tmp_path):
                    '[ERROR] SAFETY STOP: bumper center pressed\n'
                    '[WARN] back_travel_server: goal 11: bumper contact 2 (bumper left pressed): holding\n')
     assert logged_contacts(str(log)) == 2
+
+
+def test_the_docking_row_counts_missions_from_the_dock(tmp_path):
+    from blind_navigation.evaluation import docking
+    text, rows = docking.section(2, 4000, ('kinematic',), 1, str(tmp_path), log=lambda _: None)
+    assert len(rows) == 2 and {r['base'] for r in rows} == {'kinematic'}
+    assert all(5.0 <= r['length'] <= 31.0 and r['state'] in ('docked', 'home') for r in rows), rows
+    assert all(r['docked'] == (r['state'] == 'docked') for r in rows), rows
+    assert '| kinematic | 2 |' in text and os.path.exists(str(tmp_path / 'docking.csv'))
