@@ -25,7 +25,7 @@ from blind_navigation.core.role_params import BACK_TRAVEL_SERVER
 from blind_navigation.core.segment import period_of
 from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.clock import after, every
+from blind_navigation.ros.clock import action_server, after
 from blind_navigation.ros.common import shutting_down
 from blind_navigation.ros.drive_loop import DriveLoop
 from blind_navigation.ros.faults import describe
@@ -76,15 +76,8 @@ class BackTravelServer(object):
                                takeover=self.takeover)
         layer.mission.on_change(guard(self._on_state))
         rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, guard(self._on_set_route))
-        self.server = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction,
-                                             guard(self._on_goal), guard(self._on_cancel),
-                                             auto_start=False)
-        # actionlib reads it in start(), searching from the node's private namespace first:
-        # 0, no rospy.Timer of its own (the ROS time moving back ends one with a traceback);
-        # the status is published every 1/status_frequency s by ros/clock.every instead
-        rospy.set_param('~actionlib_status_frequency', 0.0)
-        self.server.start()
-        every(1.0 / p.status_frequency, guard(self.server.publish_status), 'action status', self.log)
+        self.server = action_server(names.BACK_TRAVEL, BackTravelAction, guard, self._on_goal,
+                                    self._on_cancel, 1.0 / p.status_frequency, self.log)
         rospy.on_shutdown(self._wake.set)
         threading.Thread(target=guard(self._work), name='back_travel_goals', daemon=True).start()
         self.last_abort = ''

@@ -3,11 +3,13 @@
 :class:`LoopClock` (``sleep``, ``rate``, ``wait``) sleeps as rospy does, but a jump back
 (a restarted simulator's ``/clock``) ends the sleep early and is returned and warned,
 never raised; :func:`every` and :func:`after` are timers on it (a daemon thread each);
-:func:`on_moved_back` calls back once per jump (docs/safety.md, "Time that moves back").
+:func:`on_moved_back` calls back once per jump (docs/safety.md, "Time that moves back");
+:func:`action_server`: an actionlib server without actionlib's status timer.
 """
 import threading
 import time
 
+import actionlib
 import rospy
 
 #: wall s: a loop warns at most once in this long (a clock that keeps jumping: the next
@@ -159,6 +161,21 @@ def after(seconds, callback, loop, log=None):
         if not rospy.is_shutdown():
             callback()
     threading.Thread(target=_until_shutdown(run), name=loop, daemon=True).start()
+
+
+def action_server(name, action, guard, on_goal, on_cancel=None, status_period=None, log=None):
+    """A started actionlib.ActionServer of ``action`` on ``name`` (callbacks through
+    ``guard``) without actionlib's status timer (a rospy.Timer, which the time moving back
+    ends): actionlib publishes the status at each goal's transition and, with
+    ``status_period`` (s), :func:`every` that long."""
+    callbacks = [guard(on_goal)] + ([guard(on_cancel)] if on_cancel is not None else [])
+    server = actionlib.ActionServer(name, action, *callbacks, auto_start=False)
+    # read by start(), searched from the node's private namespace first: 0, no timer
+    rospy.set_param('~actionlib_status_frequency', 0.0)
+    server.start()
+    if status_period is not None:
+        every(status_period, guard(server.publish_status), 'action status', log)
+    return server
 
 
 def _until_shutdown(run):

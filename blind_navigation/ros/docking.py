@@ -18,8 +18,12 @@ from ..core import mission_state
 from ..core.docking import DockingResult
 from . import kobuki_msgs_compat as kobuki
 
-#: s the action server may take to be found when the goal is sent (it was looked for since start-up)
-SERVER_WAIT = 5.0
+
+def server_found(client):
+    """Whether ``client``'s (an actionlib.SimpleActionClient) server is connected now: one
+    look, no wait (a deadline already past at ROS time 0; a zero timeout would wait forever)."""
+    now = rospy.get_rostime()
+    return not now.is_zero() and client.wait_for_server(rospy.Duration(-now.secs, -now.nsecs))
 
 
 class DockingClient(object):
@@ -27,6 +31,7 @@ class DockingClient(object):
 
     def __init__(self, inbox, takeover, log):
         self.inbox, self.takeover, self.log = inbox, takeover, log
+        # made at start-up: by the docking the server has long been found
         self.client = actionlib.SimpleActionClient(names.DOCK_DRIVE, kobuki.AutoDockingAction)
         self.velocity = rospy.Publisher(names.MUX_OUTPUT, Twist, queue_size=1)
         self._lock = threading.Lock()
@@ -35,23 +40,15 @@ class DockingClient(object):
                  rospy.resolve_name(names.DOCK_DRIVE))
 
     def start(self):
-        """Send the docking goal (from a thread of its own: the server may need finding)."""
+        """Send the docking goal; without the auto-docking server the mission hears why not
+        (its Inbox), at once."""
+        if not server_found(self.client):
+            self.inbox.put(docking=DockingResult(False, 'no auto-docking action server on %s' %
+                                                 rospy.resolve_name(names.DOCK_DRIVE)))
+            return
         with self._lock:
             self._goal += 1
             goal = self._goal
-        threading.Thread(target=self._send, args=(goal,), name='docking goal').start()
-
-    def _send(self, goal):
-        found = self.client.wait_for_server(rospy.Duration(SERVER_WAIT))
-        with self._lock:
-            if goal != self._goal:
-                return                  # ended meanwhile
-            if not found:
-                self._goal = 0
-                self.inbox.put(docking=DockingResult(False, 'no auto-docking action server on %s '
-                                                     'within %.0f s' % (rospy.resolve_name(
-                                                         names.DOCK_DRIVE), SERVER_WAIT)))
-                return
             self.client.send_goal(kobuki.AutoDockingGoal(), done_cb=lambda status, result:
                                   self._done(goal, status, result))
         self.log.info('docking: the auto-docking goal is sent')

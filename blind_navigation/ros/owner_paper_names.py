@@ -8,13 +8,12 @@ find it; every goal is rejected (:data:`REJECTED`). docs/recording.md, docs/DESI
 """
 import threading
 
-import actionlib
 import rospy
 
 from blind_navigation import names
 from blind_navigation.core.landmark_request import LandmarkRequest, hand_in, withdraw
 from blind_navigation.msg import BackTravelAction, BackTravelResult
-from blind_navigation.ros.clock import every
+from blind_navigation.ros.clock import action_server
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 
 #: s (wall) a request waits for the mission's answer: the recording takes it once odometry
@@ -37,13 +36,8 @@ class PaperNames(object):
                                          owner.guard(self._on_request))
             self.log.info('serving %s: a request is one more landmark of the mission\'s recording',
                           rospy.resolve_name(names.RECORD_LANDMARK))
-        self.action = actionlib.ActionServer(names.BACK_TRAVEL, BackTravelAction,
-                                             owner.guard(self._on_goal), auto_start=False)
-        # no actionlib timer (the ROS time moving back ends one): the status from ros/clock.every
-        rospy.set_param('~actionlib_status_frequency', 0.0)
-        self.action.start()
-        every(1.0 / owner.params.status_frequency, owner.guard(self.action.publish_status),
-              'action status', self.log)
+        # no periodic status: actionlib publishes it (latched) at start and at each rejection
+        self.action = action_server(names.BACK_TRAVEL, BackTravelAction, owner.guard, self._on_goal)
 
     def _on_request(self, request):
         """Hand the request in, wait for its answer: saved, label, or why not."""
@@ -65,7 +59,8 @@ class PaperNames(object):
         return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
 
     def _on_goal(self, handle):
-        """Reject the goal naming why (logged once per goal)."""
+        """Reject the goal naming why (logged once per goal); actionlib publishes the result
+        and the status that ends it ``REJECTED`` with :data:`REJECTED` as its text."""
         self.log.warn('%s goal %s rejected: %s', rospy.resolve_name(names.BACK_TRAVEL),
                       handle.get_goal_id().id, REJECTED)
         handle.set_rejected(BackTravelResult(), REJECTED)

@@ -5,25 +5,31 @@ one-process layer (the mission owner, interfaces.test) serves the paper's names 
 this node's odometry: ``record_landmark`` saves one extra landmark of the mission's
 recording at the odometry of the request's stamp (its T and psi; d the path from the
 previous landmark), refuses bad requests, ``final`` and requests outside the recording
-(naming the state), saving nothing; ``back_travel`` rejects every goal naming why,
-and nothing drives."""
+(naming the state), saving nothing; ``back_travel`` rejects every goal naming why (no
+status published without a goal changing), and nothing drives. The owner's docking client
+(ros/docking.py) sends its goal at once, or says at once that no server is there."""
 import math
 import re
 import threading
 import unittest
+from types import SimpleNamespace
 
 import actionlib
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalStatus
+from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
 
+from blind_navigation.core.docking import DockingResult
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import (BackTravelAction, BackTravelFeedback, BackTravelGoal,
                                   BackTravelResult, PathSample)
+from blind_navigation.ros import kobuki_msgs_compat as kobuki
+from blind_navigation.ros.docking import DockingClient
+from blind_navigation.ros.mission_owner import Inbox
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 
 from recording_tools import Collector
@@ -124,6 +130,7 @@ class InterfacesTest(unittest.TestCase):
 
     def test_the_mission_owner_rejects_back_travel_goals(self):
         teleop = Collector('/cmd_vel_mux/input/teleop', Twist)
+        statuses = Collector('/blind_navigation/back_travel/status', GoalStatusArray)
         client = actionlib.SimpleActionClient('/blind_navigation/back_travel', BackTravelAction)
         self.assertTrue(client.wait_for_server(rospy.Duration(LAYER_TIMEOUT)),
                         'the layer served no back_travel action within %.0f s' % LAYER_TIMEOUT)
@@ -131,9 +138,31 @@ class InterfacesTest(unittest.TestCase):
         self.assertTrue(client.wait_for_result(rospy.Duration(TIMEOUT)), 'no action result')
         self.assertEqual(client.get_state(), GoalStatus.REJECTED)
         self.assertIn('drives its return itself', client.get_goal_status_text())
-        rospy.sleep(1.0)
+        rejected = lambda: [m for m in statuses.snapshot() if any(    # noqa: E731  (the only goal)
+            s.status == GoalStatus.REJECTED and 'drives its return' in s.text for s in m.status_list)]
+        wait_for(rejected, 'a status naming the goal rejected', TIMEOUT)
+        heard = len(statuses)
+        rospy.sleep(2.0)        # two periods of the former 1 Hz status thread (status_frequency)
+        self.assertEqual(len(statuses), heard, 'the status is published without a goal changing')
         moving = [m for m in teleop.snapshot() if m.linear.x or m.angular.z]
         self.assertEqual(moving, [], 'the rejected goal drove the robot')
+
+    def test_the_docking_client_sends_its_goal_without_waiting_for_the_server(self):
+        """ros/docking.DockingClient: without the auto-docking server, start() has put why
+        into the owner's inbox when it returns; with one (found meanwhile), the goal is sent
+        and its end comes in."""
+        inbox = Inbox()
+        docking = DockingClient(inbox, None, SimpleNamespace(info=rospy.loginfo))
+        docking.start()
+        self.assertEqual(inbox.take(0.0)[2], {'docking': DockingResult(
+            False, 'no auto-docking action server on /dock_drive_action')})
+        server = actionlib.SimpleActionServer('/dock_drive_action', kobuki.AutoDockingAction, execute_cb=(
+            lambda goal: server.set_succeeded(kobuki.AutoDockingResult(text='on the dock'))), auto_start=False)
+        server.start()
+        self.assertTrue(docking.client.wait_for_server(rospy.Duration(TIMEOUT)),
+                        'the docking client did not find the server within %.0f s' % TIMEOUT)
+        docking.start()
+        self.assertEqual(inbox.take(TIMEOUT)[2], {'docking': DockingResult(True, 'on the dock')})
 
     def test_the_mission_owner_serves_record_landmark(self):
         states = Collector('/blind_navigation/state', String)
