@@ -233,12 +233,15 @@ def run_set(out_dir, bases, count, rtf=5.0, extra=((1.0, 2), (15.0, 2)), first_s
     """Issue 29's runs: on each of ``bases`` the :func:`path_set` at ``rtf``, the first
     ``n`` of them also at each (rtf, n) of ``extra``; the harness beside each (no other
     realisations) and as each ROS run ran (its start lead and median hand-over gap, :func:`pair`);
-    blind_navigation.launch's defaults (motion-event samples, pruning). Rows, one per (path, base), written to ros_set.csv."""
+    blind_navigation.launch's defaults (motion-event samples, pruning). Each run its own robot:
+    noise seed ``first_seed`` + its index (the fake draws its noise by sim time, so runs of one
+    seed share their standstill's gyro noise). Rows, one per (path, base), written to ros_set.csv."""
     rows, out_dir = [], os.path.abspath(out_dir)
     for base in bases:
         for index, (group, key, path_seed) in enumerate(path_set(count, first_seed)):
             rtfs = (rtf,) + tuple(other for other, n in extra if index < n)
-            rows.append(pair(out_dir, group, key, path_seed, path_seed, rtfs, log, True, True, base, 0, True))
+            rows.append(pair(out_dir, group, key, path_seed, first_seed + index, rtfs, log, True, True, base, 0,
+                             True))
     return _written(os.path.join(out_dir, 'ros_set.csv'), rows)
 
 
@@ -247,12 +250,12 @@ def set_table(rows, rtf=5.0):
     rtf the summary against :data:`SET_TARGETS`."""
     rtfs = sorted({float(k[3:].split('_')[0]) for r in rows for k in r
                    if k.startswith('ros') and k.endswith(('_state', '_failed'))}, key=lambda x: (x != rtf, x))
-    lines = [[r['path'], r['path_seed'], r['base'], num(r['harness_length'], 1), num(r['harness_floor_pct'], 2),
+    lines = [[r['path'], '%d / %d' % (r['path_seed'], r['seed']), r['base'], num(r['harness_length'], 1), num(r['harness_floor_pct'], 2),
               num(r['harness_error_pct'], 2)]
              + ['%s (%s, %s)' % (num(r.get('ros%g_error_pct' % x), 2), num(r.get('ros%g_rtf' % x), 1),
                                  r.get('ros%g_state' % x) or r.get('ros%g_failed' % x, '—')) for x in rtfs]
              for r in rows]
-    text = markdown_table(['path', 'seed', 'base', 'length m', 'harness floor %', 'harness error %']
+    text = markdown_table(['path', 'path / noise seed', 'base', 'length m', 'harness floor %', 'harness error %']
                           + ['ROS rtf %g error %% (achieved rtf, state)' % x for x in rtfs], lines)
     summary = []
     for base in sorted({r['base'] for r in rows}):
