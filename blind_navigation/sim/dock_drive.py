@@ -46,6 +46,7 @@ class DockDrive(object):
         self._rotated = 0.0        # turns scanned
         self._stabilizer = 0
         self._bumps = 0
+        self.bumped = 0            # bumps (pressed without charging) since the goal began, for verdicts
         self._heading = None
         self.unseen_time = 0.0     # s driving (not turning on the spot) with no beam seen, for verdicts
 
@@ -85,6 +86,7 @@ class DockDrive(object):
             else:
                 self._set('DOCKED_IN', 0.0, 0.0)
         else:
+            self.bumped += self.state != 'BUMPED'
             self._set('BUMPED', -0.05, 0.0)
             self._bumps = 0
 

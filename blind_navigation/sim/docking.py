@@ -16,6 +16,9 @@ from .kobuki import SENSOR_PERIOD
 
 TIME_LIMIT = 120.0            # s of sim time a goal may take (the fake's; docs/fake_turtlebot.md)
 LOST_TIME = 5.0               # s driving with no receiver seeing any beam: the dock is lost (the fake's)
+#: bumps without charging that end a goal once backed off: the drive's retry after a bump re-aligns
+#: on the same beam 1 cm back, so a second bump is the same approach again (docs/fake_turtlebot.md)
+BUMP_LIMIT = 2
 SUCCEEDED = 'Arrived on docking station successfully.'   # kobuki_auto_docking's result text
 
 DockingResult = namedtuple('DockingResult', 'docked text state time farthest')
@@ -29,6 +32,9 @@ def verdict(drive, elapsed, time_limit=TIME_LIMIT):
         return True, SUCCEEDED
     if drive.state == 'UNKNOWN':
         return False, 'Aborted: dock not seen: no dock IR beam found in a full turn (state UNKNOWN).'
+    if drive.bumped >= BUMP_LIMIT and drive.state != 'BUMPED':
+        return False, 'Aborted: bumped %d times without charging, backed off (state %s).' % (
+            drive.bumped, drive.state)
     if drive.unseen_time > LOST_TIME:
         return False, 'Aborted: dock lost: no dock IR beam for %g s while driving (state %s).' % (
             LOST_TIME, drive.state)

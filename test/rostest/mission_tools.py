@@ -98,11 +98,17 @@ class TimedTwists(object):
             return [item for item in self.items if item[0] >= t]
 
 
+def _return_or_state(state):
+    return 'return' if state == 'returning' or state in FINAL_STATES else state
+
+
 class PathByState(object):
     """Ground-truth path length (m) driven in each mission state: the recording
-    (``recording``) and the return after the pi turn (``returning`` and after)."""
+    (``recording``) and the return after the pi turn (``returning`` and after); with
+    ``key``, under ``key(state)`` (e.g. ``str``: each state by its own name)."""
 
-    def __init__(self):
+    def __init__(self, key=_return_or_state):
+        self._key = key
         self._lock = threading.Lock()
         self.state = None
         self.length = {}
@@ -119,7 +125,7 @@ class PathByState(object):
         with self._lock:
             if self._last is not None and self.state is not None:
                 step = math.hypot(p.x - self._last[0], p.y - self._last[1])
-                key = 'return' if self.state == 'returning' or self.state in FINAL_STATES else self.state
+                key = self._key(self.state)
                 self.length[key] = self.length.get(key, 0.0) + step
             self._last = (p.x, p.y)
 
@@ -222,22 +228,26 @@ class MissionRun(object):
     def set_rtf(self, rtf):
         """Run the fake's clock at ``rtf`` x real time from now on (its ~rtf topic), once the
         fake says so on /rosout: a test runs what it does not time faster than the launch's rtf."""
+        self.tell_fake(RTF_TOPIC, Float64(rtf), 'fake_kobuki: rtf %g from' % rtf)
+
+    def tell_fake(self, topic, message, line):
+        """Publish ``message`` on the fake base's rig ``topic`` until the fake logs ``line``
+        on /rosout (asked again each second: a line logged before this node's /rosout
+        subscription connected to the fake is lost)."""
         rosout = Collector('/rosout', Log)
-        publisher = rospy.Publisher(RTF_TOPIC, Float64, queue_size=1, latch=True)
-        line, asked = 'fake_kobuki: rtf %g from' % rtf, [float('-inf')]
+        publisher = rospy.Publisher(topic, type(message), queue_size=1, latch=True)
+        asked = [float('-inf')]
 
         def logged():
-            """The fake's line heard; else the pace asked (again each second: a line logged
-            before this node's /rosout subscription connected to the fake is lost)."""
             if any(line in msg.msg for msg in rosout.snapshot()):
                 return True
             if time.monotonic() > asked[0] + 1.0:
-                publisher.publish(Float64(rtf))
+                publisher.publish(message)
                 asked[0] = time.monotonic()
             return False
         try:
             self.wait(lambda: publisher.get_num_connections() >= 1,
-                      'the fake base does not subscribe %s' % RTF_TOPIC, STARTUP_TIMEOUT)
+                      'the fake base does not subscribe %s' % topic, STARTUP_TIMEOUT)
             self.wait(logged, 'the fake base never logged %r' % line, STARTUP_TIMEOUT)
         finally:
             rosout.sub.unregister()

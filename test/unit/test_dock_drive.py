@@ -1,7 +1,7 @@
 """The fake's auto-docking (sim/dock_drive.py, sim/docking.py): kobuki_dock_drive's state
 machine cycle by cycle, and whole goals on the kinematic and the MuJoCo base from seeded
 starts in the dock's field (success rate, time), from 1.5 m aside and from behind (fail
-without wandering)."""
+without wandering), askew of the axis near the dock (dock, or abort after the bump's retry)."""
 import math
 import random
 
@@ -10,7 +10,7 @@ import pytest
 from blind_navigation.core.geometry import Pose2D
 from blind_navigation.sim import dock as d
 from blind_navigation.sim.dock_drive import DOCK_STABILIZER, DockDrive
-from blind_navigation.sim.docking import LOST_TIME, SUCCEEDED, TIME_LIMIT, run_docking, verdict
+from blind_navigation.sim.docking import BUMP_LIMIT, LOST_TIME, SUCCEEDED, TIME_LIMIT, run_docking, verdict
 from blind_navigation.sim.kobuki import load_profile
 from blind_navigation.sim.mujoco_kobuki import import_mujoco, make_base
 
@@ -72,6 +72,24 @@ def test_the_charger_docks_in_then_done_and_a_bump_backs_off():
     assert drive.done and verdict(drive, 1.0) == (True, SUCCEEDED)
 
 
+def test_a_second_bump_ends_the_goal_once_backed_off():
+    drive, bumps = DockDrive(), []
+    drive.update(CENTRE, 0, 0, 0.0)
+    for _ in range(BUMP_LIMIT):
+        while drive.state != 'ALIGNED_NEAR':                  # the published retry: back off, re-align
+            assert verdict(drive, 1.0) is None
+            drive.update(CENTRE, 0, 0, 0.0)
+        bumps.append([drive.update(CENTRE, d.BUMPER_CENTRE, 0, 0.0) for _ in range(3)])
+        assert verdict(drive, 1.0) is None and drive.bumped == len(bumps)   # not ended pressed on it
+    assert bumps == [[(-0.05, 0.0)] * 3] * BUMP_LIMIT
+    while drive.state.startswith('BUMPED'):
+        assert verdict(drive, 1.0) is None
+        v, w = drive.update(CENTRE, 0, 0, 0.0)
+    assert (drive.state, v, w) == ('SCAN', 0.0, 0.0)
+    assert verdict(drive, 1.0) == (False, 'Aborted: bumped %d times without charging, backed off '
+                                          '(state SCAN).' % BUMP_LIMIT)
+
+
 def test_the_time_limit_and_a_lost_dock_end_a_goal():
     drive = DockDrive()
     drive.update(CENTRE, 0, 0, 0.0)
@@ -125,3 +143,20 @@ def test_out_of_the_field_it_fails_without_wandering(base_name, start):
     assert not result.docked and result.state == 'UNKNOWN' and 'dock not seen' in result.text
     assert result.farthest < 0.05 and result.time < 15.0          # one turn on the spot, then still
     assert base.true_twist[0] == pytest.approx(0.0, abs=0.02)
+
+
+@pytest.mark.parametrize('base_name', BASES)
+@pytest.mark.parametrize('off', [25.0, -25.0], ids=['25 deg left', '25 deg right'])
+def test_askew_of_the_axis_near_the_dock_it_docks_or_aborts_after_the_retry(base_name, off):
+    """0.3 m before the dock's face on a line ``off`` degrees off its axis, facing the dock: the
+    drive noses in beyond the contacts' 20 degrees, bumps, backs off 1 cm and re-aligns on the
+    same beam; the fake docks or gives up at the next bump, backed off, long before its limit."""
+    a = math.radians(off)
+    base, result = dock_from(base_name, Pose2D(0.3 * math.cos(a), 0.3 * math.sin(a), math.pi + a), seed=3)
+    assert result.docked or 'bumped %d times' % BUMP_LIMIT in result.text, result
+    assert result.time < TIME_LIMIT / 4 and result.farthest < 0.3, result
+    for _ in range(50):                                   # 1 s with no new command: it stands
+        base.step(0.02)
+    contact = DOCK.contact(base.true_pose)
+    assert contact.docked == result.docked and contact.bumper == 0
+    assert base.true_twist[0] == pytest.approx(0.0, abs=0.005)

@@ -35,7 +35,8 @@ A std_msgs/Empty on ``~restart`` (``mobile_base/restart``) is a restart of this
 node, as a kill and relaunch: ``/clock`` (and every stamp) from 0 again and the
 odometry from the origin (as ``reset_odometry``); the robot stays where it
 stands (the ground truth goes on). Refused with an error where this node
-publishes no /clock.
+publishes no /clock. A std_msgs/String on ``~move_dock`` (``mobile_base/move_dock``) moves the
+dock (a world event): ``x y yaw``, or ``start`` behind the robot where it stands now.
 
 ``/clock`` is global, so on a master shared by several fakes (two robots in two
 namespaces) only one publishes it; the others run with ``~clock`` false and step
@@ -54,13 +55,13 @@ from geometry_msgs.msg import TransformStamped, Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
-from std_msgs.msg import Empty, Float64, Header
+from std_msgs.msg import Empty, Float64, Header, String
 
 from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.battery import SIM_BATTERY_DEFAULTS, SimBattery
-from blind_navigation.sim.dock import bumper_bits, charger_state, dock_from_spec
+from blind_navigation.sim.dock import Dock, bumper_bits, charger_state, dock_from_spec
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
@@ -149,6 +150,7 @@ class FakeKobuki(object):
         self.new_rtf = None              # an rtf asked for on ~rtf, not yet in use
         subscribe('~rtf', Float64, self.on_rtf)
         subscribe('~restart', Empty, self.on_restart)
+        subscribe('~move_dock', String, self.on_move_dock)
 
     def _messages(self):
         """Build the periodic messages once; the loop only updates their fields."""
@@ -217,6 +219,19 @@ class FakeKobuki(object):
             self.base.reset_odometry()
         rospy.logwarn('fake_kobuki: restarted at t %.2f s: /clock from 0, odometry from the origin '
                       '(the robot stays where it is)', was)
+
+    def on_move_dock(self, msg):
+        try:
+            with self.lock:
+                dock = dock_from_spec(msg.data, self.base.true_pose) if self.dock else None
+        except ValueError as error:
+            dock = error
+        if not isinstance(dock, Dock):
+            rospy.logerr('fake_kobuki: ignored %s %r (%s)', rospy.resolve_name('~move_dock'), msg.data,
+                         dock or 'needs a dock at launch (~dock) and a pose: x y yaw or start')
+            return
+        self.dock = dock
+        rospy.loginfo('fake_kobuki: dock moved to %.3f %.3f %.3f', *dock.pose)
 
     def _odometry_paused(self):
         """True while an odometry gap runs (called with the lock held); logs its end."""
