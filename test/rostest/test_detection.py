@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""rostest: vision_monitor detects each vision failure mode once, within its latency,
-and ignores a flicker shorter than its debounce.
+"""rostest (detection.test; fake_turtlebot.test runs its case after its own):
+vision_monitor detects each vision failure mode once, within its latency, and
+ignores a flicker shorter than its debounce.
 
 ~scenarios maps each failure mode to its run: {mode: {ns, flicker, monitors,
 blind_monitors, quiet_after}} (monitor nodes named in ``ns``); every scenario runs at once, on one clock, against
