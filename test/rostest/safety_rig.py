@@ -23,6 +23,7 @@ from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.core.landmark_writer import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
+from fake_base import FakeBase
 from recording_tools import Collector  # noqa: F401 (the safety tests import it from here)
 from waiting import wait_for
 
@@ -114,8 +115,9 @@ def path_length(landmarks):
 
 class Node(object):
     """A layer node started by the test (the package's executable, params as
-    ``_name:=value``, remaps as ``from:=to``); :meth:`kill` ends it with a signal
-    and waits."""
+    ``_name:=value``, remaps as ``from:=to``); :meth:`kill` ends it with a signal,
+    waits and deletes the params it was given (rospy keeps them on the parameter server:
+    a later node of that name would start with them)."""
 
     def __init__(self, node_type, name, params=None, remaps=None):
         found = roslib.packages.find_node('blind_navigation', node_type)
@@ -124,7 +126,7 @@ class Node(object):
         args = [found[0], '__name:=' + name]
         args += ['_%s:=%s' % (key, value) for key, value in (params or {}).items()]
         args += ['%s:=%s' % item for item in (remaps or {}).items()]
-        self.name = name
+        self.name, self.params = name, dict(params or {})
         self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                         start_new_session=True)
 
@@ -136,11 +138,23 @@ class Node(object):
             except subprocess.TimeoutExpired:
                 os.killpg(self.process.pid, signal.SIGKILL)
                 self.process.wait(timeout)
+        for key in self.params:
+            try:
+                rospy.delete_param('/%s/%s' % (self.name.lstrip('/'), key))
+            except KeyError:
+                pass                    # deleted already (a second kill)
 
 
+#: Sim time's pace (x real time) of :func:`shared_rig`'s clock: nothing is timed against the
+#: machine (a case that times a stop freezes or slows the clock: SimClock.frozen, .slowed),
+#: and the clock and the base share the test's process, so a stall of it stalls both alike.
+BASE_RTF = 3.0
 #: What a back_travel_client started by a test needs (the launch files set it); no
-#: vision_back_grace: the test plays the paper's rotate_pi, the turn begins at vision loss.
-CLIENT_PARAMS = {'heading_correction': 'false', 'prune_loops': 'false', 'vision_back_grace': '0.0'}
+#: vision_back_grace: the test plays the paper's rotate_pi, the turn begins at vision loss;
+#: its wait for the action server (10 s) held in wall time at BASE_RTF, as
+#: mission_rig.launch does (connecting takes wall time).
+CLIENT_PARAMS = {'heading_correction': 'false', 'prune_loops': 'false', 'vision_back_grace': '0.0',
+                 'server_timeout': str(10.0 * BASE_RTF)}
 #: What a back_travel_server started by a test needs (the launch files set it).
 SERVER_PARAMS = {'control': 'closed_loop'}
 
@@ -199,6 +213,11 @@ class Layer(object):
         """/rosout lines of ``node`` containing ``text`` (from the ``since``-th line on)."""
         return [m.msg for m in self.rosout.snapshot(since) if m.name == node and text in m.msg]
 
+    def reason_unless(self, final, expected, node, since=0):
+        """'' when ``final`` is ``expected``, else ``node``'s abort line: an assert's message,
+        waited for (:meth:`abort_reason`) only where the assert fails."""
+        return '' if final == expected else self.abort_reason(node, since)
+
     def abort_reason(self, node, since=0, timeout=10.0):
         """``node``'s last abort line; its /rosout line may come after the state (another
         connection): wait at most ``timeout`` s (wall) for it, '' if none came."""
@@ -207,6 +226,19 @@ class Layer(object):
             time.sleep(0.05)
         lines = self.logged(node, '-> aborted', since)
         return lines[-1] if lines else ''
+
+
+#: What :func:`shared_rig` made (once per node).
+_SHARED = []
+
+
+def shared_rig():
+    """(SimClock at BASE_RTF, ideal FakeBase at the origin, Layer) of this node, made at the
+    first call; later calls return the same: two clocks or bases would both publish."""
+    if not _SHARED:
+        clock = SimClock(rtf=BASE_RTF)
+        _SHARED.extend([clock, FakeBase(), Layer()])
+    return tuple(_SHARED)
 
 
 def first_zero_after(commands, t0):

@@ -16,6 +16,7 @@ from std_msgs.msg import String
 from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.ros.common import twist
 
+import test_detection
 import waiting
 from recording_tools import Collector
 
@@ -170,6 +171,13 @@ class FakeTurtlebotTest(unittest.TestCase):
                         % (stopped_at - last_forwarded, last_forwarded - last_published))
 
 
+def with_detection():
+    """This module's cases, then test_detection.py's on the fake's sensors (~scenarios): it
+    fails the fake's vision, which the checks of the rates above need."""
+    return unittest.TestSuite([unittest.TestLoader().loadTestsFromTestCase(FakeTurtlebotTest),
+                               test_detection.cases()])
+
+
 if __name__ == '__main__':
     rospy.init_node('test_fake_turtlebot')
-    rostest.rosrun('blind_navigation', 'test_fake_turtlebot', FakeTurtlebotTest)
+    rostest.rosrun('blind_navigation', 'test_fake_turtlebot', __name__ + '.with_detection')

@@ -6,7 +6,8 @@ linked in) with `catkin_make install`, in an environment that knows only the sys
 ROS (no devel space of the workspace running the tests), then, sourcing only
 install/setup.bash: the package, its Python modules and its launch files resolve to
 install/, only the layer's nodes and the test rig's are installed (no dev script), and
-the shipped demo.launch runs its mission to `home` from there without an [ERROR] line.
+the shipped demo.launch runs a mission to `home` from there without an [ERROR] line
+(DEMO_SCENARIO: the install is proved, not a table's accuracy).
 """
 import os
 import re
@@ -25,6 +26,9 @@ PACKAGE = 'blind_navigation'
 #: s of wall time: the build (messages, the C++ tool) and the demo mission (rtf 5)
 BUILD_TIMEOUT = 240.0
 DEMO_TIMEOUT = 240.0
+#: the demo's mission: the 2.3 m test mission at 0.15 m/s (its default, Table VI test 1, is
+#: 2.6 m at 0.086 m/s)
+DEMO_SCENARIO = 'test_safety'
 #: what install/lib/blind_navigation must hold: every node launch files start, and the tool
 INSTALLED = {'mission_owner.py', 'back_travel_client.py', 'back_travel_server.py',
              'calibrate_gyro.py', 'heading_correction.py', 'landmark_saver.py', 'record_client.py',
@@ -106,11 +110,11 @@ class InstallSpaceTest(unittest.TestCase):
         self.assert_ran(self.build, 'catkin_make install')
         results = os.path.join(self.ws, 'results')
         output = self.assert_ran(self.run_clean(
-            'roslaunch %s demo.launch rtf:=5 results_dir:="%s"' % (PACKAGE, results), DEMO_TIMEOUT,
-            installed=True), 'roslaunch demo.launch')
+            'roslaunch %s demo.launch rtf:=5 scenario:=%s results_dir:="%s"' % (PACKAGE, DEMO_SCENARIO, results),
+            DEMO_TIMEOUT, installed=True), 'roslaunch demo.launch')
         errors = [line for line in output.splitlines() if re.search(r'\[(ERROR|FATAL)\]', line)]
         self.assertEqual(errors, [])
-        with open(os.path.join(results, 'demo_table6_test1_closed_loop.txt')) as stream:
+        with open(os.path.join(results, 'demo_%s_closed_loop.txt' % DEMO_SCENARIO)) as stream:
             row = stream.read()
         self.assertIn('| home |', row)
 

@@ -32,6 +32,8 @@ from blind_navigation.ros.docking import DockingClient
 from blind_navigation.ros.mission_owner import Inbox
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 
+import test_odometry_feed
+import test_subscription_watchdog
 from recording_tools import Collector
 from waiting import wait_for
 
@@ -210,6 +212,15 @@ class InterfacesTest(unittest.TestCase):
         self.assertTrue(named and named.group(1) not in ('idle', 'recording'), late.message)
 
 
+def every_case():
+    """This module's cases, then test_odometry_feed.py's and test_subscription_watchdog.py's
+    (on topics of their own beside the layer)."""
+    loader = unittest.TestLoader()
+    return unittest.TestSuite([loader.loadTestsFromTestCase(InterfacesTest),
+                               loader.loadTestsFromModule(test_odometry_feed),
+                               loader.loadTestsFromModule(test_subscription_watchdog)])
+
+
 if __name__ == '__main__':
     rospy.init_node('test_interfaces')
-    rostest.rosrun('blind_navigation', 'interfaces', InterfacesTest)
+    rostest.rosrun('blind_navigation', 'interfaces', __name__ + '.every_case')

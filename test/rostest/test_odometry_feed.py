@@ -1,5 +1,4 @@
-#!/usr/bin/env python3
-"""rostest: ros/odometry.OdometryFeed loses no message when its receive thread falls
+"""Test cases of interfaces.test (test_interfaces.py runs them): ros/odometry.OdometryFeed loses no message when its receive thread falls
 behind (a loaded host; sim time at 10x) and takes each message as it arrives.
 
 rospy reads a subscription's socket in chunks of up to 64 KiB and, with a queue
@@ -15,7 +14,6 @@ import time
 import unittest
 
 import rospy
-import rostest
 from nav_msgs.msg import Odometry
 
 import waiting
@@ -175,7 +173,3 @@ class OdometryFeedResetTest(unittest.TestCase):
         feed.release('driver')
         self.assertIsNone(feed.lost, 'the next holder starts on the frame it finds')
 
-
-if __name__ == '__main__':
-    rospy.init_node('test_odometry_feed')
-    rostest.rosrun('blind_navigation', 'odometry_feed', '__main__')   # every test class

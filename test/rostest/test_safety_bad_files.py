@@ -1,5 +1,4 @@
-#!/usr/bin/env python3
-"""rostest: each bad landmark file is refused: state ``aborted``, the reason
+"""Test cases of safety_stops.test (its node runs them first): each bad landmark file is refused: state ``aborted``, the reason
 names the file and the entry, no goal is sent and no velocity is published.
 A file that already gives no way back is refused at the vision loss, before the
 pi turn (issue 28: no ``rotating``, no progress file); one that holds no landmark
@@ -7,20 +6,19 @@ yet (the final landmark comes when the turn begins) when the return starts.
 One client per case (topics remapped under /bad_<case>), all in parallel,
 against one back_travel_server and the ideal base, which the test turns by pi
 once every client that waits for it has moved to rotating (each client checks
-the real turn before it returns)."""
+the real turn before it returns). The clock and the base are the node's
+(safety_rig.shared_rig), shared with test_safety_stops.py's cases."""
 import math
 import os
 import shutil
 import unittest
 
 import rospy
-import rostest
 
 from blind_navigation.core.progress import load_progress, progress_path
 from blind_navigation.msg import BackTravelActionGoal
 
-from fake_base import FakeBase
-from safety_rig import CLIENT_PARAMS, Collector, Layer, Node, SimClock
+from safety_rig import CLIENT_PARAMS, Collector, Layer, Node, shared_rig
 
 HEADER = "blind_navigation: {format: 1, fields: [v, w, d, T, psi]}\n"
 GOOD = "landmark_000001: {data: [0.1, 0.0, 0.2, 2.0, 0.0]}\n"
@@ -59,12 +57,11 @@ NO_LANDMARK_YET = ('empty', 'truncated')
 class BadFilesTest(unittest.TestCase):
 
     def test_each_bad_file_is_refused_with_its_message_and_no_motion(self):
-        rospy.init_node('test_safety_bad_files')
-        SimClock(rtf=1.0)
-        directory = rospy.get_param('~directory')
+        _clock, base, _layer = shared_rig()
+        directory = os.path.join(rospy.get_param('~directory'), 'bad_files')
         shutil.rmtree(directory, ignore_errors=True)
         os.makedirs(directory)
-        base = FakeBase()
+        commands = len(base.commands)
         goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
         layers, nodes, files = {}, [], {}
         for case, (text, _) in CASES.items():
@@ -95,8 +92,9 @@ class BadFilesTest(unittest.TestCase):
         finally:
             for node in nodes:
                 node.kill()
+        goals.sub.unregister()
         self.assertEqual(len(goals), 0, 'a goal was sent for a bad file')
-        self.assertEqual(base.commands, [], 'a velocity was published for a bad file')
+        self.assertEqual(base.commands[commands:], [], 'a velocity was published for a bad file')
         # (the turn by pi is the test's own, inside the fake base: no command)
         # a return refused before the turn never began: no progress to resume
         progress = {case + '.progress.yaml' for case in NO_LANDMARK_YET}    # next to the landmark file
@@ -106,6 +104,3 @@ class BadFilesTest(unittest.TestCase):
         for case in NO_LANDMARK_YET:
             self.assertEqual(load_progress(progress_path(files[case])).status, 'aborted', case)
 
-
-if __name__ == '__main__':
-    rostest.rosrun('blind_navigation', 'safety_bad_files', BadFilesTest)

@@ -105,6 +105,14 @@ def odometry_burst(mission, make, rate=BURST_RATE, duration=BURST_TIME):
     return count
 
 
+def lose_vision(mission):
+    """vision_lost from this node, once it is connected to every subscriber (`rostopic pub -1`,
+    which mission_closed_loop.test types, would wait 3 s of wall time for late ones)."""
+    publisher = mission.keep(rospy.Publisher(names.VISION_LOST, Empty, queue_size=1))
+    wait_connected(publisher, mission.owner, 'vision_lost')
+    publisher.publish(Empty())
+
+
 class BaseOdometry(object):
     """The latest /odom message of the fake base (not of a burst)."""
 
@@ -229,11 +237,11 @@ class MissionCase(unittest.TestCase):
 
     @classmethod
     def drive_and_lose_vision(cls):
-        """Record the whole mission, then the operator's `rostopic pub -1` vision_lost."""
+        """Record the whole mission, then the operator's vision_lost."""
         run = cls.mission.run
         run.wait_for_layer()
         run.play_mission(MISSION)
-        run.trigger_by_rostopic()
+        lose_vision(cls.mission)
 
     def assert_home(self, what):
         m = self.mission
@@ -267,8 +275,8 @@ class TestA_OneProcessFaults(MissionCase):
         odometry = BaseOdometry()
         try:
             m.wait_idle()
-            # finding 3: vision_lost while idle, as typed in a shell
-            run.trigger_by_rostopic()
+            # finding 3: vision_lost while idle
+            lose_vision(m)
             m.wait_sim(1.0)
             # finding 5a: another node's goal while idle
             stranger = cls.idle_goal_sent()
@@ -303,7 +311,7 @@ class TestA_OneProcessFaults(MissionCase):
             cls.twist_refused = m.refused_odometry() - before
             cls.error = run.error()
             # finding 4c: vision_lost after home, and a goal
-            run.trigger_by_rostopic()
+            lose_vision(m)
             cls.home_goal = stranger.send(IDLE_GOAL)
             cls.still = m.still_after(cls.final_at, WATCH)
             cls.states = run.state_names()
@@ -664,7 +672,7 @@ class TestE_WriteFailure(MissionCase):
         cls.limited_at, cls.saved_before = rospy.get_time(), saved(m)
         run.wait_for_operator(MISSION)
         cls.lost_at = rospy.get_time()
-        run.trigger_by_rostopic()
+        lose_vision(m)
         cls.final, cls.final_at = m.wait_final()
         m.wait_sim(1.5)     # a diagnostics period
         cls.error = run.error()

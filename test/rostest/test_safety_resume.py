@@ -1,5 +1,4 @@
-#!/usr/bin/env python3
-"""rostest: a layer killed (SIGKILL) mid-return and restarted resumes from the
+"""Test cases of safety_stops.test (its node runs them last): a layer killed (SIGKILL) mid-return and restarted resumes from the
 last completed landmark and still ends ``home`` at the start; the recorded file
 is never modified; the restarted recorder, in the same mission
 (``blind_navigation/mission_id``), continues the mission's file behind the
@@ -7,22 +6,22 @@ symlink, which is finished, so it adds nothing; the layer writes nothing but
 the progress file, in the landmark directory. A client restarted with a
 progress file it cannot trust ends ``aborted`` naming the file (a return may
 have been under way), sends no goal, and records the abort, so the next start
-is ``idle``."""
+is ``idle``. The clock and the base are the node's (safety_rig.shared_rig); these
+cases start a back_travel_server of their own, after test_safety_stops.py's
+test_9 shut the launched one down."""
 import os
 import shutil
 import signal
 import unittest
 
 import rospy
-import rostest
 
 from blind_navigation.core.progress import file_digest, load_progress, progress_path
 from blind_navigation.msg import BackTravelActionGoal, MissionStatus
 
-from fake_base import FakeBase
 from recording_tools import Diagnostics
-from safety_rig import (CLIENT_PARAMS, SERVER_PARAMS, Collector, Layer, Node, SimClock,
-                        distance_from_origin, path_length, straight_landmarks, write_mission)
+from safety_rig import (CLIENT_PARAMS, SERVER_PARAMS, Collector, Node, distance_from_origin, path_length,
+                        shared_rig, straight_landmarks, write_mission)
 from waiting import wait_for
 
 COUNT = 10
@@ -33,18 +32,15 @@ class ResumeTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        rospy.init_node('test_safety_resume')
-        cls.clock = SimClock(rtf=2.0)
+        cls.clock, cls.base, cls.layer = shared_rig()
         cls.landmarks = straight_landmarks([0.1] * COUNT)
-        cls.base = FakeBase(x=path_length(cls.landmarks))
-        cls.layer = Layer()
         cls.goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
         cls.mission = rospy.get_param('/blind_navigation/mission_id')
         cls.diagnostics = Diagnostics()
         cls.status = Collector('/blind_navigation/status', MissionStatus)
 
     def test_corrupt_progress_aborts_the_restarted_client(self):
-        directory = rospy.get_param('~directory') + '_corrupt'
+        directory = os.path.join(rospy.get_param('~directory'), 'resume_corrupt')
         shutil.rmtree(directory, ignore_errors=True)
         link, _ = write_mission(directory, self.landmarks, mission=self.mission)
         progress_file = progress_path(link)
@@ -86,7 +82,7 @@ class ResumeTest(unittest.TestCase):
                  .startswith(state), 'the client\'s diagnostics report %s' % state, 60.0)
 
     def test_restart_mid_return_resumes_and_ends_home(self):
-        directory = rospy.get_param('~directory')
+        directory = os.path.join(rospy.get_param('~directory'), 'resume')
         shutil.rmtree(directory, ignore_errors=True)
         landmarks = self.landmarks
         link, recorded = write_mission(directory, landmarks, mission=self.mission)
@@ -95,6 +91,7 @@ class ResumeTest(unittest.TestCase):
         if os.path.exists(progress_file):
             os.remove(progress_file)
         base, layer, goals = self.base, self.layer, self.goals
+        base.x, base.y, base.yaw = path_length(landmarks), 0.0, 0.0    # the recording's end
         client_params = dict(CLIENT_PARAMS, landmark_file=link)
 
         nodes = [Node('back_travel_server.py', 'back_travel_server', SERVER_PARAMS),
@@ -111,7 +108,7 @@ class ResumeTest(unittest.TestCase):
         self.assertLess(done_at_kill, COUNT, 'the return ended before the kill')
         wait_for(lambda: base.v == 0.0, 'the base stops on its command timeout')
 
-        restart_states, restart_goals = len(layer.states), len(goals)
+        restart_states, restart_goals, restart_log = len(layer.states), len(goals), len(layer.rosout)
         nodes = [Node('landmark_saver.py', 'landmark_saver', {'landmark_file': link, 'fsync': 'false'}),
                  Node('back_travel_server.py', 'back_travel_server', SERVER_PARAMS),
                  Node('back_travel_client.py', 'back_travel_client', client_params)]
@@ -125,7 +122,8 @@ class ResumeTest(unittest.TestCase):
             self.assertEqual(summary, 'recording finished: %d landmarks' % COUNT)
             final = layer.wait_final(restart_states, timeout=120.0)
             states = layer.state_list(restart_states)
-            self.assertEqual(final, 'home', layer.abort_reason('/back_travel_client'))
+            self.assertEqual(final, 'home', layer.reason_unless(final, 'home', '/back_travel_client',
+                                                                restart_log))
             self.assertEqual(states, ['returning', 'home'], 'resumed, not started over')
             # Only the landmarks not completed are sent again. The restarted client sends its
             # first goal as soon as it is up, possibly before this node's subscription to it
@@ -155,6 +153,3 @@ class ResumeTest(unittest.TestCase):
                          sorted(['landmarks.yaml', 'landmarks.progress.yaml',
                                  os.path.basename(recorded)]))
 
-
-if __name__ == '__main__':
-    rostest.rosrun('blind_navigation', 'safety_resume', ResumeTest)

@@ -10,7 +10,12 @@ return continues and ends home); a bumper event -> zero at once, aborted
 naming it once pressed longer than contact_timeout (2 s here), and a new
 return started while it is pressed moves nothing (its goal aborted naming it); a cancel -> zero within one control cycle; a
 stuck robot (no progress) and the whole return's time allowance abort; server
-shutdown -> zero."""
+shutdown -> zero.
+
+The node also runs test_safety_bad_files.py's cases (first: they need the
+launched server) and test_safety_resume.py's (last: they start a server of their
+own after test_9 shut the launched one down), all on one clock and one base
+(safety_rig.shared_rig)."""
 import os
 import shutil
 import unittest
@@ -26,9 +31,10 @@ from blind_navigation.ros import kobuki_msgs_compat as kobuki
 from blind_navigation.core.safety import recorded_speed
 from blind_navigation.msg import BackTravelAction, BackTravelActionGoal, MissionStatus
 
-from fake_base import FakeBase
-from safety_rig import (CLIENT_PARAMS, Collector, Layer, Node, SimClock, first_zero_after, moving,
+from safety_rig import (CLIENT_PARAMS, Collector, Node, first_zero_after, moving, shared_rig,
                         distance_from_origin, path_length, straight_landmarks, write_mission)
+from test_safety_bad_files import BadFilesTest
+from test_safety_resume import ResumeTest
 from waiting import wait_for
 
 CONTROL_PERIOD = 0.02   # s, the server's control_rate 50 Hz
@@ -40,10 +46,6 @@ ODOM_GRACE = ALLOWANCE_DEFAULTS['odom_grace']   # s the server holds without odo
 #: at 1x a loaded machine's wake-up and delivery delays (0.13-0.17 s seen on the CI machine)
 #: came on top of the 0.42 s the design takes, at 0.2x they count a fifth.
 CUT_RTF = 0.2
-#: Sim time's pace (x real time) elsewhere: nothing else is timed against the machine (the
-#: bumper and cancel cases freeze the clock, the cut and the shutdown slow it to CUT_RTF),
-#: and the clock and the base share this process, so a stall of it stalls both alike.
-BASE_RTF = 3.0
 #: s of wall time a command computed for the previous goal may still be in flight after a
 #: goal switch (test_1): 0.1 s of sim time at rtf 1, as before, and the same wall time at BASE_RTF.
 IN_FLIGHT_WALL = 0.1
@@ -55,12 +57,8 @@ class SafetyStopsTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        rospy.init_node('test_safety_stops')
-        cls.clock = SimClock(rtf=BASE_RTF)
-        cls.root = rospy.get_param('~directory')
-        shutil.rmtree(cls.root, ignore_errors=True)   # no progress file of an earlier run
-        cls.base = FakeBase()
-        cls.layer = Layer()
+        cls.clock, cls.base, cls.layer = shared_rig()
+        cls.root = os.path.join(rospy.get_param('~directory'), 'stops')
         cls.goals = Collector('/blind_navigation/back_travel/goal', BackTravelActionGoal)
         cls.cancel = rospy.Publisher('/blind_navigation/back_travel/cancel', GoalID, queue_size=1)
         cls.bumper = rospy.Publisher('/mobile_base/events/bumper', kobuki.BumperEvent, queue_size=5)
@@ -78,8 +76,7 @@ class SafetyStopsTest(unittest.TestCase):
         link, self.recorded = write_mission(os.path.join(self.root, case), self.landmarks)
         self.base.x, self.base.y, self.base.yaw = path_length(self.landmarks), 0.0, 0.0
         since, self.log_since = len(self.layer.states), len(self.layer.rosout)
-        # the client's wait for the action server (10 s) held in wall time, as mission_rig.launch does
-        params.update(CLIENT_PARAMS, landmark_file=link, server_timeout=str(10.0 * BASE_RTF))
+        params.update(CLIENT_PARAMS, landmark_file=link)
         self.client = Node('back_travel_client.py', CLIENT.lstrip('/'), params)
         self.layer.walk_to_returning(since, self.base)
         if expect_motion:
@@ -89,6 +86,11 @@ class SafetyStopsTest(unittest.TestCase):
     def abort_reason(self):
         """The client's abort line of this case (from /rosout)."""
         return self.layer.abort_reason(CLIENT, self.log_since)
+
+    def assert_home(self, since):
+        """The case's client ends ``home`` (its abort line the message if not)."""
+        final = self.layer.wait_final(since)
+        self.assertEqual(final, 'home', self.layer.reason_unless(final, 'home', CLIENT, self.log_since))
 
     def tearDown(self):
         if self.client:
@@ -131,7 +133,7 @@ class SafetyStopsTest(unittest.TestCase):
     def test_1_commands_within_configured_and_recorded_speed_and_home(self):
         goal_index = len(self.goals)
         since = self.start_return('home', [0.08, 0.08, 0.2, 0.2, 0.05, 0.05])
-        self.assertEqual(self.layer.wait_final(since), 'home', self.abort_reason())
+        self.assert_home(since)
         goals = [(t, g.goal) for t, g in self.goals.items[goal_index:]]
         self.assertEqual(len(goals), 6)
         checked, in_flight = 0, IN_FLIGHT_WALL * self.clock.rtf
@@ -180,7 +182,7 @@ class SafetyStopsTest(unittest.TestCase):
                              'zero velocity %.3f s after the cut' % (found[0] - last_odom))
         self.assertFalse([c for c in held[found[1]:] if c[1:] != (0.0, 0.0)],
                          'motion commanded while odometry was away')
-        self.assertEqual(self.layer.wait_final(since), 'home', self.abort_reason())
+        self.assert_home(since)
         self.assertLess(distance_from_origin(self.base), 0.05, 'ended %.3f m from the start'
                         % distance_from_origin(self.base))
 
@@ -254,5 +256,14 @@ class SafetyStopsTest(unittest.TestCase):
         self.assert_stopped_after(stopped, 0.1, 'the server shutdown')
 
 
+def in_order():
+    """The cases of safety_stops.test in the order their use of the one server needs."""
+    loader = unittest.TestLoader()
+    return unittest.TestSuite(loader.loadTestsFromTestCase(case)
+                              for case in (BadFilesTest, SafetyStopsTest, ResumeTest))
+
+
 if __name__ == '__main__':
-    rostest.rosrun('blind_navigation', 'safety_stops', SafetyStopsTest)
+    rospy.init_node('test_safety_stops')
+    shutil.rmtree(rospy.get_param('~directory'), ignore_errors=True)   # no progress file of an earlier run
+    rostest.rosrun('blind_navigation', 'safety_stops', __name__ + '.in_order')

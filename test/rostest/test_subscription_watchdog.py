@@ -1,5 +1,4 @@
-#!/usr/bin/env python3
-"""rostest: ros/subscription_watchdog.py reconnects a subscription to a publisher
+"""Test case of interfaces.test (test_interfaces.py runs it): ros/subscription_watchdog.py reconnects a subscription to a publisher
 the master lists but the node has no connection to (what a missed publisherUpdate
 leaves), and reports nothing while every publisher is connected. The product uses
 rospy's public API only; this test drops the connection through rospy's topic
@@ -12,7 +11,6 @@ import xmlrpc.client
 
 import rosgraph
 import rospy
-import rostest
 from rospy.impl.registration import get_topic_manager
 from std_msgs.msg import String
 
@@ -26,7 +24,6 @@ class SubscriptionWatchdogTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        rospy.init_node('test_subscription_watchdog')
         cls.talker = subprocess.Popen(['rostopic', 'pub', '-r', '20', TOPIC, 'std_msgs/String',
                                        'data: hi', '__name:=watchdog_talker'],
                                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
@@ -61,6 +58,3 @@ class SubscriptionWatchdogTest(unittest.TestCase):
         waiting.wait_for(lambda: self.messages_within(0.5) > 0, 'messages again after healing',
                          timeout=10.0)
 
-
-if __name__ == '__main__':
-    rostest.rosrun('blind_navigation', 'subscription_watchdog', SubscriptionWatchdogTest)

@@ -31,7 +31,7 @@ import waiting
 
 #: topics that are global by design: the clock, logging, diagnostics, TF
 GLOBAL_TOPICS = {'/clock', '/rosout', '/rosout_agg', '/diagnostics', '/tf', '/tf_static'}
-#: s of wall time for the two missions (about 100 s of sim time each at rtf 3, two layers
+#: s of wall time for the two missions (about 60 s of sim time each at rtf 3, two layers
 #: and two fakes on two cores)
 MISSION_TIMEOUT = 240.0
 #: m: the closed-loop target on the ideal profile (0.05 m) + 50 % for ROS timing, as

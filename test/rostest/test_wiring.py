@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""rostest: wrong wiring is refused (wiring.test). The layer's odometry topic carries
-geometry_msgs/Twist, a Kobuki event topic and RTAB-Map's odom_info_lite carry
+"""rostest: wrong wiring is refused (wiring.test). The layer in namespace wiring: its
+odometry topic carries geometry_msgs/Twist, a Kobuki event topic and RTAB-Map's odom_info_lite carry
 std_msgs/String (published once this node hears the layer's /rosout): each topic gives
 exactly one FATAL line naming it, nav_msgs/Odometry (or the event's, OdomInfo's type)
 and the type found, also after the watchdog's last master check (10 s); the mission
 ends aborted naming the first fault found, and nothing but zero reaches cmd_vel, also after
-vision_lost."""
+vision_lost. The node then runs test_wiring_mid_mission.py's case on the root
+namespace's layer."""
 import threading
 import time
 import unittest
@@ -17,14 +18,16 @@ from rosgraph_msgs.msg import Log
 from std_msgs.msg import Empty, String
 
 from recording_tools import Collector
+from test_wiring_mid_mission import WiringMidMissionTest
 from waiting import wait_for
 
 from blind_navigation.msg import MissionStatus
 
-LAYER = '/blind_navigation'
+NS = '/wiring'
+LAYER = NS + '/blind_navigation'
 ODOM = '/wiring_test/odom_is_twist'
-BUMPER = '/mobile_base/events/bumper'
-ODOM_INFO = '/rtabmap/odom_info_lite'
+BUMPER = NS + '/mobile_base/events/bumper'
+ODOM_INFO = NS + '/rtabmap/odom_info_lite'
 #: s (wall) after the wrong publishers appeared by which every check ran: the subscription
 #: watchdog's last master check is 10 s after a subscription (ros/subscription_watchdog.py)
 SETTLE = 12.0
@@ -32,12 +35,19 @@ SETTLE = 12.0
 
 class WiringTest(unittest.TestCase):
 
+    stop = None
+
     @classmethod
     def setUpClass(cls):
-        rospy.init_node('wiring_test')
+        if cls.stop is None:
+            cls.start_wrong_wiring()
+
+    @classmethod
+    def start_wrong_wiring(cls):
+        """The collectors, then (once this node hears the layer's /rosout) the wrong publishers."""
         cls.rosout = Collector('/rosout', Log)
         cls.states = Collector(LAYER + '/state', String)
-        cls.commands = Collector('/cmd_vel_mux/input/teleop', Twist)
+        cls.commands = Collector(NS + '/cmd_vel_mux/input/teleop', Twist)
         # a FATAL line logged before this node hears the layer's /rosout would be lost
         wait_for(lambda: any(c.callerid_pub == LAYER for c in cls.rosout.sub.impl.connections),
                  "this node's /rosout subscription connected to %s" % LAYER, timeout=60.0)
@@ -105,5 +115,14 @@ class WiringTest(unittest.TestCase):
         self.refused_once(ODOM_INFO, 'rtabmap_msgs/OdomInfo', 'std_msgs/String')
 
 
+def both():
+    """test_wiring_mid_mission.py's case, then this module's: the wrong publishers start
+    first (__main__), so the watchdog's SETTLE runs out while the mid-mission case plays."""
+    loader = unittest.TestLoader()
+    return unittest.TestSuite(loader.loadTestsFromTestCase(case) for case in (WiringMidMissionTest, WiringTest))
+
+
 if __name__ == '__main__':
-    rostest.rosrun('blind_navigation', 'wiring', WiringTest)
+    rospy.init_node('wiring_test')
+    WiringTest.start_wrong_wiring()
+    rostest.rosrun('blind_navigation', 'wiring', __name__ + '.both')

@@ -1,5 +1,5 @@
-#!/usr/bin/env python3
-"""rostest: wrong wiring that appears while the robot moves (wiring_mid_mission.test).
+"""The case of wiring.test on its root namespace's layer (test_wiring.py runs it): wrong
+wiring that appears while the robot moves.
 The layer records on the ideal base of this node, vision_lost starts the pi turn;
 once the base turns, a std_msgs/String publisher appears on
 /mobile_base/events/cliff: exactly one FATAL line naming the topic,
@@ -10,7 +10,6 @@ import time
 import unittest
 
 import rospy
-import rostest
 from rosgraph_msgs.msg import Log
 from std_msgs.msg import Empty, String
 
@@ -28,7 +27,6 @@ class WiringMidMissionTest(unittest.TestCase):
         return [m.data for m in self.state.snapshot()]
 
     def test_a_wrong_publisher_during_the_turn_stops_it(self):
-        rospy.init_node('wiring_mid_mission')
         rosout = Collector('/rosout', Log)
         self.state = Collector(LAYER + '/state', String)
         base = FakeBase()
@@ -68,6 +66,3 @@ class WiringMidMissionTest(unittest.TestCase):
         rospy.loginfo('WIRING MID MISSION: zero %.3f s after the wrong publisher appeared, '
                       '%d command(s) before it', after[zeros[0]][0] - fault_at, zeros[0])
 
-
-if __name__ == '__main__':
-    rostest.rosrun('blind_navigation', 'wiring_mid_mission', WiringMidMissionTest)

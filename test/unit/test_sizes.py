@@ -1,6 +1,6 @@
 """The product's rooms stay small enough to hold in one's head (issue 22): no file
 in core/, ros/, nodes/ or names.py over MAX_FILE_LINES lines, no class over
-MAX_CLASS_LINES (docs/DESIGN.md)."""
+MAX_CLASS_LINES (docs/DESIGN.md); at most MAX_ROSTESTS rostest files."""
 import ast
 import os
 
@@ -88,3 +88,15 @@ def test_the_product_within_issue_30s_budget():
     assert lines_of() <= MAX_PRODUCT_LINES and lines_of('ros/') <= MAX_ROS_LINES, (
         'product %d lines (at most %d), ros/ %d (at most %d)'
         % (lines_of(), MAX_PRODUCT_LINES, lines_of('ros/'), MAX_ROS_LINES))
+
+
+#: Issue 30 item 7: rostest files (each a roscore and launch of its own in `make test`).
+MAX_ROSTESTS = 30
+
+
+def test_at_most_max_rostests_test_files():
+    found = sorted(name for name in os.listdir(os.path.join(PACKAGE, '..', 'test', 'rostest'))
+                   if name.endswith('.test'))
+    assert 0 < len(found) <= MAX_ROSTESTS, (
+        '%d .test files in test/rostest (at most %d: share a launch, docs/testing.md): %s'
+        % (len(found), MAX_ROSTESTS, found))
