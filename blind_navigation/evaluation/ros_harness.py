@@ -153,11 +153,13 @@ def ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events=
 
 
 def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=False, base='kinematic',
-         realisations=REALISATIONS, prune=False):
+         realisations=REALISATIONS, prune=False, robots=0):
     """One path and seed: the harness, and ROS at each of ``rtfs``; a row dict. ``events``:
     both record with the motion-event samples (blind_navigation.launch's default); ``base``:
     the fake's and the harness's; ``realisations``: the harness's other noise realisations;
-    ``prune``: both prune loops (with ``events``: blind_navigation.launch's defaults)."""
+    ``prune``: both prune loops (with ``events``: blind_navigation.launch's defaults); ``robots``:
+    the harness on as many other robots (noise seeds ``seed`` + 1000 k), their median error
+    (``harness_robots_pct``) and how many the ROS run's error exceeds (``ros<rtf>_rank``)."""
     mission = mission_of(group, key, path_seed)
     label = '%s_p%d_s%d%s%s%s' % (key, path_seed, seed, '_events' if events else '', '_pruned' if prune else '',
                                   '' if base == 'kinematic' else '_' + base)
@@ -172,6 +174,10 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=Fa
     shifted = [row['harness_error_pct']] + [harness_run(mission, seed, shift=k, events=events, base=base,
                                                         prune=prune)['error_pct'] for k in range(1, realisations + 1)]
     row.update(harness_min=min(shifted), harness_max=max(shifted))
+    others = [harness_run(mission, seed + 1000 * k, events=events, base=base, prune=prune)['error_pct']
+              for k in range(1, robots + 1)]
+    if others:
+        row.update(harness_robots_pct=median(others), harness_robots=len(others))
     for rtf in rtfs:
         log('ROS %s at rtf %g (load %.2f now)' % (label, rtf, os.getloadavg()[0]))
         ros = ros_run(out_dir, label, mission_file, seed, rtf, calibration, reuse, events, base, prune)
@@ -188,6 +194,7 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=Fa
                     tag + 'error_pct': 100.0 * ros['error'] / ros['length'], tag + 'rtf': ros['rtf'],
                     tag + 'gap_median': median(gaps), tag + 'gap_max': max(gaps) if gaps else None,
                     tag + 'stops': handover_stops(ros), tag + 'final_hold': final_hold(ros), tag + 'goals': len(ros.get('goal_stamps') or [])})
+        row[tag + 'rank'] = sum(other < row[tag + 'error_pct'] for other in others)
         lead = max(0.0, ros['mission_start'] - ros['recording_state']) \
             if ros.get('mission_start') and ros.get('recording_state') else 0.0
         row[tag + 'as_ros_error_pct'] = harness_run(mission, seed, median(gaps) if gaps else 0.0,
@@ -229,19 +236,24 @@ def path_set(count, first_seed=3000, length=SET_LENGTH):
     return paths
 
 
+#: the harness's other robots (noise seeds) beside each ROS run of the set
+OTHER_ROBOTS = 8
+
+
 def run_set(out_dir, bases, count, rtf=5.0, extra=((1.0, 2), (15.0, 2)), first_seed=3000, log=print):
     """Issue 29's runs: on each of ``bases`` the :func:`path_set` at ``rtf``, the first
     ``n`` of them also at each (rtf, n) of ``extra``; the harness beside each (no other
     realisations) and as each ROS run ran (its start lead and median hand-over gap, :func:`pair`);
     blind_navigation.launch's defaults (motion-event samples, pruning). Each run its own robot:
     noise seed ``first_seed`` + its index (the fake draws its noise by sim time, so runs of one
-    seed share their standstill's gyro noise). Rows, one per (path, base), written to ros_set.csv."""
+    seed share their standstill's gyro noise); the harness also on :data:`OTHER_ROBOTS` other robots
+    a path. Rows, one per (path, base), written to ros_set.csv."""
     rows, out_dir = [], os.path.abspath(out_dir)
     for base in bases:
         for index, (group, key, path_seed) in enumerate(path_set(count, first_seed)):
             rtfs = (rtf,) + tuple(other for other, n in extra if index < n)
             rows.append(pair(out_dir, group, key, path_seed, first_seed + index, rtfs, log, True, True, base, 0,
-                             True))
+                             True, OTHER_ROBOTS))
     return _written(os.path.join(out_dir, 'ros_set.csv'), rows)
 
 
@@ -270,14 +282,20 @@ def set_table(rows, rtf=5.0):
             worst = max(r[tag + 'error_pct'] for r in done)
             home = sum(r[tag + 'state'] == 'home' for r in done)
             ratio = ros / harness if harness else float('nan')
+            robots = median([r['harness_robots_pct'] for r in done if 'harness_robots_pct' in r])
+            ranks = ','.join(str(r[tag + 'rank']) for r in done if 'harness_robots_pct' in r)
             met = home == len(done) and not failed and ros <= SET_TARGETS['median'] and worst <= SET_TARGETS['worst'] \
                 and ratio <= SET_TARGETS['ratio']
             summary.append([base, num(x, 0), len(done) + failed, '%d / %d' % (home, len(done) + failed), num(ros, 2), num(worst, 2),
                             num(harness, 2), num(ratio, 2), num(as_ros, 2), num(ros / as_ros if as_ros else None, 2),
+                            num(robots, 2), num(ros / robots if robots else None, 2), ranks or '—',
                             num(median([r[tag + 'rtf'] for r in done]), 1), 'met' if met else 'NOT met'])
     return text + '\n' + markdown_table(
         ['base', 'rtf', 'runs', 'home', 'ROS median %', 'ROS worst %', 'harness median % (same runs)',
-         'ROS / harness median', 'harness as the ROS run median %', 'ROS / that', 'median achieved rtf', 'targets (all home, <= 1 %, <= 2.5 %, <= 1.3 x)'], summary)
+         'ROS / harness median', 'harness as the ROS run median %', 'ROS / that',
+         'harness on other robots (%d a path) median %%' % OTHER_ROBOTS, 'ROS / that',
+         'ROS ranks among them (0-%d)' % OTHER_ROBOTS, 'median achieved rtf',
+         'targets (all home, <= 1 %, <= 2.5 %, <= 1.3 x)'], summary)
 
 
 def _ratio(row, tag):
