@@ -194,7 +194,8 @@ def pair(out_dir, group, key, path_seed, seed, rtfs, log, reuse=False, events=Fa
                     tag + 'error_pct': 100.0 * ros['error'] / ros['length'], tag + 'rtf': ros['rtf'],
                     tag + 'gap_median': median(gaps), tag + 'gap_max': max(gaps) if gaps else None,
                     tag + 'stops': handover_stops(ros), tag + 'final_hold': final_hold(ros), tag + 'goals': len(ros.get('goal_stamps') or [])})
-        row[tag + 'rank'] = sum(other < row[tag + 'error_pct'] for other in others)
+        if others:
+            row[tag + 'rank'] = sum(other < row[tag + 'error_pct'] for other in others)
         lead = max(0.0, ros['mission_start'] - ros['recording_state']) \
             if ros.get('mission_start') and ros.get('recording_state') else 0.0
         row[tag + 'as_ros_error_pct'] = harness_run(mission, seed, median(gaps) if gaps else 0.0,

@@ -31,6 +31,7 @@ from waiting import wait_for  # noqa: E402
 from blind_navigation import names
 from blind_navigation.core.mission_state import TERMINAL as FINAL_STATES  # noqa: E402
 from blind_navigation.core.heading_correction import correct_landmarks  # noqa: E402
+from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion  # noqa: E402
 from blind_navigation.ros.layer import correction_from_message  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
 from blind_navigation.msg import (BackTravelActionGoal, BackTravelActionResult,  # noqa: E402
@@ -58,7 +59,7 @@ STOPPED_SPEED = 0.005
 
 
 class GroundTruth(object):
-    """Latest /ground_truth/odom pose and speed (m, m/s), thread-safe."""
+    """Latest /ground_truth/odom pose and speed (m, rad, m/s), thread-safe."""
 
     def __init__(self):
         self._lock = threading.Lock()
@@ -66,17 +67,22 @@ class GroundTruth(object):
         self.sub = rospy.Subscriber('/ground_truth/odom', Odometry, self._on_msg, queue_size=1)
 
     def _on_msg(self, msg):
-        p, t = msg.pose.pose.position, msg.twist.twist
+        p, q, t = msg.pose.pose.position, msg.pose.pose.orientation, msg.twist.twist
         with self._lock:
-            self._latest = (p.x, p.y, math.hypot(t.linear.x, t.linear.y), msg.header.stamp.to_sec())
+            self._latest = (p.x, p.y, math.hypot(t.linear.x, t.linear.y), msg.header.stamp.to_sec(),
+                            yaw_from_quaternion(q.x, q.y, q.z, q.w))
 
     def latest(self):
         with self._lock:
             return self._latest
 
     def position(self):
-        x, y, _, _ = self.latest()
-        return x, y
+        return self.latest()[:2]
+
+    def pose(self):
+        """The robot's pose (the fake's world frame)."""
+        x, y, _, _, yaw = self.latest()
+        return Pose2D(x, y, yaw)
 
     def speed(self):
         return self.latest()[2]

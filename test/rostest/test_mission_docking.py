@@ -17,7 +17,6 @@ import unittest
 
 import rospy
 import rostest
-from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -26,7 +25,7 @@ from recording_tools import Collector  # noqa: E402
 from test_mission_services import trigger  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
-from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion  # noqa: E402
+from blind_navigation.core.geometry import Pose2D  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
 from blind_navigation.ros import kobuki_msgs_compat as kobuki  # noqa: E402
 from blind_navigation.sim.dock import CHARGING, DISCHARGING, Dock  # noqa: E402
@@ -48,13 +47,6 @@ WATCH = LOST_TIME
 AFTER_HOME = 0.01
 
 
-def true_pose(timeout):
-    """The robot's pose now (/ground_truth/odom, the fake's world frame)."""
-    msg = rospy.wait_for_message('/ground_truth/odom', Odometry, timeout=timeout)
-    p, q = msg.pose.pose.position, msg.pose.pose.orientation
-    return Pose2D(p.x, p.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
-
-
 class DockingTest(unittest.TestCase):
 
     @classmethod
@@ -67,7 +59,7 @@ class DockingTest(unittest.TestCase):
         try:
             if cls.aside:
                 cls._mission_with_the_dock_aside(mission)
-                cls.dock = cls._move_dock(Dock.behind(true_pose(run.wall_timeout)))
+                cls.dock = cls._move_dock(Dock.behind(run.truth.pose()))
                 cls._new_mission(mission)
             else:
                 cls.dock = Dock.behind(Pose2D(0.0, 0.0, 0.0))     # dock:=start: the start at 0

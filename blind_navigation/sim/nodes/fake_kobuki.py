@@ -61,7 +61,7 @@ from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.battery import SIM_BATTERY_DEFAULTS, SimBattery
-from blind_navigation.sim.dock import Dock, bumper_bits, charger_state, dock_from_spec
+from blind_navigation.sim.dock import bumper_bits, charger_state, dock_from_spec
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
@@ -221,17 +221,18 @@ class FakeKobuki(object):
                       '(the robot stays where it is)', was)
 
     def on_move_dock(self, msg):
-        try:
-            with self.lock:
+        with self.lock:
+            try:
                 dock = dock_from_spec(msg.data, self.base.true_pose) if self.dock else None
-        except ValueError as error:
-            dock = error
-        if not isinstance(dock, Dock):
-            rospy.logerr('fake_kobuki: ignored %s %r (%s)', rospy.resolve_name('~move_dock'), msg.data,
-                         dock or 'needs a dock at launch (~dock) and a pose: x y yaw or start')
-            return
-        self.dock = dock
-        rospy.loginfo('fake_kobuki: dock moved to %.3f %.3f %.3f', *dock.pose)
+                why = '' if dock else 'needs a dock at launch (~dock) and a pose: x y yaw or start'
+            except ValueError as error:
+                dock, why = None, str(error)
+            if dock:
+                self.dock = dock
+        if why:
+            rospy.logerr('fake_kobuki: ignored %s %r (%s)', rospy.resolve_name('~move_dock'), msg.data, why)
+        else:
+            rospy.loginfo('fake_kobuki: dock moved to %.3f %.3f %.3f', *dock.pose)
 
     def _odometry_paused(self):
         """True while an odometry gap runs (called with the lock held); logs its end."""
