@@ -6,28 +6,28 @@ core/mission_state.MissionState); the pi turn's start: ros/turn_start.py; the re
 ros/return_runner.py; progress: ros/return_progress.py; services: ros/mission_services.py;
 a fault of any role ends the mission ``aborted`` (docs/safety.md, "One state machine").
 """
-import os
 import threading
 import time
 
 import rospy
-from std_msgs.msg import Bool, Empty, String
+from std_msgs.msg import Empty, String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.mission_limits import rotation_timeout
-from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, damage_warning, nothing_to_retrace
+from blind_navigation.core.return_plan import damage_warning, nothing_to_retrace
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT
 from blind_navigation.core.rotation import turn_problem
 from blind_navigation.core.safety import is_contact
-from blind_navigation.msg import MissionStatus, StorageUsage
+from blind_navigation.msg import MissionStatus
 from blind_navigation.ros import clock, faults
 from blind_navigation.ros.common import shutting_down, subscribe, wait_wall
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_diagnostics import add_mission_diagnostics
 from blind_navigation.ros.mission_services import MissionServices
+from blind_navigation.ros.paper_adapter import RemoteRecording, RemoteTurn, write_loss
 from blind_navigation.ros.return_paths import ReturnPaths
 from blind_navigation.ros.return_progress import ProgressKeeper
 from blind_navigation.ros.return_runner import ReturnRunner
@@ -51,7 +51,6 @@ class BackTravelClient(object):
         self.machine = state.MissionState()
         self.warnings = ''              # the recording's: damaged, gaps bridged
         self.space_warning = ''         # the recorder's: little free space left
-        self.losses = {}                # real path of a landmark file -> its last storage with a loss
         self._return = threading.Event()
         self.trip = None
         self.takeover = layer.takeover(p)    # its pauses count against no allowance
@@ -68,6 +67,7 @@ class BackTravelClient(object):
         self.paths = ReturnPaths(p.path_spacing)
         self.runner = ReturnRunner(self)
         guard = self.guard = layer.guard(self.ROLE)
+        self.remote_turn = RemoteTurn(guard, self._on_rotation_done)
         self.turn = TurnStart(self)
         self._start()
         layer.safety.on_trip(guard(self._on_trip))
@@ -75,9 +75,8 @@ class BackTravelClient(object):
         self.odometry.on_reanchor(guard(self._on_reset))
         clock.on_moved_back(guard(self._on_time_moved_back))
         subscribe(names.ROLE_FAILURE, String, guard(self._on_failure_report), queue_size=10)
-        subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
+        self.recording = RemoteRecording(guard, self._on_storage)
         subscribe(names.VISION_LOST, Empty, guard(self._on_vision_lost), queue_size=1)
-        subscribe(names.ROTATION_DONE, Bool, guard(self._on_rotation_done), queue_size=1)
         self.services = MissionServices(self)
         add_mission_diagnostics(self)
         rospy.on_shutdown(self._on_shutdown)
@@ -150,19 +149,9 @@ class BackTravelClient(object):
         return [odom.x, odom.y] if odom is not None else None
 
     # --- events --------------------------------------------------------------------------------
-    def loss_of(self, path):
-        """The core/return_plan.WriteLoss the recorder of the landmark file ``path`` reported."""
-        msg = self.losses.get(os.path.realpath(path))
-        if msg is None:
-            return NO_LOSS
-        return WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn, msg.error)
-
     def _on_storage(self, msg):
-        if msg.lost:
-            self.losses[os.path.realpath(msg.file)] = msg
         if msg.lost or msg.error:
-            warning = damage_warning(WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn,
-                                               msg.error), msg.file)
+            warning = damage_warning(write_loss(msg), msg.file)
             if warning != self.warnings:
                 self.warnings = warning
                 self.log.error('%s', warning)
@@ -192,7 +181,7 @@ class BackTravelClient(object):
             return self.move(state.RECORDING, state.HOME, '%s: %s' % (reason, nothing), outcome.NOTHING_TO_RETRACE)
         return self.turn.begin(reason, vision)
 
-    def _on_rotation_done(self, msg):
+    def _on_rotation_done(self, ok):
         if self.state != state.ROTATING:
             return
         lost = self.lost or self.odometry.lost
@@ -200,7 +189,7 @@ class BackTravelClient(object):
             self.move(state.ROTATING, state.ABORTED, 'the pi rotation: %s; not travelling back'
                        % lost, outcome.ODOMETRY)
             return
-        if not msg.data:
+        if not ok:
             safety = self.trip or ', '.join(self.layer.safety.active)
             self.move(state.ROTATING, state.ABORTED, 'the pi rotation failed%s; not travelling '
                        'back' % (' (safety stop: %s)' % safety if safety else ''), _failed_turn(safety))

@@ -1,7 +1,7 @@
 """The return of the back-travel client (section 3.3.7, Figure 6): loads the
 landmarks, expresses them in the heading-corrected frame, plans the route
-(core/return_plan.py), sets it on the server (``blind_navigation/set_return_route``)
-and sends the landmarks in reverse order, one goal at a time (ros/goal_runner.py),
+(core/return_plan.py), sets it on the server and sends the landmarks in reverse order, one goal at a time
+(ros/paper_adapter.RemoteGoals),
 within each goal's backstop, the whole return's allowance and its distance
 budget; the progress is persisted after each goal. The mission's state stays
 with the client (ros/back_travel_client.py), which owns this runner.
@@ -22,10 +22,9 @@ from blind_navigation.core.return_plan import (plan_route, recording_problem, re
                                                return_warning)
 from blind_navigation.core.resume import resumed_route
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
-from blind_navigation.msg import BackTravelAction, BackTravelGoal
+from blind_navigation.msg import BackTravelGoal
 from blind_navigation.ros.common import wait_wall
-from blind_navigation.ros.goal_runner import GoalRunner
-from blind_navigation.ros.route_wire import set_return_route
+from blind_navigation.ros.paper_adapter import RemoteGoals
 
 Ending = outcome.Ending
 
@@ -41,10 +40,7 @@ class ReturnRunner(object):
     def __init__(self, mission):
         self.mission = mission
         self.params, self.log = mission.params, mission.log
-        # The action client is made when the first return starts, not at start-up: rospy
-        # drops a publisherUpdate that arrives while registerSubscriber is in flight, so
-        # subscribing while the server registers can leave feedback/result unconnected.
-        self.client = None
+        self.client = RemoteGoals()     # its action client made when the first return starts
         self.pauses = PauseLog(CONTACT_DEFAULTS['contact_wait'])   # the return's takeovers, contacts
         self.home_tolerance = 0.0   # the server's (set with the route); 0: position not checked
         self._left = None       # the landmarks not driven yet, while a return drives
@@ -58,8 +54,7 @@ class ReturnRunner(object):
 
     def cancel(self):
         """Cancel the goal under way, if any."""
-        if self.client is not None:
-            self.client.cancel()
+        self.client.cancel()
 
     def travel_back(self):
         """Figure 6: load, reverse, send goal by goal (from the first landmark not
@@ -75,7 +70,7 @@ class ReturnRunner(object):
     def _travel_back(self):
         m = self.mission
         resuming = m.keeper.progress.status == state.RETURNING
-        loss = None if resuming else m.loss_of(m.keeper.progress.landmark_file)
+        loss = None if resuming else m.recording.loss_of(m.keeper.progress.landmark_file)
         loaded, digest, problem = self._load(m.keeper.progress.landmark_file, loss, resuming)
         if problem:
             return problem
@@ -128,7 +123,7 @@ class ReturnRunner(object):
             loaded = load_landmarks(path, limits=self.mission.limits, allow_empty=True)
         except LandmarkFileError as error:
             return Ending(outcome.STORAGE, 'landmark file unusable: %s' % error)
-        return recording_problem(loaded, self.mission.loss_of(path))
+        return recording_problem(loaded, self.mission.recording.loss_of(path))
 
     def _load(self, path, loss, resuming):
         """(loaded landmarks, the file's digest, problem: an Ending) of the recorded file; ``loss``:
@@ -174,15 +169,9 @@ class ReturnRunner(object):
 
     def _connect(self, route, landmarks, done):
         """Wait for the action server and set the route on it; None or why not (an Ending)."""
-        p = self.params
-        if self.client is None:
-            self.client = GoalRunner(names.BACK_TRAVEL, BackTravelAction)
-        if not self.client.wait_for_server(rospy.Duration(p.server_timeout)):
-            return Ending(outcome.ROLE_FAILURE, 'action server %s not available after %.0f s (is '
-                          'back_travel_server running?)' % (rospy.resolve_name(names.BACK_TRAVEL),
-                                                            p.server_timeout))
-        problem, self.home_tolerance = set_return_route(
-            route, landmarks, done, self.mission.keeper.progress.frame_id or '', p.server_timeout)
+        problem, self.home_tolerance = self.client.connect(
+            route, landmarks, done, self.mission.keeper.progress.frame_id or '',
+            self.params.server_timeout)
         return Ending(outcome.ROLE_FAILURE, problem) if problem else None
 
     def _drive(self, goals, done, route, landmarks):
@@ -216,7 +205,7 @@ class ReturnRunner(object):
     def _goal_distance(self):
         """m driven by the current goal so far (its last feedback)."""
         client = self.client
-        return client.feedback.distance if client is not None and client.feedback is not None else 0.0
+        return client.feedback.distance if client.feedback is not None else 0.0
 
     def _in_corrected_frame(self, landmarks):
         """``landmarks`` in the corrected odometry frame; (landmarks, problem)."""

@@ -2,14 +2,14 @@
 
 In ``rotating`` the recording goes on until the turn is committed (the bias standstill
 over, or ``vision_back_grace`` s); a problem that ends the mission ends it before the
-turn; at the commit ``recording_end`` is published; vision back before it: ``recording``
+turn; at the commit the recording ends (ros/paper_adapter.RemoteTurn); vision back before it: ``recording``
 again (docs/safety.md, "Vision back", "Decide before the turn").
 """
 import threading
 import time
 
 import rospy
-from std_msgs.msg import Empty, String
+from std_msgs.msg import String
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state, outcome
@@ -32,7 +32,6 @@ class TurnStart(object):
         self.episode = 0        # one per rotating: a late commit or timeout of an earlier one is void
         self.lost_at = None     # sim s of the vision loss behind this rotating (None: go_home)
         self.begun = False      # the turn is committed: no way back to recording
-        self.end_pub = rospy.Publisher(names.RECORDING_END, Empty, queue_size=1, latch=True)
         subscribe(names.VISION_BACK, String, client.guard(self.on_vision_back), queue_size=5)
 
     def begin(self, reason, vision):
@@ -93,7 +92,7 @@ class TurnStart(object):
                 clock.sleep(POLL)   # the time moving back ends the mission (BackTravelClient)
             except rospy.ROSInterruptException:
                 return
-        self.end_pub.publish(Empty())
+        c.remote_turn.begin()
         c.log.info('the pi turn begins: recording ended')
 
     def _problem(self):

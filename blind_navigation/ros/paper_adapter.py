@@ -1,0 +1,132 @@
+"""The paper layout's hand-shakes of its mission owner (back_travel_client) with the other
+roles' nodes, in one place: the savers' storage reports (RemoteRecording), the pi turn
+handed to rotate_pi (RemoteTurn: ``recording_end`` out, ``rotation_done`` in) and the
+return's goals sent to back_travel_server (RemoteGoals: ``set_return_route``, then one
+BackTravel goal per landmark). docs/DESIGN.md, "The paper's layout".
+"""
+import os
+import threading
+
+import actionlib
+import rospy
+from actionlib.action_client import CommState, get_name_of_constant
+from actionlib_msgs.msg import GoalStatus
+from std_msgs.msg import Bool, Empty
+
+from blind_navigation import names
+from blind_navigation.core.return_plan import NO_LOSS, WriteLoss
+from blind_navigation.msg import BackTravelAction, StorageUsage
+from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.route_wire import route_message
+from blind_navigation.srv import SetReturnRoute
+
+
+def write_loss(msg):
+    """The core/return_plan.WriteLoss a StorageUsage report names."""
+    return WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn, msg.error)
+
+
+class RemoteRecording(object):
+    """The landmark savers' StorageUsage reports, each handed to ``on_report(msg)``
+    (through ``guard``); the write loss each file had: :meth:`loss_of`."""
+
+    def __init__(self, guard, on_report):
+        self.losses = {}                # real path of a landmark file -> its last report with a loss
+        self.on_report = on_report
+        subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
+
+    def _on_storage(self, msg):
+        if msg.lost:
+            self.losses[os.path.realpath(msg.file)] = msg
+        self.on_report(msg)
+
+    def loss_of(self, path):
+        """The core/return_plan.WriteLoss the saver of the landmark file ``path`` reported."""
+        msg = self.losses.get(os.path.realpath(path))
+        return NO_LOSS if msg is None else write_loss(msg)
+
+
+class RemoteTurn(object):
+    """The pi turn, rotate_pi's: :meth:`begin` ends the recording (``recording_end``,
+    latched: the sampling publisher's ``final`` sample, then the turn); ``on_done(ok)``
+    (through ``guard``) takes ``rotation_done``."""
+
+    def __init__(self, guard, on_done):
+        self.end_pub = rospy.Publisher(names.RECORDING_END, Empty, queue_size=1, latch=True)
+        subscribe(names.ROTATION_DONE, Bool, guard(lambda msg: on_done(msg.data)), queue_size=1)
+
+    def begin(self):
+        self.end_pub.publish(Empty())
+
+
+class RemoteGoals(object):
+    """The return's goals on back_travel_server, one at a time; each goal's callbacks are
+    bound to it (a status that comes before ``send_goal`` returns is kept); :attr:`heard`:
+    rospy time the server last spoke of the current goal. The action client is made at the
+    first :meth:`connect` (docs/DESIGN.md, "The paper's layout")."""
+
+    def __init__(self):
+        self.client = self._handle = None
+        self._done = threading.Event()
+        self.status, self.text, self.result, self.feedback, self.heard = None, '', None, None, None
+
+    def connect(self, route, landmarks, completed, frame_id, timeout):
+        """Wait for the action server, then set the route, its goals' ``landmarks`` (return
+        order) and how many are ``completed`` on it: (why not or None, the server's home
+        tolerance, m; 0: its mode does not check the position, docs/safety.md "home")."""
+        if self.client is None:
+            self.client = actionlib.ActionClient(names.BACK_TRAVEL, BackTravelAction)
+        if not self.client.wait_for_server(rospy.Duration(timeout)):
+            return ('action server %s not available after %.0f s (is back_travel_server running?)'
+                    % (rospy.resolve_name(names.BACK_TRAVEL), timeout)), 0.0
+        service = rospy.resolve_name(names.SET_RETURN_ROUTE)
+        try:
+            rospy.wait_for_service(names.SET_RETURN_ROUTE, timeout)
+            call = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
+            response = call(header=rospy.Header(stamp=rospy.Time.now(), frame_id=frame_id),
+                            route=route_message(route),
+                            landmarks=[value for lm in landmarks for value in lm.as_list()],
+                            completed=completed)
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            return 'cannot set the return route on %s: %s' % (service, error), 0.0
+        return (None if response.ok else 'return route refused: %s' % response.message,
+                response.home_tolerance)
+
+    def send(self, goal):
+        """Send ``goal``; the previous one must have ended."""
+        self._done.clear()
+        self.status, self.text, self.result, self.feedback = None, '', None, None
+        self.heard = rospy.get_time()
+        done = self._done
+
+        def on_transition(handle):
+            if not done.is_set():
+                self.heard = rospy.get_time()
+            if handle.get_comm_state() == CommState.DONE and not done.is_set():
+                self.status, self.text, self.result = (handle.get_goal_status(),
+                                                       handle.get_goal_status_text(), handle.get_result())
+                done.set()
+
+        def on_feedback(_handle, feedback):
+            if not done.is_set():
+                self.feedback, self.heard = feedback, rospy.get_time()
+
+        self._handle = self.client.send_goal(goal, on_transition, on_feedback)
+
+    def wait(self, timeout):
+        """True once the goal ended within ``timeout`` wall seconds."""
+        return self._done.wait(timeout)
+
+    def cancel(self):
+        """Ask the server to cancel the goal under way, if any."""
+        if self._handle is not None and not self._done.is_set():
+            self._handle.cancel()
+
+    @property
+    def succeeded(self):
+        return self.status == GoalStatus.SUCCEEDED
+
+    def describe(self):
+        """The goal's end, e.g. ``ABORTED: time allowance ...``."""
+        name = get_name_of_constant(GoalStatus, self.status) if self.status is not None else 'UNKNOWN'
+        return '%s: %s' % (name, self.text) if self.text else name
