@@ -331,7 +331,7 @@ def _plan(m):
         follower = None if c.remote_goals else RouteFollower(m.route, m.params)
     m.pauses, done = Pauses(m.params), kept.done if kept else 0
     watch = ReturnWatch(m.landmarks, [landmark for _, landmark in goals[done:]], c.limits or m.params, m.now)
-    m.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
+    m.drive = RemoteReturn(goals, watch) if c.remote_goals else ReturnDrive(
         goals, c.mode, m.params, follower, c, m._feed, m.odom, watch)
     m.drive.index, m.drive.driven = done, kept.travelled if kept else 0.0
 

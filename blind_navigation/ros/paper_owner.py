@@ -40,17 +40,26 @@ def paper_params(layer):
 
 
 class SaverFile(object):
-    """The saver's landmark file as core/mission's store, read only: load, the reported loss."""
+    """The saver's landmark file as core/mission's store, read only: load (the last good
+    one if it cannot be read now: :meth:`problem` asked first), the reported loss."""
 
     def __init__(self, path, losses, limits):
         self.path, self.losses, self.limits = path, losses, limits
-        self.error, self.damage, self.space = '', '', SimpleNamespace(warning='')
+        self.error, self.damage, self.space, self.loaded = '', '', SimpleNamespace(warning=''), None
+
+    def problem(self, allow_empty=True):
+        """Why the file gives no way back (a core/outcome.Ending: unreadable, or
+        core/return_plan.recording_problem), or None; the file read kept for :meth:`load`."""
+        try:
+            self.loaded = load_landmarks(os.path.realpath(self.path), limits=self.limits,
+                                         allow_empty=allow_empty)
+        except (OSError, LandmarkFileError) as error:
+            return outcome.Ending(outcome.STORAGE, 'landmark file unusable: %s' % error)
+        return recording_problem(self.loaded, self.loss())
 
     def load(self):
-        try:
-            return load_landmarks(os.path.realpath(self.path), limits=self.limits, allow_empty=True)
-        except (OSError, LandmarkFileError) as error:
-            raise RuntimeError('landmark file unusable: %s' % error)
+        self.problem()
+        return self.loaded
 
     def loss(self):
         return self.losses(self.path)
@@ -130,7 +139,13 @@ class PaperOwner(MissionOwner):
 
     # --- the loop ----------------------------------------------------------------------------
     def _step(self, now, odom, visual, events):
-        if self.mission.phase == TURNED and not self.connected:
+        m = self.mission
+        if m.state == state.RECORDING and (events.get('vision_lost') or 'go_home' in m.requests):
+            problem = self.store.problem()      # asked again at the commit, and after the turn
+            if problem:
+                self._cancel('%s, but %s' % ('vision lost' if events.get('vision_lost') else
+                                             'return requested (go_home)', problem.reason), problem.code)
+        if m.phase == TURNED and not self.connected:
             self._start_return()
         step = super(PaperOwner, self)._step(now, odom, visual, events)
         remote = self.mission.config.remote
@@ -142,8 +157,7 @@ class PaperOwner(MissionOwner):
             self.log.error('rotation_done true refused: %s', remote.refused)
             remote.refused = ''
         if step.goal is not None:
-            index, landmark = step.goal
-            self.remote_goals.send(landmark, lambda result: self.inbox.put(goal_result=result))
+            self.remote_goals.send(step.goal[1], lambda result: self.inbox.put(goal_result=result))
         return step
 
     def _start_return(self):
@@ -151,18 +165,17 @@ class PaperOwner(MissionOwner):
         the route set on back_travel_server (its mode and home tolerance the mission's)."""
         m, self.connected = self.mission, True
         if m.kept is None:
-            try:
-                loaded = self.store.load()
-            except RuntimeError as error:
-                return self._cancel(str(error), outcome.STORAGE)
-            problem = recording_problem(loaded, self.store.loss())
+            problem = self.store.problem(allow_empty=False)
             if problem:
-                return self._cancel('before the return: %s' % problem.reason, problem.code)
-            m.loaded = loaded
+                return self._cancel(problem.reason, problem.code)
+            m.loaded = loaded = self.store.loaded
             m.configure_return(landmarks=correct_landmarks(loaded.landmarks, m.correction)
                                if m.correction is not None else loaded.landmarks)
-        route = m.kept.route if m.kept is not None else plan_return(
-            m.landmarks, m.anchor, self.params, m.config.prune_loops, m.correction)[0]
+        try:
+            route = m.kept.route if m.kept is not None else plan_return(
+                m.landmarks, m.anchor, self.params, m.config.prune_loops, m.correction)[0]
+        except ValueError as error:
+            return self._cancel('cannot build the return route: %s' % error, outcome.RECORDING)
         done = m.kept.done if m.kept is not None else 0
         problem, response = self.remote_goals.connect(route, m.landmarks[::-1], done,
                                                       self.layer.odometry.frame_id or '',
