@@ -9,8 +9,8 @@ command timeout would stop it, no motion command follows (at most the one a
 control cycle already had in flight), the base stops and stays put, the
 client sends no further goal and the state ends ``aborted`` with the server's cause, the
 goal's BackTravel result ``outcome``: OUTCOME_CANCELLED on the status.
-With ``~timed_rtf`` the fake's clock runs at that rtf from just before the cancel on (the
-zero is timed; everything before it at the launch's rtf).
+With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf,
+the rest (from the vision loss on) at the launch's rtf.
 """
 import os
 import sys
@@ -45,11 +45,11 @@ class CancelTest(unittest.TestCase):
         cls.mission_run = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
         cls.teleop = TimedTwists(TELEOP_TOPIC)
         try:
-            run.record_mission(rospy.get_param('~mission'))
+            run.record_mission(rospy.get_param('~mission'), rospy.get_param('~record_rtf', 0.0))
             cls.landmarks = len(run.recorded().landmarks)
             run.trigger_by_publisher()
-            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(
-                GOALS_BEFORE_CANCEL, MOVING_SPEED, rospy.get_param('~timed_rtf', 0.0))
+            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL,
+                                                                        MOVING_SPEED)
             run.cancel_all_goals()
             cls.goals_at_cancel = len(run.goals.snapshot())
             run.wait(lambda: run.state_names()[-1:] in (['aborted'], ['home']),
