@@ -375,15 +375,17 @@ def _floor(run, mission, odometry, settings):
 
 def _stop(run, mission, settings):
     """``stop_time`` s for the robot to stop; the mission decides home meanwhile (or after), its
-    commands played (its final approach: core/final_approach, the ``approach`` events' origin;
-    no takeover's)."""
+    commands played (its final approach: core/final_approach, the ``approach`` events' origin,
+    an operator's takeover in it)."""
     steps, command = int(round(settings['stop_time'] / run.dt)), None
     while steps > 0 or mission.phase in (SETTLE, APPROACH):
         steps -= 1
         run.advance(command)
-        if mission.phase == APPROACH:
+        approaching = mission.phase == APPROACH
+        if approaching:
             run.events.origin('approach', run.base.t)
-        command = _step(run, mission, run.events)[0].command
+        step, taken = _step(run, mission, run.events)
+        command = taken if taken and approaching else step.command
 
 
 def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0.02, base='kinematic',

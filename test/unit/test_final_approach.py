@@ -96,6 +96,14 @@ def test_a_bumper_in_the_approach_stops_it_and_a_held_one_aborts_it_never_home()
     assert brief.result.status == 'home' and '1 bumper contact' in brief.mission.reason
 
 
+def test_a_takeover_in_the_approach_is_the_operators_then_it_goes_on_home():
+    played = _play(events=[('takeover', 'approach', 0.5, 1.0, (0.0, 0.0))])
+    start = played.run.events.origins['approach'] + 0.5
+    assert _moved_between(played, start + LAG + 0.3, start + 1.0 + 1.5) < 0.002    # + takeover_wait
+    assert played.result.status == 'home' and 'final approach: backed' in played.mission.reason
+    assert played.result.position_error < 0.05
+
+
 @pytest.mark.parametrize('mission', ['table6_test1', 'test_left_arc'])
 def test_a_normal_stop_has_no_approach_and_the_same_ending(mission):
     normal, without = _play(lag=0.0, mission=mission), _play(approach=False, lag=0.0, mission=mission)
