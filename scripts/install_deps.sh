@@ -83,14 +83,20 @@ fi
 
 # shellcheck source=venvs.sh
 source "$(dirname "$0")/venvs.sh"
-make_venv tools /usr/bin/python3 tools.txt
-make_venv sim /usr/bin/python3 sim.txt --system-site-packages   # the fake's physics engine (MuJoCo)
-for version in $LANE_PYTHONS; do
-  lane=py${version/./}
+# the venvs at once (pip's downloads and unpacking wait on the disk and network more than
+# on the CPU), each failure named by make_venv
+lane_venv() {
+  local version=$1 lane=py${1/./} python
   if python=$(find_python "$version"); then
-    make_venv "$lane" "$python" "$lane.txt"
-    debian_ros_behind "$BN_WS/venvs/$lane"
+    make_venv "$lane" "$python" "$lane.txt" && debian_ros_behind "$BN_WS/venvs/$lane"
   else
     echo "install_deps: no Python $version (pyenv or python$version on PATH): no $lane venv, its lane will be skipped"
   fi
-done
+}
+jobs=()
+make_venv tools /usr/bin/python3 tools.txt & jobs+=($!)
+make_venv sim /usr/bin/python3 sim.txt --system-site-packages & jobs+=($!)  # the fake's physics engine (MuJoCo)
+for version in $LANE_PYTHONS; do lane_venv "$version" & jobs+=($!); done
+failed=0
+for job in "${jobs[@]}"; do wait "$job" || failed=1; done
+[ $failed -eq 0 ] || { echo "install_deps: a venv could not be made (above)" >&2; exit 1; }

@@ -23,8 +23,8 @@ source "$repo/scripts/ros_env.sh"
 source "$repo/scripts/venvs.sh"
 version="${1:-}" part="${2:-all}"
 case "$version" in
-  3.8) missions="mission_closed_loop mission_left_arc_time" ;;  # the one process, the paper's layout
-  3.12) missions="mission_closed_loop" ;;
+  3.8) missions="mission_closed_loop" ;;      # the one process (the default layer, on Noetic)
+  3.12) missions="mission_left_arc_time" ;;   # the paper's layout
   3.13) missions="" ;;
   *) echo "python_lane: unknown Python '$version' (one of $LANE_PYTHONS)" >&2; exit 2 ;;
 esac

@@ -7,16 +7,16 @@
 # line `N passed, N failed`.
 # Exit status is non-zero on any failure or when no test ran.
 #
-# Two phases (docs/testing.md, "Where the time goes"):
-# 1. nothing timed: the unit tests and the lint here, beside the lanes' unit parts (each
-#    its set-up, unit tests and harness) in the background, all at once: single-threaded
-#    CPU-bound jobs sharing the two cores;
-# 2. the rostests, one suite at a time and nothing beside them: catkin_make's default
-#    `-j<cores> -l<cores>` starts a second suite whenever the load dips, and two fake
+# Two parts at once (docs/testing.md, "Where the time goes"):
+# 1. nothing timed, at nice 19: the unit tests and the lint, beside the lanes' unit parts
+#    (each its set-up, unit tests and harness): single-threaded CPU-bound jobs that take
+#    the CPU only when the rostests leave it (they mostly wait on the fake's clock);
+# 2. the rostests, one suite at a time at the normal priority: catkin_make's default
+#    `-j<cores> -l<cores>` would start a second suite whenever the load dips, and two fake
 #    robots at rtf 5-10 on a 2-core machine starve each other's timing (a CI failure: a
 #    detection 1.16 s late beside another suite). Behaviour under load is checked on
 #    purpose, in the suites that load the machine themselves and in docs/cost.md's runs.
-#    Then the lanes' mission rostests, likewise one at a time.
+#    Then, once part 1 is done, the lanes' mission rostests, likewise one at a time.
 set -uo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 source "$repo/scripts/ros_env.sh"
@@ -25,32 +25,44 @@ rm -rf "$results"
 mkdir -p "$results"
 
 source "$repo/scripts/venvs.sh"   # LANE_PYTHONS
-echo "run_tests: unit tests and lint, beside the lanes' unit parts (logs: $BN_WS/lane_*_unit.log)"
-lane_units=()
-for version in $LANE_PYTHONS; do
-  bash "$repo/scripts/python_lane.sh" "$version" unit "$results" > "$BN_WS/lane_${version}_unit.log" 2>&1 &
-  lane_units+=($!)
-done
-catkin_make -C "$BN_WS" run_tests_blind_navigation_pytest > "$BN_WS/test_unit.log" 2>&1
-status=$?
-# the workspace's link: catkin_lint wants the package in a directory named after it
-/usr/bin/python3 "$repo/scripts/catkin_lint_junit.py" "$BN_WS/src/blind_navigation" \
-  "$results/lint-catkin_lint.xml"
-/usr/bin/python3 "$repo/scripts/vermin_junit.py" "$BN_WS/venvs/tools/bin/vermin" "$repo" \
-  "$results/lint-vermin.xml"
-/usr/bin/python3 "$repo/scripts/vulture_junit.py" "$BN_WS/venvs/tools/bin/vulture" "$repo" \
-  "$results/lint-vulture.xml"
-wait "${lane_units[@]}"
-for version in $LANE_PYTHONS; do cat "$BN_WS/lane_${version}_unit.log"; done
+echo "run_tests: unit tests and lint at nice 19 beside the rostests (logs: $BN_WS/test_unit.log, $BN_WS/lane_*_unit.log)"
+unit_status="$BN_WS/test_unit.status"
+rm -f "$unit_status"
+(
+  renice -n 19 -p "$BASHPID" > /dev/null
+  lane_units=()
+  for version in $LANE_PYTHONS; do
+    bash "$repo/scripts/python_lane.sh" "$version" unit "$results" > "$BN_WS/lane_${version}_unit.log" 2>&1 &
+    lane_units+=($!)
+  done
+  # pytest as CMakeLists' run_tests_blind_navigation_pytest runs it (not through a second
+  # catkin_make in the build directory the rostests' catkin_make uses)
+  /usr/bin/python3 -m pytest -q -p no:cacheprovider "$repo/test/unit" \
+    --junitxml="$results/pytest-unit.xml" > "$BN_WS/test_unit.log" 2>&1
+  echo $? > "$unit_status"
+  # the workspace's link: catkin_lint wants the package in a directory named after it
+  /usr/bin/python3 "$repo/scripts/catkin_lint_junit.py" "$BN_WS/src/blind_navigation" \
+    "$results/lint-catkin_lint.xml"
+  /usr/bin/python3 "$repo/scripts/vermin_junit.py" "$BN_WS/venvs/tools/bin/vermin" "$repo" \
+    "$results/lint-vermin.xml"
+  /usr/bin/python3 "$repo/scripts/vulture_junit.py" "$BN_WS/venvs/tools/bin/vulture" "$repo" \
+    "$results/lint-vulture.xml"
+  wait "${lane_units[@]}"
+) > "$BN_WS/test_lint.log" 2>&1 &
+part1=$!
 
 echo "run_tests: rostests, one at a time (log: $BN_WS/test.log)"
 catkin_make -C "$BN_WS" run_tests_blind_navigation_rostest -j1 -l1 > "$BN_WS/test.log" 2>&1
 rostest_status=$?
+wait $part1
+cat "$BN_WS/test_lint.log"
+for version in $LANE_PYTHONS; do cat "$BN_WS/lane_${version}_unit.log"; done
+status=$(cat "$unit_status" 2>/dev/null || echo 1)
 for version in $LANE_PYTHONS; do bash "$repo/scripts/python_lane.sh" "$version" rostests "$results"; done
 /usr/bin/python3 "$repo/scripts/test_summary.py" "$results"
 summary=$?
 [ $status -eq 0 ] || { tail -30 "$BN_WS/test_unit.log"
-  echo "run_tests: catkin_make run_tests_blind_navigation_pytest exited $status" >&2; }
+  echo "run_tests: the unit tests (pytest) exited $status" >&2; }
 [ $rostest_status -eq 0 ] || { tail -30 "$BN_WS/test.log"
   echo "run_tests: catkin_make run_tests_blind_navigation_rostest exited $rostest_status" >&2; }
 [ $status -eq 0 ] && [ $rostest_status -eq 0 ] && [ $summary -eq 0 ]

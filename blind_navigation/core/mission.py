@@ -9,13 +9,13 @@ import types
 
 from . import mission_state as state, outcome
 from .allowance import ABORT, DRIVE, HOLD
-from .back_travel import BACK_TRAVEL_DEFAULTS, stopped
+from .back_travel import BACK_TRAVEL_DEFAULTS
 from .docking import DOCK, Docking
 from .drive import Outcome
+from .final_approach import APPROACH, SETTLE, ReturnEnding
 from .goal import HANDOVER_FOLLOW
 from .heading_correction import CorrectedOdometry, correct_landmarks
-from .mission_drive import (DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive,
-                            home_verdict)
+from .mission_drive import DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive
 from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
 from .pause import PAUSE
@@ -40,8 +40,7 @@ MISSION_DEFAULTS = {
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
     'vision_back_grace': LIMIT_DEFAULTS['vision_back_grace'],   # s the turn waits for vision back
     'limits': None,                 # the allowances' params (core/mission_limits), None: params'
-    'battery_low': 0.0,             # V: Inputs.battery below it while recording starts the
-                                    # return as go_home does (core/battery); 0: off
+    'battery_low': 0.0,             # V: Inputs.battery below it starts the return (core/battery); 0: off
     'dock_at_home': False, 'dock_timeout': None,    # core/docking: dock once home (None: its default)
 }
 
@@ -66,12 +65,11 @@ class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_ba
 
 Step = collections.namedtuple('Step', 'command phase state stored goal dock')
 Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: recording, '
-                'standstill, turn, turned, goal, hand-over, final hold, settle, ended; '
+                'standstill, turn, turned, goal, hand-over, final hold, settle, final approach, ended; '
                 '``state``; ``stored``: the landmarks stored this step; ``goal``: (index, landmark) '
                 'to send now (remote_goals), else None; ``dock``: send the docking goal now (core/docking).')
 
-RECORDING, STANDSTILL, TURN, TURNED, SETTLE, ENDED = (
-    'recording', 'standstill', 'turn', 'turned', 'settle', 'ended')
+RECORDING, STANDSTILL, TURN, TURNED, ENDED = 'recording', 'standstill', 'turn', 'turned', 'ended'
 #: Why a mission starts ``returning`` (the default layer's reason too).
 RESUMED = 'resume after a restart'
 
@@ -96,9 +94,8 @@ class Mission(object):
         self.recording = (self.config.remote.recording if self.config.remote else MissionRecording)(store, self.config)
         self.raw = self.last = self.corrector = self.correction = None
         self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
-        self.drive, self.kept, self.warning = None, None, ''    # warning: the return's
-        self.pauses = Pauses(self.params)
-        self.requests, self.halt, self.vision_loss = [], False, False
+        self.drive, self.ending, self.kept, self.warning = None, None, None, ''  # warning: the return's
+        self.pauses, self.requests, self.halt, self.vision_loss = Pauses(self.params), [], False, False
 
     # --- requests (acted on at the next step) ------------------------------------------------
     state = property(lambda self: self.machine.state, doc='The mission state (core/mission_state).')
@@ -156,8 +153,8 @@ class Mission(object):
             return self._record(now, inputs, stored)
         if self.phase == STANDSTILL:
             return self._standstill(now, inputs)
-        if self.phase == SETTLE:
-            return self._settle(now)
+        if self.phase in (SETTLE, APPROACH):
+            return self._ending(now, inputs)
         if self.phase == DOCK:      # the dock drive drives: nothing published until it ends
             ended = self.drive.step(now, inputs)
             return ended and self._end(*ended)
@@ -257,8 +254,10 @@ class Mission(object):
         return self._drive(now, Inputs())
 
     def _paused(self, now, inputs):
-        """A pause's command ('taken': nothing, a contact: zero), an end, or False (drive on);
-        remote goals pause where they are driven."""
+        """Vision back's zero, a pause's command ('taken': nothing, a contact: zero), an end, or
+        False (drive on); remote goals pause where they are driven."""
+        if self._vision_back(inputs):
+            return ZERO
         if isinstance(self.drive, RemoteReturn):
             return False
         position = lambda: None if self.last is None else [self.last.x, self.last.y]  # noqa: E731
@@ -267,20 +266,19 @@ class Mission(object):
             return None
         if pause == PAUSE:
             return ZERO
+        driven = self.ending or self.drive
         if pause:
-            return self._end(state.ABORTED, outcome.CONTACTS, '%s: safety stop: %s' % (self.drive.where(), pause))
+            return self._end(state.ABORTED, outcome.CONTACTS, '%s: safety stop: %s' % (driven.where(), pause))
         resumed = self.pauses.resume(now)
         if resumed is not None:
             seconds, taken = resumed
             if taken and self.pauses.takeover.policy == 'abort':
                 return self._end(state.ABORTED, outcome.TAKEOVER, '%s (on_takeover abort)' % taken)
-            self.drive.resumed(seconds)
+            driven.resumed(seconds)
         return False
 
     def _drive(self, now, inputs):
         """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""
-        if self._vision_back(inputs):
-            return ZERO
         paused = self._paused(now, inputs)
         if paused is not False:
             return paused
@@ -294,17 +292,19 @@ class Mission(object):
             self._move(state.ROTATING, state.RETURNING)
             self.phase, self.drive = TURNED, None
             return ZERO
-        self.phase, self.settle_until = SETTLE, now + self.config.settle_time
-        return self._settle(now) or ZERO
+        self.phase, self.ending = SETTLE, ReturnEnding(now, self.params, self.config, self.route, len(
+            self.drive.goals), self.warning, self._feed, self.odom, not self.config.remote_goals)
+        return self._ending(now, inputs) or ZERO
 
-    def _settle(self, now):
-        """After the last goal: ``home`` once the stopped robot is within home_tolerance of
-        the start by odometry (closed_loop; the paper's modes: every landmark replayed)."""
-        odom = self.odom()
-        if not stopped(odom) and now < self.settle_until - 1e-9:
-            return None
-        verdict = home_verdict(odom, self.route, len(self.drive.goals), self.config.mode, getattr(
-            self.params, 'home_tolerance', BACK_TRAVEL_DEFAULTS['home_tolerance']), self.warning)
+    def _ending(self, now, inputs):
+        """After the last goal: core/final_approach.ReturnEnding's command, or its verdict's end."""
+        paused = self._paused(now, inputs) if self.phase == APPROACH else False
+        if paused is not False:
+            return paused
+        command, verdict = self.ending.step(now)
+        self.phase = self.ending.phase
+        if verdict is None:
+            return command
         if verdict[0] != state.HOME or not self.config.dock_at_home:
             return self._end(*verdict)
         self._move(state.RETURNING, state.DOCKING, verdict[2])

@@ -10,7 +10,7 @@ import copy
 import math
 import os
 import tempfile
-from collections import namedtuple
+from collections import deque, namedtuple
 from types import SimpleNamespace
 
 from ..core import mission_state
@@ -23,7 +23,8 @@ from ..core.heading_correction import correct_landmarks
 from ..core.landmark import Landmark
 from ..core.landmark_writer import LandmarkWriter
 from ..core.docking import DOCK
-from ..core.mission import RECORDING, SETTLE, STANDSTILL, TURN, TURNED, Inputs, Mission
+from ..core.final_approach import APPROACH, SETTLE
+from ..core.mission import RECORDING, STANDSTILL, TURN, TURNED, Inputs, Mission
 from ..core.mission_drive import FAILED, FINAL, GOAL, HANDOVER
 from ..core.odometry_reset import UNTRUSTED
 from ..core.return_plan import write_loss
@@ -63,6 +64,8 @@ SIMULATION_DEFAULTS = {
     'floor': True,             # also run the physical floor (module docstring)
     'event_sampling': False,   # an extra landmark at each motion event (core/motion_events.py:
                                # a proposal; off = the paper's sampling)
+    'command_lag': 0.0,        # s the return's commands reach the base late (a loaded machine's
+                               # late control cycles: its final stop overshoots)
     'odometry_gaps': (),       # ((start, length), ...) s after the pi turn starts: odometry stops
                                # arriving (held as the nodes hold: core/allowance.OdomGrace)
     'base': 'kinematic',       # the robot: kinematic (sim/kobuki.py) or mujoco (sim/mujoco_kobuki.py)
@@ -129,10 +132,17 @@ class _Run(object):
         self.odometry_log = None      # a list: every odometry state is appended
         self.battery = None           # a sim/battery.SimBattery, drained as the robot moves
         self.dock = self.docking = None   # a sim/dock.Dock; the sim/docking.DockingResult of its docking
+        self.lag = None               # a _Lag: commands reach the base late
 
-    def advance(self, command=None):
+    def give(self, command):
+        """``command`` (None: none) given now: to the base (through the lag, if any)."""
+        if self.lag is not None:
+            command = self.lag.delay(self.base.t, command)
         if command is not None:
             self.base.command(*command)
+
+    def advance(self, command=None):
+        self.give(command)
         self.base.step(self.dt)
         if self.battery is not None:
             self.battery.step(self.dt, *self.base.true_twist)
@@ -152,6 +162,21 @@ class _Run(object):
                 else:
                     self.frames.append((self.next_frame, yaw))
                 self.next_frame += 1.0 / VO_RATE
+
+
+class _Lag(object):
+    """Commands given at ``t`` reach the base at ``t + seconds`` (the latest one due then)."""
+
+    def __init__(self, seconds):
+        self.seconds, self.queue = seconds, deque()
+
+    def delay(self, now, command):
+        if command is not None:
+            self.queue.append((now + self.seconds, command))
+        due = None
+        while self.queue and self.queue[0][0] <= now + 1e-9:
+            due = self.queue.popleft()[1]
+        return due
 
 
 class _Store(object):
@@ -246,7 +271,7 @@ def _drive(run, mission, events, step, phases, feed=None, latency=0):
         index = goal
         step = _step(run, mission, events, feed, next_goal=handing >= latency)
     if step[0].command is not None:
-        run.base.command(*step[0].command)
+        run.give(step[0].command)
     return step
 
 
@@ -302,6 +327,7 @@ def _return(run, mission, settings):
     latency = int(round(settings['handover_latency'] / run.dt))
     mission.configure_return(await_goals=latency > 0)
     run.events.origin('return', run.base.t)
+    run.lag = _Lag(settings['command_lag']) if settings['command_lag'] else None
     step = _step(run, mission, run.events, feed)
     return _drive(run, mission, run.events, step, (GOAL, HANDOVER, FINAL), feed, latency)
 
@@ -348,13 +374,18 @@ def _floor(run, mission, odometry, settings):
 
 
 def _stop(run, mission, settings):
-    """``stop_time`` s for the robot to stop; the mission decides home meanwhile (or after)."""
-    for _ in range(int(round(settings['stop_time'] / run.dt))):
-        run.advance()
-        _step(run, mission, run.events)
-    while mission.phase == SETTLE:
-        run.advance()
-        _step(run, mission, run.events)
+    """``stop_time`` s for the robot to stop; the mission decides home meanwhile (or after), its
+    commands played (its final approach: core/final_approach, the ``approach`` events' origin,
+    an operator's takeover in it)."""
+    steps, command = int(round(settings['stop_time'] / run.dt)), None
+    while steps > 0 or mission.phase in (SETTLE, APPROACH):
+        steps -= 1
+        run.advance(command)
+        approaching = mission.phase == APPROACH
+        if approaching:
+            run.events.origin('approach', run.base.t)
+        step, taken = _step(run, mission, run.events)
+        command = taken if taken and approaching else step.command
 
 
 def simulate_gyro_calibration(profile='paper', seed=0, params=None, control_dt=0.02, base='kinematic',

@@ -1,13 +1,14 @@
 """Scripted events of a simulated mission (sim/harness.py's ``events`` setting): a
 bumper pressed, an operator driving, the motors off (the robot blocked), requests and
-vision events, each at a time after the mission's start, the pi turn's or the return's.
+vision events, each at a time after the mission's start, the pi turn's, the return's or the
+final approach's.
 """
 import collections
 
 #: kinds with a length (windows) and the moments (fired once)
 WINDOWS = ('bumper', 'takeover', 'motors_off')   # motors_off: the wheels stop (a blocked robot)
 MOMENTS = ('cancel', 'go_home', 'vision_lost', 'vision_back', 'odometry_reset', 'time_back', 'cliff')
-ORIGINS = ('start', 'turn', 'return')
+ORIGINS = ('start', 'turn', 'return', 'approach')   # approach: the final approach's start
 
 Event = collections.namedtuple('Event', 'kind origin at length command')
 Event.__new__.__defaults__ = (0.0, (0.0, 0.0))

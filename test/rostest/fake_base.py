@@ -5,8 +5,7 @@ dropped 0.6 s after the last one), publishes its true pose and twist as
 nav_msgs/Odometry on /odom at 50 Hz (ideal odometry: the odometry frame is the
 world) and records every Twist. ``x``, ``y``, ``yaw`` (settable: the base is put
 there), ``v``, ``w``: its pose and twist. ``publish_odom = False`` cuts the
-odometry; ``stuck = True`` stops the wheels (commands are still recorded);
-:meth:`FakeBase.turn` turns it in place as an operator would (the pi turn the
+odometry; :meth:`FakeBase.turn` turns it in place as an operator would (the pi turn the
 layer checks, without a rotate_pi node)."""
 import math
 import threading
@@ -27,7 +26,6 @@ class FakeBase(object):
     def __init__(self, cmd_topic='/cmd_vel_mux/input/teleop', x=0.0, y=0.0, yaw=0.0):
         self._base = SimulatedKobuki(load_profile('ideal'), start=Pose2D(x, y, yaw))
         self.publish_odom = True
-        self.stuck = False
         self._turn_w = self._turn_left = 0.0     # a turn in place under way (rad/s, rad)
         self.odom_stamps = []       # sim time of each odometry published
         self.commands = []          # (receipt time s, v, w)
@@ -97,7 +95,6 @@ class FakeBase(object):
                 step = min(abs(self._turn_w) * dt, self._turn_left)
                 self._base.command(0.0, math.copysign(step / dt, self._turn_w))
                 self._turn_left = max(0.0, self._turn_left - step)
-            self._base.set_motor_power(not self.stuck)
             self._base.step(dt)
             if self._turn_left == 0.0 and self._turn_w:
                 self._base.command(0.0, 0.0)      # the turn is over: stand still

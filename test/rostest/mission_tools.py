@@ -355,11 +355,14 @@ class MissionRun(object):
         return max([min(s.completed + 1, s.landmarks) for s in self.status.snapshot()
                     if s.state == 'returning'] or [0])
 
-    def wait_mid_return(self, goals, speed):
+    def wait_mid_return(self, goals, speed, timed_rtf=0.0):
         """Until more than ``goals`` goals were sent and the base drives faster than
-        ``speed`` (m/s, ground truth); (that speed, the sim time now)."""
+        ``speed`` (m/s, ground truth); with ``timed_rtf``, the fake's clock then runs at that
+        rtf (what follows is timed); (the speed, the sim time now)."""
         self.wait(lambda: self.goals_started() > goals and self.truth.speed() > speed,
                   'the robot never drove back at > %.2f m/s after %d goals' % (speed, goals))
+        if timed_rtf:
+            self.set_rtf(timed_rtf)
         return self.truth.speed(), rospy.Time.now().to_sec()
 
     def cancel_all_goals(self):

@@ -3,15 +3,13 @@
 issue 28), over ROS: the Kobuki's bumper events and the operator on the mux.
 
 On the fake TurtleBot (ideal profile, closed_loop, blind_navigation.launch as a user
-starts it, the 2.3 m mission config/missions/test_safety.yaml), two missions, each with
-a fresh layer (findings_rig.FindingMission):
-
-- ``bump_takeover``: the bumper pressed for 1 s mid-return: zero at once, the robot
-  still until ``contact_wait`` after the release, then it goes on; then this node drives
-  on the layer's own mux input (teleop) for 2 s: the layer publishes nothing meanwhile,
-  drives again once the operator was silent ``takeover_wait`` s and comes home within 3 %.
-- ``takeover_late``: an operator who starts publishing without waiting for the layer's
-  connection overlaps it by at most a control cycle at the base; home within 3 %.
+starts it, the 2.3 m mission config/missions/test_safety.yaml), one mission with a fresh
+layer (findings_rig.FindingMission), mid-return, one after the other: an operator who
+starts publishing without waiting for the layer's connection overlaps it by at most a
+control cycle at the base; the bumper pressed for 1 s: zero at once, the robot still
+until ``contact_wait`` after the release, then it goes on; this node drives on the
+layer's own mux input (teleop) for 2 s: the layer publishes nothing meanwhile and drives
+again once the operator was silent ``takeover_wait`` s. Then home within 3 %.
 
 Behaviour alone (max_contacts, a chattering bumper, on_takeover abort, pushed past the
 start, a wandering takeover, go_home before moving) is played in the harness
@@ -142,33 +140,16 @@ class RecoverTest(RecoverCase):
                   in_flight()))
         self.assertEqual(during, [], 'the layer published while the operator drove')
 
-    def test_1_a_bump_waits_then_a_takeover_silences_the_layer_and_it_comes_home(self):
-        m = self.start_return('bump_takeover')
-        pressed, released = self.press(m, PRESS)
-        m.wait_sim(STOPPED)
-        speed_after_release = m.run.truth.speed()
-        wait = CONTACT_DEFAULTS['contact_wait']
-        m.wait(lambda: moving(self.commands_between(m, released + wait, rospy.get_time())),
-               'the layer drives again after contact_wait')
-        held = moving(self.commands_between(m, pressed + in_flight(), released + wait - IN_FLIGHT))
-        again = moving(self.commands_between(m, released, rospy.get_time()))[0][0] - released
-        print('RECOVER bump: pressed %.1f s; drives again %.2f s after the release' % (
-            released - pressed, again))
-        self.assertEqual(held, [], 'motion commanded during the contact or its wait')
-        self.assertLess(speed_after_release, STILL, 'the base did not stop at the press')
-        self.assertGreaterEqual(again, wait - IN_FLIGHT)
-        m.wait_sim(1.0)
-        first, last = self.operate(m, DRIVE, 0.1, 0.3)
-        m.wait(lambda: moving(self.commands_between(m, last, rospy.get_time())),
-               'the layer drives again after takeover_wait')
-        self.assert_silent(m, first, last)
-        again = moving(self.commands_between(m, last, rospy.get_time()))[0][0] - last
-        print('RECOVER takeover: drives again %.2f s after the operator' % again)
-        self.assertGreaterEqual(again, TAKEOVER_DEFAULTS['takeover_wait'] - IN_FLIGHT)
+    def test_a_late_takeover_a_bump_and_a_takeover_each_hold_the_layer_and_it_comes_home(self):
+        m = self.start_return('recover')
+        self.late_takeover(m)
+        self.bump(m)
+        self.takeover(m)
         self.assert_home_within(m, 0.03)
 
-    def test_2_a_late_connection_overlaps_the_operator_at_most_one_cycle(self):
-        m = self.start_return('takeover_late')
+    def late_takeover(self, m):
+        """This node's first teleop command goes out before the layer's subscription to it
+        connected: at the base the layer overlaps the operator by at most a control cycle."""
         base = Collector(names.MUX_OUTPUT, Twist)
         try:
             m.wait(lambda: base.sub.get_num_connections() >= 1, 'this node hears the base commands')
@@ -184,7 +165,37 @@ class RecoverTest(RecoverCase):
               'layer moving commands later than a cycle + in flight: %d' % (at_base[0] - first,
                                                                             len(overlap)))
         self.assertEqual(overlap, [], 'the layer drove on beside the operator')
-        self.assert_home_within(m, 0.03)
+        m.wait(lambda: moving(self.commands_between(m, last, rospy.get_time())),
+               'the layer drives again after the late takeover')
+
+    def bump(self, m):
+        """The bumper pressed for PRESS s: zero at once, still until contact_wait after the
+        release, then the layer drives again."""
+        pressed, released = self.press(m, PRESS)
+        m.wait_sim(STOPPED)
+        speed_after_release = m.run.truth.speed()
+        wait = CONTACT_DEFAULTS['contact_wait']
+        m.wait(lambda: moving(self.commands_between(m, released + wait, rospy.get_time())),
+               'the layer drives again after contact_wait')
+        held = moving(self.commands_between(m, pressed + in_flight(), released + wait - IN_FLIGHT))
+        again = moving(self.commands_between(m, released, rospy.get_time()))[0][0] - released
+        print('RECOVER bump: pressed %.1f s; drives again %.2f s after the release' % (
+            released - pressed, again))
+        self.assertEqual(held, [], 'motion commanded during the contact or its wait')
+        self.assertLess(speed_after_release, STILL, 'the base did not stop at the press')
+        self.assertGreaterEqual(again, wait - IN_FLIGHT)
+
+    def takeover(self, m):
+        """The operator drives DRIVE s on the connected teleop input: the layer publishes
+        nothing meanwhile and drives again after takeover_wait."""
+        m.wait_sim(1.0)
+        first, last = self.operate(m, DRIVE, 0.1, 0.3)
+        m.wait(lambda: moving(self.commands_between(m, last, rospy.get_time())),
+               'the layer drives again after takeover_wait')
+        self.assert_silent(m, first, last)
+        again = moving(self.commands_between(m, last, rospy.get_time()))[0][0] - last
+        print('RECOVER takeover: drives again %.2f s after the operator' % again)
+        self.assertGreaterEqual(again, TAKEOVER_DEFAULTS['takeover_wait'] - IN_FLIGHT)
 
 
 if __name__ == '__main__':

@@ -10,8 +10,8 @@ zero on the mux input (teleop) comes promptly (:data:`PROMPT`; the delay in cont
 cycles is logged), the base's ground-truth stop at most one of its 50 Hz samples later; the
 state ends ``aborted`` with "cancelled by request" and no goal follows. The status carries
 the outcome code of the end: ``OUTCOME_HOME``, ``OUTCOME_CANCELLED``.
-With ``~record_rtf`` the mission is recorded with the fake's clock at that rtf
-and the rest (from go_home on) runs at the launch's rtf again.
+With ``~timed_rtf`` the fake's clock runs at that rtf from just before the cancel on (the
+cancel is timed; everything before it at the launch's rtf).
 """
 import os
 import sys
@@ -76,14 +76,14 @@ class ServicesTest(unittest.TestCase):
         cls.teleop, cls.speeds = TimedTwists(TELEOP_TOPIC), TimedSpeeds()
         go_home, cancel = trigger(names.GO_HOME), trigger(names.CANCEL)
         try:
-            run.record_mission(rospy.get_param('~mission'), rospy.get_param('~record_rtf', 0.0))
+            run.record_mission(rospy.get_param('~mission'))
             cls.loaded = run.recorded()
             cls.go_home_recording = go_home()
             run.wait(lambda: 'returning' in run.state_names(),
                      'the return never started after go_home; states %s' % run.state_names())
             cls.go_home_returning = go_home()
-            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL,
-                                                                        MOVING_SPEED)
+            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(
+                GOALS_BEFORE_CANCEL, MOVING_SPEED, rospy.get_param('~timed_rtf', 0.0))
             cls.cancel_reply = cancel()
             cls.goals_at_cancel = run.goals_started()
             run.wait(lambda: run.state_names()[-1:] == ['aborted'],

@@ -29,7 +29,7 @@ from rosgraph_msgs.msg import Clock
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path[:0] = [HERE, os.path.join(HERE, '..')]
-from scripted_path import ASV, LSV, STRAIGHT_ARC_STRAIGHT, ScriptedPath  # noqa: E402
+from scripted_path import ASV, LSV, ScriptedPath  # noqa: E402
 
 from blind_navigation import names
 from blind_navigation.core.geometry import quaternion_from_yaw  # noqa: E402
@@ -45,7 +45,11 @@ SIM_BASE = 100.0            # sim time when the clock starts (non-zero: rospy tr
 PREROLL = 2.0               # s standing still before the path starts
 CLOCK_STEP = 0.01           # s of sim time per /clock message
 ODOM_PERIOD = 0.02          # s, 50 Hz like kobuki_node
-VISION_LOST_AT = 39.5       # s into the path: mid-cycle of the last straight
+#: Straight 6 s, a left arc of 8 s (~44 deg), straight 6 s: scripted_path.STRAIGHT_ARC_STRAIGHT
+#: at half its length (each period, both switches; half the sim time of the run).
+PATH = ((6.0, LSV, 0.0), (8.0, LSV, ASV), (6.0, LSV, 0.0))
+VISION_LOST_AT = 19.5       # s into the path: mid-cycle of the last straight
+BAD_SAMPLES_AT = 4.0        # s into the path: on the first straight
 #: A tick fires on the first /clock at or after its time and reads the latest
 #: odometry: periods and yaws may be late by a clock step plus scheduling delay.
 #: Scheduling delay under a loaded 2-core machine, in sim time at rtf 2: < 0.1 s.
@@ -109,7 +113,7 @@ class RecordingTestBase(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        cls.path = ScriptedPath(STRAIGHT_ARC_STRAIGHT)
+        cls.path = ScriptedPath(PATH)
         cls.world = SimWorld(cls.path, rospy.get_param('~rtf', 2.0))
         cls.samples = Collector(names.SAMPLE, PathSample)
         cls.storage_msgs = Collector(names.STORAGE, StorageUsage)
@@ -155,7 +159,7 @@ class CompareTest(RecordingTestBase):
         owner.publish('recording')
         owner.wait_heard(1, WALL_TIMEOUT)
         bad_samples = threading.Thread(target=cls.send_bad_samples)   # not blocking the clock
-        events = [(10.0, bad_samples.start),
+        events = [(BAD_SAMPLES_AT, bad_samples.start),
                   (VISION_LOST_AT, lambda: owner.publish('rotating'))]
         cls.world.run_until(VISION_LOST_AT + 2.0, events)
         bad_samples.join(WALL_TIMEOUT)

@@ -24,8 +24,8 @@ from safety_rig import (CLIENT_PARAMS, SERVER_PARAMS, Collector, Node, distance_
                         shared_rig, straight_landmarks, write_mission)
 from waiting import wait_for
 
-COUNT = 10
-KILL_AFTER = 4          # completed landmarks before the layer is killed
+COUNT = 7
+KILL_AFTER = 3          # landmarks done before the layer is killed (4 to go: 8 s of sim time)
 
 
 class ResumeTest(unittest.TestCase):

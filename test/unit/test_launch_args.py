@@ -138,7 +138,8 @@ def node_params(path):
 
 @pytest.mark.parametrize('path', LAUNCH_FILES + sorted(
     glob.glob(os.path.join(REPO, 'test', 'rostest', '*.test'))
-    + glob.glob(os.path.join(REPO, 'test', 'rostest', '*.launch'))), ids=os.path.basename)
+    + glob.glob(os.path.join(REPO, 'test', 'rostest', '*.launch'))
+    + glob.glob(os.path.join(REPO, 'test', 'lanes', '*.test'))), ids=os.path.basename)
 def test_every_role_param_a_file_sets_is_one_a_user_can_set(path):
     ignored = []
     for node_type, name in node_params(path):
