@@ -34,6 +34,7 @@ MISSION_DEFAULTS = {
     'handover_timeout': 0.1, 'handover_follow': HANDOVER_FOLLOW,    # core/goal's hold, bridge
     'await_goals': False,           # the owner sends each next goal (Inputs.next_goal)
     'remote_goals': False,          # the goals are driven elsewhere (Step.goal, Inputs.goal_result)
+    'remote': None,                 # recording, standstill, turn elsewhere: core/mission_remote.Remote
     'on_vision_back': 'home',       # core/mission_state.ON_VISION_BACK
     'settle_time': 2.0,             # s the home check waits for the robot to stop
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
@@ -50,8 +51,8 @@ class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_ba
     arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
     (pressed: True or a tuple naming the bumpers), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
     what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
-    how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals: the
-    core/drive.Outcome of the goal sent), ``battery`` (V: the battery's reading, None: none),
+    how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals, remote: the
+    core/drive.Outcome of the goal sent, of the turn), ``battery`` (V: the battery's reading, None: none),
     ``docking`` (dock_at_home: the core/docking.DockingResult of the docking goal sent)."""
     __slots__ = ()
 
@@ -90,12 +91,11 @@ class Mission(object):
 
     def _new(self, store):
         self.store, self.phase = store, RECORDING
-        self.recording = MissionRecording(store, self.config)
+        self.recording = (self.config.remote.recording if self.config.remote else MissionRecording)(store, self.config)
         self.raw = self.last = self.corrector = self.correction = None
         self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
         self.drive, self.ending, self.kept, self.warning = None, None, None, ''  # warning: the return's
-        self.pauses = Pauses(self.params)
-        self.requests, self.halt, self.vision_loss = [], False, False
+        self.pauses, self.requests, self.halt, self.vision_loss = Pauses(self.params), [], False, False
 
     # --- requests (acted on at the next step) ------------------------------------------------
     state = property(lambda self: self.machine.state, doc='The mission state (core/mission_state).')
@@ -202,7 +202,7 @@ class Mission(object):
         elif inputs.odom is not None:
             rec.feed(inputs.odom, inputs.visual)
             stored.extend(rec.step(inputs.odom, now))
-        if stored:
+        if stored or getattr(rec, 'reported', False):
             self._move(state.IDLE, state.RECORDING)
         why = _return_reason(now, inputs, self.recording.battery, self.requests)
         if why and self.state == state.RECORDING:
@@ -220,8 +220,8 @@ class Mission(object):
         self._move(state.RECORDING, state.ROTATING, reason)
         self.phase, self.vision_loss, self.reference, self.lost_at, self.turn_clock = \
             STANDSTILL, vision, raw, now, PausedClock(now)      # the turn's timeout, takeovers out
-        self.standstill = Standstill(self.recording.fit, raw, self.config.standstill,
-                                     self.config.scale_prior)
+        self.standstill = (self.config.remote.standstill if self.config.remote else Standstill)(
+            self.recording.fit, raw, self.config.standstill, self.config.scale_prior)
         return self._standstill(now, Inputs())
 
     def _standstill(self, now, inputs):
@@ -249,8 +249,8 @@ class Mission(object):
         self.anchor = (self.reference.x, self.reference.y)
         self.pauses = Pauses(self.params, contacts=False)
         self.last = self.odom()
-        self.phase, self.drive = TURN, TurnDrive(self.params, self._feed, self.last, self.config,
-                                                 self.turn_clock)
+        self.phase, self.drive = TURN, (self.config.remote.turn if self.config.remote else TurnDrive)(
+            self.params, self._feed, self.last, self.config, self.turn_clock)
         return self._drive(now, Inputs())
 
     def _paused(self, now, inputs):
@@ -331,7 +331,7 @@ def _plan(m):
         follower = None if c.remote_goals else RouteFollower(m.route, m.params)
     m.pauses, done = Pauses(m.params), kept.done if kept else 0
     watch = ReturnWatch(m.landmarks, [landmark for _, landmark in goals[done:]], c.limits or m.params, m.now)
-    m.drive = RemoteReturn(goals) if c.remote_goals else ReturnDrive(
+    m.drive = RemoteReturn(goals, watch) if c.remote_goals else ReturnDrive(
         goals, c.mode, m.params, follower, c, m._feed, m.odom, watch)
     m.drive.index, m.drive.driven = done, kept.travelled if kept else 0.0
 
@@ -340,8 +340,8 @@ def _resume(m, kept):
     """Mission ``m`` set to drive the return ``kept`` (core/resume.KeptReturn, None: none) on."""
     if kept is None:
         return
-    m.kept, m.phase, m.loaded, m.landmarks, m.anchor = kept, TURNED, kept.loaded, kept.landmarks, kept.anchor
-    m.correction, m.reference = kept.correction, kept.reference
+    m.kept, m.phase, m.loaded, m.landmarks, m.anchor, m.correction, m.reference = (
+        kept, TURNED, kept.loaded, kept.landmarks, kept.anchor, kept.correction, kept.reference)
     m.corrector = None if kept.correction is None else CorrectedOdometry.started(
         kept.correction, kept.reference, snapshot=kept.frame)
 
@@ -394,7 +394,7 @@ def _interrupted(inputs, phase, current):
 
 def _known(settings):
     """``settings``, checked to be :data:`MISSION_DEFAULTS`' names."""
-    unknown = set(settings) - set(MISSION_DEFAULTS)
+    unknown = ', '.join(sorted(set(settings) - set(MISSION_DEFAULTS)))
     if unknown:
-        raise ValueError('Mission: unknown settings %s' % ', '.join(sorted(unknown)))
+        raise ValueError('Mission: unknown settings %s' % unknown)
     return settings

@@ -210,11 +210,12 @@ class ReturnDrive(object):
 class RemoteReturn(object):
     """The return's ``goals`` driven elsewhere (the paper layout: a BackTravel action goal
     each): :attr:`send` is the goal to send this cycle, ``inputs.goal_result`` its
-    core/drive.Outcome; nothing is published here meanwhile."""
+    core/drive.Outcome; nothing is published here meanwhile; ``watch``: its
+    core/mission_limits.ReturnWatch (each goal's backstop, the whole return's allowance)."""
 
-    def __init__(self, goals):
+    def __init__(self, goals, watch=None):
         self.goals, self.index, self.phase, self.reason, self.code = goals, 0, GOAL, '', outcome.NONE
-        self.send, self._sent = None, None
+        self.send, self._sent, self.watch = None, None, watch
 
     remaining = ReturnDrive.remaining
     where = ReturnDrive.where
@@ -224,7 +225,13 @@ class RemoteReturn(object):
         """Pauses are the remote driver's."""
 
     def step(self, now, inputs):
-        result = inputs.goal_result
+        result, problem = inputs.goal_result, None
+        if self.watch is not None:      # a takeover, a bumper press count against no allowance
+            self.watch.update(now, bool(inputs.operator or inputs.bumper))
+            problem = self.watch.problem(now, 0.0) if self._sent is not None else None
+        if problem and self.phase != DONE:
+            self.phase, self.reason, self.code = FAILED, 'goal %d: %s' % (self.index + 1, problem.reason), problem.code
+            return None
         if result is not None and self._sent == self.index:
             if not result.ok:
                 self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, result.reason)
@@ -235,6 +242,8 @@ class RemoteReturn(object):
             self.phase = DONE
         self.send = None if self.phase == DONE or self._sent == self.index else \
             (self.index, self.goals[self.index][1])
+        if self.send is not None and self.watch is not None:
+            self.watch.goal(self.send[1], now)
         self._sent = self.index
         return None
 

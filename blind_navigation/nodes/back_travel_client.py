@@ -3,13 +3,13 @@
 layout, launch/paper.launch). The role's class: blind_navigation/ros/back_travel_client.py."""
 import rospy
 
-from blind_navigation.ros.back_travel_client import BackTravelClient
+from blind_navigation.ros.paper_owner import PaperOwner
 from blind_navigation.ros.layer import run_roles, start_roles
 
 
 def main():
     rospy.init_node('back_travel_client')
-    run_roles(start_roles([BackTravelClient]))
+    run_roles(start_roles([PaperOwner]))
 
 
 if __name__ == '__main__':

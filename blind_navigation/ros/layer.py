@@ -13,7 +13,6 @@ from .. import names
 from ..core.mission_state import IDLE, RECORDING
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
-from ..core.progress import heading_record, plain_correction
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
@@ -182,8 +181,7 @@ class CorrectionReceiver(object):
     """Receives blind_navigation/HeadingCorrection (latched) and installs it into
     ``odometry`` (ros/odometry.OdometryFeed.set_correction); ``correction`` is
     its core GyroCorrection, ``reference`` the raw OdomState where the corrected
-    frame starts. A return resumed after the whole layer restarted installs the
-    correction it kept in its progress (:meth:`install_plain`)."""
+    frame starts."""
 
     def __init__(self, odometry, guard=None):
         self.odometry = odometry
@@ -206,23 +204,10 @@ class CorrectionReceiver(object):
             self.correction = self.reference = None     # the feed: the layer drops its correction
             self._received.clear()
 
-    def _install(self, correction, reference, snapshot=None):
+    def _install(self, correction, reference):
         with self._lock:
             if self._received.is_set():
                 return              # one correction per mission
             self.correction, self.reference = correction, reference
-            self.odometry.set_correction(correction, reference, snapshot)
+            self.odometry.set_correction(correction, reference)
             self._received.set()
-
-    def to_plain(self):
-        """The installed correction and the corrected frame's state now, as plain
-        data for a return's progress; None before one is installed."""
-        if not self.received:
-            return None
-        return heading_record(self.correction, self.reference, self.odometry.correction_snapshot())
-
-    def install_plain(self, plain):
-        """Install a correction kept by :meth:`to_plain` (a resumed return), unless one
-        arrived already; ValueError naming what is wrong with ``plain``."""
-        correction, reference, frame = plain_correction(plain)
-        self._install(correction, reference, frame)

@@ -1,40 +1,12 @@
-"""The back-travel client's three diagnostics (diagnostic_msgs, through the
-layer's updater): ``mission`` (the state, its reason, the mission's number, id and
-file, the return's progress and warnings; ``recovered`` a warning, the pi turn's wait
-while ``rotating``), ``odometry`` (its age; an error while the robot turns or returns)
-and ``landmark file`` (the recorder's file and its size).
+"""The mission owner's diagnostics' parts (diagnostic_msgs, ros/mission_owner.py): the
+``mission`` summary (``aborted`` an error; ``recovered`` or a degraded mission a warning),
+``odometry`` (its age; an error while the robot turns or returns) and ``landmark file``
+(the recorder's file and its size).
 """
 import os
 
 from blind_navigation.core import mission_state as state
-from blind_navigation.core.mission_files import mission_number
 from blind_navigation.ros import diagnostics
-
-
-def add_mission_diagnostics(client):
-    """Register the diagnostics of ``client`` (a BackTravelClient) on its layer."""
-    updater = client.layer.diagnostics
-    updater.add('mission', lambda stat: _mission_status(client, stat))
-    updater.add('odometry', lambda stat: odometry_status(
-        stat, client.odometry, client.state, client.params.odom_timeout))
-    updater.add('landmark file', lambda stat: file_status(stat, client.landmark_file, client.state))
-
-
-def _mission_status(client, stat):
-    progress = client.keeper.progress
-    stat.add('state', client.state)
-    stat.add('mission', mission_number(client.layer.mission_id))   # in this launch
-    stat.add('mission id', client.layer.mission_id)
-    stat.add('mission file', os.path.realpath(client.landmark_file))
-    if progress is not None:
-        stat.add('landmarks', progress.landmarks)
-        stat.add('completed', progress.completed)
-    warnings = client.all_warnings()
-    if warnings:
-        stat.add('warnings', warnings)
-    if client.state == state.ROTATING:
-        stat.add('pi turn', 'begun' if client.turn.begun else 'waiting (vision may come back)')
-    mission_summary(stat, client.state, client.reason, warnings)
 
 
 def mission_summary(stat, current, reason, warnings=''):

@@ -26,9 +26,10 @@ class MissionOutputs(object):
     def __init__(self, owner):
         self.owner, self.odometry = owner, owner.layer.odometry
         self.paths = ReturnPaths(owner.params.path_spacing)
-        self.recorded_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
-        self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
-                                              queue_size=1, latch=True)
+        if owner.RECORDS:   # else the paper layout's saver and heading_correction publish them
+            self.recorded_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
+            self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
+                                                  queue_size=1, latch=True)
         self.progress = MissionProgress(owner.landmark_file, lambda: owner.layer.mission_id,
                                         lambda: self.odometry.frame_id, owner.log,
                                         changed=owner.publish_status)
@@ -55,7 +56,8 @@ class MissionOutputs(object):
         self._fresh()
         self.progress.forget()
         self.paths.clear()
-        self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(), self.odometry.frame_id))
+        if self.owner.RECORDS:
+            self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(), self.odometry.frame_id))
 
     def stepped(self, stored):
         """After a step that stored the landmarks ``stored`` (the owner's lock held)."""
@@ -64,14 +66,14 @@ class MissionOutputs(object):
             self.poses.extend((m.raw.x, m.raw.y, m.raw.yaw))    # where the recording began
         for _ in stored:
             self.poses.extend((m.raw.x, m.raw.y, m.raw.yaw))
-        if len(self.poses) > self.shown and (self.recorded_pub.get_num_connections()
-                                             or m.state != state.RECORDING):
+        if self.owner.RECORDS and len(self.poses) > self.shown and (
+                self.recorded_pub.get_num_connections() or m.state != state.RECORDING):
             self.shown = len(self.poses)        # every pose once the recording is over
             self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(),
                                                    self.odometry.frame_id))
         if m.correction is not None and self.correction is None:
             self.correction = m.correction
-            if m.config.heading_correction:
+            if m.config.heading_correction and self.owner.RECORDS:
                 self.correction_pub.publish(correction_message(m.correction, m.reference,
                                                                self.odometry.frame_id))
         if getattr(m.drive, 'goals', None) is not None and self.route is None:

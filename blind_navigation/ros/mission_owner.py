@@ -122,15 +122,27 @@ def _calibration(param):
         return None
 
 
+def _drivers(layer, p, turn_w, takeover):
+    """The owner's MotionOutputs by state (``turn_w`` None: none, the paper layout's nodes drive)."""
+    if turn_w is None:
+        return {}
+    return {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
+                                         layer.mission, layer.safety, takeover),
+            state.RETURNING: MotionOutput(state.MOTION_OWNER[state.RETURNING], p.max_v, p.max_w,
+                                          layer.mission, layer.safety, takeover)}
+
+
 class MissionOwner(object):
     """Hosts one core Mission and its loop (module docstring); a role of ros/layer."""
 
     ROLE = 'mission_owner'
     SCHEMA = MISSION_OWNER
+    RECORDS = True          # the recording is this process's (not the paper layout's savers')
+    configure = staticmethod(owner_params)
 
     def __init__(self, layer):
         self.layer, self.log, self.guard = layer, layer.logger(self.ROLE), layer.guard(self.ROLE)
-        self.params, settings, self.landmark_file, turn_w = owner_params(layer)
+        self.params, settings, self.landmark_file, turn_w = self.configure(layer)
         self.recorder = str(rospy.get_param('~recorder', 'topic'))
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
@@ -140,20 +152,17 @@ class MissionOwner(object):
         self.vo_since = rospy.get_time()    # ... of the mission's start (its vo_timeout counts)
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
-        self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         # the recording begins once ``min_subscribers`` - 1 other nodes take the samples (a rig's test)
-        self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
+        self.storage_pub, self.sample_pub = (rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10),
+                                             rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)) \
+            if self.RECORDS else (None, None)
         self.store = self._open_store()
         self.mission = Mission(self.params, self.store, **settings)
         self.announced = 0                  # transitions of the mission published
         self.progress = None                # (state, goal index) of the status published
-        p, takeover = self.params, layer.takeover(self.params)
-        self.drivers = {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
-                                                     layer.mission, layer.safety, takeover),
-                        state.RETURNING: MotionOutput(state.MOTION_OWNER[state.RETURNING], p.max_v,
-                                                      p.max_w, layer.mission, layer.safety, takeover)}
-        self.takeover = takeover
-        self.docking = DockingClient(self.inbox, takeover, self.log) if settings['dock_at_home'] else None
+        self.takeover = takeover = layer.takeover(self.params)
+        self.drivers = _drivers(layer, self.params, turn_w, takeover)
+        self.docking = DockingClient(self.inbox, takeover, self.log) if settings.get('dock_at_home') else None
         self.outputs = MissionOutputs(self)
         self._subscribe()
         kept = self.outputs.first_state()   # a return a previous run left: resumed or aborted
@@ -162,10 +171,11 @@ class MissionOwner(object):
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
-        self.paper_names = PaperNames(self)     # record_landmark (recorder service), back_travel
+        self.paper_names = PaperNames(self) if self.RECORDS else None   # record_landmark, back_travel
         self._add_diagnostics(settings)
         rospy.on_shutdown(self._on_shutdown)
-        with self.lock:
+        with self.lock:     # the first state only: a restart's abort is never preceded by idle
+            self.announced = len(self.mission.transitions) - 1
             self._announce()
 
     def _subscribe(self):
@@ -219,7 +229,7 @@ class MissionOwner(object):
 
     def _step(self, now, odom, visual, events):
         if self.mission.phase == RECORDING and not self.mission.recording.started and \
-                self.sample_pub.get_num_connections() < self.params.listeners:
+                self.sample_pub is not None and self.sample_pub.get_num_connections() < self.params.listeners:
             odom = None
         active, terminal = self.layer.safety.active, self.layer.safety.terminal
         inputs = Inputs(odom=odom, visual=visual,
@@ -235,13 +245,14 @@ class MissionOwner(object):
             self.docking.start()
         if self._progress() != self.progress:      # a goal of the return done: its status
             self.publish_status()
-        if step.command is not None:
+        if step.command is not None and self.drivers:
             output = self.drivers.get(step.state)
             if output is not None:
                 output.contact_over()   # the mission drives on: it has waited contact_wait
                 output.publish(*step.command)
             else:
                 self.drivers[state.RETURNING].stop()
+        return step
 
     def _announce(self):
         """Publish the mission's transitions not yet published (lock held)."""
@@ -303,7 +314,7 @@ class MissionOwner(object):
             self.docking.cancel('node shutdown')
         for output in self.drivers.values():
             output.halt('node shutdown')
-        self.store.writer.close()
+        self.store.close()
 
     def _add_diagnostics(self, settings):
         """The mission's statuses and, as the paper layout's roles name them, the odometry's,
@@ -362,7 +373,7 @@ class MissionOwner(object):
             refusal = state.new_mission_refusal(self.mission.state)
             if refusal is None:
                 rospy.set_param(MISSION_ID, next_mission_id(self.layer.current_mission_id()))
-                self.store.writer.close()
+                self.store.close()
                 self.store = self._open_store()
                 refusal = self.mission.new_mission(self.store)
                 self.vo_since = rospy.get_time()

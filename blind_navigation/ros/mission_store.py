@@ -44,6 +44,9 @@ class FileStore(object):
     def loss(self):
         return write_loss(self.writer, self.error)
 
+    def close(self):
+        self.writer.close()
+
     def warning(self):
         """RECORDING DAMAGED while landmarks could not be written, else ''."""
         loss = self.loss()

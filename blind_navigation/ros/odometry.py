@@ -262,23 +262,18 @@ class OdometryFeed(object):
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
 
     # --- the heading-corrected frame -------------------------------------------------------------
-    def set_correction(self, correction, reference, snapshot=None):
+    def set_correction(self, correction, reference):
         """From now on :meth:`fresh` is in the frame of ``correction`` (a GyroCorrection) equal to
-        the raw one at ``reference`` (where vision was lost), or from an earlier run's ``snapshot``
-        (core CorrectedOdometry.started); None: a new mission, the raw frame as found (not lost)."""
+        the raw one at ``reference`` (where vision was lost); None: a new mission, the raw frame
+        as found (not lost)."""
         with self._lock:
             self._corrector = None if correction is None else CorrectedOdometry.started(
-                correction, reference, self._states.latest, snapshot)
+                correction, reference, self._states.latest)
             self.lost = None if correction is None else self.lost
 
     @property
     def corrected(self):
         return self._corrector is not None
-
-    def correction_snapshot(self):
-        """The corrected frame's state as plain data (core CorrectedOdometry.snapshot), or None."""
-        with self._lock:
-            return self._corrector.snapshot() if self._corrector is not None else None
 
 
 def _without(callbacks, callback):

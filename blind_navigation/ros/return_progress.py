@@ -1,7 +1,7 @@
 """The persisted return progress (core/progress.py), next to the landmark file: written
 atomically at each step, read at start-up for the first state (resume, abort or idle) and a
-restarted layer's route and heading correction; back_travel_client's (ProgressKeeper) and
-the mission owner's (MissionProgress). A progress that cannot be written is a warning (the
+restarted layer's route and heading correction (ProgressKeeper), for the mission owner
+(MissionProgress). A progress that cannot be written is a warning (the
 stale file removed), never a reason to stop.
 """
 import os
@@ -12,7 +12,7 @@ from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.progress import (ProgressError, ReturnProgress, file_digest,
-                                            heading_record, kept_heading, progress_path,
+                                            heading_record, progress_path,
                                             route_record, save_progress)
 from blind_navigation.core.resume import ABORT, IGNORE, kept_return, resume_from_file, settle_abort
 
@@ -84,17 +84,6 @@ class ProgressKeeper(object):
         heading correction, the correction and the corrected frame's state now."""
         return route_record(route, self.correction.to_plain() if self.correction is not None
                             else None)
-
-    def restore_heading(self):
-        """The heading correction kept in the progress, installed (the whole layer
-        restarted mid-return); None, or why it cannot be."""
-        kept = kept_heading(self.progress)
-        if kept and self.correction is not None and not self.correction.received:
-            try:
-                self.correction.install_plain(kept)
-            except ValueError as error:
-                return 'cannot resume: %s' % error
-        return None
 
 
 class MissionProgress(object):

@@ -14,7 +14,6 @@ from std_msgs.msg import String
 
 from .. import names
 from ..core.pause import Takeover
-from .clock import after
 from .common import subscribe
 
 #: The layer's nodes that publish on its mux input, in either layout (resolved in its namespace).
@@ -71,20 +70,3 @@ class TakeoverWatch(object):
         with self._lock:
             self._takeover.active(rospy.get_time())
             return self._takeover.paused(rospy.get_time())
-
-
-def after_unpaused(seconds, watch, callback, name):
-    """Call ``callback()`` once ``seconds`` of sim time passed, not counting the time
-    takeovers (``watch``, a TakeoverWatch) paused meanwhile (one-shot ros/clock.after
-    timers named ``name``: the ROS time moving back does not end them)."""
-    def check(paused):
-        more = watch.paused() - paused
-        if more > 0:
-            arm(more, paused + more)
-        else:
-            callback()
-
-    def arm(delay, paused):
-        after(delay, lambda: check(paused), name)
-
-    arm(seconds, watch.paused())

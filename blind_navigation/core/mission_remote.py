@@ -1,0 +1,110 @@
+"""The mission's recording, standstill and pi turn when other nodes do them (the paper's
+layout: sampling_publisher and the saver, heading_correction, rotate_pi): what
+core/mission.Mission asks of MissionRecording, Standstill and TurnDrive, fed by its owner
+through :class:`Remote` (``Mission(remote=Remote(...))``). docs/DESIGN.md, "The paper's layout".
+"""
+from . import outcome
+from .allowance import DRIVE
+from .battery import BatteryWatch
+from .drive import DriveCycle
+from .heading_correction import no_correction
+from .mission_drive import DONE, FAILED, _Held
+from .mission_limits import limit_params, rotation_timeout
+from .rotation import turn_problem
+
+
+class Remote(object):
+    """What the owner hears of the other nodes: :meth:`reported` (a saver stored landmarks,
+    ``distance`` m in all), ``correction`` (heading_correction's, None: not yet; awaited
+    with ``awaits_correction``); the turn's end comes as ``Inputs.goal_result``."""
+
+    def __init__(self, awaits_correction):
+        self.awaits_correction, self.correction, self.current, self.refused = \
+            awaits_correction, None, None, ''
+
+    def reported(self, distance):
+        if self.current is not None:
+            self.current.reported, self.current.distance = True, distance
+
+    def recording(self, *_args):
+        self.current, self.correction = RemoteRecording(), None
+        return self.current
+
+    def standstill(self, *_args):
+        return RemoteStandstill(self)
+
+    def turn(self, params, feed, odom, config, clock):
+        return RemoteTurn(self, params, feed, odom, config, clock)
+
+
+class RemoteRecording(object):
+    """MissionRecording's part for a recording made elsewhere: where it began (``start``),
+    ``distance`` and ``reported`` (the saver's), ``lost`` (an untrusted reset)."""
+    fit, requested = None, ()
+
+    def __init__(self):
+        self.start = self.lost = None
+        self.distance, self.reported, self.battery = 0.0, False, BatteryWatch(0.0)
+
+    started = property(lambda self: self.start is not None)
+
+    def begin(self, odom):
+        self.start = (odom.x, odom.y)
+
+    def feed(self, odom, visual):
+        """The fit is heading_correction's."""
+
+    def step(self, odom, now):
+        return []
+
+    end = step
+
+    def reset(self, odom, reason):
+        self.lost = self.lost or reason
+
+    def resume(self):
+        """The sampling publisher goes on by itself."""
+
+
+class RemoteStandstill(object):
+    """Standstill's part: the correction heading_correction measured (or none awaited)."""
+
+    def __init__(self, remote):
+        self.remote, self.fit = remote, True if remote.awaits_correction else None
+
+    def correction(self, now, odom=None):
+        return self.remote.correction if self.fit else no_correction('heading correction off')
+
+
+class RemoteTurn(object):
+    """TurnDrive's part for rotate_pi's turn: done once ``Inputs.goal_result`` says it
+    ended well and the robot really turned (core/rotation.turn_problem; else refused, the
+    reason in ``remote.refused``); failed on a failed turn or past rotation_timeout."""
+
+    def __init__(self, remote, params, feed, odom, config, clock):
+        self.remote, self.feed, self.clock, self.tolerance = remote, feed, clock, config.turn_tolerance
+        self.timeout = rotation_timeout(config.standstill, limit_params(config.limits or params)
+                                        .rotation_margin, config.vision_back_grace)
+        self.cycle = DriveCycle(_Held(), params)
+        self.start_yaw = self.yaw = odom.yaw
+        self.phase, self.reason, self.code = 'turn', '', outcome.NONE
+
+    def where(self):
+        return 'the pi turn'
+
+    def resumed(self, seconds):
+        self.clock.resumed(seconds)
+
+    def step(self, now, inputs):
+        decision, odom, _ = self.feed(self.cycle)
+        self.yaw = odom.yaw if decision == DRIVE else self.yaw
+        result = inputs.goal_result
+        if self.clock.elapsed(now) > self.timeout:
+            self.phase, self.code, self.reason = FAILED, outcome.TIMEOUT, (
+                'no finished pi turn within %.0f s of vision loss (is rotate_pi running?)' % self.timeout)
+        elif result is not None and not result.ok:
+            self.phase, self.code, self.reason = FAILED, result.cause or outcome.TURN, result.reason
+        elif result is not None:
+            self.remote.refused = turn_problem(self.start_yaw, self.yaw, self.tolerance)
+            self.phase = DONE if not self.remote.refused else self.phase
+        return None
