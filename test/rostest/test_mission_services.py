@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""rostest (mission_cancel_service.test): the mission owner's services on the fake
-TurtleBot, default launch.
+"""rostest (mission_new_mission.test plays it as its third mission, :func:`play`): the
+mission owner's services on the fake TurtleBot, default launch.
 
 A short mission is recorded; ``/blind_navigation/go_home`` (std_srvs/Trigger)
 called while recording is acknowledged and starts the return (the status's
@@ -16,17 +16,13 @@ cancel is timed; everything before it at the launch's rtf).
 import os
 import sys
 import threading
-import unittest
 
 import rospy
-import rostest
 from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import (STOPPED_SPEED, TELEOP_TOPIC, MissionRun,  # noqa: E402
-                           TimedTwists)
-from recording_tools import Collector  # noqa: E402
+from mission_tools import STOPPED_SPEED, TELEOP_TOPIC, TimedTwists  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
@@ -67,16 +63,19 @@ def trigger(service):
     return proxy
 
 
-class ServicesTest(unittest.TestCase):
+class ServicesChecks(object):
+    """The checks of the mission :meth:`play` plays (a TestCase mixin)."""
 
     @classmethod
-    def setUpClass(cls):
-        cls.mission_run = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
-        cls.status = Collector(names.STATUS, MissionStatus)
+    def play(cls, run, status):
+        """The operator's ``~mission``, go_home, go_home again and cancel in the mission of
+        ``run`` under way (recording; ``run`` and ``status``, its status collector, hold
+        only this mission's messages)."""
+        cls.mission_run, cls.status = run, status
         cls.teleop, cls.speeds = TimedTwists(TELEOP_TOPIC), TimedSpeeds()
         go_home, cancel = trigger(names.GO_HOME), trigger(names.CANCEL)
         try:
-            run.record_mission(rospy.get_param('~mission'))
+            run.play_mission(rospy.get_param('~mission'))
             cls.loaded = run.recorded()
             cls.go_home_recording = go_home()
             run.wait(lambda: 'returning' in run.state_names(),
@@ -94,11 +93,9 @@ class ServicesTest(unittest.TestCase):
             cls.final_at = run.truth.position()
         finally:
             run.stop_operator()
+            cls.teleop.sub.unregister()
+            cls.speeds.sub.unregister()
         cls.cycle = 1.0 / BackTravelServer.SCHEMA.fixed['control_rate']   # the server's control period, s
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.mission_run.remove_recording()
 
     def reasons(self, state):
         return [msg.reason for msg in self.status.snapshot() if msg.state == state]
@@ -158,7 +155,3 @@ class ServicesTest(unittest.TestCase):
                  + (self.final_at[1] - self.stopped_at[1]) ** 2) ** 0.5
         self.assertLess(moved, STAY_WITHIN)
 
-
-if __name__ == '__main__':
-    rospy.init_node('test_mission_services')
-    rostest.rosrun('blind_navigation', 'mission_services', ServicesTest)
