@@ -5,11 +5,12 @@ config/missions/test_safety.yaml): each bullet reproduced and checked to end wit
 robot still or ``home`` within the normal accuracy, no motion commanded after a terminal
 state, and the record intact or its loss reported.
 
-One TestCase per mission (findings_rig.FindingMission: a fresh layer); its setUpClass
-plays the faults of its findings, each at its own phase, and each test method checks one
-bullet and prints one ``FINDING`` line. TestA attacks the default one process, TestB and
-the restarts the paper's node layout (its own topics, services and nodes). The param
-``~only`` (comma-separated class names) runs a subset. Behaviour alone (a loss while
+One TestCase per mission (findings_rig.FindingMission); its setUpClass plays the faults of
+its findings, each at its own phase, and each test method checks one bullet and prints one
+``FINDING`` line. TestA attacks the default one process, TestB and the restarts the paper's
+node layout (its own topics, services and nodes); the missions of a layout share its layer
+(a LayerChain: the next one starts by ``new_mission``), the start-up cases launch their own.
+The param ``~only`` (comma-separated class names) runs a subset. Behaviour alone (a loss while
 standing still, a long takeover) is played in test/unit/test_mission_harness_findings.py.
 """
 import json
