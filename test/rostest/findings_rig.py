@@ -215,12 +215,16 @@ class LayerChain(object):
         return self.layer
 
     def stop(self):
+        """Ctrl-C to the nodes started by hand, then to the launch, while they end."""
         for node in self.nodes:
-            node.kill()
-        self.nodes = []
+            if node.process.poll() is None:
+                os.killpg(node.process.pid, signal.SIGINT)
         if self.layer is not None:
             self.layer.stop()
             self.layer = None
+        for node in self.nodes:
+            node.kill()
+        self.nodes = []
         shutil.rmtree(self.directory, ignore_errors=True)
         if LayerChain.active is self:
             LayerChain.active = None
