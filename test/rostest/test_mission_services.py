@@ -10,8 +10,8 @@ zero on the mux input (teleop) comes promptly (:data:`PROMPT`; the delay in cont
 cycles is logged), the base's ground-truth stop at most one of its 50 Hz samples later; the
 state ends ``aborted`` with "cancelled by request" and no goal follows. The status carries
 the outcome code of the end: ``OUTCOME_HOME``, ``OUTCOME_CANCELLED``.
-With ``~timed_rtf`` the fake's clock runs at that rtf from just before the cancel on (the
-cancel is timed; everything before it at the launch's rtf).
+With ``~timed_rtf`` the fake's clock runs at that rtf from just before the cancel until the
+base stopped (the cancel is timed; everything else at the launch's rtf).
 """
 import os
 import sys
@@ -81,12 +81,17 @@ class ServicesChecks(object):
             run.wait(lambda: 'returning' in run.state_names(),
                      'the return never started after go_home; states %s' % run.state_names())
             cls.go_home_returning = go_home()
-            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(
-                GOALS_BEFORE_CANCEL, MOVING_SPEED, rospy.get_param('~timed_rtf', 0.0))
+            timed_rtf = rospy.get_param('~timed_rtf', 0.0)
+            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL, MOVING_SPEED,
+                                                                        timed_rtf)
             cls.cancel_reply = cancel()
             cls.goals_at_cancel = run.goals_started()
             run.wait(lambda: run.state_names()[-1:] == ['aborted'],
                      'the mission never became aborted after cancel; states %s' % run.state_names())
+            if timed_rtf:       # the stop timed, the rest at the launch's rtf again
+                run.wait(lambda: [t for t, speed in cls.speeds.after(cls.cancelled_at) if speed < STOPPED_SPEED],
+                         'the base never stopped after the cancel', 30.0)
+                run.set_rtf(rospy.get_param('/mobile_base/rtf'))
             run.wait_sim(1.0, 'the base stopping')
             cls.stopped_at = run.truth.position()
             run.wait_sim(STAY_FOR, 'the base staying put')
