@@ -12,6 +12,7 @@ mux input (every Twist not from the operator), the ground-truth track, /rosout,
 common verdict "no motion command after the terminal state, and the robot
 stands still".
 """
+import atexit
 import bisect
 import os
 import shutil
@@ -23,10 +24,11 @@ import rospy
 from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from rosgraph_msgs.msg import Log
+from std_srvs.srv import Trigger
 
 from blind_navigation import names
 from blind_navigation.core.geometry import wrap_angle, yaw_from_quaternion
-from blind_navigation.msg import MissionStatus
+from blind_navigation.msg import MissionStatus, PathSample
 
 from mission_tools import FINAL_STATES, TELEOP_TOPIC, MissionRun
 from recording_tools import Collector, Diagnostics
@@ -185,36 +187,123 @@ class LayerLaunch(object):
                 pass                                    # deleted with its namespace already
 
 
-class FindingMission(object):
-    """One mission of the layer on the fake TurtleBot for one or a few findings (module
-    docstring). ``label`` names its landmark directory; ``prepare(directory)`` runs
-    before the layer starts; ``one_process`` false runs the paper's node layout;
-    ``env`` is added to the layer launch's environment; ``args``: more launch args
-    (``name:=value``) of mission_rig.launch."""
+class LayerChain(object):
+    """One layer launch that plays several FindingMissions in turn: the first mission
+    starts it, each next one starts with ``new_mission`` (the layer's service after home
+    or aborted); nodes a mission restarted by hand serve the next ones too. One chain
+    runs at a time (:meth:`stop_active`: before any other layer starts)."""
 
-    def __init__(self, label, one_process=True, prepare=None, env=None, args=()):
-        self.label = label
+    active = None
+
+    def __init__(self, label, one_process=True, env=None):
+        self.label, self.one_process, self.env = label, one_process, env
         self.directory = mission_directory(label)
+        self.layer, self.nodes = None, []
+
+    def live(self):
+        return self.layer is not None and self.layer.process.poll() is None
+
+    def launch(self, rtf, prepare=None, args=()):
+        """A fresh layer on a fresh directory (``prepare(directory)`` first)."""
+        LayerChain.stop_active()
         shutil.rmtree(self.directory, ignore_errors=True)
         os.makedirs(self.directory)
-        self.landmark_file = os.path.join(self.directory, 'landmarks.yaml')
         if prepare is not None:
             prepare(self.directory)
+        LayerChain.active = self
+        self.layer = LayerLaunch(self.label, self.directory, rtf, self.one_process, self.env, args=args)
+        return self.layer
+
+    def stop(self):
+        """Ctrl-C to the nodes started by hand, then to the launch, while they end."""
+        for node in self.nodes:
+            if node.process.poll() is None:
+                os.killpg(node.process.pid, signal.SIGINT)
+        if self.layer is not None:
+            self.layer.stop()
+            self.layer = None
+        for node in self.nodes:
+            node.kill()
+        self.nodes = []
+        shutil.rmtree(self.directory, ignore_errors=True)
+        if LayerChain.active is self:
+            LayerChain.active = None
+
+    @classmethod
+    def stop_active(cls):
+        if cls.active is not None:
+            cls.active.stop()
+
+
+atexit.register(LayerChain.stop_active)        # no layer outlives the test node
+
+
+class FindingMission(object):
+    """One mission of the layer on the fake TurtleBot for one or a few findings (module
+    docstring). ``label`` names it; ``prepare(directory)`` runs before the layer starts;
+    ``one_process`` false runs the paper's node layout; ``env`` is added to the layer
+    launch's environment; ``args``: more launch args (``name:=value``) of mission_rig.launch.
+    With ``chain`` (a LayerChain, whose layout and environment count) the mission plays on
+    the chain's layer, started by ``new_mission`` if it runs already (it records at once:
+    :meth:`wait_for_layer`), unless ``fresh``."""
+
+    def __init__(self, label, one_process=True, prepare=None, env=None, args=(), chain=None, fresh=False):
+        self.label = label
+        self.chain = chain or LayerChain(label, one_process, env)
         self.rtf = float(rospy.get_param('/mobile_base/rtf'))
+        self.run = None
+        self.kept = []
+        self.chained = chain is not None and chain.live() and not (fresh or prepare or args)
+        if not self.chained:
+            self.chain.launch(self.rtf, prepare, args)
+        self.directory = self.chain.directory
+        self.landmark_file = os.path.join(self.directory, 'landmarks.yaml')
+        self.layer, self.nodes = self.chain.layer, self.chain.nodes
         self.commands = Collector(TELEOP_TOPIC, Twist)
         self.rosout = Collector('/rosout', Log)
         self.status = Collector(names.STATUS, MissionStatus)
         self.diagnostics = Diagnostics()
         self.track = Track()
-        self.run = None
-        self.nodes = []
-        self.kept = []
-        self.layer = LayerLaunch(label, self.directory, self.rtf, one_process, env, args=args)
-        layout_param = '/blind_navigation/recorder' if one_process else '/back_travel_client/landmark_file'
+        if self.chained:
+            self.run = MissionRun(WALL_TIMEOUT)
+            self.owner = self.run.owner
+            self._new_mission()
+            return
+        layout_param = '/blind_navigation/recorder' if self.chain.one_process else '/back_travel_client/landmark_file'
         wait_for(lambda: rospy.has_param(layout_param) or self.layer.process.poll() is not None,
                  'the layer launch set its params', WALL_TIMEOUT)
         self.run = MissionRun(WALL_TIMEOUT)
         self.owner = self.run.owner
+
+    def _new_mission(self):
+        """``new_mission`` on the chain's layer, this node taking the samples (the
+        recording starts at once); what this mission's watchers received of the last
+        mission (its latched state and status) is dropped."""
+        run = self.run
+        self.wait(lambda: run.state_names()[-1:] and run.state_names()[-1] in FINAL_STATES,
+                  "the last mission's final state (latched)")
+        run.samples = Collector(names.SAMPLE, PathSample)
+        stored = len(run.storage_msgs)
+        rospy.wait_for_service(names.NEW_MISSION, WALL_TIMEOUT)
+        reply = rospy.ServiceProxy(names.NEW_MISSION, Trigger)()
+        if not reply.success:
+            raise AssertionError('%s: new_mission refused: %s' % (self.label, reply.message))
+        run.storage_msgs.drop_before(stored)
+        self.wait(lambda: 'idle' in run.state_names(), 'state idle after new_mission')
+        run.states.drop_before(run.state_names().index('idle'))
+        for status in (run.status, self.status):
+            self.wait(lambda: 'idle' in [msg.state for msg in status.snapshot()],
+                      'the status of idle after new_mission')
+            status.drop_before([msg.state for msg in status.snapshot()].index('idle'))
+
+    def wait_for_layer(self):
+        """The layer idle (a chained mission: past it), then recording (this node takes the
+        samples); the robot's position then is the mission's start."""
+        if not self.chained:
+            self.run.wait_for_layer()
+            return
+        self.wait(lambda: 'recording' in self.run.state_names(), 'state recording')
+        self.run.start = self.run.truth.position()
 
     def keep(self, publisher):
         """``publisher``, unregistered when the mission closes."""
@@ -223,7 +312,7 @@ class FindingMission(object):
 
     def start_node(self, node_type, name):
         """(Re)start a layer node of the paper's layout by hand (its params are still on the
-        parameter server); it is stopped with the mission."""
+        parameter server); it is stopped with the chain's layer."""
         node = Node(node_type, name)
         self.nodes.append(node)
         return node
@@ -330,8 +419,9 @@ class FindingMission(object):
         return moved, turned
 
     # --- the end ---------------------------------------------------------------------------
-    def close(self):
-        """Stop the operator and the layer, unsubscribe, remove the landmark directory."""
+    def close(self, end_chain=True):
+        """Stop the operator, unsubscribe; with ``end_chain`` also stop the layer (and the
+        nodes started by hand) and remove the landmark directory."""
         if self.run is not None:
             self.run.stop_operator()
             self.run.close()
@@ -341,7 +431,5 @@ class FindingMission(object):
             watched.sub.unregister()
         for publisher in self.kept:
             publisher.unregister()
-        for node in self.nodes:
-            node.kill()
-        self.layer.stop()
-        shutil.rmtree(self.directory, ignore_errors=True)
+        if end_chain:
+            self.chain.stop()

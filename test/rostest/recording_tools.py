@@ -51,6 +51,11 @@ class Collector(object):
         with self._lock:
             return len(self.items)
 
+    def drop_before(self, count):
+        """Forget the first ``count`` messages (those of an earlier mission)."""
+        with self._lock:
+            del self.items[:count]
+
 
 class Diagnostics(object):
     """The newest /diagnostics status of each name (``<node>: <role>: <check>``), thread-safe.

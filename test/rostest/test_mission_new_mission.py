@@ -14,6 +14,8 @@ while ``recording`` is refused naming it, and ``go_home`` (``~second_end``
 ``vision_loss``: the fake's vision failed through /fake_turtlebot/set_vision and
 detected by the restarted vision_monitor) brings it home within 2 % of its path
 too. The client's /diagnostics names mission 2 and its file.
+With ``~then_cancel``, ``new_mission`` starts mission 3 and :class:`CancelAfterNewMission`
+plays test_mission_services.py's go_home and cancel in it (one launch for both).
 """
 import hashlib
 import os
@@ -28,7 +30,7 @@ from std_srvs.srv import SetBool
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from mission_tools import MISSION_DONE_TOPIC, MissionRun  # noqa: E402
 from recording_tools import Collector, Diagnostics  # noqa: E402
-from test_mission_services import trigger  # noqa: E402
+from test_mission_services import ServicesChecks, trigger  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
@@ -94,12 +96,14 @@ class NewMissionTest(unittest.TestCase):
                                                     'mission file'),
                      'no mission diagnostics of %s' % run.owner)
             cls.mission_status = cls.diagnostics.status('%s: mission' % run.owner.lstrip('/'))[1]
+            cls.states_2 = run.state_names()
         finally:
             run.stop_operator()
 
     @classmethod
     def tearDownClass(cls):
-        cls.run_.remove_recording()
+        if not rospy.get_param('~then_cancel', False):
+            cls.run_.remove_recording()
 
     def test_new_mission_is_refused_while_a_mission_is_under_way(self):
         for reply, state in ((self.refused_rotating, 'rotating'),
@@ -115,7 +119,7 @@ class NewMissionTest(unittest.TestCase):
         self.assertTrue(self.go_home_1.success and self.go_home_2.success,
                         (self.go_home_1.message, self.go_home_2.message))
         walk = ['idle', 'recording', 'rotating', 'returning', 'home']
-        self.assertEqual(self.run_.state_names(), walk + walk)
+        self.assertEqual(self.states_2, walk + walk)
         rotating = [msg.reason for msg in self.status.snapshot() if msg.state == 'rotating']
         self.assertEqual(len(rotating), 2, rotating)
         self.assertTrue(rotating[0].startswith('return requested (go_home'), rotating)
@@ -151,6 +155,37 @@ class NewMissionTest(unittest.TestCase):
                         self.mission_status['mission id'])
 
 
+class CancelAfterNewMission(ServicesChecks, unittest.TestCase):
+    """Mission 3 (``~then_cancel``), started by ``new_mission`` after mission 2's home: the
+    checks of test_mission_services.py on its states and statuses (the run forgets the
+    earlier missions' ones)."""
+
+    @classmethod
+    def setUpClass(cls):
+        run = NewMissionTest.run_
+        states, statuses = len(run.states), len(run.status)
+        run.mission_done.sub.unregister()
+        run.mission_done = Collector(MISSION_DONE_TOPIC, Bool)
+        reply = trigger(names.NEW_MISSION)()
+        if not reply.success:
+            raise AssertionError('new_mission after mission 2 refused: %s' % reply.message)
+        run.states.drop_before(states)
+        run.status.drop_before(statuses)
+        run.wait(lambda: run.state_names()[-1:] == ['recording'],
+                 'mission 3 never recorded; states %s' % run.state_names())
+        cls.play(run, run.status)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.mission_run.remove_recording()
+
+
+def suite():
+    """NewMissionTest, then (``~then_cancel``) CancelAfterNewMission on the same layer."""
+    cases = [NewMissionTest] + ([CancelAfterNewMission] if rospy.get_param('~then_cancel', False) else [])
+    return unittest.TestSuite(unittest.TestLoader().loadTestsFromTestCase(case) for case in cases)
+
+
 if __name__ == '__main__':
     rospy.init_node('test_mission_new_mission')
-    rostest.rosrun('blind_navigation', 'mission_new_mission', NewMissionTest)
+    rostest.rosrun('blind_navigation', 'mission_new_mission', __name__ + '.suite')

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""rostest (mission_cancel_service.test): the mission owner's services on the fake
-TurtleBot, default launch.
+"""rostest (mission_new_mission.test plays it as its third mission, :func:`play`): the
+mission owner's services on the fake TurtleBot, default launch.
 
 A short mission is recorded; ``/blind_navigation/go_home`` (std_srvs/Trigger)
 called while recording is acknowledged and starts the return (the status's
@@ -10,23 +10,19 @@ zero on the mux input (teleop) comes promptly (:data:`PROMPT`; the delay in cont
 cycles is logged), the base's ground-truth stop at most one of its 50 Hz samples later; the
 state ends ``aborted`` with "cancelled by request" and no goal follows. The status carries
 the outcome code of the end: ``OUTCOME_HOME``, ``OUTCOME_CANCELLED``.
-With ``~timed_rtf`` the fake's clock runs at that rtf from just before the cancel on (the
-cancel is timed; everything before it at the launch's rtf).
+With ``~timed_rtf`` the fake's clock runs at that rtf from just before the cancel until the
+base stopped (the cancel is timed; everything else at the launch's rtf).
 """
 import os
 import sys
 import threading
-import unittest
 
 import rospy
-import rostest
 from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mission_tools import (STOPPED_SPEED, TELEOP_TOPIC, MissionRun,  # noqa: E402
-                           TimedTwists)
-from recording_tools import Collector  # noqa: E402
+from mission_tools import STOPPED_SPEED, TELEOP_TOPIC, TimedTwists  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
@@ -67,38 +63,44 @@ def trigger(service):
     return proxy
 
 
-class ServicesTest(unittest.TestCase):
+class ServicesChecks(object):
+    """The checks of the mission :meth:`play` plays (a TestCase mixin)."""
 
     @classmethod
-    def setUpClass(cls):
-        cls.mission_run = run = MissionRun(float(rospy.get_param('~wall_timeout', 240.0)))
-        cls.status = Collector(names.STATUS, MissionStatus)
+    def play(cls, run, status):
+        """The operator's ``~mission``, go_home, go_home again and cancel in the mission of
+        ``run`` under way (recording; ``run`` and ``status``, its status collector, hold
+        only this mission's messages)."""
+        cls.mission_run, cls.status = run, status
         cls.teleop, cls.speeds = TimedTwists(TELEOP_TOPIC), TimedSpeeds()
         go_home, cancel = trigger(names.GO_HOME), trigger(names.CANCEL)
         try:
-            run.record_mission(rospy.get_param('~mission'))
+            run.play_mission(rospy.get_param('~mission'))
             cls.loaded = run.recorded()
             cls.go_home_recording = go_home()
             run.wait(lambda: 'returning' in run.state_names(),
                      'the return never started after go_home; states %s' % run.state_names())
             cls.go_home_returning = go_home()
-            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(
-                GOALS_BEFORE_CANCEL, MOVING_SPEED, rospy.get_param('~timed_rtf', 0.0))
+            timed_rtf = rospy.get_param('~timed_rtf', 0.0)
+            cls.speed_at_cancel, cls.cancelled_at = run.wait_mid_return(GOALS_BEFORE_CANCEL, MOVING_SPEED,
+                                                                        timed_rtf)
             cls.cancel_reply = cancel()
             cls.goals_at_cancel = run.goals_started()
             run.wait(lambda: run.state_names()[-1:] == ['aborted'],
                      'the mission never became aborted after cancel; states %s' % run.state_names())
+            if timed_rtf:       # the stop timed, the rest at the launch's rtf again
+                run.wait(lambda: [t for t, speed in cls.speeds.after(cls.cancelled_at) if speed < STOPPED_SPEED],
+                         'the base never stopped after the cancel', 30.0)
+                run.set_rtf(rospy.get_param('/mobile_base/rtf'))
             run.wait_sim(1.0, 'the base stopping')
             cls.stopped_at = run.truth.position()
             run.wait_sim(STAY_FOR, 'the base staying put')
             cls.final_at = run.truth.position()
         finally:
             run.stop_operator()
+            cls.teleop.sub.unregister()
+            cls.speeds.sub.unregister()
         cls.cycle = 1.0 / BackTravelServer.SCHEMA.fixed['control_rate']   # the server's control period, s
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.mission_run.remove_recording()
 
     def reasons(self, state):
         return [msg.reason for msg in self.status.snapshot() if msg.state == state]
@@ -158,7 +160,3 @@ class ServicesTest(unittest.TestCase):
                  + (self.final_at[1] - self.stopped_at[1]) ** 2) ** 0.5
         self.assertLess(moved, STAY_WITHIN)
 
-
-if __name__ == '__main__':
-    rospy.init_node('test_mission_services')
-    rostest.rosrun('blind_navigation', 'mission_services', ServicesTest)

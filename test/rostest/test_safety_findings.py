@@ -5,11 +5,12 @@ config/missions/test_safety.yaml): each bullet reproduced and checked to end wit
 robot still or ``home`` within the normal accuracy, no motion commanded after a terminal
 state, and the record intact or its loss reported.
 
-One TestCase per mission (findings_rig.FindingMission: a fresh layer); its setUpClass
-plays the faults of its findings, each at its own phase, and each test method checks one
-bullet and prints one ``FINDING`` line. TestA attacks the default one process, TestB and
-the restarts the paper's node layout (its own topics, services and nodes). The param
-``~only`` (comma-separated class names) runs a subset. Behaviour alone (a loss while
+One TestCase per mission (findings_rig.FindingMission); its setUpClass plays the faults of
+its findings, each at its own phase, and each test method checks one bullet and prints one
+``FINDING`` line. TestA attacks the default one process, TestB and the restarts the paper's
+node layout (its own topics, services and nodes); the missions of a layout share its layer
+(a LayerChain: the next one starts by ``new_mission``), the start-up cases launch their own.
+The param ``~only`` (comma-separated class names) runs a subset. Behaviour alone (a loss while
 standing still, a long takeover) is played in test/unit/test_mission_harness_findings.py.
 """
 import json
@@ -36,8 +37,8 @@ from std_msgs.msg import Bool, Empty, Header
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from findings_rig import (MISSION, NORMAL_ACCURACY, TEST_ROOT, WALL_TIMEOUT,  # noqa: E402
-                          FindingMission, LayerLaunch, mission_directory)
-from mission_tools import HOME_WALK  # noqa: E402
+                          FindingMission, LayerChain, LayerLaunch, mission_directory)
+from mission_tools import HOME_WALK, STOPPED_SPEED  # noqa: E402
 from recording_tools import kill_node, node_pid, subscribers_of  # noqa: E402
 from waiting import wait_for  # noqa: E402
 
@@ -70,6 +71,12 @@ WATCH = 4.0
 #: continue, from its kill: starting a node on this loaded machine takes seconds; the
 #: client's own backstop, rotation_timeout, is minutes.
 RESTART_REACTION = 30.0
+#: The layers the missions share (one after another through new_mission, module docstring):
+#: the one process (logging to /rosout and its stream only: TestE limits its file sizes,
+#: so it ends the chain) and the paper's layout.
+ONE_PROCESS = LayerChain('one_process', env={'ROS_PYTHON_LOG_CONFIG_FILE': os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), 'stream_logging.conf')})
+PAPER = LayerChain('paper', one_process=False)
 
 
 def report(finding, text, *args):
@@ -189,9 +196,12 @@ def landmarks_beyond_limits(loaded):
 
 
 class MissionCase(unittest.TestCase):
-    """A TestCase whose setUpClass plays one mission (``play``) and closes it after."""
+    """A TestCase whose setUpClass plays one mission (``play``) and closes it after; on a
+    ``CHAIN``'s layer the next case's mission goes on (unless ``ENDS_CHAIN`` or it failed)."""
 
     mission = None
+    CHAIN = None
+    ENDS_CHAIN = False
 
     @classmethod
     def setUpClass(cls):
@@ -206,8 +216,22 @@ class MissionCase(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         if cls.mission is not None:
-            cls.mission.close()
+            cls.mission.close(end_chain=cls.CHAIN is None or cls.ENDS_CHAIN)
             cls.mission = None
+
+    @classmethod
+    def settle(cls):
+        """Until the robot stands (ground truth)."""
+        run = cls.mission.run
+        cls.mission.wait(lambda: run.truth.speed() < STOPPED_SPEED, 'the robot stands')
+
+    @classmethod
+    def counted_within(cls, count, since, seconds, what):
+        """Until ``count()`` reaches ``since``, at most ``seconds`` of sim time (a check
+        asserts it after); returns ``count()``."""
+        m, until = cls.mission, rospy.get_time() + seconds
+        m.wait(lambda: count() >= since or rospy.get_time() >= until, what)
+        return count()
 
     @classmethod
     def idle_goal_sent(cls):
@@ -226,10 +250,10 @@ class MissionCase(unittest.TestCase):
         """A mission of the paper's layout nudged 0.3 m, ``before_trigger(mission)`` called,
         vision lost (from this node) and ``rotating`` reached (``cls.rotating_at``); returns
         (the mission, what ``before_trigger`` returned)."""
-        m = cls.mission = FindingMission(label, one_process=False)
-        m.run.wait_for_layer()
+        m = cls.mission = FindingMission(label, chain=PAPER)
+        m.wait_for_layer()
         m.nudge()
-        m.wait_sim(2.0)
+        m.wait(lambda: saved(m) >= 1, 'the saver saved a landmark of the nudge')
         extra = before_trigger(m)
         m.run.trigger_by_publisher()
         cls.rotating_at = m.wait_state('rotating')
@@ -239,7 +263,7 @@ class MissionCase(unittest.TestCase):
     def drive_and_lose_vision(cls):
         """Record the whole mission, then the operator's vision_lost."""
         run = cls.mission.run
-        run.wait_for_layer()
+        cls.mission.wait_for_layer()
         run.play_mission(MISSION)
         lose_vision(cls.mission)
 
@@ -261,6 +285,8 @@ class TestA_OneProcessFaults(MissionCase):
     symlink planted at landmarks.progress.yaml.tmp (6d). The one process serves
     back_travel only to reject every goal (ros/owner_paper_names.REJECTED)."""
 
+    CHAIN = ONE_PROCESS
+
     @classmethod
     def play(cls):
         def plant(directory):
@@ -270,7 +296,7 @@ class TestA_OneProcessFaults(MissionCase):
             cls.planted = os.path.join(directory, 'landmarks.progress.yaml.tmp')
             os.symlink(cls.victim, cls.planted)
 
-        m = cls.mission = FindingMission('one_process_faults', prepare=plant)
+        m = cls.mission = FindingMission('one_process_faults', prepare=plant, chain=ONE_PROCESS)
         run = m.run
         odometry = BaseOdometry()
         try:
@@ -281,14 +307,14 @@ class TestA_OneProcessFaults(MissionCase):
             # finding 5a: another node's goal while idle
             stranger = cls.idle_goal_sent()
             # finding 1: the burst while recording
-            run.wait_for_layer()
+            m.wait_for_layer()
             cls.states_before_mission = run.state_names()
             run.start_operator(MISSION)
-            m.wait_sim(5.0)
+            run.wait_moved(0.3, 'recording before the burst')
             before = m.refused_odometry()
             cls.burst_count = odometry_burst(m, cls.absurd_odometry)
-            m.wait_sim(1.5)         # a diagnostics period
-            cls.burst_refused = m.refused_odometry() - before
+            cls.burst_refused = cls.counted_within(lambda: m.refused_odometry() - before, cls.burst_count,
+                                                   3.0, 'the diagnostics count the burst refused')
             run.wait_for_operator(MISSION)
             # finding 4b: the trigger is a flood that lasts into the return
             flood = Flood(m.owner)
@@ -307,8 +333,9 @@ class TestA_OneProcessFaults(MissionCase):
             cls.during_return = m.state_time('home') is None
             cls.final, cls.final_at = m.wait_final()
             cls.rotating_at, cls.returning_at = m.state_time('rotating'), m.state_time('returning')
-            m.wait_sim(1.5)         # a diagnostics period after the burst
-            cls.twist_refused = m.refused_odometry() - before
+            cls.twist_refused = cls.counted_within(lambda: m.refused_odometry() - before, cls.twist_count,
+                                                   3.0, 'the diagnostics count the twists refused')
+            cls.settle()
             cls.error = run.error()
             # finding 4c: vision_lost after home, and a goal
             lose_vision(m)
@@ -460,16 +487,17 @@ class TestB_PaperLayoutFaults(MissionCase):
 
     SAVER = 'landmark_saver'
     SAVER_DOWN = 10.0           # s (sim) without a saver, as in the issue (10-18 s)
+    CHAIN = PAPER
 
     @classmethod
     def play(cls):
-        m = cls.mission = FindingMission('paper_faults', one_process=False)
+        m = cls.mission = FindingMission('paper_faults', chain=PAPER, fresh=True)
         run = m.run
         m.wait_idle()
         # finding 5a: another node's goal while idle (the recording starts once this node
         # takes the samples: wait_for_layer)
         stranger = cls.idle_goal_sent()
-        run.wait_for_layer()
+        m.wait_for_layer()
         rospy.wait_for_service(names.SET_RETURN_ROUTE, WALL_TIMEOUT)
         # finding 6a: the saver killed mid-recording and restarted
         cls.file_before = os.path.realpath(m.landmark_file)
@@ -512,7 +540,7 @@ class TestB_PaperLayoutFaults(MissionCase):
         cls.during_return = m.state_time('home') is None
         cls.final, cls.final_at = m.wait_final()
         cls.returning_at = m.state_time('returning')
-        m.wait_sim(1.0)
+        cls.settle()
         cls.error = run.error()
         # finding 4c: a goal after home
         cls.home_goal = stranger.send(IDLE_GOAL)
@@ -625,6 +653,8 @@ class TestC_RotationDoneFalse(MissionCase):
     """rotation_done false while the robot stands still for the heading correction:
     aborted, and no pi turn after it."""
 
+    CHAIN = PAPER
+
     @classmethod
     def play(cls):
         def connect(m):
@@ -658,13 +688,16 @@ class TestE_WriteFailure(MissionCase):
     (RLIMIT_FSIZE set on the running process: every later append fails with EFBIG, the
     path of ENOSPC). The layer logs to /rosout and its stream only (no log file, which the
     limit would hit first). Issue 28: the mission that cannot come back ends at the vision
-    loss, standing still: no standstill, no pi turn (ground truth)."""
+    loss, standing still: no standstill, no pi turn (ground truth). The limit stays on the
+    process: the chain ends here."""
+
+    CHAIN, ENDS_CHAIN = ONE_PROCESS, True
 
     @classmethod
     def play(cls):
-        m = cls.mission = file_limited_mission('write_failure')
+        m = cls.mission = FindingMission('write_failure', chain=ONE_PROCESS)
         run = m.run
-        run.wait_for_layer()
+        m.wait_for_layer()
         run.start_operator(MISSION)
         m.wait(lambda: saved(m) >= 6, 'the saver saved 6 landmarks')
         cls.file = os.path.realpath(m.landmark_file)
@@ -674,13 +707,15 @@ class TestE_WriteFailure(MissionCase):
         cls.lost_at = rospy.get_time()
         lose_vision(m)
         cls.final, cls.final_at = m.wait_final()
-        m.wait_sim(1.5)     # a diagnostics period
+        recording = '%s: recording' % m.owner.lstrip('/')     # the one process's recording status
+        m.wait(lambda: m.diagnostics.level(recording) == DiagnosticStatus.ERROR,
+               'the diagnostics report the recording lost')
+        cls.settle()
         cls.error = run.error()
         cls.still = m.still_after(cls.final_at, WATCH)
         cls.storage = run.storage_msgs.snapshot()[-1]
         cls.loaded = load_landmarks(cls.file)
         cls.lost_lines = m.logged('LANDMARK LOST')
-        recording = '%s: recording' % m.owner.lstrip('/')     # the one process's recording status
         cls.saver_status = m.diagnostics.status(recording)
         cls.warnings = [msg.warnings for msg in m.status.snapshot() if msg.warnings]
         cls.level = (m.diagnostics.level(recording),
@@ -721,13 +756,6 @@ class TestE_WriteFailure(MissionCase):
         self.assertEqual(self.turns, [], 'rotate_pi began a turn')
         self.assertEqual(late, [])
         self.assertLess(moved, 0.005)
-
-
-def file_limited_mission(label):
-    """A FindingMission whose layer logs to /rosout and its stream only (no log file, which
-    a file size limit, :func:`limit_file_size`, would hit first)."""
-    config = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'stream_logging.conf')
-    return FindingMission(label, env={'ROS_PYTHON_LOG_CONFIG_FILE': config})
 
 
 def limit_file_size(pid, size):
@@ -825,7 +853,7 @@ class TestM_LowSpaceAtStart(SmallDisk):
     @classmethod
     def play(cls):
         m = cls.mission = FindingMission('low_space', prepare=cls.prepare)
-        m.run.wait_for_layer()
+        m.wait_for_layer()
         cls.warned = m.wait_logged('LOW SPACE')
         m.wait(lambda: [msg for msg in m.status.snapshot() if 'LOW SPACE' in msg.warnings],
                'the mission status carries the low-space warning')
@@ -858,9 +886,7 @@ class TestF_LandmarkFileDirectory(MissionCase):
                 stream.write('keep\n')
 
         m = cls.mission = FindingMission('directory', prepare=plant)
-        m.wait(lambda: m.layer.process.poll() is not None or 'is a directory' in m.layer.output(),
-               'the layer refuses the directory')
-        m.wait_sim(3.0)
+        m.wait(lambda: m.layer.process.poll() is not None, 'the layer exits on the directory')
         cls.output = m.layer.output()
         cls.refusal = [line for line in cls.output.splitlines() if 'is a directory' in line]
         cls.entries = sorted(os.listdir(m.directory))
@@ -891,12 +917,14 @@ class TestG_RotatePiRestart(MissionCase):
     """rotate_pi killed (SIGKILL) mid-turn and started again: it cannot know how far the robot
     turned, so the mission ends aborted at once, and nothing moves after."""
 
+    CHAIN = PAPER
+
     @classmethod
     def play(cls):
         m, _ = cls.paper_turn('rotate_pi_restart')
-        m.wait(lambda: [c for c in m.layer_commands() if c[3] == '/rotate_pi' and c[2] != 0.0],
-               'rotate_pi turns')
-        m.wait_sim(1.0)
+        m.wait(lambda: abs(m.track.turned(cls.rotating_at, rospy.get_time())) > 0.4 and
+               [c for c in m.layer_commands() if c[3] == '/rotate_pi' and c[2] != 0.0],
+               'rotate_pi turns 0.4 rad')
         kill_node('/rotate_pi')
         cls.killed_at, cls.killed_wall = rospy.get_time(), time.monotonic()
         cls.turned_at_kill = m.track.turned(cls.rotating_at, cls.killed_at)
@@ -929,10 +957,11 @@ class ClientRestart(MissionCase):
     the mission ends aborted naming the file, and nothing moves after."""
 
     LABEL = None
+    CHAIN, ENDS_CHAIN = PAPER, True
 
     @classmethod
     def play(cls):
-        m = cls.mission = FindingMission(cls.LABEL, one_process=False)
+        m = cls.mission = FindingMission(cls.LABEL, chain=PAPER)
         cls.drive_and_lose_vision()
         m.wait_state('returning')
         cls.progress_file = progress_path(m.landmark_file)
@@ -942,7 +971,7 @@ class ClientRestart(MissionCase):
                 progress = load_progress(cls.progress_file)
             except Exception:           # being replaced: read it again
                 return 0
-            return progress.completed if progress else 0
+            return progress.completed if progress and progress.status == 'returning' else 0
 
         m.wait(lambda: completed() >= 2, '2 landmarks driven back')
         kill_node('/back_travel_client')
@@ -1034,6 +1063,7 @@ class TestJ_MasterRestart(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
+        LayerChain.stop_active()
         rtf = float(rospy.get_param('/mobile_base/rtf'))
         master = PrivateMaster(free_port())
         env = {'ROS_MASTER_URI': master.uri}
@@ -1099,11 +1129,18 @@ class TestJ_MasterRestart(unittest.TestCase):
         self.assertLess(s['turned'], 0.01)
 
 
+def tearDownModule():
+    LayerChain.stop_active()
+
+
 def selected():
-    """The test cases of this module, in name order; only those ``~only`` names, if set."""
+    """The test cases of this module, those of a chain together (one-process, then paper),
+    in name order; only those ``~only`` names, if set."""
     only = [name for name in rospy.get_param('~only', '').split(',') if name]
     module = sys.modules[__name__]
-    cases = sorted(name for name in dir(module) if name.startswith('Test'))
+    chains = [ONE_PROCESS, PAPER, None]
+    cases = sorted((name for name in dir(module) if name.startswith('Test')),
+                   key=lambda name: (chains.index(getattr(getattr(module, name), 'CHAIN', None)), name))
     unknown = sorted(set(only) - set(cases))
     if unknown:
         raise ValueError('~only names unknown test cases %s (known: %s)' % (unknown, cases))
