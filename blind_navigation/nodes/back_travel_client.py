@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""The back_travel_client node, the paper's action client (Figure 6) and the mission state's owner, alone in its process (the paper's node
-layout, launch/paper.launch). The role's class: blind_navigation/ros/back_travel_client.py."""
+"""The back_travel_client node, the paper's action client (Figure 6) and the mission state's
+owner, alone in its process (the paper's node layout, launch/paper.launch). The role's class:
+blind_navigation/ros/paper_owner.py."""
 import rospy
 
 from blind_navigation.ros.paper_owner import PaperOwner
