@@ -93,7 +93,7 @@ class Mission(object):
         self.store, self.phase = store, RECORDING
         self.recording = (self.config.remote.recording if self.config.remote else MissionRecording)(store, self.config)
         self.raw = self.last = self.corrector = self.correction = None
-        self.loaded = self.landmarks = self.anchor = self.route = self.pruning = None
+        self.loaded = self.landmarks = self.anchor = self.route = self.pruning = self.planned = None
         self.drive, self.ending, self.kept, self.warning = None, None, None, ''  # warning: the return's
         self.pauses, self.requests, self.halt, self.vision_loss = Pauses(self.params), [], False, False
 
@@ -124,10 +124,10 @@ class Mission(object):
         return refusal
 
     def configure_return(self, **settings):
-        """Change the return's settings or ``landmarks`` (recording order) before it starts."""
+        """Before the return starts: its settings, ``landmarks`` (recording order), ``planned`` (plan_return's)."""
         if self.phase != TURNED:
             raise RuntimeError('the return is configured before it starts, not in %s' % self.phase)
-        self.landmarks = settings.pop('landmarks', self.landmarks)
+        self.landmarks, self.planned = settings.pop('landmarks', self.landmarks), settings.pop('planned', self.planned)
         self.config.__dict__.update(_known(settings))
 
     # --- the loop ------------------------------------------------------------------------------
@@ -326,7 +326,7 @@ def _plan(m):
     goals = return_goals(labels if len(labels) == len(m.landmarks) else
                          [str(number + 1) for number in range(len(m.landmarks))], m.landmarks)
     if c.mode == 'closed_loop':
-        m.route, m.pruning = (kept.route, None) if kept else plan_return(
+        m.route, m.pruning = (kept.route, None) if kept else m.planned or plan_return(
             m.landmarks, m.anchor, m.params, c.prune_loops, m.correction)
         follower = None if c.remote_goals else RouteFollower(m.route, m.params)
     m.pauses, done = Pauses(m.params), kept.done if kept else 0

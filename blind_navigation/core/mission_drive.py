@@ -17,7 +17,7 @@ ZERO = (0.0, 0.0)
 GOAL, HANDOVER, FINAL, DONE, FAILED = 'goal', 'hand-over', 'final hold', 'done', 'failed'
 
 
-class _Held(Behaviour):
+class Held(Behaviour):
     """What core/drive.DriveCycle tells a goal or the turn: held ``hold(seconds)`` for stale odometry."""
 
     def __init__(self, hold=None):
@@ -53,7 +53,7 @@ class TurnDrive(object):
         self.clock, self.timeout = clock, rotation_timeout(
             config.standstill, limit_params(config.limits or params).rotation_margin,
             config.vision_back_grace)
-        self.cycle = DriveCycle(_Held(self.rotation.hold), params)
+        self.cycle = DriveCycle(Held(self.rotation.hold), params)
         self.rotation.start(odom)
         self.start_yaw, self.yaw = odom.yaw, odom.yaw
         self.phase, self.reason, self.code = 'turn', '', outcome.NONE
@@ -177,7 +177,7 @@ class ReturnDrive(object):
         self.goal = make_goal(self.mode, self.goals[self.index][1], self.params, self.follower,
                               self.index, self.since)
         self.goal.start(self.latest())
-        self.cycle = DriveCycle(_Held(self.goal.hold), self.params)
+        self.cycle = DriveCycle(Held(self.goal.hold), self.params)
 
     def _goal_done(self, now):
         self.index += 1
@@ -187,7 +187,7 @@ class ReturnDrive(object):
             return
         self.bridge = HandoverBridge(self.follower, self.follow, now) if bridges(
             self.mode, self.follower, self.index, len(self.goals), self.follow) else None
-        self.cycle = DriveCycle(_Held(), self.params)     # the bridge's
+        self.cycle = DriveCycle(Held(), self.params)     # the bridge's
         self.since = self.follower.travelled if self.follower is not None and self.follower.started \
             else None
         self.phase = HANDOVER

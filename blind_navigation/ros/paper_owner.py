@@ -172,18 +172,18 @@ class PaperOwner(MissionOwner):
             m.configure_return(landmarks=correct_landmarks(loaded.landmarks, m.correction)
                                if m.correction is not None else loaded.landmarks)
         try:
-            route = m.kept.route if m.kept is not None else plan_return(
-                m.landmarks, m.anchor, self.params, m.config.prune_loops, m.correction)[0]
+            planned = (m.kept.route, None) if m.kept is not None else plan_return(
+                m.landmarks, m.anchor, self.params, m.config.prune_loops, m.correction)
         except ValueError as error:
             return self._cancel('cannot build the return route: %s' % error, outcome.RECORDING)
         done = m.kept.done if m.kept is not None else 0
-        problem, response = self.remote_goals.connect(route, m.landmarks[::-1], done,
+        problem, response = self.remote_goals.connect(planned[0], m.landmarks[::-1], done,
                                                       self.layer.odometry.frame_id or '',
                                                       self.params.server_timeout)
         if problem:
             return self._cancel(problem, outcome.ROLE_FAILURE)
         self.params.home_tolerance = response.home_tolerance
-        m.configure_return(mode=response.control)
+        m.configure_return(mode=response.control, planned=planned)   # the route planned once
         return None
 
     def _cancel(self, reason, code):
