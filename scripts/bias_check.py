@@ -1,7 +1,7 @@
 """Issue 29's set, the gyro bias measured standing still: over ROS against the harness.
 
-    python3 scripts/bias_check.py estimates OUT [COUNT]   each run of the set in OUT (ros_harness --set COUNT
-                                          --out OUT): the robot's true bias, the estimate over ROS
+    python3 scripts/bias_check.py estimates OUT [COUNT [FIRST]]   each run of the set in OUT (ros_harness --set
+                                          COUNT, first seed FIRST, default 3000, --out OUT): the robot's true bias, the estimate over ROS
                                           and in the harness, each error in its own std; RMS per base
     python3 scripts/bias_check.py forced OUT KEY PATH_SEED NOISE_SEED BASE
                                           the harness on that run with the bias estimate forced
@@ -42,11 +42,13 @@ def harness(key, path_seed, seed, base):
         launched(mode), event_sampling=True, prune_loops=True))['closed_loop']
 
 
-def estimates(out, count):
+def estimates(out, count, first=3000):
     for base in ('kinematic', 'mujoco'):
         errors = {'ROS': [], 'harness': []}
-        for index, (_, key, path_seed) in enumerate(path_set(count, 3000)):
-            seed = 3000 + index
+        for index, (_, key, path_seed) in enumerate(path_set(count, first)):
+            seed = first + index
+            if not glob.glob(run_dir(out, key, path_seed, seed, base)):
+                continue
             true_bias = make_base(base, load_profile('paper'), seed=seed)._gyro_bias
             ros, ros_std = ros_estimate(run_dir(out, key, path_seed, seed, base))
             own = harness(key, path_seed, seed, base).heading_correction
@@ -54,6 +56,8 @@ def estimates(out, count):
             errors['harness'].append((own.bias - true_bias) / own.bias_std)
             print('%s %s %d/%d: true %+.2e; ROS %+.2e (%+.1f std); harness %+.2e (%+.1f std)' % (
                 base, key, path_seed, seed, true_bias, ros, errors['ROS'][-1], own.bias, errors['harness'][-1]))
+        if not errors['ROS']:
+            continue
         print('%s: RMS error in its own std: ROS %.2f, harness %.2f' % (base, *(
             math.sqrt(sum(e * e for e in errors[side]) / len(errors[side])) for side in ('ROS', 'harness'))))
 
@@ -77,7 +81,7 @@ def forced(out, key, path_seed, seed, base):
 
 if __name__ == '__main__':
     if len(sys.argv) >= 3 and sys.argv[1] == 'estimates':
-        estimates(sys.argv[2], int(sys.argv[3]) if len(sys.argv) > 3 else 10)
+        estimates(sys.argv[2], *(int(arg) for arg in sys.argv[3:5]))
     elif len(sys.argv) == 7 and sys.argv[1] == 'forced':
         forced(sys.argv[2], sys.argv[3], int(sys.argv[4]), int(sys.argv[5]), sys.argv[6])
     else:
