@@ -1,7 +1,7 @@
 """What the mission owner (ros/mission_owner.py) shows and keeps of its core Mission beside
 the state, as the default layer's roles do: the RViz paths (recorded_path, return_route,
 return_path), the latched heading correction and the return's progress file
-(ros/return_progress.MissionProgress).
+(core/progress_keeper.MissionProgress).
 """
 from array import array
 
@@ -16,7 +16,7 @@ from blind_navigation.ros.common import wait_wall
 from blind_navigation.ros.heading_correction import correction_message
 from blind_navigation.ros.landmark_saving import path_message
 from blind_navigation.ros.return_paths import ReturnPaths
-from blind_navigation.ros.return_progress import MissionProgress
+from blind_navigation.core.progress_keeper import MissionProgress
 
 
 class MissionOutputs(object):

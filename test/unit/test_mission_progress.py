@@ -1,5 +1,5 @@
 """The mission owner's ROS-facing pieces without a master: its return progress
-(ros/return_progress.MissionProgress), the plain heading correction it keeps
+(core/progress_keeper.MissionProgress), the plain heading correction it keeps
 (core/progress.heading_record) and the release of a safety halt (ros/motion.MotionOutput)."""
 import math
 import os
@@ -17,7 +17,7 @@ from blind_navigation.core.landmark import Landmark  # noqa: E402
 from blind_navigation.core.progress import heading_record, load_progress, progress_path  # noqa: E402
 from blind_navigation.core.route import build_route  # noqa: E402
 from blind_navigation.ros.motion import MotionOutput  # noqa: E402
-from blind_navigation.ros.return_progress import MissionProgress  # noqa: E402
+from blind_navigation.core.progress_keeper import MissionProgress  # noqa: E402
 
 LANDMARKS = [Landmark(0.1, 0.0, 0.2, 2.0, 0.0), Landmark(0.1, 0.0, 0.2, 2.0, 0.0)]
 

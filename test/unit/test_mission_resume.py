@@ -1,5 +1,5 @@
 """A return interrupted by a restart, resumed by a new core/mission.Mission from the progress
-file the mission owner keeps (ros/return_progress.MissionProgress, core/resume.kept_return),
+file the mission owner keeps (core/progress_keeper.MissionProgress, core/resume.kept_return),
 driven against the simulated robot (sim/harness.py); files that cannot be resumed are refused
 with the default layer's reasons."""
 import math
@@ -19,7 +19,7 @@ from blind_navigation.core.mission import RESUMED, Mission  # noqa: E402
 from blind_navigation.core.mission_drive import FINAL, GOAL, HANDOVER  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path, save_progress  # noqa: E402
 from blind_navigation.core.resume import ABORT, RESUME, kept_return, resume_from_file  # noqa: E402
-from blind_navigation.ros.return_progress import MissionProgress  # noqa: E402
+from blind_navigation.core.progress_keeper import MissionProgress  # noqa: E402
 from blind_navigation.sim import harness  # noqa: E402
 
 MISSION, PROFILE, SEED = 'table6_test1', 'paper', 0

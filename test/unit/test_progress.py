@@ -14,7 +14,7 @@ from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, Retur
                                             file_digest, kept_heading, kept_route, load_progress,
                                             progress_path, route_record, save_progress)
 from blind_navigation.core.route import build_route
-from blind_navigation.ros.return_progress import ProgressKeeper
+from blind_navigation.core.progress_keeper import ProgressKeeper
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
                                           settle_abort)
 

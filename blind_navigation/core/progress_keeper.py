@@ -8,13 +8,12 @@ import os
 import time
 from types import SimpleNamespace
 
-from blind_navigation.core import mission_state as state, outcome
-from blind_navigation.core.geometry import distance
-from blind_navigation.core.landmark import Limits
-from blind_navigation.core.progress import (ProgressError, ReturnProgress, file_digest,
-                                            heading_record, progress_path,
-                                            route_record, save_progress)
-from blind_navigation.core.resume import ABORT, IGNORE, kept_return, resume_from_file, settle_abort
+from . import mission_state as state, outcome
+from .geometry import distance
+from .landmark import Limits
+from .progress import (ProgressError, ReturnProgress, file_digest, heading_record, progress_path,
+                       route_record, save_progress)
+from .resume import ABORT, IGNORE, kept_return, resume_from_file, settle_abort
 
 
 class ProgressKeeper(object):
@@ -88,7 +87,7 @@ class ProgressKeeper(object):
 
 class MissionProgress(object):
     """The progress of a core/mission.Mission's returns (ros/mission_owner.py), kept by a
-    :class:`ProgressKeeper` at the same steps as back_travel_client's; ``mission_id()`` and
+    :class:`ProgressKeeper` at each step; ``mission_id()`` and
     ``frame_id()`` name the mission and the odometry frame; a return a previous run left is
     resumed or aborted (:meth:`first_state`)."""
 
