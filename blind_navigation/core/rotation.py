@@ -1,9 +1,10 @@
 """Closed-loop in-place rotation by pi on odometry yaw (paper 3.4).
 
-:class:`Rotation` accumulates the wrapped yaw turned since :meth:`Rotation.start` and
-commands ``w = sign(r) clamp(min(gain |r|, sqrt(2 decel |r|)), min_w, max_w)`` of the
-remaining angle ``r``; done when settled (below ``settle_w``) within ``tolerance``,
-failed after ``time_allowance``.
+:class:`Rotation` commands ``w = sign(r) clamp(min(gain |r|, sqrt(2 decel |r|)), min_w, max_w)``
+of the remaining angle ``r``; done when settled (below ``settle_w``) within ``tolerance``,
+failed after ``time_allowance``. A turn that hunts (reversed twice: late commands) goes on
+in pulses of ``|r| / min_w`` s, each followed by twice the response delay it measured
+(docs/back_travel.md, "The sequence").
 """
 import math
 
@@ -20,6 +21,10 @@ ROTATION_DEFAULTS = {
     'settle_w': 0.02,        # rad/s, measured |w| below which the robot counts as stopped
     'time_allowance': 30.0,  # s from start to done, else failed
 }
+#: reversals of the turn's direction after which it goes on in pulses
+HUNTING = 2
+#: s added to the wait after a pulse (twice the response delay measured)
+PULSE_WAIT = 0.2
 
 
 
@@ -56,6 +61,11 @@ class Rotation(object):
         self.failed = False
         self._last_yaw = None
         self._start_stamp = None
+        self._reset_response()
+
+    def _reset_response(self):
+        self._commanded_at = self.delay = None   # s: the first command's stamp, the base's delay
+        self._sign, self.reversals, self._pulse = 0.0, 0, None    # _pulse: (end, wait end, w)
 
     @property
     def remaining(self):
@@ -68,6 +78,7 @@ class Rotation(object):
         self.done = self.failed = False
         self._last_yaw = odom_state.yaw
         self._start_stamp = odom_state.stamp
+        self._reset_response()
 
     def hold(self, seconds):
         """The turn was held (no odometry) for ``seconds``: they do not count against
@@ -90,6 +101,27 @@ class Rotation(object):
             if abs(odom_state.w) <= self.settle_w:
                 self.done = True
             return 0.0, 0.0
+        t = odom_state.stamp
+        if self._commanded_at is None:
+            self._commanded_at = t
+        elif self.delay is None and abs(odom_state.w) > self.settle_w:
+            self.delay = t - self._commanded_at
+        if math.copysign(1.0, error) != self._sign:
+            self.reversals += self._sign != 0.0
+            self._sign = math.copysign(1.0, error)
+        if self.reversals >= HUNTING:
+            return 0.0, self._pulsed(t, error, abs(odom_state.w))
         speed = min(self.gain * abs(error), math.sqrt(2.0 * self.decel * abs(error)))
         speed = min(self.max_w, max(self.min_w, speed))
         return 0.0, math.copysign(speed, error)
+
+    def _pulsed(self, t, error, measured_w):
+        """A hunting turn's command: a pulse of ``min_w`` for ``|error| / min_w`` s, then zero
+        until twice the measured delay has passed and the robot has settled; then the next."""
+        if self._pulse is not None and t < self._pulse[1]:
+            return self._pulse[2] if t < self._pulse[0] else 0.0
+        if measured_w > self.settle_w:
+            return 0.0
+        end = t + abs(error) / self.min_w
+        self._pulse = (end, end + 2.0 * (self.delay or 0.0) + PULSE_WAIT, math.copysign(self.min_w, error))
+        return self._pulse[2]

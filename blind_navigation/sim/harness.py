@@ -10,7 +10,7 @@ import copy
 import math
 import os
 import tempfile
-from collections import deque, namedtuple
+from collections import namedtuple
 from types import SimpleNamespace
 
 from ..core import mission_state
@@ -32,7 +32,7 @@ from ..core.store import load_landmarks
 from .battery import SimBattery
 from .dock import Dock, dock_from_spec
 from .docking import dock_mission
-from .kobuki import load_profile, make_profile
+from .kobuki import CommandLag, load_profile, make_profile
 from .mujoco_kobuki import make_base
 from .mission import load_mission
 from .mission_events import ScriptedEvents
@@ -66,6 +66,7 @@ SIMULATION_DEFAULTS = {
                                # a proposal; off = the paper's sampling)
     'command_lag': 0.0,        # s the return's commands reach the base late (a loaded machine's
                                # late control cycles: its final stop overshoots)
+    'turn_lag': 0.0,           # s the standstill's and pi turn's commands reach the base late
     'odometry_gaps': (),       # ((start, length), ...) s after the pi turn starts: odometry stops
                                # arriving (held as the nodes hold: core/allowance.OdomGrace)
     'base': 'kinematic',       # the robot: kinematic (sim/kobuki.py) or mujoco (sim/mujoco_kobuki.py)
@@ -132,7 +133,7 @@ class _Run(object):
         self.odometry_log = None      # a list: every odometry state is appended
         self.battery = None           # a sim/battery.SimBattery, drained as the robot moves
         self.dock = self.docking = None   # a sim/dock.Dock; the sim/docking.DockingResult of its docking
-        self.lag = None               # a _Lag: commands reach the base late
+        self.lag = None               # a CommandLag: commands reach the base late
 
     def give(self, command):
         """``command`` (None: none) given now: to the base (through the lag, if any)."""
@@ -162,21 +163,6 @@ class _Run(object):
                 else:
                     self.frames.append((self.next_frame, yaw))
                 self.next_frame += 1.0 / VO_RATE
-
-
-class _Lag(object):
-    """Commands given at ``t`` reach the base at ``t + seconds`` (the latest one due then)."""
-
-    def __init__(self, seconds):
-        self.seconds, self.queue = seconds, deque()
-
-    def delay(self, now, command):
-        if command is not None:
-            self.queue.append((now + self.seconds, command))
-        due = None
-        while self.queue and self.queue[0][0] <= now + 1e-9:
-            due = self.queue.popleft()[1]
-        return due
 
 
 class _Store(object):
@@ -316,6 +302,7 @@ def _record_mission(run, sim_mission, mission, settings, events):
 def _turn(run, mission, step, settings):
     """The standstill's end and the pi turn: the Step after (phase ``turned`` if it went well)."""
     run.events.origin('turn', run.base.t)
+    run.lag = CommandLag(settings['turn_lag']) if settings['turn_lag'] else None
     step = _drive(run, mission, run.events, step, (STANDSTILL,))
     feed = _OdometryFeed(run.base.t, settings['odometry_gaps'])
     return _drive(run, mission, run.events, step, (TURN,), feed)
@@ -327,7 +314,7 @@ def _return(run, mission, settings):
     latency = int(round(settings['handover_latency'] / run.dt))
     mission.configure_return(await_goals=latency > 0)
     run.events.origin('return', run.base.t)
-    run.lag = _Lag(settings['command_lag']) if settings['command_lag'] else None
+    run.lag = CommandLag(settings['command_lag']) if settings['command_lag'] else None
     step = _step(run, mission, run.events, feed)
     return _drive(run, mission, run.events, step, (GOAL, HANDOVER, FINAL), feed, latency)
 

@@ -22,6 +22,7 @@ Every random draw comes from ``random.Random(seed)``: same seed, same run.
 """
 import math
 import random
+from collections import deque
 
 from ..core.geometry import OdomState, Pose2D, wrap_angle
 from ..core.plausibility import KOBUKI_ACCEL_LIMITS
@@ -59,6 +60,33 @@ PROFILE_DEFAULTS = {
     'gyro_noise_std': 0.0,         # rad/s, white noise of each 50 Hz rate sample
 }
 PROFILE_DIR = config_dir('noise')
+
+
+class CommandLag(object):
+    """Commands given at ``t`` reach the base at ``t + seconds`` (the latest one due then): a
+    loaded machine's late commands, in the harness and the fake alike."""
+
+    def __init__(self, seconds):
+        if not (math.isfinite(seconds) and seconds >= 0.0):
+            raise ValueError('a command lag of %r s (give seconds >= 0)' % (seconds,))
+        self.seconds, self.queue = seconds, deque()
+
+    def delay(self, now, command):
+        """``command`` (None: none) given at ``now``; the command due at ``now``, or None."""
+        self.push(now, command)
+        return self.due(now)
+
+    def push(self, now, command):
+        """``command`` given at ``now`` (due ``seconds`` later)."""
+        if command is not None:
+            self.queue.append((now + self.seconds, command))
+
+    def due(self, now):
+        """The latest command due at ``now`` (the others it overtook dropped), or None."""
+        due = None
+        while self.queue and self.queue[0][0] <= now + 1e-9:
+            due = self.queue.popleft()[1]
+        return due
 
 
 def load_profile(name_or_path):

@@ -62,7 +62,7 @@ from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.battery import SIM_BATTERY_DEFAULTS, SimBattery
 from blind_navigation.sim.dock import bumper_bits, charger_state, dock_from_spec
-from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, load_profile
+from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, CommandLag, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import load_params, set_pose, subscribe
@@ -87,13 +87,14 @@ class FakeKobuki(object):
     in wall time, paced at ``rtf`` 1 (the only rtf it accepts; ``clock`` then unused); ``base``
     kinematic or mujoco; with mujoco ``physics_world`` (config/worlds name or path) and a payload
     of ``payload_mass`` kg centred ``payload_x``, ``payload_y`` m from the axle's middle;
-    ``dock`` (sim/dock.dock_from_spec); ``battery`` V.
+    ``dock`` (sim/dock.dock_from_spec); ``battery`` V; ``command_lag`` s the velocity commands
+    reach the base late (sim/kobuki.CommandLag: a loaded robot's late commands; 0: at once).
     """
     DEFAULTS = {'rtf': 1.0, 'seed': 0, 'noise': 'ideal', 'world': '', 'clock_period': 0.01,
                 'odom_frame': 'odom', 'base_frame': 'base_footprint', 'world_frame': 'world',
                 'imu_frame': 'gyro_link', 'publish_tf': True, 'stats_period': 0.0, 'clock': True,
                 'wall_time': False, 'base': 'kinematic', 'physics_world': 'tile', 'payload_mass': 0.0,
-                'payload_x': 0.0, 'payload_y': 0.0, 'dock': ''}
+                'payload_x': 0.0, 'payload_y': 0.0, 'dock': '', 'command_lag': 0.0}
     DEFAULTS.update(SIM_BATTERY_DEFAULTS)
 
     def __init__(self):
@@ -120,6 +121,7 @@ class FakeKobuki(object):
                           engine_name(), p.physics_world, p.payload_mass, p.payload_x, p.payload_y)
         self.battery = SimBattery(float(p.battery), float(p.battery_drain), float(p.battery_motion),
                                   float(p.battery_noise), seed=int(p.seed) + 7)
+        self.lag = CommandLag(float(p.command_lag)) if p.command_lag else None
         self.lock = threading.Lock()
         self.ticks = 0
         self.clock_zero = 0.0            # base time (s) the clock last (re)started from
@@ -174,7 +176,10 @@ class FakeKobuki(object):
     def on_velocity(self, msg):
         try:
             with self.lock:
-                self.base.command(msg.linear.x, msg.angular.z)
+                if self.lag is not None:
+                    self.lag.push(self.base.t, (msg.linear.x, msg.angular.z))
+                else:
+                    self.base.command(msg.linear.x, msg.angular.z)
         except ValueError as error:
             rospy.logerr_throttle(1.0, 'fake_kobuki: ignored velocity command: %s' % error)
 
@@ -314,6 +319,9 @@ class FakeKobuki(object):
         """One clock period of physics; the sensors when their period is due. Returns the
         sim time reached: ``start`` (s) plus the base's own time."""
         with self.lock:
+            due = self.lag.due(self.base.t) if self.lag is not None else None
+            if due is not None:
+                self.base.command(*due)
             self.base.step(self.params.clock_period)
             self.battery.step(self.params.clock_period, *self.base.true_twist)
             self.ticks += 1
