@@ -74,7 +74,6 @@ LANDMARK_SAVING = Schema('landmark_saver', (
     'odom_wait': 0.2,           # s (wall) a sample waits for odometry covering its stamp
     'catch_up_timeout': 3.0,    # s (wall) a restarted saver waits for its sample subscription's
                                 # connection, then again for the publisher's sample record
-    'ready_log_period': 5.0,    # s (wall) between "no odometry yet: not taking samples" warnings
 })
 
 RECORD_CLIENT = Schema('record_client', (), fixed={

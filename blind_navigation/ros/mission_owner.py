@@ -30,7 +30,7 @@ from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.docking import DockingClient
 from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
-from blind_navigation.ros.landmark_saving import landmark_file, recording_status, storage_message
+from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.layer import MISSION_ID
 from blind_navigation.ros.mission_diagnostics import file_status, mission_summary, odometry_status
 from blind_navigation.ros.mission_outputs import MissionOutputs
@@ -293,13 +293,9 @@ class MissionOwner(object):
         self.status_pub.publish(msg)
 
     def _publish_storage(self):
-        now, writer, space = rospy.Time.now(), self.store.writer, self.store.space
-        before = space.warning
-        warning, appeared = space.update(now.to_sec(), writer.bytes, writer.count)
-        if appeared:
-            self.log.warn('%s', warning)
-        self.storage_pub.publish(storage_message(writer, self.store.error, now, warning)[0])
-        if warning != before:
+        before = self.store.space.warning
+        self.storage_pub.publish(self.store.storage(rospy.Time.now())[0])
+        if self.store.space.warning != before:
             self.publish_status()
 
     def _on_fault(self, reason):
@@ -325,9 +321,7 @@ class MissionOwner(object):
         add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
                                                      client.odom_timeout))
         add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
-        add('recording', lambda stat: recording_status(stat, self.store.writer, self.store.error,
-                                                       self.store.space.warning,
-                                                       self.mission.phase != RECORDING))
+        add('recording', lambda stat: self.store.status(stat, self.mission.phase != RECORDING))
         if not settings['heading_correction']:
             return
         heading = settings['standstill']
