@@ -36,6 +36,22 @@ def calibration_file(param):
     return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(CALIBRATION_FILE)))
 
 
+def scale_prior(path, log):
+    """The gyro calibration at ``path`` (core/gyro_calibration.GyroCalibration), or None:
+    missing (warned) or unusable (error logged)."""
+    if not os.path.exists(path):
+        log.warn("no gyro calibration at %s: the pi turn keeps the gyro's scale error; run `%s` "
+                 'once to make it', path, CALIBRATE_COMMAND)
+        return None
+    try:
+        calibration = load_calibration(path)
+    except (CalibrationError, OSError) as error:
+        log.error('%s; continuing without it (the gyro scale is not corrected)', error)
+        return None
+    log.info('gyro calibration %s: %s', path, calibration.describe())
+    return calibration
+
+
 def correction_message(correction, reference, frame_id):
     """The blind_navigation/HeadingCorrection of a core GyroCorrection whose frame starts at
     the raw OdomState ``reference`` (None: now, at the origin) in ``frame_id``."""
@@ -66,7 +82,7 @@ class HeadingCorrectionRole(object):
                              % (p.standstill_time, p.standstill_timeout))
         self.layer = layer
         self.calibration_path = calibration_file(p.gyro_calibration_file)
-        self.scale_prior = self._load_calibration()
+        self.scale_prior = scale_prior(self.calibration_path, self.log)
         self._fresh()
         self._vo_last = None        # rospy time of the last visual odometry
         self._vo_warned = False
@@ -98,22 +114,6 @@ class HeadingCorrectionRole(object):
         self.layer.odometry.add_listener(self._odom_listener)
         self.layer.odometry.acquire(self.ROLE)
         self.layer.visual_odometry.acquire(self.ROLE)
-
-    def _load_calibration(self):
-        """The gyro calibration (core/gyro_calibration.GyroCalibration), or None:
-        missing (warned) or unusable (error logged)."""
-        path = self.calibration_path
-        if not os.path.exists(path):
-            self.log.warn("no gyro calibration at %s: the pi turn keeps the gyro's scale error; "
-                          'run `%s` once to make it', path, CALIBRATE_COMMAND)
-            return None
-        try:
-            calibration = load_calibration(path)
-        except CalibrationError as error:
-            self.log.error('%s; continuing without it (the gyro scale is not corrected)', error)
-            return None
-        self.log.info('gyro calibration %s: %s', path, calibration.describe())
-        return calibration
 
     def _on_vo(self, wire):
         self._vo_last = rospy.get_time()

@@ -1,5 +1,5 @@
 """Saving path landmarks at sampling ticks: the paper's recorder variants (3.3.3, Figure 4),
-the landmark saver (topic) and the record server (service), over :class:`LandmarkSaving`.
+the landmark saver (topic) and the record server (service) with its client.
 
 Reads the odometry at the tick's stamp, makes the landmark (core/recorder.PathRecorder),
 appends it durably (ros/mission_store.FileStore), publishes ``storage`` and ``recorded_path``;
@@ -21,7 +21,7 @@ from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
-from blind_navigation.core.role_params import LANDMARK_SAVING
+from blind_navigation.core.role_params import LANDMARK_SAVING, RECORD_CLIENT
 from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmarkResponse
 from blind_navigation.ros.common import ros_home_file, set_pose, subscribe, wait_wall
@@ -331,3 +331,45 @@ class RecordServer(object):
         label, why_not = self.saving.save(request.command, request.yaw, request.period,
                                           request.header.stamp.to_sec())
         return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
+
+
+class RecordClient(object):
+    """The paper's service client: each sample on ``blind_navigation/sample`` becomes a
+    request to ``blind_navigation/record_landmark``, once the server is up."""
+
+    ROLE = 'record_client'
+    SCHEMA = RECORD_CLIENT
+
+    def __init__(self, layer):
+        self.params = layer.params(self.ROLE, self.SCHEMA)
+        self.log = layer.logger(self.ROLE)
+        self.guard = layer.guard(self.ROLE)
+        self.calls = 0
+        self.service = rospy.resolve_name(names.RECORD_LANDMARK)
+        self.record = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark, persistent=False)
+        self.sample_sub = None
+
+    def run(self):
+        """Block until the server is up (or shutdown); then subscribe to the samples."""
+        while not rospy.is_shutdown():
+            try:
+                rospy.wait_for_service(names.RECORD_LANDMARK, timeout=self.params.wait_log_period)
+                break
+            except rospy.ROSException:
+                self.log.warn('still waiting for %s', self.service)
+        else:
+            return
+        self.log.info('%s is up; forwarding %s', self.service, rospy.resolve_name(names.SAMPLE))
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample),
+                                    queue_size=20)
+
+    def on_sample(self, msg):
+        self.calls += 1
+        try:
+            response = self.record(header=msg.header, command=msg.command, yaw=msg.yaw,
+                                   period=msg.period)
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            self.log.error('%s call %d failed: %s', self.service, self.calls, error)
+            return
+        if not response.saved:
+            self.log.warn('server did not save the %s sample: %s', msg.command, response.message)
