@@ -75,11 +75,6 @@ class HeadingCorrectionRole(object):
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        GyroVisualFit(p)    # validates the params
-        if float(p.standstill_time) < 0 or standstill_timeout(p) < float(p.standstill_time):
-            raise ValueError('~standstill_time must not be negative and ~standstill_timeout not '
-                             'shorter (standstill_time %r, standstill_timeout %r)'
-                             % (p.standstill_time, p.standstill_timeout))
         self.layer = layer
         self.calibration_path = calibration_file(p.gyro_calibration_file)
         self.scale_prior = scale_prior(self.calibration_path, self.log)
