@@ -79,8 +79,7 @@ class HeadingCorrectionRole(object):
         self.calibration_path = calibration_file(p.gyro_calibration_file)
         self.scale_prior = scale_prior(self.calibration_path, self.log)
         self._fresh()
-        self._vo_last = None        # rospy time of the last visual odometry
-        self._vo_warned = False
+        self._vo_last = None        # rospy time of the last visual odometry (diagnostics)
         self._lock = threading.Lock()
         self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
                                               queue_size=1, latch=True)
@@ -124,7 +123,6 @@ class HeadingCorrectionRole(object):
         with self._lock:
             if not self.lost:
                 self.fit.add_odometry(state.stamp, state.yaw)
-                self._check_vo()
                 return
             if self.result is not None:
                 return
@@ -133,14 +131,6 @@ class HeadingCorrectionRole(object):
             self.result = self.standstill.correction(state.stamp, state)
         if self.result is not None:
             self._publish()
-
-    def _check_vo(self):
-        if self._vo_last is None and not self._vo_warned \
-                and rospy.get_time() - self._started > self.params.vo_timeout:
-            self._vo_warned = True
-            self.log.warn('no visual odometry on %s within %.0f s: the gyro bias will be measured '
-                          'by the standstill after vision loss alone (see the README, TurtleBot2 + '
-                          'RTAB-Map)', rospy.resolve_name(names.VO_ODOM), self.params.vo_timeout)
 
     def _new_mission(self):
         with self._lock:
