@@ -76,10 +76,6 @@ LANDMARK_SAVING = Schema('landmark_saver', (
                                 # connection, then again for the publisher's sample record
 })
 
-RECORD_CLIENT = Schema('record_client', (), fixed={
-    'wait_log_period': 5.0,     # s between "still waiting for the server" messages
-})
-
 HEADING_CORRECTION = Schema('heading_correction', (
     Param('gyro_calibration_file', '', '', "calibrate_gyro.launch's YAML "
           '(empty: blind_navigation/gyro_calibration.yaml under $ROS_HOME)'),
@@ -201,5 +197,5 @@ MISSION_OWNER = Schema('mission_owner', (
 ), fixed=BATTERY_DEFAULTS)
 
 #: Every role's schema, in the order the docs list them.
-SCHEMAS = (SAMPLING_PUBLISHER, LANDMARK_SAVING, RECORD_CLIENT, HEADING_CORRECTION, ROTATE_PI,
+SCHEMAS = (SAMPLING_PUBLISHER, LANDMARK_SAVING, HEADING_CORRECTION, ROTATE_PI,
            BACK_TRAVEL_SERVER, BACK_TRAVEL_CLIENT, VISION_MONITOR, CALIBRATE_GYRO, MISSION_OWNER)

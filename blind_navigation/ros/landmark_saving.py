@@ -21,7 +21,7 @@ from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
-from blind_navigation.core.role_params import LANDMARK_SAVING, RECORD_CLIENT
+from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmarkResponse
 from blind_navigation.ros.common import ros_home_file, set_pose, subscribe, wait_wall
@@ -338,10 +338,8 @@ class RecordClient(object):
     request to ``blind_navigation/record_landmark``, once the server is up."""
 
     ROLE = 'record_client'
-    SCHEMA = RECORD_CLIENT
 
     def __init__(self, layer):
-        self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
         self.guard = layer.guard(self.ROLE)
         self.calls = 0
@@ -351,13 +349,10 @@ class RecordClient(object):
 
     def run(self):
         """Block until the server is up (or shutdown); then subscribe to the samples."""
-        while not rospy.is_shutdown():
-            try:
-                rospy.wait_for_service(names.RECORD_LANDMARK, timeout=self.params.wait_log_period)
-                break
-            except rospy.ROSException:
-                self.log.warn('still waiting for %s', self.service)
-        else:
+        self.log.info('waiting for %s', self.service)
+        try:
+            rospy.wait_for_service(names.RECORD_LANDMARK)
+        except rospy.ROSInterruptException:
             return
         self.log.info('%s is up; forwarding %s', self.service, rospy.resolve_name(names.SAMPLE))
         self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample),
