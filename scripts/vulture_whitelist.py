@@ -2,7 +2,7 @@
 reports unused at 60 % confidence that are used where it cannot see."""
 # pylint: disable=undefined-variable,pointless-statement
 # ROS handles kept on self so that the timer, subscriber or service stays alive
-_.sample_sub        # ros/landmark_saver.py, ros/record_client.py: the sample subscriber
+_.sample_sub        # ros/landmark_saving.py: the sample subscriber
 _.manual_sub        # ros/vision_monitor.py: the manual vision_lost subscriber, kept across missions
 _.samples_service   # ros/sampling_publisher.py: the RecordedSamples service
 _.paper_names       # ros/mission_owner.py: record_landmark and back_travel (ros/owner_paper_names.py)

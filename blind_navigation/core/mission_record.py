@@ -15,12 +15,13 @@ from .segment import SamplingSchedule
 
 class MissionRecording(object):
     """One recording into ``store`` (``append(landmark)`` -> its label, None: not written);
-    ``config``: straight_period, curved_period, deadband, event_sampling, heading_correction."""
+    ``config``: straight_period, curved_period, deadband, event_sampling, heading_correction;
+    ``recorder``: what makes the landmarks (core/sample_log.Ticks: the ticks themselves)."""
 
-    def __init__(self, store, config):
+    def __init__(self, store, config, recorder=None):
         self.store = store
         self.schedule = SamplingSchedule(config.straight_period, config.curved_period, config.deadband)
-        self.recorder = PathRecorder()
+        self.recorder = recorder or PathRecorder()
         self.events = EventSampler() if config.event_sampling else None
         self.latency = self.events.latency if self.events else 0.0
         self.history = OdometryHistory(max(2.0, 2.0 * self.latency))

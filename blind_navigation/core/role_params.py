@@ -74,11 +74,6 @@ LANDMARK_SAVING = Schema('landmark_saver', (
     'odom_wait': 0.2,           # s (wall) a sample waits for odometry covering its stamp
     'catch_up_timeout': 3.0,    # s (wall) a restarted saver waits for its sample subscription's
                                 # connection, then again for the publisher's sample record
-    'ready_log_period': 5.0,    # s (wall) between "no odometry yet: not taking samples" warnings
-})
-
-RECORD_CLIENT = Schema('record_client', (), fixed={
-    'wait_log_period': 5.0,     # s between "still waiting for the server" messages
 })
 
 HEADING_CORRECTION = Schema('heading_correction', (
@@ -202,5 +197,5 @@ MISSION_OWNER = Schema('mission_owner', (
 ), fixed=BATTERY_DEFAULTS)
 
 #: Every role's schema, in the order the docs list them.
-SCHEMAS = (SAMPLING_PUBLISHER, LANDMARK_SAVING, RECORD_CLIENT, HEADING_CORRECTION, ROTATE_PI,
+SCHEMAS = (SAMPLING_PUBLISHER, LANDMARK_SAVING, HEADING_CORRECTION, ROTATE_PI,
            BACK_TRAVEL_SERVER, BACK_TRAVEL_CLIENT, VISION_MONITOR, CALIBRATE_GYRO, MISSION_OWNER)

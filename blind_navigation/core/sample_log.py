@@ -22,6 +22,22 @@ LoggedSample.__doc__ = ('One sample as published (``seq`` from 0 = the start, ``
 _FIELDS = LoggedSample._fields[2:]
 
 
+class Ticks(object):
+    """core/recorder.PathRecorder's part where the landmarks are made elsewhere (the
+    sampling publisher's core/mission_record.MissionRecording): a take is the tick
+    ``(state, yaw, period)`` itself."""
+    total_distance = 0.0
+
+    def start(self, state):
+        """The d chain is the saver's."""
+
+    restart = start
+
+    @staticmethod
+    def take(state, yaw, period):
+        return state, yaw, period
+
+
 class SampleLog(object):
     """Samples of one recording, numbered from 0 (its start); see the module docstring."""
 

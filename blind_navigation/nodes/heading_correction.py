@@ -1,16 +1,8 @@
 #!/usr/bin/env python3
 """The heading_correction node, the gyro heading correction of the return, alone in its process (the paper's node
 layout, launch/paper.launch). The role's class: blind_navigation/ros/heading_correction.py."""
-import rospy
-
 from blind_navigation.ros.heading_correction import HeadingCorrectionRole
-from blind_navigation.ros.layer import run_roles, start_roles
-
-
-def main():
-    rospy.init_node('heading_correction')
-    run_roles(start_roles([HeadingCorrectionRole]))
-
+from blind_navigation.ros.layer import run_node
 
 if __name__ == '__main__':
-    main()
+    run_node('heading_correction', HeadingCorrectionRole)

@@ -1,16 +1,8 @@
 #!/usr/bin/env python3
 """The record_server node, the paper's service server (service recorder), alone in its process (the paper's node
-layout, launch/paper.launch). The role's class: blind_navigation/ros/record_server.py."""
-import rospy
-
-from blind_navigation.ros.record_server import RecordServer
-from blind_navigation.ros.layer import run_roles, start_roles
-
-
-def main():
-    rospy.init_node('record_server')
-    run_roles(start_roles([RecordServer]))
-
+layout, launch/paper.launch). The role's class: blind_navigation/ros/landmark_saving.py."""
+from blind_navigation.ros.landmark_saving import RecordServer
+from blind_navigation.ros.layer import run_node
 
 if __name__ == '__main__':
-    main()
+    run_node('record_server', RecordServer)

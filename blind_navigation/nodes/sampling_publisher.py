@@ -1,16 +1,8 @@
 #!/usr/bin/env python3
 """The sampling_publisher node, the paper's two-rate sampling publisher, alone in its process (the paper's node
 layout, launch/paper.launch). The role's class: blind_navigation/ros/sampling_publisher.py."""
-import rospy
-
 from blind_navigation.ros.sampling_publisher import SamplingPublisher
-from blind_navigation.ros.layer import run_roles, start_roles
-
-
-def main():
-    rospy.init_node('sampling_publisher')
-    run_roles(start_roles([SamplingPublisher]))
-
+from blind_navigation.ros.layer import run_node
 
 if __name__ == '__main__':
-    main()
+    run_node('sampling_publisher', SamplingPublisher)

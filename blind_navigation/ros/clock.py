@@ -130,13 +130,6 @@ class Rate(object):
             self._rate.last_time = rospy.get_rostime()
         return jump + self.clock._look()[1]
 
-    def switch(self, hz):
-        """``hz`` from now on, keeping the tick phase: the next tick comes one new
-        period after the last one."""
-        last = self._rate.last_time
-        self._rate = rospy.Rate(hz)
-        self._rate.last_time = last
-
 
 def every(period, callback, loop, log=None):
     """Call ``callback()`` every ``period`` s of ROS time in a daemon thread named

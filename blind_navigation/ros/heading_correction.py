@@ -15,15 +15,14 @@ import rospy
 from blind_navigation import names
 from blind_navigation.core import mission_state
 from blind_navigation.core.geometry import yaw_from_quaternion
-from blind_navigation.core.gyro_bias import StandstillBias, standstill_complete, standstill_timeout
+from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.gyro_fit import GyroVisualFit
-from blind_navigation.core.heading_correction import estimate_correction, visual_bias
+from blind_navigation.core.mission_record import Standstill
 from blind_navigation.core.role_params import HEADING_CORRECTION
 from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.clock import after
 from blind_navigation.ros.common import ros_home_file
 
 #: How to make the gyro calibration file (the warning when it is missing says so).
@@ -35,6 +34,22 @@ CALIBRATION_FILE = os.path.join('blind_navigation', 'gyro_calibration.yaml')
 def calibration_file(param):
     """The configured gyro calibration file: ``param``, or the default under $ROS_HOME."""
     return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(CALIBRATION_FILE)))
+
+
+def scale_prior(path, log):
+    """The gyro calibration at ``path`` (core/gyro_calibration.GyroCalibration), or None:
+    missing (warned) or unusable (error logged)."""
+    if not os.path.exists(path):
+        log.warn("no gyro calibration at %s: the pi turn keeps the gyro's scale error; run `%s` "
+                 'once to make it', path, CALIBRATE_COMMAND)
+        return None
+    try:
+        calibration = load_calibration(path)
+    except (CalibrationError, OSError) as error:
+        log.error('%s; continuing without it (the gyro scale is not corrected)', error)
+        return None
+    log.info('gyro calibration %s: %s', path, calibration.describe())
+    return calibration
 
 
 def correction_message(correction, reference, frame_id):
@@ -60,19 +75,11 @@ class HeadingCorrectionRole(object):
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        self.fit = GyroVisualFit(p)   # validates the params
-        self.standstill_time = float(p.standstill_time)
-        self.standstill_timeout = standstill_timeout(p)
-        if self.standstill_time < 0 or self.standstill_timeout < self.standstill_time:
-            raise ValueError('~standstill_time must not be negative and ~standstill_timeout not '
-                             'shorter (standstill_time %r, standstill_timeout %r)'
-                             % (p.standstill_time, p.standstill_timeout))
         self.layer = layer
         self.calibration_path = calibration_file(p.gyro_calibration_file)
-        self.scale_prior = self._load_calibration()
+        self.scale_prior = scale_prior(self.calibration_path, self.log)
         self._fresh()
-        self._vo_last = None        # rospy time of the last visual odometry
-        self._vo_warned = False
+        self._vo_last = None        # rospy time of the last visual odometry (diagnostics)
         self._lock = threading.Lock()
         self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
                                               queue_size=1, latch=True)
@@ -84,19 +91,17 @@ class HeadingCorrectionRole(object):
         layer.mission.on_new_mission(guard(self._new_mission))
         layer.diagnostics.add('heading correction: visual odometry', self._vo_status)
         layer.diagnostics.add('heading correction: gyro calibration', self._calibration_status)
-        after(p.vo_timeout, guard(self._check_vo), 'visual odometry watch', self.log)
         self.log.info('calibrating the gyro against %s until vision is lost, then standing still '
                       'up to %.0f s to measure its bias', rospy.resolve_name(names.VO_ODOM),
-                      self.standstill_time)
+                      p.standstill_time)
 
     def _fresh(self):
         """Nothing measured yet for this mission."""
         self.fit = GyroVisualFit(self.params)
-        self.standstill = None      # StandstillBias while measuring after vision loss
+        self.lost = False           # vision lost: the standstill measures
+        self.standstill = None      # core/mission_record.Standstill from the first state after
+        self.reference = None       # raw OdomState where the corrected frame starts
         self.result = None          # GyroCorrection once estimated
-        self._reference = None      # raw OdomState where the corrected frame starts
-        self._visual = None         # BiasEstimate of visual odometry at vision loss, or None
-        self._recording_time = 0.0  # s recorded before vision loss
         self._started = rospy.get_time()
 
     def _listen(self):
@@ -104,57 +109,29 @@ class HeadingCorrectionRole(object):
         self.layer.odometry.acquire(self.ROLE)
         self.layer.visual_odometry.acquire(self.ROLE)
 
-    def _load_calibration(self):
-        """The gyro calibration (core/gyro_calibration.GyroCalibration), or None:
-        missing (warned) or unusable (error logged)."""
-        path = self.calibration_path
-        if not os.path.exists(path):
-            self.log.warn("no gyro calibration at %s: the pi turn keeps the gyro's scale error; "
-                          'run `%s` once to make it', path, CALIBRATE_COMMAND)
-            return None
-        try:
-            calibration = load_calibration(path)
-        except CalibrationError as error:
-            self.log.error('%s; continuing without it (the gyro scale is not corrected)', error)
-            return None
-        self.log.info('gyro calibration %s: %s', path, calibration.describe())
-        return calibration
-
-    # --- while recording ---------------------------------------------------------------------
     def _on_vo(self, wire):
         self._vo_last = rospy.get_time()
         yaw = None
         if wire_lost_reason(wire) is None:
             yaw = yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw)
         with self._lock:
-            if self.standstill is None and self.result is None:
+            if not self.lost:
                 self.fit.add_visual(wire.stamp, yaw)
 
-    def _check_vo(self):
-        if self._vo_last is None and not self._vo_warned:
-            self._vo_warned = True
-            self.log.warn('no visual odometry on %s within %.0f s: the gyro bias will be measured '
-                          'by the standstill after vision loss alone (see the README, TurtleBot2 + '
-                          'RTAB-Map)', rospy.resolve_name(names.VO_ODOM), self.params.vo_timeout)
-
     def _on_odom(self, state):
-        result = None
+        """Recording: the fit's gyro; after vision loss: the standstill, then the correction."""
         with self._lock:
-            if self.result is not None:
-                return
-            if self.standstill is None:
+            if not self.lost:
                 self.fit.add_odometry(state.stamp, state.yaw)
                 return
-            if self._reference is None:   # no odometry before vision loss: the frame starts here
-                self._set_reference(state)
-            self.standstill.add_odometry(state)
-            if standstill_complete(self._visual, self.standstill, self._recording_time, self.params) \
-                    or state.stamp >= self._reference.stamp + self.standstill_timeout:
-                result = self._finish()
-        if result is not None:
-            self._publish(*result)
+            if self.result is not None:
+                return
+            if self.standstill is None:    # no odometry before vision loss: the frame starts here
+                self._stand(state)
+            self.result = self.standstill.correction(state.stamp, state)
+        if self.result is not None:
+            self._publish()
 
-    # --- after vision loss ---------------------------------------------------------------------
     def _new_mission(self):
         with self._lock:
             self._fresh()
@@ -168,59 +145,49 @@ class HeadingCorrectionRole(object):
             if new in mission_state.TERMINAL:
                 self._stop_listening()
             return
-        result = None
         with self._lock:
-            if self.standstill is not None or self.result is not None:
+            if self.lost or self.result is not None:
                 return   # one estimate per mission
-            self.standstill = StandstillBias(self.params)
+            self.lost = True
             latest = self.layer.odometry.latest()
             if latest is not None:
-                self._set_reference(latest)
-            if self.standstill_time <= 0:
-                result = self._finish()
+                self._stand(latest)
+                self.result = self.standstill.correction(latest.stamp)   # standstill_time 0
         self.layer.visual_odometry.release(self.ROLE)
-        if result is not None:
-            self._publish(*result)
+        if self.result is not None:
+            self._publish()
             return
         self.log.info('vision lost: measuring the gyro bias while the robot stands still (until '
-                      'known to %.3f rad over the %.0f s recording, %.0f-%.0f s of still odometry)',
-                      self.params.heading_budget, self._recording_time, self.params.standstill_min,
-                      self.standstill_time)
+                      'known to %.3f rad over the recording, %.0f-%.0f s of still odometry)',
+                      self.params.heading_budget, self.params.standstill_min,
+                      self.params.standstill_time)
 
     def _resume_recording(self):
         """Vision back before the pi turn: the standstill is dropped, the fit goes on."""
         with self._lock:
-            if self.result is not None or self.standstill is None:
+            if self.result is not None or not self.lost:
                 return
-            self.standstill = self._reference = None
+            self.lost, self.standstill = False, None
         self.layer.visual_odometry.acquire(self.ROLE)
         self.log.info('vision back before the pi turn: standstill dropped, calibrating on')
 
-    def _set_reference(self, raw):
-        """Where the corrected frame starts (vision loss); the visual-odometry bias and the
-        recording's duration, fixed from then on, for core standstill_complete."""
-        self._reference = raw
-        self._visual, _ = visual_bias(self.fit, self.scale_prior, self.params)
-        self._recording_time = self.fit.recording_time(raw.stamp)
+    def _stand(self, raw):
+        """The standstill from ``raw``, where the corrected frame starts (lock held)."""
+        self.reference = raw
+        self.standstill = Standstill(self.fit, raw, self.params, self.scale_prior)
 
-    def _finish(self):
-        """Estimate (under the lock); returns (correction, reference, standstill summary)."""
-        measured = self.standstill.estimate() if self.standstill_time > 0 else None
-        self.result = estimate_correction(self.fit, measured, self.scale_prior, self.params)
-        summary = (self.standstill.duration, measured) if self.standstill_time > 0 else None
-        return self.result, self._reference, summary
-
-    def _publish(self, correction, reference, summary):
-        self.correction_pub.publish(correction_message(correction, reference,
+    def _publish(self):
+        correction, measured = self.result, self.standstill.measurement
+        bias = measured.estimate()
+        self.correction_pub.publish(correction_message(correction, self.reference,
                                                        self.layer.odometry.frame_id))
-        if summary is not None:
-            duration, measured = summary
-            if reference is not None and rospy.get_time() >= reference.stamp + self.standstill_timeout:
+        if self.params.standstill_time > 0:
+            if rospy.get_time() >= self.standstill.deadline:
                 self.log.warn('the robot stood still only %.1f s within %.0f s of vision loss; the '
-                              'bias is measured on that', duration, self.standstill_timeout)
-            self.log.info('standstill %.1f s: %s', duration,
-                          'bias %.2e +- %.1e rad/s' % (measured.bias, measured.std)
-                          if measured else 'no bias measured')
+                              'bias is measured on that', measured.duration,
+                              standstill_timeout(self.params))
+            self.log.info('standstill %.1f s: %s', measured.duration, 'bias %.2e +- %.1e rad/s'
+                          % bias[:2] if bias else 'no bias measured')
         self.log.info('gyro heading correction %s', correction.describe())
         self._stop_listening()
         self.layer.diagnostics.now()
@@ -232,7 +199,7 @@ class HeadingCorrectionRole(object):
 
     # --- diagnostics ---------------------------------------------------------------------------
     def _vo_status(self, stat):
-        vo_status(stat, self.standstill is not None or self.result is not None,
+        vo_status(stat, self.lost,
                   None if self._vo_last is None else rospy.get_time() - self._vo_last,
                   rospy.get_time() - self._started, self.params.vo_timeout, len(self.fit.rows))
 

@@ -1,10 +1,9 @@
-"""Saving path landmarks at sampling ticks: the code behind both of the paper's recorder
-variants (3.3.3, Figure 4; ros/landmark_saver.py, ros/record_server.py).
+"""Saving path landmarks at sampling ticks: the paper's recorder variants (3.3.3, Figure 4),
+the landmark saver (topic) and the record server (service) with its client.
 
 Reads the odometry at the tick's stamp, makes the landmark (core/recorder.PathRecorder),
-appends it durably to the mission's file, publishes ``storage`` and ``recorded_path``;
-write failures, low space, gaps, the catch-up of a restarted saver and ``new_mission``'s
-new file (docs/recording.md, "Saving", "File").
+appends it durably (ros/mission_store.FileStore), publishes ``storage`` and ``recorded_path``;
+gaps, a restarted saver's catch-up, ``new_mission``'s new file (docs/recording.md, "Saving").
 """
 import math
 import os
@@ -18,15 +17,15 @@ from nav_msgs.msg import Path
 from blind_navigation import names
 from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.files import StorageError
-from blind_navigation.core.recorder import PathRecorder, SpaceWatch, storage_usage
+from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.core.role_params import LANDMARK_SAVING
-from blind_navigation.msg import StorageUsage
-from blind_navigation.srv import RecordedSamples
-from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import ros_home_file, set_pose, wait_wall
+from blind_navigation.msg import PathSample, StorageUsage
+from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmarkResponse
+from blind_navigation.ros.common import ros_home_file, set_pose, subscribe, wait_wall
+from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
 #: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
@@ -38,29 +37,6 @@ def landmark_file(param):
     if not isinstance(param, str):
         raise ValueError('~landmark_file must be a file path, got %r' % (param,))
     return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(LANDMARK_FILE)))
-
-
-def when_odometry(odometry, log, guard, log_period, start):
-    """Call ``start()`` at once if the feed ``odometry`` has a state, else from a thread when
-    it has one, warning every ``log_period`` s (wall) meanwhile. The sampling publisher waits
-    for its subscribers, so it starts no recording that a recorder whose /odom subscription
-    is still connecting would refuse the first samples of."""
-    if odometry.latest() is not None:
-        start()
-        return
-
-    def run():
-        topic, waited = rospy.resolve_name(names.ODOM), False
-        while not rospy.is_shutdown():
-            odometry.state_at(0.0, wait=log_period)
-            if odometry.latest() is not None:
-                if waited:
-                    log.info('odometry on %s: taking samples', topic)
-                start()
-                return
-            waited = True
-            log.warn('no odometry on %s yet: not taking samples until it comes', topic)
-    threading.Thread(target=guard(run), name='recorder ready', daemon=True).start()
 
 
 class LandmarkSaving(object):
@@ -83,29 +59,39 @@ class LandmarkSaving(object):
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         layer.mission.on_new_mission(self.guard(self._new_mission))
-        layer.diagnostics.add('%s: recording' % role, lambda stat: recording_status(
-            stat, self.writer, self.error, self.space.warning, self.finished))
+        layer.diagnostics.add('%s: recording' % role, lambda stat: self.store.status(stat, self.finished))
 
     def when_ready(self, start):
         """Call ``start()`` (it subscribes to the samples, or serves them) once the feed has
-        odometry (:func:`when_odometry`): a recorder takes samples only when it can save them."""
-        when_odometry(self.odometry, self.log, self.guard, self.params.ready_log_period, start)
+        a state, at once or at its first: a recorder takes samples only when it can save them."""
+        once = threading.Lock()
+
+        def on_state(_state):
+            if once.acquire(False):
+                self.odometry.remove_listener(listener)
+                start()
+        listener = self.guard(on_state)
+        self.odometry.add_listener(listener)
+        if self.odometry.latest() is not None:
+            listener(None)
+        else:
+            self.log.warn('no odometry on %s yet: not taking samples until it comes',
+                          rospy.resolve_name(names.ODOM))
 
     def _open(self):
         """Open the mission's file (continued within the mission, else a new one) and start
         the path (lock held, or before the callbacks exist)."""
         self._poses = array('d')       # x, y, yaw of every landmark (and the start)
-        self.error = ''
         self.recorder = PathRecorder()
         configured = landmark_file(self.params.landmark_file)
         self.mission_id = self.layer.current_mission_id()   # of the file open
         self.writer = open_mission_file(configured, self.mission_id, fsync=self.params.fsync, metadata={
             'recorder': self.variant, 'odom_topic': rospy.resolve_name(names.ODOM),
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
+        self.store = FileStore(self.writer)
         self.finished = self.writer.finished   # a continued mission file may be finished already
         path = self.writer.path
-        self.space = SpaceWatch(os.path.dirname(path))
-        self._check_space(rospy.Time.now())
+        self.store.storage(rospy.Time.now())     # the free space checked
         if self.writer.resumed is not None:
             self.log.warn('restarted within the mission: continuing %s after its %d landmarks%s',
                           path, self.writer.count, ' (%d torn entries dropped)'
@@ -175,17 +161,18 @@ class LandmarkSaving(object):
             landmark = self.recorder.take(odom, yaw, period)
         except ValueError as error:
             return self._refuse('bad %s sample: %s' % (command, error))
-        try:
-            label = self.writer.append(landmark, sample)
-        except StorageError as error:
-            return self._write_failed(error)
+        label = self.store.append(landmark, sample)
+        if label is None:
+            self._publish_storage(rospy.Time.now())
+            return '', self.store.error
         self._poses.extend((odom.x, odom.y, odom.yaw))
         self.finished = command == FINAL
         if self.finished:
             try:
                 self.writer.finish()
             except StorageError as error:
-                self._write_failed(error)
+                self.store.error = str(error)
+                self.log.error('%s', error)
             self.log.info('final landmark saved; recording finished')
         return label, landmark
 
@@ -255,13 +242,6 @@ class LandmarkSaving(object):
             self._report(*caught[-1])
         return True
 
-    def _write_failed(self, error):
-        """A landmark could not be written: ERROR, and the storage message says so."""
-        self.error = str(error)
-        landmark_lost(self.log, error)
-        self._publish_storage(rospy.Time.now())
-        return '', self.error
-
     def _on_reanchor(self, reason, trusted):
         """The odometry jumped and the gate took the new stream: carried across in the old
         frame (``trusted``: the chain goes on), or the d chain breaks here (a gap whose reason
@@ -276,10 +256,7 @@ class LandmarkSaving(object):
                 self.recorder.restart(latest)
             else:
                 self.recorder = PathRecorder()
-            try:
-                note_gap(self.writer, reason, self.log)
-            except StorageError as error:
-                self._write_failed(error)
+            self.store.note_gap(reason)
 
     def _refuse(self, reason):
         self.log.warn_throttle(2.0, 'landmark not saved: %s', reason)
@@ -296,47 +273,9 @@ class LandmarkSaving(object):
             self.path_pub.publish(path_message(self._poses, now, self.odometry.frame_id))
 
     def _publish_storage(self, now):
-        msg, used = storage_message(self.writer, self.error, now, self._check_space(now))
+        msg, used = self.store.storage(now)
         self.storage_pub.publish(msg)
         return used
-
-    def _check_space(self, now):
-        """The low-space warning now (core/recorder.SpaceWatch), logged when it appears."""
-        warning, appeared = self.space.update(now.to_sec(), self.writer.bytes, self.writer.count)
-        if appeared:
-            self.log.warn('%s', warning)
-        return warning
-
-
-def recording_status(stat, writer, error, space_warning, finished):
-    """The recording's diagnostics: ``writer``'s file, its last ``error``, the free space's
-    warning, whether the recording has ``finished``."""
-    stat.add('file', writer.path)
-    stat.add('landmarks', writer.count)
-    stat.add('bytes', writer.bytes)
-    stat.add('lost', writer.lost)
-    if error:
-        stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (writer.lost, error))
-    elif space_warning:
-        stat.summary(diagnostics.WARN, space_warning)
-    elif finished:
-        stat.summary(diagnostics.OK, 'recording finished: %d landmarks' % writer.count)
-    else:
-        stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
-                     % (writer.count, writer.total_distance))
-
-
-def storage_message(writer, error, stamp, space_warning=''):
-    """(blind_navigation/StorageUsage, core/recorder storage_usage) of ``writer``'s file."""
-    used = storage_usage(writer.count, writer.bytes, writer.total_distance)
-    mark = writer.sample
-    msg = StorageUsage(file=writer.path, landmarks=used.landmarks, bytes=used.bytes,
-                       distance=used.distance, bytes_per_metre=used.bytes_per_metre,
-                       lost=writer.lost, lost_distance=writer.lost_distance,
-                       lost_turn=writer.lost_turn, error=error, space_warning=space_warning,
-                       recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
-    msg.header.stamp = stamp
-    return msg, used
 
 
 def path_message(poses, stamp, frame_id):
@@ -350,13 +289,82 @@ def path_message(poses, stamp, frame_id):
     return path
 
 
-def landmark_lost(log, error):
-    """Log a landmark the file could not take (``error``), as an ERROR."""
-    log.error('LANDMARK LOST: %s', error)
+class LandmarkSaver(object):
+    """The paper's subscriber: each ``sample``/``final`` on ``blind_navigation/sample`` is one
+    landmark, once the odometry has a state; restarted within the mission it first catches up."""
+
+    ROLE = 'landmark_saver'
+
+    def __init__(self, layer):
+        self.saving = LandmarkSaving(layer, self.ROLE, 'topic')
+        self.sample_sub = None
+        self.saving.when_ready(self._take_samples)
+
+    def _take_samples(self):
+        if self.saving.resuming:
+            self.saving.start_catch_up(
+                lambda: self.sample_sub is not None and self.sample_sub.get_num_connections() > 0)
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.saving.guard(self.on_sample),
+                                    queue_size=20)
+
+    def on_sample(self, msg):
+        self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec(),
+                         SampleMark(msg.recording, msg.seq) if msg.seq else None)
 
 
-def note_gap(writer, reason, log):
-    """Note an odometry gap (``reason``) in ``writer``'s file and log it (raises StorageError)."""
-    gap = writer.note_gap(reason)
-    log.error('odometry discontinuity: %s noted in %s; the next landmark counts from the new '
-              'odometry', gap, writer.path)
+class RecordServer(object):
+    """The paper's service server: serves ``blind_navigation/record_landmark`` once the odometry
+    has a state; a request is one landmark, answered saved, its label, or why not."""
+
+    ROLE = 'record_server'
+
+    def __init__(self, layer):
+        self.saving = LandmarkSaving(layer, self.ROLE, 'service')
+        self.service = None
+        self.saving.when_ready(self._serve)
+
+    def _serve(self):
+        self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
+                                     self.saving.guard(self.on_request))
+
+    def on_request(self, request):
+        label, why_not = self.saving.save(request.command, request.yaw, request.period,
+                                          request.header.stamp.to_sec())
+        return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
+
+
+class RecordClient(object):
+    """The paper's service client: each sample on ``blind_navigation/sample`` becomes a
+    request to ``blind_navigation/record_landmark``, once the server is up."""
+
+    ROLE = 'record_client'
+
+    def __init__(self, layer):
+        self.log = layer.logger(self.ROLE)
+        self.guard = layer.guard(self.ROLE)
+        self.calls = 0
+        self.service = rospy.resolve_name(names.RECORD_LANDMARK)
+        self.record = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark, persistent=False)
+        self.sample_sub = None
+
+    def run(self):
+        """Block until the server is up (or shutdown); then subscribe to the samples."""
+        self.log.info('waiting for %s', self.service)
+        try:
+            rospy.wait_for_service(names.RECORD_LANDMARK)
+        except rospy.ROSInterruptException:
+            return
+        self.log.info('%s is up; forwarding %s', self.service, rospy.resolve_name(names.SAMPLE))
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample),
+                                    queue_size=20)
+
+    def on_sample(self, msg):
+        self.calls += 1
+        try:
+            response = self.record(header=msg.header, command=msg.command, yaw=msg.yaw,
+                                   period=msg.period)
+        except (rospy.ServiceException, rospy.ROSException) as error:
+            self.log.error('%s call %d failed: %s', self.service, self.calls, error)
+            return
+        if not response.saved:
+            self.log.warn('server did not save the %s sample: %s', msg.command, response.message)

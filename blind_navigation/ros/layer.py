@@ -177,6 +177,12 @@ def run_roles(roles):
     rospy.spin()
 
 
+def run_node(name, role_class):
+    """The paper layout's node ``name``: ``role_class`` alone in its process, until shutdown."""
+    rospy.init_node(name)
+    run_roles(start_roles([role_class]))
+
+
 class CorrectionReceiver(object):
     """Receives blind_navigation/HeadingCorrection (latched) and installs it into
     ``odometry`` (ros/odometry.OdometryFeed.set_correction); ``correction`` is

@@ -17,7 +17,6 @@ from std_srvs.srv import Trigger
 from blind_navigation import names
 from blind_navigation.core import mission_state as state, outcome
 from blind_navigation.core.geometry import yaw_from_quaternion
-from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.mission import RECORDING, Inputs, Mission
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
 from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
@@ -29,8 +28,9 @@ from blind_navigation.ros.battery import subscribe_battery
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.docking import DockingClient
-from blind_navigation.ros.heading_correction import calibration_file, calibration_status, vo_status
-from blind_navigation.ros.landmark_saving import landmark_file, recording_status, storage_message
+from blind_navigation.ros.heading_correction import (calibration_file, calibration_status,
+                                                    scale_prior, vo_status)
+from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.layer import MISSION_ID
 from blind_navigation.ros.mission_diagnostics import file_status, mission_summary, odometry_status
 from blind_navigation.ros.mission_outputs import MissionOutputs
@@ -103,23 +103,13 @@ def owner_params(layer):
         straight_period=params.straight_period, curved_period=1.0 / sampling.curved_rate,
         deadband=sampling.deadband, event_sampling=sampling.event_sampling,
         heading_correction=correct, standstill=heading, mode=server.control,
-        scale_prior=_calibration(heading.gyro_calibration_file) if correct else None,
+        scale_prior=scale_prior(calibration_file(heading.gyro_calibration_file),
+                                layer.logger('heading_correction')) if correct else None,
         prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
         handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
         turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
         limits=client, battery_low=owner.battery_low, dock_at_home=bool(owner.dock_at_home))
     return params, settings, landmark_file(client.landmark_file), rotate.max_w
-
-
-def _calibration(param):
-    """The gyro calibration of ``gyro_calibration_file`` or None (warned)."""
-    path = calibration_file(param)
-    try:
-        return load_calibration(path)
-    except (CalibrationError, OSError) as error:
-        rospy.logwarn('%s: no gyro calibration (%s): the pi turn keeps the gyro\'s scale error',
-                      rospy.get_name(), error)
-        return None
 
 
 def _drivers(layer, p, turn_w, takeover):
@@ -293,13 +283,9 @@ class MissionOwner(object):
         self.status_pub.publish(msg)
 
     def _publish_storage(self):
-        now, writer, space = rospy.Time.now(), self.store.writer, self.store.space
-        before = space.warning
-        warning, appeared = space.update(now.to_sec(), writer.bytes, writer.count)
-        if appeared:
-            self.log.warn('%s', warning)
-        self.storage_pub.publish(storage_message(writer, self.store.error, now, warning)[0])
-        if warning != before:
+        before = self.store.space.warning
+        self.storage_pub.publish(self.store.storage(rospy.Time.now())[0])
+        if self.store.space.warning != before:
             self.publish_status()
 
     def _on_fault(self, reason):
@@ -325,9 +311,7 @@ class MissionOwner(object):
         add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
                                                      client.odom_timeout))
         add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
-        add('recording', lambda stat: recording_status(stat, self.store.writer, self.store.error,
-                                                       self.store.space.warning,
-                                                       self.mission.phase != RECORDING))
+        add('recording', lambda stat: self.store.status(stat, self.mission.phase != RECORDING))
         if not settings['heading_correction']:
             return
         heading = settings['standstill']

@@ -1,14 +1,16 @@
-"""The mission's landmark file as core/mission's store, for the mission owner: appends,
-gaps, the load at the loss and the write loss, a failed write logged and kept."""
+"""The mission's landmark file as core/mission's store, for the mission owner and the
+paper's savers: appends, gaps, the load at the loss and the write loss, a failed write
+logged and kept; its StorageUsage and diagnostics."""
 import os
 
 import rospy
 
 from blind_navigation.core.files import StorageError
-from blind_navigation.core.recorder import SpaceWatch
+from blind_navigation.core.recorder import SpaceWatch, storage_usage
 from blind_navigation.core.return_plan import damage_warning, write_loss
 from blind_navigation.core.store import load_landmarks
-from blind_navigation.ros.landmark_saving import landmark_lost, note_gap
+from blind_navigation.msg import StorageUsage
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.layer import RoleLog
 
 
@@ -20,16 +22,21 @@ class FileStore(object):
         self.writer, self.error, self.log = writer, '', RoleLog(rospy.get_name())
         self.space = SpaceWatch(os.path.dirname(writer.path))
 
-    def append(self, landmark):
+    def append(self, landmark, sample=None):
+        """The label of ``landmark`` (``sample``: the core/landmark_format.SampleMark it
+        came from), None: lost (logged; ``error`` says why)."""
         try:
-            return self.writer.append(landmark)
+            return self.writer.append(landmark, sample)
         except StorageError as error:
             self.error = str(error)
-            landmark_lost(self.log, error)
+            self.log.error('LANDMARK LOST: %s', error)
 
     def note_gap(self, reason):
+        """Note an odometry gap (``reason``): the next landmark's d counts from the new odometry."""
         try:
-            note_gap(self.writer, reason, self.log)
+            gap = self.writer.note_gap(reason)
+            self.log.error('odometry discontinuity: %s noted in %s; the next landmark counts from '
+                           'the new odometry', gap, self.writer.path)
         except StorageError as error:
             self.error = str(error)
             self.log.error('gap not noted: %s', error)
@@ -51,3 +58,36 @@ class FileStore(object):
         """RECORDING DAMAGED while landmarks could not be written, else ''."""
         loss = self.loss()
         return damage_warning(loss, self.writer.path) if loss.count or self.error else ''
+
+    def storage(self, now):
+        """(blind_navigation/StorageUsage, core/recorder storage_usage) of the file at ``now``
+        (rospy.Time), the free space checked (its warning logged when it appears)."""
+        warning, appeared = self.space.update(now.to_sec(), self.writer.bytes, self.writer.count)
+        if appeared:
+            self.log.warn('%s', warning)
+        writer, mark = self.writer, self.writer.sample
+        used = storage_usage(writer.count, writer.bytes, writer.total_distance)
+        msg = StorageUsage(file=writer.path, landmarks=used.landmarks, bytes=used.bytes,
+                           distance=used.distance, bytes_per_metre=used.bytes_per_metre,
+                           lost=writer.lost, lost_distance=writer.lost_distance,
+                           lost_turn=writer.lost_turn, error=self.error, space_warning=warning,
+                           recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
+        msg.header.stamp = now
+        return msg, used
+
+    def status(self, stat, finished):
+        """The recording's diagnostics; ``finished``: the recording is over."""
+        writer = self.writer
+        stat.add('file', writer.path)
+        stat.add('landmarks', writer.count)
+        stat.add('bytes', writer.bytes)
+        stat.add('lost', writer.lost)
+        if self.error:
+            stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (writer.lost, self.error))
+        elif self.space.warning:
+            stat.summary(diagnostics.WARN, self.space.warning)
+        elif finished:
+            stat.summary(diagnostics.OK, 'recording finished: %d landmarks' % writer.count)
+        else:
+            stat.summary(diagnostics.OK, 'recording: %d landmarks, %.2f m'
+                         % (writer.count, writer.total_distance))

@@ -207,13 +207,6 @@ class OdometryFeed(object):
         latest = self._states.latest
         return latest is not None and latest.stamp >= stamp
 
-    def states_after(self, stamp):
-        """The accepted raw states stamped after ``stamp`` (s), oldest first: those of the
-        last ``history`` s (a consumer that needs every state reads them in batches so,
-        instead of being called for each message)."""
-        with self._lock:
-            return self._states.after(stamp)
-
     def age(self):
         """Seconds since the newest accepted state arrived, None before any; once the frame
         is lost (:attr:`lost`), since the last state before."""

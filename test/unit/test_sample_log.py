@@ -1,14 +1,16 @@
 """The sampling publisher's record of its samples (core/sample_log.py), and the check a
 restarted saver makes of the publisher's answer before it continues its file from it
 (the right recording, the samples from its last one on in order, one odometry row each,
-finite; anything else leaves the gap entry)."""
+finite; anything else leaves the gap entry); its ticks (Ticks) are the mission's samples."""
 import math
 from types import SimpleNamespace
 
 import pytest
 
 from blind_navigation.core.geometry import OdomState
-from blind_navigation.core.sample_log import START, SampleLog, answer_problem
+from blind_navigation.core.geometry import wrap_angle
+from blind_navigation.core.mission_record import MissionRecording
+from blind_navigation.core.sample_log import START, SampleLog, Ticks, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
 
 
@@ -100,3 +102,36 @@ def test_a_non_finite_yaw_is_refused():
     bad = answer([4, 5])
     bad.samples[1].yaw = math.inf
     assert 'finite' in answer_problem(bad, SampleMark(7.5, 4))
+
+
+def driven(seconds, rate=50.0):
+    """OdomStates of a drive: straight, a left arc, a stop, then backwards, at ``rate`` Hz."""
+    x = y = yaw = 0.0
+    states = []
+    for index in range(int(seconds * rate)):
+        t = index / rate
+        v, w = (0.2, 0.0) if t < 6 else (0.2, 0.3) if t < 12 else (0.0, 0.0) if t < 15 else (-0.1, 0.0)
+        states.append(OdomState(x, y, yaw, v, w, 100.0 + t))
+        x, y, yaw = x + v * math.cos(yaw) / rate, y + v * math.sin(yaw) / rate, yaw + w / rate
+    return states
+
+
+@pytest.mark.parametrize('events', [False, True])
+def test_the_publishers_ticks_are_the_missions_samples(events):
+    """The sampling publisher steps the mission's recording over Ticks: the same ticks, periods
+    and yaws (motion events, the rate switch and the final partial cycle included)."""
+    config = SimpleNamespace(straight_period=2.0, curved_period=1.0, deadband=0.01,
+                             event_sampling=events, heading_correction=False)
+    unkept = SimpleNamespace(append=lambda taken: None, note_gap=lambda reason: None)
+    mission, publisher = MissionRecording(unkept, config), MissionRecording(unkept, config, Ticks())
+    states = driven(20.0)
+    landmarks, ticks = [], []
+    for recording, out in ((mission, landmarks), (publisher, ticks)):
+        recording.begin(states[0])
+        for odom in states[1:]:
+            out += recording.step(odom, odom.stamp)
+        out += recording.end(states[-1], states[-1].stamp)
+    assert len(ticks) >= 10 and {period for _, _, period in ticks} >= {2.0, 1.0}   # 20 s, <= 2 s each
+    assert [(lm.T, lm.psi, lm.v) for lm in landmarks] == \
+        [(period, wrap_angle(yaw), state.v) for state, yaw, period in ticks]
+    assert ticks[-1][0] is states[-1] and publisher.recorder.total_distance == 0.0
