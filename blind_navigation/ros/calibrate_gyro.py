@@ -40,7 +40,7 @@ class CalibrateGyro(object):
         self._vo_valid = False
         self.output = MotionOutput(self.ROLE, 0.0, self.spin.max_w, None, layer.safety)
         guard = layer.guard(self.ROLE)
-        self.drive = DriveLoop(self.output, self.odom, layer.safety, p, self.log, guard, grace=False)
+        self.drive = DriveLoop(self.output, self.odom, layer.safety, p, self.log, guard)
         self.odom.add_listener(guard(self._on_odom))
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)
