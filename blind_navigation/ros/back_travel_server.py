@@ -197,7 +197,8 @@ class BackTravelServer(object):
     # --- driving: the one loop -----------------------------------------------------------------
     def run(self):
         """Step the return while a goal, a hand-over or the final hold is under way (ros/layer.run_roles)."""
-        self.driver.loop(self._cycle, self._locked_busy)
+        for now, jump in self.driver.ticks(self._locked_busy):
+            self._cycle(now, jump)
 
     def _locked_busy(self):
         with self._lock:

@@ -1,5 +1,5 @@
-"""The one loop of a paper-layout node that drives (rotate_pi, back_travel_server): a
-core/mission_drive drive (TurnDrive, ReturnDrive) stepped at ``control_rate`` as
+"""The one loop of a node that drives (rotate_pi, back_travel_server, calibrate_gyro): a
+core/mission_drive drive (TurnDrive, ReturnDrive; the spins) stepped at ``control_rate`` as
 core/mission.Mission steps it, on this process's odometry: the Kobuki's events, a cancel,
 the mission leaving the state, the pauses (core/mission_drive.Pauses), the odometry grace.
 Commands go through ros/motion.MotionOutput; every end but success halts it.
@@ -20,8 +20,8 @@ from blind_navigation.ros.common import shutting_down
 
 class DriveNode(object):
     """Steps one drive at a time for ``role`` (module docstring); ``params``: control_rate,
-    odom_timeout, odom_grace and core/pause's; ``contacts``: a bumper press pauses the drive
-    (else it ends it); ``label()``: how the log names the drive now."""
+    odom_timeout, odom_grace and core/pause's; ``takeover``: ros/takeover.TakeoverWatch or None;
+    ``contacts``: a bumper press pauses the drive (else it ends it); ``label()``: its log name."""
 
     def __init__(self, layer, role, output, params, log, takeover, contacts, label):
         self.odometry, self.safety, self.output, self.params = layer.odometry, layer.safety, output, params
@@ -38,22 +38,22 @@ class DriveNode(object):
         else:
             self.tripped = reason           # ends the drive, even if released by the next cycle
 
-    def loop(self, cycle, busy):
-        """Until shutdown: ``cycle(now, jump)`` at control_rate while ``busy()`` (``jump``: s the
-        ROS time moved back), else wait for :attr:`wake`."""
+    def ticks(self, busy=lambda: True):
+        """(now, jump) at control_rate while ``busy()`` (else waiting for :attr:`wake`), until
+        shutdown; ``jump``: s the ROS time moved back."""
         self.clock = LoopClock(self.role, self.log, then='the drive under way ends (its times and '
                                'odometry are of the old clock)')
         rate = self.clock.rate(self.params.control_rate)
-        try:
-            while not shutting_down():
-                if not busy():
-                    self.wake.wait()
-                    self.wake.clear()
-                    continue
+        while not shutting_down():
+            if not busy():
+                self.wake.wait()
+                self.wake.clear()
+                continue
+            try:
                 jump = rate.sleep()
-                cycle(self.clock.now(), jump)
-        except rospy.ROSInterruptException:
-            return
+            except rospy.ROSInterruptException:
+                return
+            yield self.clock.now(), jump
 
     def start(self, behaviour):
         """Drive ``behaviour`` (TurnDrive, ReturnDrive) from the next :meth:`step` on."""
@@ -84,7 +84,8 @@ class DriveNode(object):
             bumps = tuple(self.bumps.popleft() for _ in range(len(self.bumps)))
             pressed = bumps + tuple(reason for reason in self.safety.active if is_contact(reason))
             latest = self.odometry.latest()
-            paused = self.pauses.cycle(now, pressed, self.takeover.active(), lambda: None if latest is None
+            operator = self.takeover.active() if self.takeover is not None else None
+            paused = self.pauses.cycle(now, pressed, operator, lambda: None if latest is None
                                        else [latest.x, latest.y], self.drive)
             if isinstance(paused, outcome.Ending):
                 ended = drive.Outcome(drive.TAKEN_OVER if paused.code == outcome.TAKEOVER else

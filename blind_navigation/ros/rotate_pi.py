@@ -103,8 +103,9 @@ class RotatePi(object):
     # --- the turn: one loop ----------------------------------------------------------------------
     def run(self):
         """Wait for the mission to rotate, turn, report (ros/layer.run_roles)."""
-        self.driver.loop(self._cycle, lambda: self.trigger or self.waiting is not None or
-                         self.driver.drive is not None)
+        for now, jump in self.driver.ticks(lambda: self.trigger or self.waiting is not None or
+                                           self.driver.drive is not None):
+            self._cycle(now, jump)
 
     def _cycle(self, now, jump):
         if self.waiting is None and self.driver.drive is None:     # the mission rotates
