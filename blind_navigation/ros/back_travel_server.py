@@ -26,7 +26,6 @@ from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTrave
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.clock import action_server
 from blind_navigation.ros.drive_node import DriveNode
-from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.route_wire import route_of
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
 
@@ -53,14 +52,12 @@ class BackTravelServer(object):
             p._asdict(), straight_period=period_of(p.straight_rate, '~straight_rate'),
             await_goals=True))
         self.layer, self.odometry = layer, layer.odometry
-        self.takeover = layer.takeover(p)
-        self.output = MotionOutput(self.ROLE, p.max_v, p.max_w, layer.mission, layer.safety,
-                                   self.takeover)
         layer.heading_correction()       # drive on the corrected odometry once it exists
-        self.driver = DriveNode(layer, self.ROLE, self.output, p, self.log, self.takeover, True,
+        self.driver = DriveNode(layer, self.ROLE, p, self.log, (p.max_v, p.max_w), layer.mission, True,
                                 self._label)
+        self.output, self.takeover = self.driver.output, self.driver.takeover
         self._lock = threading.Lock()
-        self.route = self.follower = self.drive = None  # the return's route, follower, ReturnDrive
+        self.follower = self.drive = None   # the return's RouteFollower (closed_loop), ReturnDrive
         self.landmarks = []             # its goals' landmarks, return order
         self.active = self.pending = None   # the goal handle driven; accepted, waiting
         self.ended = None               # the core/drive.Outcome that ended the return, if any
@@ -89,7 +86,7 @@ class BackTravelServer(object):
                 return SetReturnRouteResponse(ok=False, message='a goal is being driven', control=p.control)
             if self._busy():
                 self.output.stop()      # a hand-over under way ends here
-            self.route, self.landmarks, self.ended = route, landmarks, None
+            self.landmarks, self.ended = landmarks, None
             self.follower = RouteFollower(route, self.goal_params) if p.control == 'closed_loop' else None
             self.drive = ReturnDrive(list(enumerate(landmarks)), p.control, self.goal_params,
                                      self.follower, self.goal_params, self.driver.feed,
@@ -98,9 +95,8 @@ class BackTravelServer(object):
             self.driver.start(self.drive)   # contacts counted over the whole return
         self.log.info('return route of %d landmarks (%.2f m) in %s, %d completed',
                       len(landmarks), route.length, request.header.frame_id or '?', request.completed)
-        closed = p.control == 'closed_loop'
-        return SetReturnRouteResponse(ok=True, message='', control=p.control,
-                                      home_tolerance=p.home_tolerance if closed else 0.0)
+        return SetReturnRouteResponse(ok=True, message='', control=p.control, home_tolerance=p.home_tolerance
+                                      if p.control == 'closed_loop' else 0.0)
 
     def _read_route(self, request):
         """(Route, landmarks) of a SetReturnRoute request; ValueError naming what is wrong."""
@@ -192,7 +188,7 @@ class BackTravelServer(object):
         elif self.last_abort:
             stat.summary(diagnostics.ERROR, 'last goal aborted: %s' % self.last_abort)
         else:
-            stat.summary(diagnostics.OK, 'ready' if self.route is None else 'route set')
+            stat.summary(diagnostics.OK, 'ready' if self.drive is None else 'route set')
 
     # --- driving: the one loop -----------------------------------------------------------------
     def run(self):

@@ -22,7 +22,6 @@ from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.core.mission_drive import DONE, FAILED, Held
 from blind_navigation.ros.drive_node import DriveNode
 from blind_navigation.ros.heading_correction import calibration_file
-from blind_navigation.ros.motion import MotionOutput
 
 
 class CalibrateGyro(object):
@@ -40,9 +39,10 @@ class CalibrateGyro(object):
         self.odom = layer.odometry
         self._lock = threading.Lock()
         self._vo_valid = False
-        self.output = MotionOutput(self.ROLE, 0.0, self.spin.max_w, None, layer.safety)
         guard = layer.guard(self.ROLE)
-        self.driver = DriveNode(layer, self.ROLE, self.output, p, self.log, None, False, lambda: 'spin')
+        self.driver = DriveNode(layer, self.ROLE, p, self.log, (0.0, self.spin.max_w), None, False,
+                                lambda: 'spin')
+        self.output = self.driver.output
         self.odom.add_listener(guard(self._on_odom))
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)

@@ -16,16 +16,20 @@ from blind_navigation.core.mission_drive import DONE, FAILED, ZERO, Pauses
 from blind_navigation.core.safety import is_contact
 from blind_navigation.ros.clock import LoopClock, describe
 from blind_navigation.ros.common import shutting_down
+from blind_navigation.ros.motion import MotionOutput
 
 
 class DriveNode(object):
-    """Steps one drive at a time for ``role`` (module docstring); ``params``: control_rate,
-    odom_timeout, odom_grace and core/pause's; ``takeover``: ros/takeover.TakeoverWatch or None;
-    ``contacts``: a bumper press pauses the drive (else it ends it); ``label()``: its log name."""
+    """Steps one drive at a time for ``role`` on its :attr:`output` (clamped to ``max_v``, ``max_w``;
+    ``mission``: the state gating it, None: none and no takeover watch); ``params``: control_rate,
+    odom_timeout, odom_grace and core/pause's; ``contacts``: a bumper press pauses the drive
+    (else it ends it); ``label()``: its name in the log."""
 
-    def __init__(self, layer, role, output, params, log, takeover, contacts, label):
-        self.odometry, self.safety, self.output, self.params = layer.odometry, layer.safety, output, params
-        self.role, self.log, self.takeover, self.contacts, self.label = role, log, takeover, contacts, label
+    def __init__(self, layer, role, params, log, limits, mission, contacts, label):
+        self.odometry, self.safety, self.params = layer.odometry, layer.safety, params
+        self.role, self.log, self.contacts, self.label = role, log, contacts, label
+        self.takeover = layer.takeover(params) if mission is not None else None
+        self.output = MotionOutput(role, *limits, mission=mission, safety=layer.safety, takeover=self.takeover)
         self.wake = threading.Event()       # set when the node has something to drive
         self.bumps = deque()                # bumper presses (reasons) since the last cycle
         self.drive = self.pauses = self.now = self.clock = self.tripped = None

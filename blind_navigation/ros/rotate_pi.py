@@ -23,7 +23,6 @@ from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.drive_node import DriveNode
-from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.sampling_publisher import FINAL
 
 #: What the wait before the turn waits for, in turn; None: the turn is under way.
@@ -48,10 +47,9 @@ class RotatePi(object):
         self.config = types.SimpleNamespace(turn_tolerance=math.pi, standstill=p, limits=None,
                                             vision_back_grace=0.0)
         self.layer = layer
-        self.takeover = layer.takeover(p)
-        self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety, self.takeover)
-        self.driver = DriveNode(layer, self.ROLE, self.output, p, self.log, self.takeover, False,
+        self.driver = DriveNode(layer, self.ROLE, p, self.log, (0.0, p.max_w), layer.mission, False,
                                 lambda: 'turn')
+        self.output, self.takeover = self.driver.output, self.driver.takeover
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
         self.trigger = self.final = self.turn_begins = False   # rotating; the final sample; recording_end
         self.waiting = self.since = self.paused = None   # what the turn waits for, since, takeovers then
