@@ -25,9 +25,6 @@ from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.drive_node import DriveNode
 from blind_navigation.ros.sampling_publisher import FINAL
 
-#: What the wait before the turn waits for, in turn; None: the turn is under way.
-CORRECTION, RECORDING_END, FINAL_SAMPLE, ODOMETRY = 'correction', 'recording end', 'final sample', 'odometry'
-
 
 class RotatePi(object):
     """Turns by ``angle`` when vision is lost (module docstring)."""
@@ -51,8 +48,9 @@ class RotatePi(object):
                                 lambda: 'turn')
         self.output, self.takeover = self.driver.output, self.driver.takeover
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
+        self.topic = rospy.resolve_name(names.HEADING_CORRECTION)
         self.trigger = self.final = self.turn_begins = False   # rotating; the final sample; recording_end
-        self.waiting = self.since = self.paused = None   # what the turn waits for, since, takeovers then
+        self.waiting = self.paused = None   # the wait before the turn (_ready's since); takeovers then
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
         guard = layer.guard(self.ROLE)
         subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
@@ -111,9 +109,12 @@ class RotatePi(object):
             if not self.rotating:
                 return
             self.layer.odometry.acquire(self.ROLE)
-            self.status, self.waiting, self.since, self.paused = 'turning', CORRECTION, now, self.takeover.paused()
+            self.status, self.waiting, self.paused = 'turning', [now, None, None], self.takeover.paused()
+            if self.correction is not None and not self.correction.received:
+                self.log.info('standing still while heading_correction measures the gyro bias (waiting at '
+                              'most %.0f s for %s)', self.correction_timeout, self.topic)
         if self.driver.drive is None:
-            ready = self._ready(now, jump)
+            ready = self._ready(now, jump, self.waiting)
             if ready is False:
                 self._finish(False)
             elif ready is not None:
@@ -129,40 +130,32 @@ class RotatePi(object):
                     'turn stopped after %.3f of %.3f rad: %s', rotation.turned, rotation.angle, ended.reason)
             self._finish(ended.ok)
 
-    def _ready(self, now, jump):
-        """Before the turn: None while waiting, False if it cannot turn (the mission left rotating,
+    def _ready(self, now, jump, since):
+        """Before the turn (``since``: [when the mission rotated, when recording_end came, when the
+        turn could begin]): None while waiting, False if it cannot turn (the mission left rotating,
         no heading correction within correction_timeout s, takeovers not counted; the ROS time
         moved back), else the fresh odometry to turn from (after ``recording_end`` and the
         recorder's final sample or ``recording_end_timeout``; within odom_grace)."""
-        p, waited = self.params, now - self.since
+        p = self.params
         if jump or not self.rotating:
             return False
-        if self.waiting == CORRECTION and self.correction is not None and not self.correction.received:
-            if not waited:
-                self.log.info('standing still while heading_correction measures the gyro bias (waiting '
-                              'at most %.0f s for %s)', self.correction_timeout,
-                              rospy.resolve_name(names.HEADING_CORRECTION))
-            if waited - (self.takeover.paused() - self.paused) < self.correction_timeout:
+        if self.correction is not None and not self.correction.received:
+            if now - since[0] - (self.takeover.paused() - self.paused) < self.correction_timeout:
                 return None
             self.log.error('cannot turn: no heading correction on %s within %.0f s (is heading_correction '
-                           'running?); the robot stays here', rospy.resolve_name(names.HEADING_CORRECTION),
-                           self.correction_timeout)
+                           'running?); the robot stays here', self.topic, self.correction_timeout)
             return False
-        if self.waiting == CORRECTION:
-            self.waiting = RECORDING_END
         if not self.turn_begins:
             return None
-        if self.waiting == RECORDING_END:
-            self.waiting, self.since = FINAL_SAMPLE, now
-        if self.waiting == FINAL_SAMPLE and not self.final and waited < p.recording_end_timeout:
+        since[1] = now if since[1] is None else since[1]
+        if since[2] is None and not self.final and now - since[1] < p.recording_end_timeout:
             return None
-        if self.waiting == FINAL_SAMPLE:
-            if not self.final:
-                self.log.warn('no final sample from the recorder within %.1f s; turning anyway',
-                              p.recording_end_timeout)
-            self.waiting, self.since = ODOMETRY, now
+        if since[2] is None and not self.final:
+            self.log.warn('no final sample from the recorder within %.1f s; turning anyway',
+                          p.recording_end_timeout)
+        since[2] = now if since[2] is None else since[2]
         odom = self.layer.odometry.fresh(p.odom_timeout)
-        if odom is None and now - self.since < p.odom_grace:
+        if odom is None and now - since[2] < p.odom_grace:
             return None
         if odom is None:
             self.log.error('cannot turn: %s', self.layer.odometry.describe_missing(p.odom_timeout))
