@@ -18,7 +18,6 @@ from .heading_correction import CorrectedOdometry, correct_landmarks
 from .mission_drive import DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive, TurnDrive
 from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
-from .pause import PAUSE
 from .return_plan import (frame_lost, nothing_to_retrace, plan_return, recording_problem,
                           return_goals, return_warning, still_loss)
 from .route_follower import RouteFollower
@@ -261,21 +260,8 @@ class Mission(object):
         if isinstance(self.drive, RemoteReturn):
             return False
         position = lambda: None if self.last is None else [self.last.x, self.last.y]  # noqa: E731
-        pause = self.pauses.decide(now, inputs.bumper, inputs.operator, position)
-        if pause == 'taken':
-            return None
-        if pause == PAUSE:
-            return ZERO
-        driven = self.ending or self.drive
-        if pause:
-            return self._end(state.ABORTED, outcome.CONTACTS, '%s: safety stop: %s' % (driven.where(), pause))
-        resumed = self.pauses.resume(now)
-        if resumed is not None:
-            seconds, taken = resumed
-            if taken and self.pauses.takeover.policy == 'abort':
-                return self._end(state.ABORTED, outcome.TAKEOVER, '%s (on_takeover abort)' % taken)
-            driven.resumed(seconds)
-        return False
+        paused = self.pauses.cycle(now, inputs.bumper, inputs.operator, position, self.ending or self.drive)
+        return self._end(state.ABORTED, *paused) if isinstance(paused, outcome.Ending) else paused
 
     def _drive(self, now, inputs):
         """A cycle of the turn or the return (:attr:`drive`): vision back, pauses, its command."""

@@ -281,6 +281,22 @@ class Pauses(object):
             return self._paused(now, PAUSE)
         return '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision) if decision else None
 
+    def cycle(self, now, pressed, operator, position, driven):
+        """This cycle of ``driven`` (told ``resumed(seconds)`` when a pause ended): False (drive
+        on), None (a takeover: publish nothing), ZERO (a contact) or the core/outcome.Ending."""
+        pause = self.decide(now, pressed, operator, position)
+        if pause in ('taken', PAUSE):
+            return None if pause == 'taken' else ZERO
+        if pause:
+            return outcome.Ending(outcome.CONTACTS, '%s: safety stop: %s' % (driven.where(), pause))
+        resumed = self.resume(now)
+        if resumed is not None:
+            seconds, taken = resumed
+            if taken and self.takeover.policy == 'abort':
+                return outcome.Ending(outcome.TAKEOVER, '%s (on_takeover abort)' % taken)
+            driven.resumed(seconds)
+        return False
+
     def _paused(self, now, how):
         if self.paused_at is None:
             self.paused_at = now

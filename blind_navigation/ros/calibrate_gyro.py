@@ -13,14 +13,15 @@ import time
 import rospy
 
 from blind_navigation import names
-from blind_navigation.core import drive, mission_state
+from blind_navigation.core import drive, mission_state, outcome
+from blind_navigation.core.allowance import DRIVE
 from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, SpinCalibration, save_calibration
 from blind_navigation.core.role_params import CALIBRATE_GYRO
 from blind_navigation.core.vision import wire_lost_reason
-from blind_navigation.ros.drive_loop import DriveLoop
+from blind_navigation.core.mission_drive import DONE, FAILED, Held
+from blind_navigation.ros.drive_node import DriveNode
 from blind_navigation.ros.heading_correction import calibration_file
-from blind_navigation.ros.motion import MotionOutput
 
 
 class CalibrateGyro(object):
@@ -38,9 +39,10 @@ class CalibrateGyro(object):
         self.odom = layer.odometry
         self._lock = threading.Lock()
         self._vo_valid = False
-        self.output = MotionOutput(self.ROLE, 0.0, self.spin.max_w, None, layer.safety)
         guard = layer.guard(self.ROLE)
-        self.drive = DriveLoop(self.output, self.odom, layer.safety, p, self.log, guard, grace=False)
+        self.driver = DriveNode(layer, self.ROLE, p, self.log, (0.0, self.spin.max_w), None, False,
+                                lambda: 'spin')
+        self.output = self.driver.output
         self.odom.add_listener(guard(self._on_odom))
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)
@@ -97,12 +99,12 @@ class CalibrateGyro(object):
             return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
         self.log.info('spinning %.1f turns each way at %.2f rad/s against %s', self.spin.turns,
                       self.spin.max_w, rospy.resolve_name(names.VO_ODOM))
-        outcome = self.drive.run(_Spins(self.spin), 'spin')
-        if outcome.kind == drive.CANCELLED:
-            return 'node shutdown before the spins were done (%s)' % self.spin.progress
-        if outcome.kind == drive.SAFETY_STOP:
-            return 'safety stop: %s' % outcome.reason
-        return outcome.reason
+        self.driver.start(_Spins(self.spin, self.driver.feed, p.odom_timeout))
+        for now, jump in self.driver.ticks():
+            ended = self.driver.step(now, jump)
+            if ended is not None and ended.kind != drive.CANCELLED:
+                return ended.reason
+        return 'node shutdown before the spins were done (%s)' % self.spin.progress
 
     def _save(self, calibration):
         """Keep an existing file as ``.previous``, then write the new one atomically."""
@@ -112,15 +114,20 @@ class CalibrateGyro(object):
         save_calibration(self.path, calibration, self.spin.turns)
 
 
-class _Spins(drive.Behaviour):
-    """The calibration's spins as a drive-loop behaviour (core/gyro_calibration.SpinCalibration)."""
+class _Spins(object):
+    """The calibration's spins as a drive of ros/drive_node (stale odometry ends them at once)."""
 
-    def __init__(self, spin):
-        self.spin = spin
+    def __init__(self, spin, feed, odom_timeout):
+        self.spin, self.feed, self.cycle = spin, feed, drive.DriveCycle(Held(), None, odom_timeout)
+        self.phase, self.reason, self.code = 'spin', '', outcome.NONE
+        self.resumed = lambda seconds: None
 
-    def end(self):
-        return drive.Outcome(drive.SUCCEEDED, '') if self.spin.done else None
+    def where(self):
+        return 'the spins'
 
-    def step(self, odom, now):
-        command = self.spin.step(odom)
-        return drive.Outcome(drive.FAILED, self.spin.failed) if self.spin.failed else command
+    def step(self, now, inputs):
+        decision, odom, message = self.feed(self.cycle)
+        command = self.spin.step(odom) if decision == DRIVE else (0.0, 0.0)
+        self.reason = self.spin.failed if decision == DRIVE else message or 'no fresh odometry'
+        self.phase = FAILED if self.reason else DONE if self.spin.done else self.phase
+        return command

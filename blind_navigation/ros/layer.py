@@ -184,36 +184,20 @@ def run_node(name, role_class):
 
 
 class CorrectionReceiver(object):
-    """Receives blind_navigation/HeadingCorrection (latched) and installs it into
-    ``odometry`` (ros/odometry.OdometryFeed.set_correction); ``correction`` is
-    its core GyroCorrection, ``reference`` the raw OdomState where the corrected
-    frame starts."""
+    """Installs the mission's latched blind_navigation/HeadingCorrection (the first one since
+    :meth:`forget`) into ``odometry`` (ros/odometry.OdometryFeed.set_correction): ``received``."""
 
-    def __init__(self, odometry, guard=None):
-        self.odometry = odometry
-        self.correction = self.reference = None
-        self._lock = threading.Lock()
-        self._received = threading.Event()
-        subscribe(names.HEADING_CORRECTION, HeadingCorrection,
-                  guard(self._on_correction) if guard else self._on_correction, queue_size=1)
-
-    @property
-    def received(self):
-        return self._received.is_set()
+    def __init__(self, odometry, guard):
+        self.odometry, self.received, self._lock = odometry, False, threading.Lock()
+        subscribe(names.HEADING_CORRECTION, HeadingCorrection, guard(self._on_correction), queue_size=1)
 
     def _on_correction(self, msg):
-        self._install(*correction_from_message(msg))
+        with self._lock:
+            if not self.received:       # one correction per mission
+                self.odometry.set_correction(*correction_from_message(msg))
+                self.received = True
 
     def forget(self):
-        """A new mission: the raw frame until its own correction arrives."""
+        """A new mission: the raw frame until its own correction arrives (the layer drops the feed's)."""
         with self._lock:
-            self.correction = self.reference = None     # the feed: the layer drops its correction
-            self._received.clear()
-
-    def _install(self, correction, reference):
-        with self._lock:
-            if self._received.is_set():
-                return              # one correction per mission
-            self.correction, self.reference = correction, reference
-            self.odometry.set_correction(correction, reference)
-            self._received.set()
+            self.received = False

@@ -1,11 +1,12 @@
 """rotate_pi: after vision loss, turn the robot by pi on odometry yaw (paper 3.4).
 
 In ``rotating`` it waits for the heading correction, ``recording_end`` and the ``final``
-sample, then runs core/rotation.Rotation on a DriveLoop and publishes
-``blind_navigation/rotation_done`` (true, or false on a failed turn). Restarted while the
-mission rotates, it reports false at once (docs/back_travel.md).
+sample, then runs the mission's core/mission_drive.TurnDrive on ros/drive_node.DriveNode and
+publishes ``blind_navigation/rotation_done`` (true, or false on a failed turn). Restarted
+while the mission rotates, it reports false at once (docs/back_travel.md).
 """
-import threading
+import math
+import types
 
 import rospy
 from std_msgs.msg import Bool, Empty
@@ -14,18 +15,15 @@ from blind_navigation import names
 from blind_navigation.core import drive, mission_state
 from blind_navigation.core.allowance import OdomGrace
 from blind_navigation.core.gyro_bias import standstill_timeout
+from blind_navigation.core.mission_drive import TurnDrive
+from blind_navigation.core.mission_limits import PausedClock
 from blind_navigation.core.role_params import ROTATE_PI
 from blind_navigation.core.rotation import Rotation
 from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.clock import LoopClock
-from blind_navigation.ros.common import shutting_down, subscribe
-from blind_navigation.ros.drive_loop import DriveLoop
-from blind_navigation.ros.motion import MotionOutput
+from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.drive_node import DriveNode
 from blind_navigation.ros.sampling_publisher import FINAL
-
-#: What a wait before the turn does when the ROS time moves back.
-NO_TURN = 'no pi turn: its times and odometry are of the old clock'
 
 
 class RotatePi(object):
@@ -40,24 +38,23 @@ class RotatePi(object):
         if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
             raise ValueError('~control_rate must be positive, ~recording_end_timeout and '
                              '~correction_margin not negative')
-        Rotation(p)  # validates the rotation params now, not at the first vision loss
-        OdomGrace(p)
+        Rotation(p), OdomGrace(p)   # validates the rotation's and the odometry's params now
         self.correction_timeout = standstill_timeout(p) + p.correction_margin
+        # the mission's turn without its own checks: the client times and checks the turn
+        self.config = types.SimpleNamespace(turn_tolerance=math.pi, standstill=p, limits=None,
+                                            vision_back_grace=0.0)
         self.layer = layer
-        self.takeover = layer.takeover(p)
-        self.output = MotionOutput(self.ROLE, 0.0, p.max_w, layer.mission, layer.safety,
-                                   self.takeover)
-        self.drive = DriveLoop(self.output, layer.odometry, layer.safety, p, self.log,
-                               layer.guard(self.ROLE), takeover=self.takeover)
+        self.driver = DriveNode(layer, self.ROLE, p, self.log, (0.0, p.max_w), layer.mission, False,
+                                lambda: 'turn')
+        self.output, self.takeover = self.driver.output, self.driver.takeover
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
-        self._trigger = threading.Event()
-        self._recording_ended = threading.Event()
-        self._turn_begins = threading.Event()
+        self.topic = rospy.resolve_name(names.HEADING_CORRECTION)
+        self.trigger = self.final = self.turn_begins = False   # rotating; the final sample; recording_end
+        self.waiting = self.paused = None   # the wait before the turn (_ready's since); takeovers then
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
         guard = layer.guard(self.ROLE)
         subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
-        subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self._turn_begins.set()),
-                  queue_size=1)
+        subscribe(names.RECORDING_END, Empty, guard(self._on_recording_end), queue_size=1)
         self.status = 'waiting for vision loss'
         layer.mission.on_change(guard(self._on_state))
         layer.mission.on_new_mission(guard(self._new_mission))
@@ -75,11 +72,13 @@ class RotatePi(object):
     # --- events ----------------------------------------------------------------------------------
     def _on_sample(self, msg):
         if msg.command == FINAL:
-            self._recording_ended.set()
+            self.final = True
+
+    def _on_recording_end(self, _msg):
+        self.turn_begins = True
 
     def _new_mission(self):
-        self._recording_ended.clear()      # the new recording's final sample is awaited
-        self._turn_begins.clear()          # and the owner's commit of its turn
+        self.final = self.turn_begins = False   # the new recording's final sample, turn awaited
         self.status = 'waiting for vision loss'
 
     def _on_state(self, old, new):
@@ -90,122 +89,92 @@ class RotatePi(object):
                            'turned is unknown; reporting the turn as failed')
             self.done_pub.publish(Bool(data=False))
             return
-        self._trigger.set()
+        self.trigger = True
+        self.driver.wake.set()
 
     @property
     def rotating(self):
         return self.layer.mission.state == mission_state.ROTATING
 
-    # --- the turn --------------------------------------------------------------------------------
+    # --- the turn: one loop ----------------------------------------------------------------------
     def run(self):
-        """Wait for the mission to rotate, turn, report (blocks until shutdown)."""
-        rospy.on_shutdown(self._trigger.set)
-        while True:
-            self._trigger.wait()        # the mission rotates, or shutdown
-            if shutting_down():
+        """Wait for the mission to rotate, turn, report (ros/layer.run_roles)."""
+        for now, jump in self.driver.ticks(lambda: self.trigger or self.waiting is not None or
+                                           self.driver.drive is not None):
+            self._cycle(now, jump)
+
+    def _cycle(self, now, jump):
+        if self.waiting is None and self.driver.drive is None:     # the mission rotates
+            self.trigger = False
+            if not self.rotating:
                 return
-            self._trigger.clear()
-            if not self.rotating:       # it left rotating before this thread woke
-                continue
             self.layer.odometry.acquire(self.ROLE)
-            self.status = 'turning'
-            try:
-                ok = self._wait_for_heading_correction() and self._wait_for_recording_end() \
-                    and self.rotate()
-            finally:
-                self.output.halt('turn over')
-                self.layer.odometry.release(self.ROLE)
-            back = self.layer.mission.state == mission_state.RECORDING
-            self.status = 'turned' if ok else 'waiting for vision loss (vision came back)' if back \
-                else 'failed (see the log)'
-            if self.rotating:
-                self.done_pub.publish(Bool(data=ok))
-            self.layer.diagnostics.now()
+            self.status, self.waiting, self.paused = 'turning', [now, None, None], self.takeover.paused()
+            if self.correction is not None and not self.correction.received:
+                self.log.info('standing still while heading_correction measures the gyro bias (waiting at '
+                              'most %.0f s for %s)', self.correction_timeout, self.topic)
+        if self.driver.drive is None:
+            ready = self._ready(now, jump, self.waiting)
+            if ready is False:
+                self._finish(False)
+            elif ready is not None:
+                self._start(now, ready)
+            return
+        ended = self.driver.step(now, jump, inactive=None if self.rotating else 'the mission left rotating')
+        if ended is not None:
+            rotation = self.driver.drive.rotation
+            if ended.ok:
+                self.log.info('turned %.4f rad (tolerance %.3f)', rotation.turned, rotation.tolerance)
+            else:
+                (self.log.info if ended.kind == drive.PREEMPTED else self.log.error)(
+                    'turn stopped after %.3f of %.3f rad: %s', rotation.turned, rotation.angle, ended.reason)
+            self._finish(ended.ok)
 
-    def _wait_for_recording_end(self):
-        """Until the owner ends the recording (False: the mission left rotating first), then
-        until the recorder's final sample or ``recording_end_timeout`` (sim) passes. False
-        too if the ROS time moves back meanwhile."""
-        clock = LoopClock('waiting for the end of the recording', self.log, then=NO_TURN)
-        try:
-            while not self._turn_begins.is_set():
-                if rospy.is_shutdown() or not self.rotating or clock.sleep(0.01):
-                    return False
-            deadline = rospy.get_time() + self.params.recording_end_timeout
-            while not self._recording_ended.is_set() and rospy.get_time() < deadline:
-                if rospy.is_shutdown() or not self.rotating or clock.sleep(0.01):
-                    return False
-        except rospy.ROSInterruptException:
+    def _ready(self, now, jump, since):
+        """Before the turn (``since``: [when the mission rotated, when recording_end came, when the
+        turn could begin]): None while waiting, False if it cannot turn (the mission left rotating,
+        no heading correction within correction_timeout s, takeovers not counted; the ROS time
+        moved back), else the fresh odometry to turn from (after ``recording_end`` and the
+        recorder's final sample or ``recording_end_timeout``; within odom_grace)."""
+        p = self.params
+        if jump or not self.rotating:
             return False
-        if not self._recording_ended.is_set():
+        if self.correction is not None and not self.correction.received:
+            if now - since[0] - (self.takeover.paused() - self.paused) < self.correction_timeout:
+                return None
+            self.log.error('cannot turn: no heading correction on %s within %.0f s (is heading_correction '
+                           'running?); the robot stays here', self.topic, self.correction_timeout)
+            return False
+        if not self.turn_begins:
+            return None
+        since[1] = now if since[1] is None else since[1]
+        if since[2] is None and not self.final and now - since[1] < p.recording_end_timeout:
+            return None
+        if since[2] is None and not self.final:
             self.log.warn('no final sample from the recorder within %.1f s; turning anyway',
-                          self.params.recording_end_timeout)
-        return True
+                          p.recording_end_timeout)
+        since[2] = now if since[2] is None else since[2]
+        odom = self.layer.odometry.fresh(p.odom_timeout)
+        if odom is None and now - since[2] < p.odom_grace:
+            return None
+        if odom is None:
+            self.log.error('cannot turn: %s', self.layer.odometry.describe_missing(p.odom_timeout))
+        return odom or False
 
-    def _wait_for_heading_correction(self):
-        """True once the heading correction is installed in the odometry (or none is
-        awaited); False after ``correction_timeout`` s of sim time, at shutdown, when
-        the mission left rotating or the ROS time moved back. Commands nothing meanwhile."""
-        if self.correction is None or self.correction.received:
-            return True
-        clock = LoopClock('waiting for the heading correction', self.log, then=NO_TURN)
-        self.log.info('standing still while heading_correction measures the gyro bias (waiting '
-                      'at most %.0f s for %s)', self.correction_timeout,
-                      rospy.resolve_name(names.HEADING_CORRECTION))
-        deadline = rospy.get_time() + self.correction_timeout - self.takeover.paused()
-        try:
-            while not self.correction.received:
-                if rospy.is_shutdown() or not self.rotating:
-                    return False
-                if rospy.get_time() >= deadline + self.takeover.paused():   # takeovers do not count
-                    self.log.error('cannot turn: no heading correction on %s within %.0f s (is '
-                                   'heading_correction running?); the robot stays here',
-                                   rospy.resolve_name(names.HEADING_CORRECTION),
-                                   self.correction_timeout)
-                    return False
-                if clock.sleep(0.02):
-                    return False
-        except rospy.ROSInterruptException:
-            return False
-        return True
+    def _start(self, now, odom):
+        self.waiting = None
+        self.driver.now = now
+        self.driver.start(TurnDrive(self.params, self.driver.feed, odom, self.config, PausedClock(now)))
+        self.log.info('turning by %.3f rad from yaw %.3f', self.driver.drive.rotation.angle, odom.yaw)
 
-    def rotate(self):
-        """Run one rotation; True on success. Always ends with zero velocity."""
-        turn = _Turn(Rotation(self.params), self.log)
-        outcome = self.drive.run(turn, 'turn', wait=self.params.odom_grace, inactive=self._inactive)
-        if outcome.kind == drive.SAFETY_STOP:
-            self.log.error('%s: safety stop: %s', 'turn stopped' if turn.started else 'cannot turn',
-                           outcome.reason)
-        elif outcome.kind == drive.ODOMETRY_LOST and not turn.started:
-            self.log.error('cannot turn: %s', outcome.reason)
-        return outcome.ok
-
-    def _inactive(self):
-        return None if self.rotating else 'the mission left rotating'
-
-
-class _Turn(drive.Behaviour):
-    """The pi turn as a drive-loop behaviour: core/rotation.Rotation until done or failed."""
-
-    def __init__(self, rotation, log):
-        self.rotation, self.log, self.started = rotation, log, False
-
-    def start(self, odom):
-        self.log.info('turning by %.3f rad from yaw %.3f', self.rotation.angle, odom.yaw)
-        self.rotation.start(odom)
-        self.started = True
-
-    def hold(self, seconds):
-        self.rotation.hold(seconds)
-
-    def step(self, odom, now):
-        r = self.rotation
-        command = r.step(odom)
-        if r.failed:
-            self.log.error('turn failed: %.3f of %.3f rad after the %.0f s allowance',
-                           r.turned, r.angle, r.time_allowance)
-            return drive.Outcome(drive.TIMED_OUT, 'time allowance spent')
-        if r.done:
-            self.log.info('turned %.4f rad (tolerance %.3f)', r.turned, r.tolerance)
-            return drive.Outcome(drive.SUCCEEDED, '')
-        return command
+    def _finish(self, ok):
+        """The turn (or the wait for it) ended: zero, the odometry released, ``rotation_done``."""
+        self.output.halt('turn over')
+        self.layer.odometry.release(self.ROLE)
+        self.waiting = self.driver.drive = None
+        back = self.layer.mission.state == mission_state.RECORDING
+        self.status = 'turned' if ok else 'waiting for vision loss (vision came back)' if back \
+            else 'failed (see the log)'
+        if self.rotating:
+            self.done_pub.publish(Bool(data=ok))
+        self.layer.diagnostics.now()
