@@ -184,29 +184,3 @@ class PathRecorder(object):
         self.count += 1
         self.total_distance += step
         return landmark
-
-
-def record_path(odom_at, duration, schedule, recorder=None):
-    """Plain-Python run of the sampling publisher and saver over a known path.
-
-    ``odom_at(t)`` gives the OdomState ``t`` s after recording started;
-    ``schedule`` is a :class:`~.segment.SamplingSchedule`. As in the nodes,
-    the start yaw is the schedule's first yaw, each tick feeds the schedule
-    its yaw, the next period comes from the schedule, and at ``duration``
-    (vision lost) a final landmark covers the partial cycle since the last
-    tick. Returns ``[(tick time, Landmark), ...]``.
-    """
-    recorder = recorder or PathRecorder()
-    start = odom_at(0.0)
-    recorder.start(start)
-    period = schedule.update(start.yaw)
-    t, ticks = 0.0, []
-    while t + period <= duration + 1e-9:
-        t += period
-        odom = odom_at(t)
-        ticks.append((t, recorder.take(odom, odom.yaw, period)))
-        period = schedule.update(odom.yaw)
-    if duration - t > 1e-9:
-        odom = odom_at(duration)
-        ticks.append((duration, recorder.take(odom, odom.yaw, duration - t)))
-    return ticks

@@ -15,7 +15,7 @@ from blind_navigation import names
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.msg import StorageUsage
-from blind_navigation.ros.common import load_params, start_node
+from blind_navigation.sim.node_common import load_params, start_node
 
 
 class DemoObserver(object):

@@ -1,7 +1,5 @@
-"""Small rospy glue shared by every node (the layer's and the fake TurtleBot's):
-params, watched (and type-checked) subscriptions, message conversions, Twist, a
-wall-bounded wait."""
-import math
+"""Small rospy glue shared by every node (the layer's and the fake TurtleBot's): watched
+(and type-checked) subscriptions, Twist, poses, ROS_HOME, a wall-bounded wait."""
 import os
 import time
 
@@ -11,8 +9,7 @@ from geometry_msgs.msg import Twist
 
 from . import subscription_watchdog, wiring
 from .faults import shutting_down  # noqa: F401 -- the roles' one import of it
-from ..core.geometry import OdomState, quaternion_from_yaw, yaw_from_quaternion
-from ..core.params import REQUIRED
+from ..core.geometry import quaternion_from_yaw
 
 
 
@@ -23,25 +20,6 @@ def wait_wall(condition, timeout, poll=0.05):
     while not condition() and time.monotonic() < deadline and not rospy.is_shutdown():
         time.sleep(poll)
     return condition()
-
-
-def load_params(defaults, namespace='~'):
-    """Read each param ``namespace + name`` (private ``~name`` by default, ``~role/name``
-    for a role hosted with others in one process), falling back to ``defaults[name]``;
-    a :data:`REQUIRED` param that is not set is a ValueError naming it.
-
-    Returns a plain object with one attribute per param and logs the values, so
-    every node documents and reads its params the same way.
-    """
-    values = {name: rospy.get_param(namespace + name, default) for name, default in defaults.items()}
-    missing = sorted(name for name, value in values.items() if value is REQUIRED)
-    if missing:
-        raise ValueError('%s not set (the launch files set %s; with rosrun give _%s:=...)'
-                         % (', '.join(namespace + name for name in missing),
-                            'them' if len(missing) > 1 else 'it', missing[0]))
-    rospy.loginfo('%s params%s: %s', rospy.get_name(), '' if namespace == '~' else ' ' + namespace,
-                  ', '.join('%s=%r' % item for item in sorted(values.items())))
-    return type('Params', (object,), values)()
 
 
 def subscribe(topic, data_class, callback, callback_args=None, expected=None, **options):
@@ -66,35 +44,12 @@ def subscribe_checked(topic, data_class, callback, callback_args=None, **options
     return subscribe(topic, rospy.AnyMsg, on_raw, callback_args, expected, **options)
 
 
-def odom_state_from_msg(msg):
-    """OdomState from nav_msgs/Odometry; ValueError if the pose is NaN or the quaternion null."""
-    pose, twist = msg.pose.pose, msg.twist.twist
-    q = pose.orientation
-    yaw = yaw_from_quaternion(q.x, q.y, q.z, q.w)
-    values = (pose.position.x, pose.position.y, twist.linear.x, twist.angular.z)
-    if not all(math.isfinite(v) for v in values):
-        raise ValueError('non-finite odometry (x, y, v, w) = %r' % (values,))
-    return OdomState(pose.position.x, pose.position.y, yaw, twist.linear.x,
-                     twist.angular.z, msg.header.stamp.to_sec())
-
-
 def twist(v=0.0, w=0.0):
     """geometry_msgs/Twist with linear.x = v and angular.z = w."""
     msg = Twist()
     msg.linear.x = v
     msg.angular.z = w
     return msg
-
-
-def start_node(name, node_class, *args):
-    """``rospy.init_node(name)`` then ``node_class(*args)``; a ValueError from the
-    constructor (a bad param) is logged as fatal and exits with status 1."""
-    rospy.init_node(name)
-    try:
-        return node_class(*args)
-    except ValueError as error:
-        rospy.logfatal('%s: %s', rospy.get_name(), error)
-        raise SystemExit(1)
 
 
 def ros_home_file(relative):

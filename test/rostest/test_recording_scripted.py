@@ -187,7 +187,7 @@ class CompareTest(RecordingTestBase):
         return samples, finals
 
     def test_sample_stream_follows_the_core_model(self):
-        # The core sampling rule (core/segment.SamplingSchedule, as core/recorder.record_path
+        # The core sampling rule (core/segment.SamplingSchedule, as test/unit/unicycle.record_path
         # runs it) on the scripted truth, sample by sample: each tick comes its period after
         # the previous one, reads the true yaw, and the next period is the core classifier's
         # on the yaws read. A tick may be late by TICK_JITTER (scheduling), so the yaw it

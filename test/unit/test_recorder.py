@@ -10,11 +10,12 @@ import pytest
 from blind_navigation.core.geometry import OdomState, distance, wrap_angle
 from blind_navigation.core.recorder import (ASSUMED_BYTES_PER_MINUTE, LOW_SPACE_MINUTES, RATE_WINDOW,
                                            OdometryHistory, PathRecorder, SpaceWatch, free_bytes,
-                                           record_path, recording_rate, space_warning, storage_usage)
+                                           recording_rate, space_warning, storage_usage)
 from blind_navigation.core.segment import SamplingSchedule
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
 from scripted_path import ASV, LSV, STRAIGHT_ARC_STRAIGHT, ScriptedPath  # noqa: E402
+from unicycle import record_path  # noqa: E402
 
 STRAIGHT_T, CURVED_T = 2.0, 1.0
 

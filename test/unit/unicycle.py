@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.geometry import OdomState, Pose2D, wrap_angle
-from blind_navigation.core.recorder import PathRecorder, record_path
+from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.segment import SamplingSchedule
 from blind_navigation.sim.kobuki import CMD_TIMEOUT, SimulatedKobuki, arc_motion, load_profile
 
@@ -142,3 +142,29 @@ def run_controllers(robot, controllers, dt=DT, limit=10000):
             robot.move(v, w, dt)
         assert controller.done, 'controller %r did not finish' % controller
     return controllers
+
+
+def record_path(odom_at, duration, schedule, recorder=None):
+    """Plain-Python run of the sampling publisher and saver over a known path.
+
+    ``odom_at(t)`` gives the OdomState ``t`` s after recording started;
+    ``schedule`` is a :class:`~.segment.SamplingSchedule`. As in the nodes,
+    the start yaw is the schedule's first yaw, each tick feeds the schedule
+    its yaw, the next period comes from the schedule, and at ``duration``
+    (vision lost) a final landmark covers the partial cycle since the last
+    tick. Returns ``[(tick time, Landmark), ...]``.
+    """
+    recorder = recorder or PathRecorder()
+    start = odom_at(0.0)
+    recorder.start(start)
+    period = schedule.update(start.yaw)
+    t, ticks = 0.0, []
+    while t + period <= duration + 1e-9:
+        t += period
+        odom = odom_at(t)
+        ticks.append((t, recorder.take(odom, odom.yaw, period)))
+        period = schedule.update(odom.yaw)
+    if duration - t > 1e-9:
+        odom = odom_at(duration)
+        ticks.append((duration, recorder.take(odom, odom.yaw, duration - t)))
+    return ticks

@@ -16,7 +16,8 @@ from std_msgs.msg import String
 
 from blind_navigation.sim.mux import IDLE, TURTLEBOT_INPUTS, CmdVelMux, inputs_from_list
 from blind_navigation.ros.clock import every
-from blind_navigation.ros.common import load_params, shutting_down, subscribe
+from blind_navigation.ros.common import shutting_down, subscribe
+from blind_navigation.sim.node_common import load_params
 
 
 class CmdVelMuxNode(object):

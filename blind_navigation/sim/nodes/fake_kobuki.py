@@ -65,7 +65,8 @@ from blind_navigation.sim.dock import bumper_bits, charger_state, dock_from_spec
 from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, CommandLag, load_profile
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
-from blind_navigation.ros.common import load_params, set_pose, subscribe
+from blind_navigation.ros.common import set_pose, subscribe
+from blind_navigation.sim.node_common import load_params
 
 DBL_MAX = sys.float_info.max
 #: Hz of mobile_base/sensors/core (the Kobuki streams it at 50 Hz; 10 Hz spares the CPU at a high

@@ -22,7 +22,8 @@ from blind_navigation import names
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.odom_info import OdomInfo
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
-from blind_navigation.ros.common import load_params, shutting_down, set_pose, subscribe
+from blind_navigation.ros.common import shutting_down, set_pose, subscribe
+from blind_navigation.sim.node_common import load_params
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 MODES = ('dark', 'stall', 'lost')

@@ -19,7 +19,8 @@ from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.sim.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
 from blind_navigation.ros.clock import LoopClock
-from blind_navigation.ros.common import load_params, odom_state_from_msg, subscribe, twist
+from blind_navigation.ros.common import subscribe, twist
+from blind_navigation.sim.node_common import load_params, odom_state_from_msg
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 STOP_MESSAGES = 3
