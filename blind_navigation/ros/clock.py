@@ -1,10 +1,9 @@
 """ROS time that moves back, and loops and timers that go on across it.
 
-:class:`LoopClock` (``sleep``, ``rate``, ``wait``) sleeps as rospy does, but a jump back
-(a restarted simulator's ``/clock``) ends the sleep early and is returned and warned,
-never raised; :func:`every` and :func:`after` are timers on it (a daemon thread each);
-:func:`on_moved_back` calls back once per jump (docs/safety.md, "Time that moves back");
-:func:`action_server`: an actionlib server without actionlib's status timer.
+:class:`LoopClock` (``sleep``, ``rate``) sleeps as rospy does, but a jump back (a
+restarted simulator's ``/clock``) ends the sleep early and is returned and warned, never
+raised (docs/safety.md, "Time that moves back"); :func:`every`: a timer on it (a daemon
+thread); :func:`action_server`: an actionlib server without actionlib's status timer.
 """
 import threading
 import time
@@ -21,37 +20,6 @@ def describe(jump, before, now):
     """The words every warning and abort uses for a jump back of ``jump`` s."""
     return ('the ROS time moved back %.3f s (from %.3f s to %.3f s: a restarted simulator, or '
             'a clock set back?)' % (jump, before, now))
-
-
-class _ProcessClock(object):
-    """The newest ROS time any loop of this process saw, and the jump listeners."""
-
-    def __init__(self):
-        self.lock = threading.Lock()
-        self.seen = None
-        self.listeners = []
-
-    def look(self):
-        """rospy.get_time(); if it went back, tells each listener in a thread of its own
-        (the looking loop may hold a lock the listener takes)."""
-        with self.lock:
-            now = rospy.get_time()
-            before, self.seen = self.seen, now
-            listeners = list(self.listeners) if before is not None and now < before else []
-        for callback in listeners:
-            threading.Thread(target=callback, args=(before - now, before, now),
-                             name='clock moved back', daemon=True).start()
-        return now
-
-
-_PROCESS = _ProcessClock()
-
-
-def on_moved_back(callback):
-    """Call ``callback(jump, before, now)`` (s) once for every jump back of the ROS time
-    that a loop of this process notices (they all look at least once a second)."""
-    with _PROCESS.lock:
-        _PROCESS.listeners.append(callback)
 
 
 class LoopClock(object):
@@ -73,7 +41,7 @@ class LoopClock(object):
 
     def _look(self):
         """(now, s the time moved back since the last look: 0.0 if it did not)."""
-        now = _PROCESS.look()
+        now = rospy.get_time()
         before, self._seen = self._seen, now
         if before is None or now >= before:
             return now, 0.0
@@ -98,16 +66,6 @@ class LoopClock(object):
         except rospy.ROSTimeMovedBackwardsException:
             pass                    # measured from the last look, just below
         return jump + self._look()[1]
-
-    def wait(self, seconds):
-        """Sleep until ``seconds`` of ROS time passed on this clock; the time a sleep
-        ran before a jump back (unmeasured) does not count."""
-        left, start = seconds, self.now()
-        while left > 0:
-            jump = self.sleep(left)
-            now, later = self._look()
-            left -= now - start + jump + later
-            start = now
 
     def rate(self, hz):
         """A :class:`Rate` of ``hz`` on this clock."""
@@ -138,22 +96,15 @@ def every(period, callback, loop, log=None):
 
     def run():
         rate = LoopClock(loop, log).rate(1.0 / period)
-        while not stop.is_set() and not rospy.is_shutdown():
-            rate.sleep()
-            if not stop.is_set():
-                callback()
-    threading.Thread(target=_until_shutdown(run), name=loop, daemon=True).start()
+        try:
+            while not stop.is_set() and not rospy.is_shutdown():
+                rate.sleep()
+                if not stop.is_set():
+                    callback()
+        except rospy.ROSInterruptException:
+            pass                    # a sleep at shutdown
+    threading.Thread(target=run, name=loop, daemon=True).start()
     return stop
-
-
-def after(seconds, callback, loop, log=None):
-    """Call ``callback()`` once, ``seconds`` of ROS time from now (:meth:`LoopClock.wait`),
-    in a daemon thread named ``loop``; not at all if the node shuts down first."""
-    def run():
-        LoopClock(loop, log).wait(seconds)
-        if not rospy.is_shutdown():
-            callback()
-    threading.Thread(target=_until_shutdown(run), name=loop, daemon=True).start()
 
 
 def action_server(name, action, guard, on_goal, on_cancel=None, status_period=None, log=None):
@@ -170,12 +121,3 @@ def action_server(name, action, guard, on_goal, on_cancel=None, status_period=No
         every(status_period, guard(server.publish_status), 'action status', log)
     return server
 
-
-def _until_shutdown(run):
-    """``run`` that ends quietly when a sleep raises at shutdown."""
-    def target():
-        try:
-            run()
-        except rospy.ROSInterruptException:
-            pass
-    return target

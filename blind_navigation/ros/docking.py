@@ -19,13 +19,6 @@ from ..core.docking import DockingResult
 from . import kobuki_msgs_compat as kobuki
 
 
-def server_found(client):
-    """Whether ``client``'s (an actionlib.SimpleActionClient) server is connected now: one
-    look, no wait (a deadline already past at ROS time 0; a zero timeout would wait forever)."""
-    now = rospy.get_rostime()
-    return not now.is_zero() and client.wait_for_server(rospy.Duration(-now.secs, -now.nsecs))
-
-
 class DockingClient(object):
     """The docking goal of one owner; ``inbox``: its Inbox; ``takeover``: its TakeoverWatch."""
 
@@ -41,8 +34,9 @@ class DockingClient(object):
 
     def start(self):
         """Send the docking goal; without the auto-docking server the mission hears why not
-        (its Inbox), at once."""
-        if not server_found(self.client):
+        (its Inbox), at once (one look: a deadline already past; a zero timeout waits forever)."""
+        now = rospy.get_rostime()
+        if now.is_zero() or not self.client.wait_for_server(rospy.Duration(-now.secs, -now.nsecs)):
             self.inbox.put(docking=DockingResult(False, 'no auto-docking action server on %s' %
                                                  rospy.resolve_name(names.DOCK_DRIVE)))
             return

@@ -71,21 +71,10 @@ def code_of(fault):
         return _codes.get(fault, outcome.ROLE_FAILURE)
 
 
-def fault():
-    """The first fault declared, None while there is none."""
-    with _lock:
-        return next(iter(_faults.values()), None)
-
-
 def faulty():
     """True once a fault was declared (read without the lock: a velocity output asks it
     at every command)."""
     return bool(_faults)
-
-
-def describe(role, error):
-    """The reason a failure of ``role`` gives, naming the exception's type and message."""
-    return '%s failed: %s: %s' % (role, type(error).__name__, error)
 
 
 class Faults(object):
@@ -121,7 +110,7 @@ class Faults(object):
         """``role`` failed with ``error`` (an exception, in its ``except`` block: its
         traceback is logged) at ``place`` (where, e.g. a method's name): declare it,
         log it, diagnose it (module docstring)."""
-        reason = describe(role, error)
+        reason = '%s failed: %s: %s' % (role, type(error).__name__, error)
         now = time.monotonic()
         with self._lock:
             last = self._logged.get((role, place))

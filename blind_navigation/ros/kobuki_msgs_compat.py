@@ -90,8 +90,3 @@ AutoDockingAction = _CLASSES['AutoDockingAction']
 AutoDockingGoal = _CLASSES['AutoDockingGoal']
 AutoDockingResult = _CLASSES['AutoDockingResult']
 AutoDockingFeedback = _CLASSES['AutoDockingFeedback']
-
-#: Kobuki sensor names (sim/arena.py) -> message index constants.
-BUMPER_INDEX = {'left': 0, 'center': 1, 'right': 2}
-CLIFF_INDEX = {'left': 0, 'center': 1, 'right': 2}
-WHEEL_INDEX = {'left': 0, 'right': 1}

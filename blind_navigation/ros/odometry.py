@@ -3,24 +3,25 @@
 :class:`OdometryFeed` reads raw nav_msgs/Odometry bytes (core/odometry_wire.py) while a
 role holds it, behind the plausibility gate; carries resets across (docs/safety.md,
 "Odometry resets"); keeps a history (``state_at``); takes each message as it arrives; gives the corrected
-frame once the heading correction is set (docs/recording.md, "Saving").
+frame once the heading correction is set (docs/recording.md, "Saving"); shares a reset's
+frame, latched, with the other processes' feeds, which adopt it (docs/safety.md).
 """
 import threading
 import time
 
 import rospy
+from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry
 from rospy.rostime import is_wallclock
 
+from ..core.geometry import yaw_from_quaternion
 from ..core.heading_correction import CorrectedOdometry
-from ..core.odometry_reset import ResetCarrier
+from ..core.odometry_reset import Frame, ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
-from .clock import LoopClock
 from . import subscription_watchdog
-from .common import subscribe
-from .shared_frame import SharedFrame
+from .common import set_pose, subscribe
 from .wiring import Expected
 
 #: No receive queue limit. rospy reads a subscription's socket in chunks of up to
@@ -55,7 +56,7 @@ class OdometryFeed(object):
         self.frame_id = 'odom'
         self._lock = threading.Condition()
         self._holders = set()
-        self._waiting = 0           # threads in state_at(wait=): notified at each state taken
+        self._waiting = 0           # threads in state_at(wait=) or wait_fresh: notified per state
         self.carrier_lock = threading.Lock()   # held while a message is taken
         self._subscriber = None
         self._subscribed_at = None  # rospy time (s) the current subscription began
@@ -66,8 +67,10 @@ class OdometryFeed(object):
         self._corrector = None
         self.refused = 0            # messages not used (invalid or implausible)
         self._new_subscription = False
-        # a reset's frame shared with the other nodes' feeds
-        self._shared = SharedFrame(self, frame_topic, guard) if checked and frame_topic else None
+        self._frame_pub = None      # a reset's frame shared with the other nodes' feeds
+        if checked and frame_topic:
+            self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
+            subscribe(frame_topic, PoseStamped, guard(self._on_frame) if guard else self._on_frame)
 
     # --- subscription --------------------------------------------------------------------------
     def acquire(self, holder):
@@ -113,25 +116,39 @@ class OdometryFeed(object):
         frame, tell the listeners."""
         trusted = reset.frame is not None
         (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
-        if trusted and self._shared is not None:
-            self._shared.publish()
+        if trusted and self._frame_pub is not None:
+            msg = PoseStamped()
+            msg.header.stamp = rospy.Time.from_sec(self.carrier.reset_stamp)
+            msg.header.frame_id = self.frame_id
+            set_pose(msg.pose, *self.carrier.frame)
+            self._frame_pub.publish(msg)
         for callback in list(self._reanchor_listeners):
             callback(reset.reason, trusted)
 
-    def clear_history(self):
-        """Forget the states kept (they are in another frame)."""
-        with self._lock:
-            self._states.clear()
+    def _on_frame(self, msg):
+        """Another node's feed carried a reset across: take its frame unless this one did."""
+        q = msg.pose.orientation
+        frame = Frame(msg.pose.position.x, msg.pose.position.y, yaw_from_quaternion(q.x, q.y, q.z, q.w))
+        with self.carrier_lock:
+            taken = self.carrier.adopt(frame, msg.header.stamp.to_sec())
+            if taken == 'restart':
+                with self._lock:    # taken in the odometry's new frame as it came
+                    self._states.clear()
+        if taken:
+            rospy.logwarn('%s: odometry on %s: the frame %s carried a reset at %.3f s across with: '
+                          '(%.3f, %.3f, %.3f)', rospy.get_name(), rospy.resolve_name(self.topic),
+                          msg._connection_header.get('callerid', '?'), msg.header.stamp.to_sec(),
+                          *frame)
 
     def remove_listener(self, callback):
         with self._lock:
-            self._listeners = _without(self._listeners, callback)
-            self._raw_listeners = _without(self._raw_listeners, callback)
+            self._listeners = tuple(c for c in self._listeners if c != callback)
+            self._raw_listeners = tuple(c for c in self._raw_listeners if c != callback)
 
     # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
         if self.expected.accepts(self.topic, msg._connection_header):
-            with self.carrier_lock:     # a frame adopted meanwhile waits (ros/shared_frame.py)
+            with self.carrier_lock:     # a frame adopted meanwhile waits (_on_frame)
                 self._take(msg._buff)
         # else another type on this connection: refused (ros/wiring.py)
 
@@ -233,17 +250,13 @@ class OdometryFeed(object):
         return state._replace(stamp=now)
 
     def wait_fresh(self, timeout, wait=0.0):
-        """:meth:`fresh`, waiting at most ``wait`` s (ROS time, moving back with it:
-        ros/clock.py) for it; None after that or at shutdown."""
-        clock, state = LoopClock('waiting for odometry'), self.fresh(timeout)
-        deadline = clock.now() + wait
-        try:
-            while state is None and rospy.get_time() < deadline and not rospy.is_shutdown():
-                deadline -= clock.sleep(0.02)
-                state = self.fresh(timeout)
-        except rospy.ROSInterruptException:
-            return None
-        return state
+        """:meth:`fresh`, waiting at most ``wait`` s (wall) for a state to arrive; None after that."""
+        with self._lock:
+            self._waiting += 1
+            try:
+                return self._lock.wait_for(lambda: self.fresh(timeout), timeout=wait)
+            finally:
+                self._waiting -= 1
 
     def describe_missing(self, timeout):
         """Why :meth:`fresh` returned None, for logs and results."""
@@ -263,15 +276,3 @@ class OdometryFeed(object):
             self._corrector = None if correction is None else CorrectedOdometry.started(
                 correction, reference, self._states.latest)
             self.lost = None if correction is None else self.lost
-
-    @property
-    def corrected(self):
-        return self._corrector is not None
-
-
-def _without(callbacks, callback):
-    """The tuple ``callbacks`` without the first occurrence of ``callback``."""
-    if callback not in callbacks:
-        return callbacks
-    index = callbacks.index(callback)
-    return callbacks[:index] + callbacks[index + 1:]

@@ -25,7 +25,6 @@ class TakeoverWatch(object):
 
     def __init__(self, params, guard):
         self._takeover = Takeover(params)
-        self.policy = self._takeover.policy
         self._lock = threading.Lock()
         self._own = set(rospy.resolve_name(node) for node in LAYER_NODES) | {rospy.get_name()}
         self._base = True           # the mux output is read (not while docking)

@@ -41,8 +41,7 @@ class VisionMonitor(object):
     def __init__(self, layer):
         p = self.params = layer.params(self.ROLE, self.SCHEMA)
         self.log = layer.logger(self.ROLE)
-        enabled = set(p.detectors)
-        self.enabled = enabled
+        self.enabled = enabled = set(p.detectors)
         self.layer = layer
         self.lock = threading.Lock()
         self.done = False

@@ -69,6 +69,10 @@ from blind_navigation.ros.common import set_pose, subscribe
 from blind_navigation.sim.node_common import load_params
 
 DBL_MAX = sys.float_info.max
+#: Kobuki sensor names (sim/arena.py) -> kobuki_msgs' index constants.
+BUMPER_INDEX = {'left': 0, 'center': 1, 'right': 2}
+CLIFF_INDEX = {'left': 0, 'center': 1, 'right': 2}
+WHEEL_INDEX = {'left': 0, 'right': 1}
 #: Hz of mobile_base/sensors/core (the Kobuki streams it at 50 Hz; 10 Hz spares the CPU at a high
 #: rtf and is enough for the battery: the layer's watch debounces over seconds, core/battery.py)
 CORE_RATE = 10.0
@@ -304,9 +308,9 @@ class FakeKobuki(object):
         old, new = self._contacts, self.base.contacts
         if new is None or old == new:
             return
-        specs = (('bumper', kobuki_msgs.BumperEvent, kobuki_msgs.BUMPER_INDEX, 'bumper'),
-                 ('cliff', kobuki_msgs.CliffEvent, kobuki_msgs.CLIFF_INDEX, 'sensor'),
-                 ('wheel_drop', kobuki_msgs.WheelDropEvent, kobuki_msgs.WHEEL_INDEX, 'wheel'))
+        specs = (('bumper', kobuki_msgs.BumperEvent, BUMPER_INDEX, 'bumper'),
+                 ('cliff', kobuki_msgs.CliffEvent, CLIFF_INDEX, 'sensor'),
+                 ('wheel_drop', kobuki_msgs.WheelDropEvent, WHEEL_INDEX, 'wheel'))
         for field, cls, index, slot in specs:
             before, after = getattr(old, field), getattr(new, field)
             for name in sorted(before ^ after):
