@@ -3,7 +3,7 @@
 Callbacks (odometry, visual odometry, vision, safety, takeover, resets, the clock) only
 put observations into an :class:`Inbox`; the loop steps the mission once per odometry
 state (or once a control period without one) and publishes its command, state, status
-and storage (paths, correction, progress: ros/mission_outputs.py). The services ask the
+and storage (paths, correction, progress, replies: ros/mission_outputs.py). The services ask the
 mission under its lock: blind_navigation.launch's one process (docs/DESIGN.md).
 """
 import os
@@ -32,11 +32,10 @@ from blind_navigation.ros.heading_correction import (calibration_file, calibrati
                                                     scale_prior, vo_status)
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.layer import MISSION_ID
-from blind_navigation.ros.mission_diagnostics import file_status, mission_summary, odometry_status
-from blind_navigation.ros.mission_outputs import MissionOutputs
+from blind_navigation.ros.mission_outputs import (CANCELLED, GO_HOME_DONE, MissionOutputs, file_status,
+                                                  mission_summary, new_mission_done, odometry_status,
+                                                  reply)
 from blind_navigation.ros.mission_store import FileStore
-from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
-                                                      reply)
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.owner_paper_names import PaperNames
 from blind_navigation.ros import faults
@@ -292,8 +291,11 @@ class MissionOwner(object):
         """A fault of this process (the loop's own included: it has ended): ``aborted``
         naming it, announced from the reporting thread; every output is zero for good."""
         with self.lock:
-            self.mission.cancel(reason, faults.code_of(reason))
-            self._announce()
+            self._cancel(reason, faults.code_of(reason))
+
+    def _cancel(self, reason, code):
+        self.mission.cancel(reason, code)
+        self._announce()
 
     def _on_shutdown(self):
         if self.docking is not None:
@@ -304,13 +306,15 @@ class MissionOwner(object):
 
     def _add_diagnostics(self, settings):
         """The mission's statuses and, as the paper layout's roles name them, the odometry's,
-        the landmark file's and the heading correction's (ros/mission_diagnostics.py,
+        the landmark file's and the heading correction's (ros/mission_outputs.py,
         ros/heading_correction.py)."""
         add, client = self.layer.diagnostics.add, settings['limits']
         add('mission', self._diagnose)
         add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
                                                      client.odom_timeout))
         add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
+        if not self.RECORDS:    # the paper layout's saver and heading_correction report the rest
+            return
         add('recording', lambda stat: self.store.status(stat, self.mission.phase != RECORDING))
         if not settings['heading_correction']:
             return

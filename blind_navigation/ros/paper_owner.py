@@ -21,7 +21,6 @@ from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.ros import faults
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
-from blind_navigation.ros.mission_diagnostics import file_status, odometry_status
 from blind_navigation.ros.mission_owner import MissionOwner
 from blind_navigation.ros.paper_adapter import (RemoteGoals, RemoteRecording, RemoteTurn,
                                                 subscribe_correction, subscribe_failures, write_loss)
@@ -63,9 +62,6 @@ class SaverFile(object):
 
     def loss(self):
         return self.losses(self.path)
-
-    def note_gap(self, reason):
-        """The saver notes it."""
 
     def warning(self):
         return self.damage
@@ -130,8 +126,7 @@ class PaperOwner(MissionOwner):
                 outcome.TURN if not safety else outcome.CONTACTS if is_contact(safety) else
                 outcome.SAFETY_EVENT)
             if self.mission.phase != TURN and not ok:
-                self.mission.cancel(result.reason, result.cause)
-                self._announce()
+                self._cancel(result.reason, result.cause)
             elif self.mission.phase != TURN:
                 self.log.error('rotation_done true refused: the pi turn has not begun (the recording goes on)')
             else:
@@ -186,10 +181,6 @@ class PaperOwner(MissionOwner):
         m.configure_return(mode=response.control, planned=planned)   # the route planned once
         return None
 
-    def _cancel(self, reason, code):
-        self.mission.cancel(reason, code)
-        self._announce()
-
     def _announce(self):
         super(PaperOwner, self)._announce()
         if self.mission.state in state.TERMINAL:
@@ -198,11 +189,3 @@ class PaperOwner(MissionOwner):
     def _on_shutdown(self):
         self.remote_goals.cancel()
         super(PaperOwner, self)._on_shutdown()
-
-    def _add_diagnostics(self, settings):
-        add = self.layer.diagnostics.add
-        add('mission', self._diagnose)
-        add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
-                                                     self.params.odom_timeout))
-        add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
-
