@@ -22,30 +22,16 @@ from blind_navigation.ros.heading_correction import correction_message
 from blind_navigation.ros.landmark_saving import path_message
 from blind_navigation.ros.return_paths import ReturnPaths
 
-#: The answers of an acknowledged ``go_home`` (% the state) and ``cancel``.
-GO_HOME_DONE = 'returning home: the mission is %s'
-CANCELLED = 'stopped: the mission is aborted (%s)' % state.CANCELLED
-
-
-def caller(request):
-    """The node that called a service (its connection header's callerid), or '?'."""
-    return request._connection_header.get('callerid', '?')
-
 
 def reply(log, request, what, refusal, done):
     """The Trigger response of the service ``what``: refused for ``refusal`` (WARN), else
     acknowledged with ``done`` (INFO); the log names the caller. Every mission owner's."""
+    caller = request._connection_header.get('callerid', '?')
     if refusal is not None:
-        log.warn('%s from %s %s', what, caller(request), refusal)
+        log.warn('%s from %s %s', what, caller, refusal)
         return TriggerResponse(success=False, message=refusal)
-    log.info('%s from %s: %s', what, caller(request), done)
+    log.info('%s from %s: %s', what, caller, done)
     return TriggerResponse(success=True, message=done)
-
-
-def new_mission_done(number, landmark_file):
-    """The answer of an acknowledged ``new_mission``: mission ``number``'s file."""
-    return ('mission %d: idle; recording into a new file behind %s from the first landmark'
-            % (number, landmark_file))
 
 
 def mission_summary(stat, current, reason, warnings=''):

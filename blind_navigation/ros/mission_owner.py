@@ -32,9 +32,8 @@ from blind_navigation.ros.heading_correction import (calibration_file, calibrati
                                                     scale_prior, vo_status)
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.layer import MISSION_ID
-from blind_navigation.ros.mission_outputs import (CANCELLED, GO_HOME_DONE, MissionOutputs, file_status,
-                                                  mission_summary, new_mission_done, odometry_status,
-                                                  reply)
+from blind_navigation.ros.mission_outputs import (MissionOutputs, file_status, mission_summary,
+                                                  odometry_status, reply)
 from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.owner_paper_names import PaperNames
@@ -171,14 +170,13 @@ class MissionOwner(object):
         guard, layer, inbox = self.guard, self.layer, self.inbox
         layer.odometry.acquire(self.ROLE)
         layer.odometry.add_listener(guard(self._on_odom))
-        layer.visual_odometry.acquire(self.ROLE)
-        layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
-        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)),
-                  queue_size=1)
-        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)),
-                  queue_size=5)
+        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)), queue_size=1)
+        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)), queue_size=5)
         faults.on_fault(self._on_fault)
-        subscribe_battery(self.mission.config.battery_low, inbox, guard, self.log)
+        if self.RECORDS:        # the recording's visual odometry, the battery watch: this process's
+            layer.visual_odometry.acquire(self.ROLE)
+            layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
+            subscribe_battery(self.mission.config.battery_low, inbox, guard, self.log)
 
     def _on_odom(self, odom):
         """A state; the feed's frame newly lost (an untrusted reset) comes in with it."""
@@ -345,7 +343,7 @@ class MissionOwner(object):
                 self.stepped.wait_for(lambda: 'go_home' not in self.mission.requests,
                                       self.params.server_timeout)
             current = self.mission.state
-        return reply(self.log, request, 'go_home', refusal, GO_HOME_DONE % current)
+        return reply(self.log, request, 'go_home', refusal, 'returning home: the mission is %s' % current)
 
     def _on_cancel(self, request):
         with self.lock:
@@ -354,7 +352,8 @@ class MissionOwner(object):
                 for output in self.drivers.values():
                     output.halt(state.CANCELLED)
                 self._announce()
-        return reply(self.log, request, 'cancel', refusal, CANCELLED)
+        return reply(self.log, request, 'cancel', refusal,
+                     'stopped: the mission is aborted (%s)' % state.CANCELLED)
 
     def _on_new_mission(self, request):
         with self.lock:
@@ -367,5 +366,6 @@ class MissionOwner(object):
                 self.vo_since = rospy.get_time()
                 self.outputs.new_mission()
                 self._announce()
-        return reply(self.log, request, 'new_mission', refusal, new_mission_done(
-            mission_number(self.layer.current_mission_id()), self.landmark_file))
+        return reply(self.log, request, 'new_mission', refusal, 'mission %d: idle; recording into a '
+                     'new file behind %s from the first landmark' % (
+                         mission_number(self.layer.current_mission_id()), self.landmark_file))

@@ -6,9 +6,6 @@ docs/DESIGN.md, "The paper's layout".
 import os
 from types import SimpleNamespace
 
-from std_msgs.msg import Empty, String
-
-from blind_navigation import names
 from blind_navigation.core import drive, mission_state as state, outcome
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import Limits
@@ -18,8 +15,6 @@ from blind_navigation.core.return_plan import damage_warning, plan_return, recor
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER
 from blind_navigation.core.safety import is_contact
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
-from blind_navigation.ros import faults
-from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.mission_owner import MissionOwner
 from blind_navigation.ros.paper_adapter import (RemoteGoals, RemoteRecording, RemoteTurn,
@@ -86,17 +81,12 @@ class PaperOwner(MissionOwner):
                          Limits(self.params.max_v, self.params.max_w))
 
     def _subscribe(self):
-        guard, inbox = self.guard, self.inbox
-        self.layer.odometry.acquire(self.ROLE)
-        self.layer.odometry.add_listener(guard(self._on_odom))
-        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)), queue_size=1)
-        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)), queue_size=5)
-        faults.on_fault(self._on_fault)
-        subscribe_failures(guard, self._on_fault)
-        self.reports = RemoteRecording(guard, self._on_storage)
-        self.remote_turn = RemoteTurn(guard, self._on_rotation_done)
+        super(PaperOwner, self)._subscribe()
+        subscribe_failures(self.guard, self._on_fault)
+        self.reports = RemoteRecording(self.guard, self._on_storage)
+        self.remote_turn = RemoteTurn(self.guard, self._on_rotation_done)
         if self.mission.config.heading_correction:
-            subscribe_correction(guard, self._on_correction)
+            subscribe_correction(self.guard, self._on_correction)
 
     # --- the other nodes ---------------------------------------------------------------------
     def _on_storage(self, msg):
@@ -111,7 +101,7 @@ class PaperOwner(MissionOwner):
     def _on_correction(self, correction):
         with self.lock:
             if self.mission.state == state.ROTATING:
-                self.mission.config.remote.correction = correction
+                self.mission.config.remote.measured = correction
 
     def _on_rotation_done(self, ok):
         """rotate_pi's end of the turn: the mission's turn takes it (a failed one ends the
