@@ -9,7 +9,7 @@ from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import home_check
 from .drive import DriveCycle
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
-from .mission_limits import limit_params, rotation_timeout
+from .mission_limits import rotation_timeout
 from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
 from .rotation import Rotation, turn_problem
 
@@ -43,9 +43,7 @@ class TurnDrive(object):
 
     def __init__(self, params, feed, odom, config, clock):
         self.rotation, self.feed, self.tolerance = Rotation(params), feed, config.turn_tolerance
-        self.clock, self.timeout = clock, rotation_timeout(
-            config.standstill, limit_params(config.limits or params).rotation_margin,
-            config.vision_back_grace)
+        self.clock, self.timeout = clock, rotation_timeout(params, config)
         self.cycle = DriveCycle(params, hold=self.rotation.hold)
         self.rotation.start(odom)
         self.start_yaw, self.yaw = odom.yaw, odom.yaw

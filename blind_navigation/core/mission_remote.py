@@ -9,7 +9,7 @@ from .battery import BatteryWatch
 from .drive import DriveCycle
 from .heading_correction import no_correction
 from .mission_drive import DONE, FAILED
-from .mission_limits import limit_params, rotation_timeout
+from .mission_limits import rotation_timeout
 from .rotation import turn_problem
 
 
@@ -77,8 +77,7 @@ class RemoteTurn(object):
 
     def __init__(self, remote, params, feed, odom, config, clock):
         self.remote, self.feed, self.clock, self.tolerance = remote, feed, clock, config.turn_tolerance
-        self.timeout = rotation_timeout(config.standstill, limit_params(config.limits or params)
-                                        .rotation_margin, config.vision_back_grace)
+        self.timeout = rotation_timeout(params, config)
         self.cycle = DriveCycle(params)
         self.start_yaw = self.yaw = odom.yaw
         self.phase, self.reason, self.code = 'turn', '', outcome.NONE
