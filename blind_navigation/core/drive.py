@@ -1,10 +1,6 @@
-"""The drive loop's logic without ROS: typed outcomes, the behaviour API, one cycle.
-
-A :class:`Behaviour` (the pi turn, a back-travel goal, a calibration spin) has
-``start``, ``step(odom, now)`` -> ``(v, w)`` or an :class:`Outcome`, ``end`` and ``hold``.
-:class:`DriveCycle` decides each cycle: the behaviour's end, a safety stop, a cancel, the
-mission leaving its state, the odometry grace. Run by ros/drive_loop.DriveLoop
-(docs/back_travel.md, "The drive loop").
+"""How a drive ends (typed :class:`Outcome`) and each cycle's odometry check of a drive
+(:class:`DriveCycle`: fresh, held within the grace, or lost). Used by core/mission_drive's
+drives and ros/drive_node.DriveNode (docs/back_travel.md, "The drive loop").
 """
 import collections
 
@@ -38,48 +34,17 @@ class Outcome(collections.namedtuple('Outcome', 'kind reason code', defaults=(ou
         return self.code or KIND_CODES[self.kind]
 
 
-class Behaviour(object):
-    """What the drive loop drives (module docstring); subclasses override ``step``."""
-
-    def start(self, odom):
-        """The loop starts from ``odom`` (fresh odometry)."""
-
-    def end(self):
-        """An Outcome once the behaviour is over before a cycle, else None."""
-        return None
-
-    def hold(self, seconds):
-        """The robot was held still ``seconds`` for stale odometry."""
-
-    def resumed(self, seconds):
-        """A pause of ``seconds`` (a takeover, a bumper contact) ended; the robot may have moved."""
-        self.hold(seconds)
-
-    def step(self, odom, now):
-        raise NotImplementedError
-
-
 class DriveCycle(object):
-    """One cycle's decision for ``behaviour``; ``grace_params`` (odom_timeout,
-    odom_grace) or None: stale odometry ends the behaviour at once."""
+    """One cycle's odometry check of a drive; ``grace_params`` (odom_timeout, odom_grace) or
+    None: stale odometry ends the drive at once; ``hold(seconds)``: told each hold's length."""
 
-    def __init__(self, behaviour, grace_params=None, odom_timeout=None):
-        self.behaviour = behaviour
+    def __init__(self, grace_params=None, odom_timeout=None, hold=None):
         self.grace = OdomGrace(grace_params) if grace_params is not None else None
-        self.odom_timeout = odom_timeout
+        self.odom_timeout, self.hold = odom_timeout, hold or (lambda seconds: None)
 
-    def decide(self, now, odom_stamp, tripped=None, cancelled=False, inactive=None):
+    def decide(self, now, odom_stamp):
         """``(decision, message)``: an Outcome to end, HOLD (publish zero this cycle)
         or None (step); ``message``: an odometry hold started, ended or failed."""
-        end = self.behaviour.end()
-        if end is not None:
-            return end, None
-        if tripped:
-            return Outcome(SAFETY_STOP, tripped), None
-        if cancelled:
-            return Outcome(CANCELLED, 'cancelled'), None
-        if inactive:
-            return Outcome(PREEMPTED, inactive), None
         if self.grace is None:
             stale = odom_stamp is None or now - odom_stamp > self.odom_timeout
             return (Outcome(ODOMETRY_LOST, 'odometry stale'), None) if stale else (None, None)
@@ -90,5 +55,5 @@ class DriveCycle(object):
         if decision == HOLD:
             return HOLD, message
         if len(self.grace.holds) > held:
-            self.behaviour.hold(self.grace.holds[-1][1])   # held time is not driving time
+            self.hold(self.grace.holds[-1][1])   # held time is not driving time
         return None, message

@@ -11,7 +11,7 @@ import math
 from . import mission_state, outcome
 from .allowance import ABORT, HOLD
 from .back_travel import BACK_TRAVEL_DEFAULTS, stopped
-from .drive import Behaviour, DriveCycle
+from .drive import DriveCycle
 from .geometry import distance, wrap_angle
 from .mission_drive import ZERO, home_verdict
 from .mission_limits import PausedClock
@@ -54,7 +54,7 @@ class FinalApproach(object):
         self.clock = PausedClock(now)
         self.limit = _param(params, 'timeout_factor') * self.off(odom) / self.v + \
             _param(params, 'timeout_margin')
-        self.cycle = DriveCycle(Behaviour(), params)
+        self.cycle = DriveCycle(params)
         self.ended = ''             # why it stopped ('' while it drives)
 
     @classmethod

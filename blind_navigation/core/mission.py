@@ -201,7 +201,7 @@ class Mission(object):
         elif inputs.odom is not None:
             rec.feed(inputs.odom, inputs.visual)
             stored.extend(rec.step(inputs.odom, now))
-        if stored or getattr(rec, 'reported', False):
+        if stored or rec.reported:
             self._move(state.IDLE, state.RECORDING)
         why = _return_reason(now, inputs, self.recording.battery, self.requests)
         if why and self.state == state.RECORDING:

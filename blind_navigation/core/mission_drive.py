@@ -7,21 +7,14 @@ a drive (core/pause: Contacts, Takeover, PauseLog) and the home verdict. Used by
 from . import mission_state, outcome
 from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import home_check
-from .drive import Behaviour, DriveCycle
+from .drive import DriveCycle
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
-from .mission_limits import limit_params, rotation_timeout
+from .mission_limits import rotation_timeout
 from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
 from .rotation import Rotation, turn_problem
 
 ZERO = (0.0, 0.0)
 GOAL, HANDOVER, FINAL, DONE, FAILED = 'goal', 'hand-over', 'final hold', 'done', 'failed'
-
-
-class Held(Behaviour):
-    """What core/drive.DriveCycle tells a goal or the turn: held ``hold(seconds)`` for stale odometry."""
-
-    def __init__(self, hold=None):
-        self.hold = hold or (lambda seconds: None)
 
 
 def home_verdict(odom, route, goals, mode, tolerance, warning=''):
@@ -50,10 +43,8 @@ class TurnDrive(object):
 
     def __init__(self, params, feed, odom, config, clock):
         self.rotation, self.feed, self.tolerance = Rotation(params), feed, config.turn_tolerance
-        self.clock, self.timeout = clock, rotation_timeout(
-            config.standstill, limit_params(config.limits or params).rotation_margin,
-            config.vision_back_grace)
-        self.cycle = DriveCycle(Held(self.rotation.hold), params)
+        self.clock, self.timeout = clock, rotation_timeout(params, config)
+        self.cycle = DriveCycle(params, hold=self.rotation.hold)
         self.rotation.start(odom)
         self.start_yaw, self.yaw = odom.yaw, odom.yaw
         self.phase, self.reason, self.code = 'turn', '', outcome.NONE
@@ -177,7 +168,7 @@ class ReturnDrive(object):
         self.goal = make_goal(self.mode, self.goals[self.index][1], self.params, self.follower,
                               self.index, self.since)
         self.goal.start(self.latest())
-        self.cycle = DriveCycle(Held(self.goal.hold), self.params)
+        self.cycle = DriveCycle(self.params, hold=self.goal.hold)
 
     def _goal_done(self, now):
         self.index += 1
@@ -187,7 +178,7 @@ class ReturnDrive(object):
             return
         self.bridge = HandoverBridge(self.follower, self.follow, now) if bridges(
             self.mode, self.follower, self.index, len(self.goals), self.follow) else None
-        self.cycle = DriveCycle(Held(), self.params)     # the bridge's
+        self.cycle = DriveCycle(self.params)     # the bridge's
         self.since = self.follower.travelled if self.follower is not None and self.follower.started \
             else None
         self.phase = HANDOVER

@@ -23,10 +23,12 @@ def limit_params(params):
                                for name, value in LIMIT_DEFAULTS.items()})
 
 
-def rotation_timeout(standstill, rotation_margin, vision_back_grace):
-    """s from vision loss to the pi turn's end: the standstill's timeout (core/gyro_bias,
-    ``standstill`` params) + ``rotation_margin`` + ``vision_back_grace`` (s)."""
-    return standstill_timeout(standstill) + rotation_margin + vision_back_grace
+def rotation_timeout(params, config):
+    """s from vision loss to the pi turn's end: the standstill's timeout (core/gyro_bias, the
+    mission ``config``'s standstill params) + rotation_margin (its limits, else ``params``) +
+    vision_back_grace."""
+    return standstill_timeout(config.standstill) + limit_params(config.limits or params).rotation_margin \
+        + config.vision_back_grace
 
 
 class PausedClock(object):

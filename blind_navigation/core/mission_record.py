@@ -17,6 +17,7 @@ class MissionRecording(object):
     """One recording into ``store`` (``append(landmark)`` -> its label, None: not written);
     ``config``: straight_period, curved_period, deadband, event_sampling, heading_correction;
     ``recorder``: what makes the landmarks (core/sample_log.Ticks: the ticks themselves)."""
+    reported = False        # a saver elsewhere has stored landmarks (core/mission_remote)
 
     def __init__(self, store, config, recorder=None):
         self.store = store

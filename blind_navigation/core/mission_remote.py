@@ -8,30 +8,34 @@ from .allowance import DRIVE
 from .battery import BatteryWatch
 from .drive import DriveCycle
 from .heading_correction import no_correction
-from .mission_drive import DONE, FAILED, Held
-from .mission_limits import limit_params, rotation_timeout
+from .mission_drive import DONE, FAILED
+from .mission_limits import rotation_timeout
 from .rotation import turn_problem
 
 
 class Remote(object):
     """What the owner hears of the other nodes: :meth:`reported` (a saver stored landmarks,
-    ``distance`` m in all), ``correction`` (heading_correction's, None: not yet; awaited
-    with ``awaits_correction``); the turn's end comes as ``Inputs.goal_result``."""
+    ``distance`` m in all), ``measured`` (heading_correction's correction, None: not yet;
+    awaited if ``awaits_correction``); the turn's end comes as ``Inputs.goal_result``. Itself
+    the mission's standstill (``fit``: True while a correction is awaited, else None)."""
 
     def __init__(self, awaits_correction):
-        self.awaits_correction, self.correction, self.current, self.refused = \
-            awaits_correction, None, None, ''
+        self.fit = True if awaits_correction else None
+        self.measured, self.current, self.refused = None, None, ''
 
     def reported(self, distance):
         if self.current is not None:
             self.current.reported, self.current.distance = True, distance
 
     def recording(self, *_args):
-        self.current, self.correction = RemoteRecording(), None
+        self.current, self.measured = RemoteRecording(), None
         return self.current
 
     def standstill(self, *_args):
-        return RemoteStandstill(self)
+        return self
+
+    def correction(self, now, odom=None):
+        return self.measured if self.fit else no_correction('heading correction off')
 
     def turn(self, params, feed, odom, config, clock):
         return RemoteTurn(self, params, feed, odom, config, clock)
@@ -66,16 +70,6 @@ class RemoteRecording(object):
         """The sampling publisher goes on by itself."""
 
 
-class RemoteStandstill(object):
-    """Standstill's part: the correction heading_correction measured (or none awaited)."""
-
-    def __init__(self, remote):
-        self.remote, self.fit = remote, True if remote.awaits_correction else None
-
-    def correction(self, now, odom=None):
-        return self.remote.correction if self.fit else no_correction('heading correction off')
-
-
 class RemoteTurn(object):
     """TurnDrive's part for rotate_pi's turn: done once ``Inputs.goal_result`` says it
     ended well and the robot really turned (core/rotation.turn_problem; else refused, the
@@ -83,9 +77,8 @@ class RemoteTurn(object):
 
     def __init__(self, remote, params, feed, odom, config, clock):
         self.remote, self.feed, self.clock, self.tolerance = remote, feed, clock, config.turn_tolerance
-        self.timeout = rotation_timeout(config.standstill, limit_params(config.limits or params)
-                                        .rotation_margin, config.vision_back_grace)
-        self.cycle = DriveCycle(Held(), params)
+        self.timeout = rotation_timeout(params, config)
+        self.cycle = DriveCycle(params)
         self.start_yaw = self.yaw = odom.yaw
         self.phase, self.reason, self.code = 'turn', '', outcome.NONE
 

@@ -19,7 +19,7 @@ from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, SpinCalibration, save_calibration
 from blind_navigation.core.role_params import CALIBRATE_GYRO
 from blind_navigation.core.vision import wire_lost_reason
-from blind_navigation.core.mission_drive import DONE, FAILED, Held
+from blind_navigation.core.mission_drive import DONE, FAILED
 from blind_navigation.ros.drive_node import DriveNode
 from blind_navigation.ros.heading_correction import calibration_file
 
@@ -118,7 +118,7 @@ class _Spins(object):
     """The calibration's spins as a drive of ros/drive_node (stale odometry ends them at once)."""
 
     def __init__(self, spin, feed, odom_timeout):
-        self.spin, self.feed, self.cycle = spin, feed, drive.DriveCycle(Held(), None, odom_timeout)
+        self.spin, self.feed, self.cycle = spin, feed, drive.DriveCycle(None, odom_timeout)
         self.phase, self.reason, self.code = 'spin', '', outcome.NONE
         self.resumed = lambda seconds: None
 

@@ -103,7 +103,7 @@ class Layer(object):
 
     def current_mission_id(self):
         """The mission id, read again: ``new_mission`` sets a new one before the roles see
-        ``idle`` (ros/mission_services.py)."""
+        ``idle`` (ros/mission_owner.py)."""
         self.mission_id = rospy.get_param(MISSION_ID, self.mission_id)
         return self.mission_id
 

@@ -1,22 +1,75 @@
 """What the mission owner (ros/mission_owner.py) shows and keeps of its core Mission beside
 the state, as the default layer's roles do: the RViz paths (recorded_path, return_route,
-return_path), the latched heading correction and the return's progress file
-(core/progress_keeper.MissionProgress).
+return_path), the latched heading correction, the return's progress file
+(core/progress_keeper.MissionProgress), its services' replies (go_home, cancel, new_mission;
+refused naming the state: core/mission_state.*_refusal) and its diagnostics' parts.
 """
+import os
 from array import array
 
 import rospy
 from nav_msgs.msg import Path
+from std_srvs.srv import TriggerResponse
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
+from blind_navigation.core.progress_keeper import MissionProgress
 from blind_navigation.core.return_plan import plan_return
 from blind_navigation.msg import HeadingCorrection
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import wait_wall
 from blind_navigation.ros.heading_correction import correction_message
 from blind_navigation.ros.landmark_saving import path_message
 from blind_navigation.ros.return_paths import ReturnPaths
-from blind_navigation.core.progress_keeper import MissionProgress
+
+
+def reply(log, request, what, refusal, done):
+    """The Trigger response of the service ``what``: refused for ``refusal`` (WARN), else
+    acknowledged with ``done`` (INFO); the log names the caller. Every mission owner's."""
+    caller = request._connection_header.get('callerid', '?')
+    if refusal is not None:
+        log.warn('%s from %s %s', what, caller, refusal)
+        return TriggerResponse(success=False, message=refusal)
+    log.info('%s from %s: %s', what, caller, done)
+    return TriggerResponse(success=True, message=done)
+
+
+def mission_summary(stat, current, reason, warnings=''):
+    """The mission status's level and line: ``aborted`` an ERROR, ``recovered`` (stopped away
+    from home: someone takes the robot) or a degraded mission a WARN."""
+    if current == state.ABORTED:
+        stat.summary(diagnostics.ERROR, 'aborted: %s' % reason)
+    elif current == state.RECOVERED:
+        stat.summary(diagnostics.WARN, 'recovered: %s' % reason)
+    elif warnings:
+        stat.summary(diagnostics.WARN, '%s: %s' % (current, warnings))
+    else:
+        stat.summary(diagnostics.OK, '%s%s' % (current or '', ': ' + reason if reason else ''))
+
+
+def odometry_status(stat, odometry, current, timeout):
+    """The ``odometry`` feed's age (stale beyond ``timeout`` s: an error while the mission,
+    ``current``, turns or returns, else a warning) and its refused messages."""
+    level = diagnostics.ERROR if current in (state.ROTATING, state.RETURNING) else diagnostics.WARN
+    diagnostics.age_status(stat, 'odometry', odometry.age(), timeout, level, level,
+                           listening=odometry.listening())
+    stat.add('refused messages', odometry.refused)
+
+
+def file_status(stat, landmark_file, current):
+    """The configured ``landmark_file``, the mission's file and its size (unreadable: an
+    error while the mission, ``current``, records, turns or returns)."""
+    stat.add('file', landmark_file)
+    try:
+        real = os.path.realpath(landmark_file)
+        stat.add('mission file', real)
+        stat.add('bytes', os.path.getsize(real))
+        stat.summary(diagnostics.OK, os.path.basename(real))
+    except OSError as error:
+        level = diagnostics.ERROR if current in (state.RECORDING, state.ROTATING,
+                                                 state.RETURNING) else diagnostics.OK
+        stat.summary(level, 'no landmark file yet' if level == diagnostics.OK else
+                     'landmark file unreadable: %s' % error.strerror)
 
 
 class MissionOutputs(object):

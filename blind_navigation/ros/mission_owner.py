@@ -3,7 +3,7 @@
 Callbacks (odometry, visual odometry, vision, safety, takeover, resets, the clock) only
 put observations into an :class:`Inbox`; the loop steps the mission once per odometry
 state (or once a control period without one) and publishes its command, state, status
-and storage (paths, correction, progress: ros/mission_outputs.py). The services ask the
+and storage (paths, correction, progress, replies: ros/mission_outputs.py). The services ask the
 mission under its lock: blind_navigation.launch's one process (docs/DESIGN.md).
 """
 import os
@@ -32,11 +32,9 @@ from blind_navigation.ros.heading_correction import (calibration_file, calibrati
                                                     scale_prior, vo_status)
 from blind_navigation.ros.landmark_saving import landmark_file
 from blind_navigation.ros.layer import MISSION_ID
-from blind_navigation.ros.mission_diagnostics import file_status, mission_summary, odometry_status
-from blind_navigation.ros.mission_outputs import MissionOutputs
+from blind_navigation.ros.mission_outputs import (MissionOutputs, file_status, mission_summary,
+                                                  odometry_status, reply)
 from blind_navigation.ros.mission_store import FileStore
-from blind_navigation.ros.mission_services import (CANCELLED, GO_HOME_DONE, new_mission_done,
-                                                      reply)
 from blind_navigation.ros.motion import MotionOutput
 from blind_navigation.ros.owner_paper_names import PaperNames
 from blind_navigation.ros import faults
@@ -172,14 +170,13 @@ class MissionOwner(object):
         guard, layer, inbox = self.guard, self.layer, self.inbox
         layer.odometry.acquire(self.ROLE)
         layer.odometry.add_listener(guard(self._on_odom))
-        layer.visual_odometry.acquire(self.ROLE)
-        layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
-        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)),
-                  queue_size=1)
-        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)),
-                  queue_size=5)
+        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)), queue_size=1)
+        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)), queue_size=5)
         faults.on_fault(self._on_fault)
-        subscribe_battery(self.mission.config.battery_low, inbox, guard, self.log)
+        if self.RECORDS:        # the recording's visual odometry, the battery watch: this process's
+            layer.visual_odometry.acquire(self.ROLE)
+            layer.visual_odometry.add_listener(guard(self._on_visual), raw=True)
+            subscribe_battery(self.mission.config.battery_low, inbox, guard, self.log)
 
     def _on_odom(self, odom):
         """A state; the feed's frame newly lost (an untrusted reset) comes in with it."""
@@ -292,8 +289,11 @@ class MissionOwner(object):
         """A fault of this process (the loop's own included: it has ended): ``aborted``
         naming it, announced from the reporting thread; every output is zero for good."""
         with self.lock:
-            self.mission.cancel(reason, faults.code_of(reason))
-            self._announce()
+            self._cancel(reason, faults.code_of(reason))
+
+    def _cancel(self, reason, code):
+        self.mission.cancel(reason, code)
+        self._announce()
 
     def _on_shutdown(self):
         if self.docking is not None:
@@ -304,13 +304,15 @@ class MissionOwner(object):
 
     def _add_diagnostics(self, settings):
         """The mission's statuses and, as the paper layout's roles name them, the odometry's,
-        the landmark file's and the heading correction's (ros/mission_diagnostics.py,
+        the landmark file's and the heading correction's (ros/mission_outputs.py,
         ros/heading_correction.py)."""
         add, client = self.layer.diagnostics.add, settings['limits']
         add('mission', self._diagnose)
         add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
                                                      client.odom_timeout))
         add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
+        if not self.RECORDS:    # the paper layout's saver and heading_correction report the rest
+            return
         add('recording', lambda stat: self.store.status(stat, self.mission.phase != RECORDING))
         if not settings['heading_correction']:
             return
@@ -341,7 +343,7 @@ class MissionOwner(object):
                 self.stepped.wait_for(lambda: 'go_home' not in self.mission.requests,
                                       self.params.server_timeout)
             current = self.mission.state
-        return reply(self.log, request, 'go_home', refusal, GO_HOME_DONE % current)
+        return reply(self.log, request, 'go_home', refusal, 'returning home: the mission is %s' % current)
 
     def _on_cancel(self, request):
         with self.lock:
@@ -350,7 +352,8 @@ class MissionOwner(object):
                 for output in self.drivers.values():
                     output.halt(state.CANCELLED)
                 self._announce()
-        return reply(self.log, request, 'cancel', refusal, CANCELLED)
+        return reply(self.log, request, 'cancel', refusal,
+                     'stopped: the mission is aborted (%s)' % state.CANCELLED)
 
     def _on_new_mission(self, request):
         with self.lock:
@@ -363,5 +366,6 @@ class MissionOwner(object):
                 self.vo_since = rospy.get_time()
                 self.outputs.new_mission()
                 self._announce()
-        return reply(self.log, request, 'new_mission', refusal, new_mission_done(
-            mission_number(self.layer.current_mission_id()), self.landmark_file))
+        return reply(self.log, request, 'new_mission', refusal, 'mission %d: idle; recording into a '
+                     'new file behind %s from the first landmark' % (
+                         mission_number(self.layer.current_mission_id()), self.landmark_file))

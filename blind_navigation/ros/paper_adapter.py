@@ -32,19 +32,18 @@ class RemoteRecording(object):
     (through ``guard``); the write loss each file had: :meth:`loss_of`."""
 
     def __init__(self, guard, on_report):
-        self.losses = {}                # real path of a landmark file -> its last report with a loss
+        self.losses = {}                # real path of a landmark file -> its last WriteLoss reported
         self.on_report = on_report
         subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
 
     def _on_storage(self, msg):
         if msg.lost:
-            self.losses[os.path.realpath(msg.file)] = msg
+            self.losses[os.path.realpath(msg.file)] = write_loss(msg)
         self.on_report(msg)
 
     def loss_of(self, path):
         """The core/return_plan.WriteLoss the saver of the landmark file ``path`` reported."""
-        msg = self.losses.get(os.path.realpath(path))
-        return NO_LOSS if msg is None else write_loss(msg)
+        return self.losses.get(os.path.realpath(path), NO_LOSS)
 
 
 class RemoteTurn(object):

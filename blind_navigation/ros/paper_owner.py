@@ -6,9 +6,6 @@ docs/DESIGN.md, "The paper's layout".
 import os
 from types import SimpleNamespace
 
-from std_msgs.msg import Empty, String
-
-from blind_navigation import names
 from blind_navigation.core import drive, mission_state as state, outcome
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import Limits
@@ -18,10 +15,7 @@ from blind_navigation.core.return_plan import damage_warning, plan_return, recor
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER
 from blind_navigation.core.safety import is_contact
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
-from blind_navigation.ros import faults
-from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.landmark_saving import landmark_file
-from blind_navigation.ros.mission_diagnostics import file_status, odometry_status
 from blind_navigation.ros.mission_owner import MissionOwner
 from blind_navigation.ros.paper_adapter import (RemoteGoals, RemoteRecording, RemoteTurn,
                                                 subscribe_correction, subscribe_failures, write_loss)
@@ -64,9 +58,6 @@ class SaverFile(object):
     def loss(self):
         return self.losses(self.path)
 
-    def note_gap(self, reason):
-        """The saver notes it."""
-
     def warning(self):
         return self.damage
 
@@ -90,17 +81,12 @@ class PaperOwner(MissionOwner):
                          Limits(self.params.max_v, self.params.max_w))
 
     def _subscribe(self):
-        guard, inbox = self.guard, self.inbox
-        self.layer.odometry.acquire(self.ROLE)
-        self.layer.odometry.add_listener(guard(self._on_odom))
-        subscribe(names.VISION_LOST, Empty, guard(lambda msg: inbox.put(vision_lost=True)), queue_size=1)
-        subscribe(names.VISION_BACK, String, guard(lambda msg: inbox.put(vision_back=True)), queue_size=5)
-        faults.on_fault(self._on_fault)
-        subscribe_failures(guard, self._on_fault)
-        self.reports = RemoteRecording(guard, self._on_storage)
-        self.remote_turn = RemoteTurn(guard, self._on_rotation_done)
+        super(PaperOwner, self)._subscribe()
+        subscribe_failures(self.guard, self._on_fault)
+        self.reports = RemoteRecording(self.guard, self._on_storage)
+        self.remote_turn = RemoteTurn(self.guard, self._on_rotation_done)
         if self.mission.config.heading_correction:
-            subscribe_correction(guard, self._on_correction)
+            subscribe_correction(self.guard, self._on_correction)
 
     # --- the other nodes ---------------------------------------------------------------------
     def _on_storage(self, msg):
@@ -115,7 +101,7 @@ class PaperOwner(MissionOwner):
     def _on_correction(self, correction):
         with self.lock:
             if self.mission.state == state.ROTATING:
-                self.mission.config.remote.correction = correction
+                self.mission.config.remote.measured = correction
 
     def _on_rotation_done(self, ok):
         """rotate_pi's end of the turn: the mission's turn takes it (a failed one ends the
@@ -130,8 +116,7 @@ class PaperOwner(MissionOwner):
                 outcome.TURN if not safety else outcome.CONTACTS if is_contact(safety) else
                 outcome.SAFETY_EVENT)
             if self.mission.phase != TURN and not ok:
-                self.mission.cancel(result.reason, result.cause)
-                self._announce()
+                self._cancel(result.reason, result.cause)
             elif self.mission.phase != TURN:
                 self.log.error('rotation_done true refused: the pi turn has not begun (the recording goes on)')
             else:
@@ -186,10 +171,6 @@ class PaperOwner(MissionOwner):
         m.configure_return(mode=response.control, planned=planned)   # the route planned once
         return None
 
-    def _cancel(self, reason, code):
-        self.mission.cancel(reason, code)
-        self._announce()
-
     def _announce(self):
         super(PaperOwner, self)._announce()
         if self.mission.state in state.TERMINAL:
@@ -198,11 +179,3 @@ class PaperOwner(MissionOwner):
     def _on_shutdown(self):
         self.remote_goals.cancel()
         super(PaperOwner, self)._on_shutdown()
-
-    def _add_diagnostics(self, settings):
-        add = self.layer.diagnostics.add
-        add('mission', self._diagnose)
-        add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
-                                                     self.params.odom_timeout))
-        add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
-
