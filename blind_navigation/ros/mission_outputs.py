@@ -17,7 +17,6 @@ from blind_navigation.core.progress_keeper import MissionProgress
 from blind_navigation.core.return_plan import plan_return
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import wait_wall
 from blind_navigation.ros.heading_correction import correction_message
 from blind_navigation.ros.landmark_saving import path_message
 from blind_navigation.ros.return_paths import ReturnPaths
@@ -99,9 +98,7 @@ class MissionOutputs(object):
         return self.progress.first_state(self.owner.mission, self._position, self.owner.params)
 
     def _position(self):
-        timeout = self.owner.params.odom_timeout
-        wait_wall(lambda: self.odometry.fresh(timeout) is not None, self.owner.params.server_timeout)
-        odom = self.odometry.fresh(timeout)
+        odom = self.odometry.wait_fresh(self.owner.params.odom_timeout, self.owner.params.server_timeout)
         return [odom.x, odom.y] if odom is not None else None
 
     def new_mission(self):
