@@ -4,7 +4,7 @@ A takeover is a command on the layer's mux input from none of the layer's nodes,
 ``takeover_inputs`` input active on ``cmd_vel_mux/active``, or a moving command on the
 mux output that this process did not send while it drives (not read while the Kobuki's
 dock drive drives it: :meth:`TakeoverWatch.watch_base`). While active, MotionOutput
-publishes nothing and DriveLoop pauses (docs/safety.md, "Takeover").
+publishes nothing and the drive pauses (core/mission_drive.Pauses) (docs/safety.md, "Takeover").
 """
 import threading
 
