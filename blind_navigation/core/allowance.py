@@ -1,13 +1,8 @@
-"""Allowances of the closed-loop return that measure progress, and the odometry grace.
-
-:class:`ProgressWatch`: the return fails only when it stops making progress (``stall_*``)
-or spends the whole return's allowance; held time (a gap over ``max_step_gap``) is not
-counted. :class:`OdomGrace`: each cycle ``drive``, ``hold`` (stale odometry: zero, keep
-the goal) or ``abort`` (stale beyond ``odom_grace``). Plain Python, any one clock.
-"""
+"""The return's allowances: :class:`ProgressWatch` (fails on no progress or the whole return's
+allowance spent) and :class:`OdomGrace` (drive, hold or abort on stale odometry)."""
 import math
 
-#: Defaults (the back-travel nodes expose them as ~params).
+#: Defaults of the allowances.
 ALLOWANCE_DEFAULTS = {
     'stall_timeout': 10.0,          # s without progress before the return fails
     'stall_distance': 0.005,        # m of along-route progress that counts as progress
@@ -16,9 +11,7 @@ ALLOWANCE_DEFAULTS = {
     'return_timeout_margin': 30.0,  # ... + margin, s
     'max_step_gap': 0.5,            # s; a longer gap between control steps is held time
     'odom_timeout': 0.4,            # s; older odometry is stale: hold (zero velocity)
-    'odom_grace': 5.0,              # s a hold may last before the return aborts; a hold starts
-                                    # odom_timeout after the last odometry, so an odometry gap of
-                                    # 3 s holds 3 s - odom_timeout, with room for a CPU stall on top
+    'odom_grace': 5.0,              # s a hold may last before the return aborts
 }
 
 
@@ -32,33 +25,23 @@ def allowance_param(params, name):
 
 
 class ProgressWatch(object):
-    """Stall and whole-return allowance of one return (see module docstring).
-    ``nominal_time``: the return's nominal duration, s."""
+    """Stall and whole-return allowance of a return of ``nominal_time`` s (held gaps not counted)."""
 
     def __init__(self, nominal_time, params=None):
         if not nominal_time >= 0 or not math.isfinite(nominal_time):
             raise ValueError('nominal_time must be a finite number >= 0, got %r' % (nominal_time,))
-        self.stall_timeout = allowance_param(params, 'stall_timeout')
-        self.stall_distance = allowance_param(params, 'stall_distance')
-        self.stall_angle = allowance_param(params, 'stall_angle')
-        self.max_step_gap = allowance_param(params, 'max_step_gap')
+        for name in ('stall_timeout', 'stall_distance', 'stall_angle', 'max_step_gap'):
+            setattr(self, name, allowance_param(params, name))
         self.allowance = (allowance_param(params, 'return_timeout_factor') * nominal_time
                           + allowance_param(params, 'return_timeout_margin'))
-        self.active = 0.0           # s counted (held gaps left out)
-        self.held = 0.0             # s of gaps left out
-        self._last = None
-        self._best_along = -math.inf
-        self._best_heading = math.inf
-        self._progress_at = 0.0
+        self.active = self.held = 0.0     # s counted, s of gaps left out
+        self._last, self._best_along, self._best_heading, self._progress_at = None, -math.inf, math.inf, 0.0
 
     def new_heading_goal(self):
-        """A new turn (or realignment) starts: its heading error is measured afresh."""
         self._best_heading = math.inf
 
     def update(self, now, along, heading_error=None):
-        """Record the state at ``now``: ``along`` (m along the route) and, while
-        turning, ``heading_error`` (rad still to turn). Returns None, or why the
-        return must fail."""
+        """Record ``along`` (m) and ``heading_error`` (rad, turning) at ``now``; None or why it fails."""
         if self._last is not None:
             gap = now - self._last
             if gap > self.max_step_gap:
@@ -85,18 +68,15 @@ DRIVE, HOLD, ABORT = 'drive', 'hold', 'abort'
 
 
 class OdomGrace(object):
-    """Hold / continue / abort from the odometry's age (see module docstring)."""
+    """Drive, hold (zero velocity) or abort from the odometry's age."""
 
     def __init__(self, params=None):
-        self.odom_timeout = allowance_param(params, 'odom_timeout')
-        self.odom_grace = allowance_param(params, 'odom_grace')
-        self.holding_since = None
-        self.holds = []             # (start, length) of every finished hold
+        self.odom_timeout, self.odom_grace = (allowance_param(params, name) for name in ('odom_timeout', 'odom_grace'))
+        self.holding_since, self.holds = None, []    # holds: (start, length) of every finished hold
 
     def check(self, now, odom_stamp):
-        """``(decision, message)`` at ``now`` for odometry stamped ``odom_stamp``
-        (None: none yet). ``message`` says when a hold starts, ends (with its
-        length) or turns into an abort; None otherwise."""
+        """``(decision, message)`` at ``now`` for odometry stamped ``odom_stamp`` (None: none);
+        ``message`` when a hold starts, ends or turns into an abort."""
         age = math.inf if odom_stamp is None else now - odom_stamp
         if age <= self.odom_timeout:
             if self.holding_since is None:

@@ -1,10 +1,5 @@
-"""Back-travel control: drive the recorded path back to the start (paper 3.3.5).
-
-``time`` (:class:`TimeController`: the landmark's ``(v, -w)`` for ``T``) and ``distance``
-(:class:`DistanceController`: the same until odometry shows ``d``) are the paper's;
-``closed_loop`` is core/route_follower.RouteFollower over the whole route. One goal
-interface for all: core/goal.make_goal (docs/back_travel.md, "Control modes").
-"""
+"""Back-travel control (paper 3.3.5): the paper's ``time`` and ``distance`` controllers;
+``closed_loop`` is core/route_follower.py (docs/back_travel.md, "Control modes")."""
 import math
 
 from . import outcome
@@ -13,7 +8,7 @@ from .safety import SAFETY_DEFAULTS
 
 MODES = ('time', 'distance', 'closed_loop')
 
-#: Defaults; the back_travel_server node exposes each one as a ~private param.
+#: Defaults of the return's drive.
 BACK_TRAVEL_DEFAULTS = {
     'straight_period': 2.0,   # s; a landmark with T >= this is a straight segment
     'max_v': 0.5,             # m/s, hard clamp on |v|
@@ -22,14 +17,11 @@ BACK_TRAVEL_DEFAULTS = {
     'timeout_margin': 2.0,    # s added to a goal's allowance
     'lookahead': 0.1,         # m, shortest pure-pursuit lookahead (closed_loop)
     'min_v': 0.03,            # m/s, slowest speed of distance goals, and of closed-loop sections recorded faster
-    'creep_v': 0.02,          # m/s; a stretch recorded slower is driven at this (closed_loop; slower,
-                              # the base's own wheel-speed ripple stalls it)
+    'creep_v': 0.02,          # m/s; a stretch recorded slower is driven at this (closed_loop)
     'min_d': 0.002,           # m, goals shorter than this end at once (distance)
-    'stop_lead': 0.2,         # s the robot coasts after its last command (closed_loop; the
-                              # brake ends this far ahead of a stop, so the limiter's ramp is met)
+    'stop_lead': 0.2,         # s the robot coasts after its last command (closed_loop)
     'lookahead_time': 0.5,    # s; the lookahead grows to this x the speed (closed_loop)
-    'brake_decel': 0.5,       # m/s^2; slowing down towards a corner and the end (closed_loop);
-                              # within kobuki_driver's limiter (plausibility.KOBUKI_ACCEL_LIMITS)
+    'brake_decel': 0.5,       # m/s^2; slowing down towards a corner and the end (closed_loop)
     'stopped_v': 0.01,        # m/s; below this (and stopped_w) the robot counts as stopped
     'stopped_w': 0.05,        # rad/s; below this (and stopped_v) the robot counts as stopped
     'stop_timeout': 2.0,      # s; the longest wait for the robot to stop at a corner
@@ -44,16 +36,13 @@ BACK_TRAVEL_DEFAULTS = {
 
 
 def stopped(odom):
-    """True once ``odom`` shows the robot standing (``stopped_v``, ``stopped_w`` of
-    :data:`BACK_TRAVEL_DEFAULTS`)."""
+    """True once ``odom`` shows the robot standing (``stopped_v``, ``stopped_w``)."""
     return odom is not None and abs(odom.v) <= BACK_TRAVEL_DEFAULTS['stopped_v'] and \
         abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
 
 
 def home_check(odom, end, tolerance):
-    """(home, text) of the stopped robot at ``odom`` against the route's ``end`` (the start):
-    home only within ``tolerance`` m (0: not checked, the paper's modes); docs/safety.md,
-    "`home`: one invariant"."""
+    """(home, text): the stopped robot at ``odom`` within ``tolerance`` m of ``end`` (0: unchecked)."""
     off = distance(odom.x, odom.y, end[0], end[1])
     if not tolerance:
         return True, '%.2f m from the start by odometry (not checked in this mode)' % off
@@ -63,38 +52,29 @@ def home_check(odom, end, tolerance):
     return True, '%.3f m from the start by odometry' % off
 
 
-def _param(params, name):
-    return float(getattr(params, name, BACK_TRAVEL_DEFAULTS[name]))
+def _param(params, name, defaults=BACK_TRAVEL_DEFAULTS):
+    return float(getattr(params, name, defaults[name]))
 
 
 def _clamp(value, limit):
     return max(-limit, min(limit, value))
 
 
-def is_straight(landmark, straight_period):
-    """True when the landmark was sampled at the straight (longer) period."""
-    return landmark.T >= straight_period - 1e-6
-
-
 def replay_command(landmark, straight_period):
-    """The paper's back-travel command for ``landmark``: ``(v, 0)`` on straight
-    segments, ``(v, -w)`` on curved ones (turn mirrored, see module docstring)."""
-    if is_straight(landmark, straight_period):
+    """The paper's command for ``landmark``: ``(v, 0)`` straight, ``(v, -w)`` curved."""
+    if landmark.T >= straight_period - 1e-6:
         return landmark.v, 0.0
     return landmark.v, -landmark.w
 
 
 class Odometer(object):
-    """What a drive travelled on odometry since its start (``travelled``, ``_last``),
-    and whether it ended (``done`` / ``failed``): shared by every controller and
-    core/route_follower.RouteFollower. What moved the robot while the drive was
-    paused (an operator's takeover, a push) is ``displaced``, not ``travelled``."""
+    """What a drive ``travelled`` on odometry (moved while paused: ``displaced``)."""
 
     displaced = 0.0
     _resync = False
 
     def pause_ended(self):
-        """A pause (a takeover, a bumper contact) ended: the next step's motion is not the drive's."""
+        """A pause ended: the next step's motion is not the drive's."""
         self._resync = True
 
     def _count_step(self, odom_state):
@@ -110,27 +90,21 @@ class Odometer(object):
         return self.done or self.failed
 
     def moved_while_paused(self, metres):
-        """The robot moved ``metres`` while the drive was paused (subclasses decide)."""
+        pass
 
 
 class _Controller(Odometer):
-    """Common bookkeeping: odometry distance, time allowance, clamping."""
 
     def __init__(self, landmark, params):
         self.landmark = landmark
-        self.max_v = _param(params, 'max_v')
-        self.max_w = _param(params, 'max_w')
+        self.max_v, self.max_w = _param(params, 'max_v'), _param(params, 'max_w')
         self.straight_period = _param(params, 'straight_period')
         self.allowance = (_param(params, 'timeout_factor') * self.expected_duration(params)
                           + _param(params, 'timeout_margin'))
         self.paused_move = _param(params, 'paused_move')
-        self.travelled = 0.0
-        self.done = False
-        self.failed = False
-        self.reason = ''
+        self.travelled, self.done, self.failed, self.reason = 0.0, False, False, ''
         self.code = outcome.NONE    # core/outcome's cause once failed
-        self.started = None
-        self._last = None
+        self.started = self._last = None
 
     def expected_duration(self, params):
         return self.landmark.T
@@ -147,9 +121,7 @@ class _Controller(Odometer):
         return odom_state.stamp - self.started
 
     def start(self, odom_state):
-        self.started = odom_state.stamp
-        self._last = odom_state
-        self.travelled = 0.0
+        self.started, self._last, self.travelled = odom_state.stamp, odom_state, 0.0
         self.done = self.failed = False
 
     def step(self, odom_state):
@@ -170,7 +142,7 @@ class _Controller(Odometer):
 
 
 class TimeController(_Controller):
-    """The paper's sampled-time control: the replayed velocity for ``T`` seconds."""
+    """The paper's sampled-time control: the replayed velocity for ``T``."""
 
     MODE = 'time'
 
@@ -181,12 +153,7 @@ class TimeController(_Controller):
 
 
 class DistanceController(_Controller):
-    """The paper's travelled-distance control: the replayed velocity until ``d``.
-
-    A landmark taken while the robot was stopping can carry ``v`` near 0 with
-    ``d`` > 0, which could never be covered: ``|v|`` is raised to ``min_v``
-    (sign kept). Goals with ``d < min_d`` end at once.
-    """
+    """The paper's travelled-distance control: the replayed velocity (|v| >= ``min_v``) until ``d``."""
 
     MODE = 'distance'
 
@@ -207,9 +174,7 @@ class DistanceController(_Controller):
 
 
 def make_controller(mode, landmark, params=None):
-    """The paper-mode controller of one landmark (``time`` or ``distance``);
-    ``closed_loop`` goals are sections of one core/route_follower.RouteFollower
-    (core/goal.make_goal)."""
+    """The paper-mode controller of one landmark (``time`` or ``distance``)."""
     if mode == 'time':
         return TimeController(landmark, params)
     if mode == 'distance':

@@ -1,35 +1,28 @@
-"""The return's ending, after its last goal: the robot settles (stopped, or ``settle_time``
-s); if it stopped past the route's end (closed_loop, driven here), :class:`FinalApproach`
-backs it slowly along its own track to the end point and it settles again; then the home
-verdict (core/mission_drive.home_verdict, the only place that declares ``home``).
-:class:`ReturnEnding` is stepped by core/mission.Mission, whose gates (vision back, contacts,
-takeovers, cancel, safety events, resets) hold the approach as they hold the return.
-docs/safety.md, "`home`: one invariant".
-"""
+"""The return's ending (:class:`ReturnEnding`): the robot settles, backs to the route's end if
+it stopped past it (:class:`FinalApproach`), settles again; then the home verdict
+(docs/safety.md, "`home`: one invariant")."""
 import math
 
 from . import mission_state, outcome
 from .allowance import ABORT, HOLD
-from .back_travel import BACK_TRAVEL_DEFAULTS, stopped
+from .back_travel import BACK_TRAVEL_DEFAULTS, _param as back_travel_param, stopped
 from .drive import DriveCycle
 from .geometry import distance, wrap_angle
 from .mission_drive import ZERO, home_verdict
 from .mission_limits import PausedClock
 
 SETTLE, APPROACH = 'settle', 'final approach'
-#: The final approach's constants (the why: docs/safety.md, "`home`: one invariant").
+#: The final approach's constants.
 APPROACH_DEFAULTS = {
     'approach_tolerance': 0.05,   # m past the route's end (along its last segment) that starts it
     'approach_v': 0.05,           # m/s it reverses at
 }
-#: rad: the end farther off the robot's tail is not reached reversing (the follower's own
-#: bound for steering onto a point without a turn in place first).
+#: rad: the end farther off the robot's tail is not reached reversing.
 APPROACH_ANGLE = math.pi / 3.0
 
 
 def _param(params, name):
-    defaults = APPROACH_DEFAULTS if name in APPROACH_DEFAULTS else BACK_TRAVEL_DEFAULTS
-    return float(getattr(params, name, defaults[name]))
+    return back_travel_param(params, name, APPROACH_DEFAULTS if name in APPROACH_DEFAULTS else BACK_TRAVEL_DEFAULTS)
 
 
 def past_end(route, odom):
@@ -41,10 +34,8 @@ def past_end(route, odom):
 
 
 class FinalApproach(object):
-    """Reverses from ``odom`` to the route's ``end`` (x, y) at ``approach_v`` (core/route_follower's
-    pure pursuit, seen from the robot's tail, |w| within ``correction_w``) until the end is no
-    longer behind it (coasting ``stop_lead`` s), at most timeout_factor x its nominal time +
-    timeout_margin s of driving, or the robot farther than ``route_max_offset`` from the end."""
+    """Reverses from ``odom`` to ``end`` (x, y) at ``approach_v`` by pure pursuit seen from the
+    tail, until the end is no longer behind, the time is up or the robot is ``route_max_offset`` off."""
 
     def __init__(self, end, odom, params, now):
         self.end, self.start = end, (odom.x, odom.y)
@@ -59,8 +50,7 @@ class FinalApproach(object):
 
     @classmethod
     def planned(cls, route, odom, params, now):
-        """The approach when the robot at ``odom`` stopped more than ``approach_tolerance`` past the
-        ``route``'s end, within ``route_max_offset`` of it, the end behind it; else None."""
+        """The approach if ``odom`` stopped past the ``route``'s end, near it; else None."""
         if past_end(route, odom) <= _param(params, 'approach_tolerance'):
             return None
         approach = cls((route.x[-1], route.y[-1]), odom, params, now)
@@ -78,7 +68,6 @@ class FinalApproach(object):
         return behind, wrap_angle(math.atan2(dy, dx) - odom.yaw - math.pi)
 
     def resumed(self, seconds):
-        """A pause of ``seconds`` ended: not driving time."""
         self.clock.resumed(seconds)
 
     def step(self, now, odom):
@@ -101,10 +90,8 @@ class FinalApproach(object):
 
 
 class ReturnEnding(object):
-    """The return's ending from ``now`` (module docstring): ``goals`` driven, ``route`` (None: the
-    paper's modes, neither approach nor position checked), the return's ``warning``; ``feed`` and
-    ``odom`` as core/mission_drive.ReturnDrive's; ``approach``: False where the robot is not
-    driven here (remote goals)."""
+    """The return's ending from ``now``: ``route`` None (paper modes): no approach, no position
+    check; ``feed``, ``odom`` as core/mission_drive.ReturnDrive's; ``approach`` False: remote goals."""
 
     def __init__(self, now, params, config, route, goals, warning, feed, odom, approach=True):
         self.params, self.config, self.route, self.goals, self.warning = params, config, route, goals, warning
@@ -120,8 +107,7 @@ class ReturnEnding(object):
             self.approach.resumed(seconds)
 
     def step(self, now):
-        """(command, verdict): the command this cycle (None: nothing); the verdict, (state, core/
-        outcome code, reason) once the mission ends, else None."""
+        """(command or None, verdict (state, outcome code, reason) once the mission ends or None)."""
         if self.phase == APPROACH:
             return self._approach(now)
         odom = self.odom()

@@ -1,22 +1,14 @@
-"""One goal of the back travel (one landmark), whatever the control mode.
-
-:func:`make_goal` gives the paper's per-landmark controllers and closed_loop's shared
-route follower one interface: ``start``, ``step`` (until ``done``/``failed``, ``reason``),
-``travelled``, ``hold`` and ``resumed`` (a pause ended). Between goals the paper's modes
-hold the last command (:class:`CommandHold`); closed_loop drives on (:class:`HandoverBridge`).
-"""
+"""One goal of the back travel (one landmark), whatever the mode (:func:`make_goal`); between
+goals :class:`CommandHold` (paper modes) or :class:`HandoverBridge` (closed_loop)."""
 from .back_travel import make_controller
 
-#: s closed_loop's follower goes on driving between two goals (:class:`HandoverBridge`):
-#: longer than nearly every action round trip at rtf 5 under load (docs/evaluation.md, issue 29).
+#: s closed_loop's follower goes on driving between two goals (:class:`HandoverBridge`).
 HANDOVER_FOLLOW = 1.0
 
 
 class SectionGoal(object):
-    """Goal ``index`` (return order) of a closed-loop return driven by ``follower``
-    (shared by the goals; started at the first goal it drives, at its section).
-    ``since``: the follower's ``travelled`` when the goal before ended (what a
-    :class:`HandoverBridge` drove in between counts to this goal), None: from its start."""
+    """Goal ``index`` of a closed-loop return driven by the shared ``follower``; ``since``: its
+    ``travelled`` when the goal before ended (None: from this goal's start)."""
 
     def __init__(self, follower, index, since=None):
         self.follower = follower
@@ -26,9 +18,7 @@ class SectionGoal(object):
         self._travelled_before = 0.0
         self._since = since
 
-    @property
-    def travelled(self):
-        return self.follower.travelled - self._travelled_before
+    travelled = property(lambda self: self.follower.travelled - self._travelled_before)
 
     def start(self, odom_state):
         if not self.follower.started:
@@ -38,12 +28,9 @@ class SectionGoal(object):
         self.done = self.follower.section_finished(self.index)
 
     def hold(self, seconds):
-        """Nothing to do: the follower re-tracks from the pose, its progress watch skips
-        gaps longer than max_step_gap."""
+        """Nothing to do: the follower re-tracks from the pose."""
 
     def resumed(self, seconds):
-        """A pause (takeover, contact) of ``seconds`` ended: what moved the robot meanwhile
-        is not the follower's distance; it re-tracks from the pose (or fails, off the route)."""
         self.follower.pause_ended()
 
     def step(self, odom_state):
@@ -77,13 +64,11 @@ class ControllerGoal(object):
         self.controller.start(odom_state)
 
     def hold(self, seconds):
-        """The controller's clock skips the ``seconds`` held (time: T is driving time)."""
+        """The controller's clock skips the ``seconds`` held."""
         if self.controller.started is not None:
             self.controller.started += seconds
 
     def resumed(self, seconds):
-        """A pause (takeover, contact) of ``seconds`` ended: held time, and a replay that
-        fails if the robot was moved meanwhile."""
         self.hold(seconds)
         self.controller.pause_ended()
 
@@ -92,16 +77,8 @@ class ControllerGoal(object):
 
 
 class CommandHold(object):
-    """The output between two goals: the last command a goal published holds (the
-    next goal follows at once: no stop-and-go between landmarks), but only for
-    ``handover_timeout`` s after it was published; then zero.
-
-    Only a goal that publishes renews the hold (:meth:`published`). A goal that
-    ends as it starts (its section already done: the landmarks of a loop the
-    route cut, a run of stationary ones) publishes nothing, so a run of them
-    cannot keep the robot driving on the command of a goal that has ended: on
-    ROS each goal costs an action round trip, and at a corner that command was
-    the approach speed the follower had just stopped commanding."""
+    """Between two goals the last published command holds for ``handover_timeout`` s, then
+    zero; only a goal that publishes renews it (docs/back_travel.md, "Roles")."""
 
     def __init__(self, handover_timeout):
         if not handover_timeout > 0:
@@ -110,27 +87,20 @@ class CommandHold(object):
         self.last = None            # when a goal last published a command (s), None: never
 
     def published(self, now):
-        """A goal published a command at ``now`` (s)."""
         self.last = now
 
     def remaining(self, now):
-        """s the last command still holds at ``now`` (0: zero velocity is due; also when
-        ``now`` is before the command: the clock moved back, how long it held is unknown)."""
+        """s the last command still holds at ``now`` (0 also if the clock moved back)."""
         if self.last is None or now < self.last:
             return 0.0
         return max(0.0, self.last + self.handover_timeout - now)
 
     def expired(self, now):
-        """True once the last command no longer holds at ``now``."""
         return self.remaining(now) <= 0.0
 
 
 class HandoverBridge(object):
-    """closed_loop, from a goal's end to the next goal's start: the return's shared
-    ``follower`` goes on driving the route (the command stays continuous, as the
-    follower would give it without the hand-over), for at most ``timeout`` s from
-    ``now``; then (:meth:`expired`) the output is zero. It never starts after the
-    route's last goal, nor once the follower has finished or failed (:meth:`ended`)."""
+    """closed_loop between two goals: the ``follower`` drives on for ``timeout`` s, then zero."""
 
     def __init__(self, follower, timeout, now):
         if not timeout > 0:
@@ -139,31 +109,22 @@ class HandoverBridge(object):
         self.started, self.deadline = now, now + float(timeout)
 
     def expired(self, now):
-        """True once the bridge has driven its ``timeout``."""
         return now >= self.deadline
 
-    @property
-    def ended(self):
-        """True once the follower has finished or failed (its command is zero)."""
-        return self.follower.done or self.follower.failed
+    ended = property(lambda self: self.follower.done or self.follower.failed)
 
     def step(self, odom_state):
-        """The follower's (v, w) for this cycle ((0, 0) once :attr:`ended`)."""
         return (0.0, 0.0) if self.ended else self.follower.step(odom_state)
 
 
 def bridges(mode, follower, done, goals, follow=HANDOVER_FOLLOW):
-    """True if a :class:`HandoverBridge` drives once ``done`` of the return's ``goals``
-    are done: closed_loop, ``follow`` > 0 s, between two goals, the follower started
-    and still driving."""
+    """True if a :class:`HandoverBridge` drives once ``done`` of ``goals`` are done."""
     return mode == 'closed_loop' and follow > 0 and follower is not None and follower.started and \
         0 < done < goals and not (follower.done or follower.failed)
 
 
 def make_goal(mode, landmark, params=None, follower=None, index=None, since=None):
-    """The goal for ``landmark`` in control ``mode``; closed_loop needs the
-    return's ``follower`` and the goal's ``index`` (return order); ``since``:
-    :class:`SectionGoal`'s."""
+    """The goal for ``landmark`` in ``mode``; closed_loop needs the ``follower`` and ``index``."""
     if mode == 'closed_loop':
         if follower is None or index is None:
             raise ValueError('a closed_loop goal needs the return route follower and its index')

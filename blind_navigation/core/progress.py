@@ -1,10 +1,5 @@
-"""The persisted progress of a return: the record and its file.
-
-:class:`ReturnProgress` goes ``begin`` (vision loss), ``start`` (the file's sha256, the
-route record), ``goal_done``, ``finish``, each step a new validated record that the caller
-saves atomically (:func:`save_progress`, :func:`progress_path`); :func:`load_progress`
-refuses another ``format``. Whether to resume: core/resume.py.
-"""
+"""The persisted progress of a return: :class:`ReturnProgress` (``begin``, ``start``,
+``goal_done``, ``finish``, each a new validated record) and its file."""
 import hashlib
 import math
 import os
@@ -19,25 +14,20 @@ from .geometry import OdomState
 from .heading_correction import GyroCorrection
 from .route import Route
 
-#: Defaults of the resume rule (the client exposes them as ~params).
+#: Defaults of the resume rule.
 PROGRESS_DEFAULTS = {
     'resume_timeout': 600.0,   # s (wall) after which an unfinished return is not resumed but aborted
     'resume_max_offset': 0.5,  # m between the robot and where the return stopped, to resume
 }
 
-#: The layout of the progress file; a file of another version is refused (not resumed).
-#: 2: ``route`` is a route record (:func:`route_record`); 1 kept it as free plain data.
+#: The layout of the progress file; a file of another version is not resumed.
 FORMAT_VERSION = 2
-#: The fields of the ``route`` field's map.
 ROUTE_RECORD = ('route', 'heading')
 FIELDS = ('landmark_file', 'digest', 'landmarks', 'anchor', 'frame_id', 'completed', 'position',
           'status', 'updated', 'route', 'reason', 'mission', 'started', 'travelled')
 STATUSES = (state.ROTATING, state.RETURNING, state.HOME, state.ABORTED, state.RECOVERED)
-#: Statuses of a return in progress; the others are finished.
 UNFINISHED = (state.ROTATING, state.RETURNING)
-#: Largest progress file read (a route of ~100000 waypoints).
-MAX_PROGRESS_BYTES = 16 << 20
-#: Deepest nesting accepted in ``route``.
+MAX_PROGRESS_BYTES = 16 << 20     # a route of ~100000 waypoints
 MAX_ROUTE_DEPTH = 16
 
 
@@ -45,8 +35,6 @@ _HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
 
 
 class ProgressError(FileContentError):
-    """A progress file or record that cannot be trusted; names the file and field."""
-
     def __init__(self, path, field, reason):
         super(ProgressError, self).__init__(path, field, reason)
         self.field = field
@@ -75,8 +63,7 @@ def as_point(value):
 
 
 def _plain(value, depth=0):
-    """``value`` as plain data (tuples -> lists); ValueError if it is not plain
-    data (None, bool, finite numbers, strings, lists and str-keyed maps)."""
+    """``value`` as plain data (tuples -> lists); ValueError if it is not plain data."""
     if depth > MAX_ROUTE_DEPTH:
         raise ValueError('nested deeper than %d levels' % MAX_ROUTE_DEPTH)
     if value is None or isinstance(value, (bool, str)):
@@ -95,8 +82,7 @@ def _plain(value, depth=0):
 
 
 def _route(value):
-    """A route record (:func:`route_record`) or None, as stored; ValueError naming
-    what is wrong (the route itself is checked by core/route.Route.from_lists)."""
+    """A route record (:func:`route_record`) or None, as stored; ValueError naming what is wrong."""
     if value is None:
         return None
     if not isinstance(value, dict) or set(value) != set(ROUTE_RECORD):
@@ -111,16 +97,13 @@ def _route(value):
 
 
 def route_record(route, heading=None):
-    """What the progress keeps of the return's route (its ``route`` field): the
-    core/route.Route and, with the heading correction, its plain form
-    (ros/heading_correction's ``to_plain``: a restarted layer continues in the same frame)."""
+    """The progress's ``route`` field: the Route and the plain heading correction or None."""
     return {'route': route.to_lists(), 'heading': heading}
 
 
 def heading_record(correction, reference, frame=None):
-    """The plain form of a heading correction for :func:`route_record`: the core
-    GyroCorrection (an unknown, infinite standard error as None), the raw OdomState where its
-    frame starts and the odometry feed's frame snapshot (None: the feed keeps none)."""
+    """The plain form of a GyroCorrection (infinite std as None), the raw OdomState where its
+    frame starts and the feed's frame snapshot or None."""
     return {'correction': [None if isinstance(v, float) and not math.isfinite(v) else v
                            for v in correction],
             'reference': [reference.x, reference.y, reference.yaw, reference.stamp],
@@ -128,20 +111,17 @@ def heading_record(correction, reference, frame=None):
 
 
 def kept_route(progress):
-    """The core/route.Route ``progress`` keeps; ValueError if it keeps none."""
     if progress.route is None:
         raise ValueError('no route kept')
     return Route.from_lists(progress.route['route'])
 
 
 def kept_heading(progress):
-    """The plain heading correction ``progress`` keeps, or None."""
     return progress.route['heading'] if progress.route is not None else None
 
 
 def plain_correction(plain):
-    """(GyroCorrection, the raw OdomState where its frame starts, the frame's snapshot or
-    None) of a :func:`heading_record`; ValueError if it is not readable."""
+    """(GyroCorrection, OdomState, snapshot) of a :func:`heading_record`; ValueError if unreadable."""
     try:
         correction = GyroCorrection(*(float('inf') if v is None else v for v in plain['correction']))
         reference = OdomState(*(float(v) for v in plain['reference'][:3]), 0.0, 0.0,
@@ -161,19 +141,15 @@ def _field_problem(progress):
         return 'landmark_file', 'must be a path, got %r' % (p.landmark_file,)
     if (p.landmark_file or p.status != state.ABORTED) and not os.path.isabs(p.landmark_file):
         return 'landmark_file', 'must be an absolute path, got %r' % (p.landmark_file,)
-    if not isinstance(p.digest, str) or not (_HEX_DIGEST.match(p.digest) or
-                                             (p.digest == '' and not returned)):
+    if not isinstance(p.digest, str) or not (_HEX_DIGEST.match(p.digest) or (p.digest == '' and not returned)):
         return 'digest', 'must be the landmark file\'s sha256 (64 hex digits)%s, got %r' % (
             '' if returned else ' or empty', p.digest)
     if not _is_count(p.landmarks) or (returned and p.landmarks < 1):
-        return 'landmarks', 'must be a count %s, got %r' % ('>= 1' if returned else '>= 0',
-                                                           p.landmarks)
+        return 'landmarks', 'must be a count %s, got %r' % ('>= 1' if returned else '>= 0', p.landmarks)
     if not _is_count(p.completed) or p.completed > p.landmarks:
-        return 'completed', 'must be a count from 0 to landmarks (%r), got %r' % (p.landmarks,
-                                                                                 p.completed)
+        return 'completed', 'must be a count from 0 to landmarks (%r), got %r' % (p.landmarks, p.completed)
     if p.status == state.HOME and p.completed != p.landmarks:
-        return 'completed', 'home needs every landmark completed (%r), got %r' % (p.landmarks,
-                                                                               p.completed)
+        return 'completed', 'home needs every landmark completed (%r), got %r' % (p.landmarks, p.completed)
     for name in ('anchor', 'position'):
         value = getattr(p, name)
         if value is not None and not _is_point(value):
@@ -202,36 +178,23 @@ def _field_problem(progress):
 
 
 class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', None, None, 0.0))):
-    """State of one return (see the module docstring for its life).
-
-    ``landmark_file`` (real path of the recorded file), ``digest`` (its sha256,
-    '' until the return starts), ``landmarks`` (its count), ``anchor`` ([x, y]
-    odometry where recording stopped, or None), ``frame_id`` (odometry frame),
-    ``completed`` (goals done, return order), ``position`` ([x, y] odometry at
-    the last update, or None), ``status`` (rotating, returning, home, aborted),
-    ``updated`` (wall time, s), ``route`` (:func:`route_record`),
-    ``reason`` (why it ended), ``mission`` (the mission id, or None),
-    ``started`` (wall time of :meth:`begin`, s), ``travelled`` (m driven by the
-    return so far, for core/plausibility.RouteBudget across restarts).
-    """
+    """State of one return (docs/safety.md, "Faults"): positions are odometry [x, y], times
+    wall s; ``digest`` '' until the return starts; ``travelled``: m for core/plausibility.RouteBudget."""
 
     __slots__ = ()
 
     @classmethod
     def begin(cls, landmark_file, anchor, frame_id, now, mission=None):
-        """Vision was lost: a return over ``landmark_file`` (resolved to its real
-        path) begins with the pi turn; ``anchor`` [x, y] or None if odometry was
-        not fresh (then :meth:`start` needs one)."""
+        """Vision was lost: a return over ``landmark_file`` begins with the pi turn; ``anchor``
+        [x, y] or None (then :meth:`start` needs one)."""
         anchor = as_point(anchor)
         return cls(landmark_file=os.path.realpath(os.path.expanduser(landmark_file)), digest='',
                    landmarks=0, anchor=anchor, frame_id=str(frame_id or ''), completed=0,
-                   position=anchor, status=state.ROTATING, updated=float(now), route=None,
-                   reason='', mission=mission, started=float(now), travelled=0.0).checked()
+                   position=anchor, status=state.ROTATING, updated=float(now), reason='',
+                   mission=mission, started=float(now)).checked()
 
     def start(self, digest, landmarks, now, route=None, anchor=None):
-        """The robot starts back over ``landmarks`` landmarks of a file with sha256
-        ``digest``; ``route``: the route the return follows (:func:`route_record`);
-        ``anchor``: [x, y] if :meth:`begin` had none."""
+        """The robot starts back over ``landmarks`` landmarks of a file with sha256 ``digest``."""
         if self.status != state.ROTATING:
             raise ValueError('a return starts after the pi turn (status rotating), not in %s'
                              % self.status)
@@ -243,8 +206,7 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
                              updated=float(now), route=_route(route)).checked()
 
     def goal_done(self, completed, now, position=None, travelled=None):
-        """``completed`` goals are done (never fewer than before); ``position``
-        [x, y] of the robot, ``travelled`` m driven by the return so far."""
+        """``completed`` goals are done (never fewer than before)."""
         if self.status != state.RETURNING:
             raise ValueError('goals are done while returning, not in %s' % self.status)
         if not (_is_count(completed) and self.completed <= completed <= self.landmarks):
@@ -270,30 +232,22 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
 
     @classmethod
     def aborted(cls, reason, now, landmark_file='', mission=None):
-        """A finished record of a return that cannot be continued, to replace an
-        untrusted progress file (:func:`settle_abort`)."""
+        """A finished record to replace an untrusted progress file."""
         return cls(landmark_file=landmark_file, digest='', landmarks=0, anchor=None, frame_id='',
                    completed=0, position=None, status=state.ABORTED, updated=float(now),
-                   route=None, reason=str(reason), mission=mission, started=None,
-                   travelled=0.0).checked()
+                   reason=str(reason), mission=mission).checked()
 
-    @property
-    def unfinished(self):
-        return self.status in UNFINISHED
+    unfinished = property(lambda self: self.status in UNFINISHED)
 
     def checked(self, path='<return progress>'):
-        """``self`` if every field is valid, else ProgressError naming ``path`` and the field."""
         problem = _field_problem(self)
         if problem:
             raise ProgressError(path, *problem)
         return self
 
 
-# --- the file ----------------------------------------------------------------
-
 def progress_path(landmark_file):
-    """Where the progress of a return over ``landmark_file`` (the configured name,
-    usually the recorder's symlink) is kept: next to it, ``<stem>.progress.yaml``."""
+    """``<stem>.progress.yaml`` next to ``landmark_file`` (the configured name)."""
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
     stem, _ = os.path.splitext(os.path.basename(landmark_file))
     return os.path.join(os.path.dirname(landmark_file), stem + '.progress.yaml')
@@ -305,8 +259,7 @@ def file_digest(path):
 
 
 def save_progress(path, progress):
-    """Validate ``progress`` and write it to ``path`` atomically
-    (core/files.write_atomically: StorageError naming the file on failure)."""
+    """Validate ``progress`` and write it to ``path`` atomically (StorageError on failure)."""
     progress.checked(path)
     document = dict([('format', FORMAT_VERSION)] + list(progress._asdict().items()))
     text = ('# blind_navigation return progress (back_travel_client); '
@@ -316,8 +269,7 @@ def save_progress(path, progress):
 
 
 def load_progress(path):
-    """The :class:`ReturnProgress` stored at ``path``, None if there is none;
-    ProgressError naming the file and the field if it cannot be trusted."""
+    """The :class:`ReturnProgress` at ``path`` (None: none); ProgressError if untrusted."""
     try:
         data = read_regular_file(path, MAX_PROGRESS_BYTES, follow_symlinks=False)
     except FileNotFoundError:

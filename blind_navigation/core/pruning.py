@@ -1,53 +1,187 @@
-"""Pruning of the closed-loop return: cut loops and doubled-back stretches where the
-path comes back within ``prune_radius`` of a place it passed, only where the drift allows.
-
-``prune_route(route, landmarks, correction, params)`` -> ``.route`` (pruned), ``.cuts``,
-``.refused``, ``.describe()``. Rule: ``gap + prune_sigmas x drift std <= prune_radius``
-(core/loop_drift.py); one section per landmark is kept (docs/pruning.md).
-"""
+"""Pruning of the closed-loop return: :func:`prune_route` cuts loops where the path comes
+back within ``prune_radius`` of a place it passed, if ``gap + prune_sigmas x drift std <=
+prune_radius`` (:class:`LoopDrift`: the odometry drift over a loop); docs/pruning.md."""
 import bisect
 import math
 from collections import namedtuple
 
-from .loop_drift import DRIFT_DEFAULTS, NO_DRIFT, LoopDrift, drift_param
+from .period_model import period_turn
 from .route import ROUTE_DEFAULTS, Route, Section, corner_turn
 
-#: Defaults of the pruning (the back-travel client exposes them as ~params); with the
-#: drift model's (core/loop_drift.DRIFT_DEFAULTS).
-PRUNE_DEFAULTS = dict(DRIFT_DEFAULTS, **{
+#: Defaults of the pruning and of its odometry error model over a loop (sources: docs/pruning.md).
+PRUNE_DEFAULTS = {
+    'wheel_error_per_m': 0.01,        # fraction: odometry distance error per metre driven
+    'gyro_noise_density': 5.2e-4,     # rad/sqrt(s): the gyro heading's random walk
+    'uncorrected_bias_std': 3.3e-4,   # rad/s: gyro bias std where the correction has none
+    'uncorrected_scale_std': 0.005,   # gyro scale error std where the calibration has none
     'prune_radius': 0.175,     # m; two passes closer than this (plus the drift) are one place
     'prune_sigmas': 2.0,       # drift standard deviations the gap plus the drift must leave
     'prune_min_loop': 1.0,     # m; shorter loops are not cut (nothing worth the junction)
-})
+}
+
+
+def drift_param(params, name, defaults=PRUNE_DEFAULTS):
+    """``params.name`` (or the default), checked to be a finite number >= 0."""
+    value = getattr(params, name, defaults[name]) if params is not None else defaults[name]
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError('%s must be a number, got %r' % (name, value))
+    if not (value >= 0 and math.isfinite(value)):
+        raise ValueError('%s must be a finite number >= 0, got %r' % (name, value))
+    return value
+
+
+class Drift(namedtuple('Drift', 'bias_x bias_y scale_x scale_y noise wheel')):
+    """Bias and scale sums (m s, m rad), white-noise integral (m^2 s), wheel error std (m)."""
+
+    __slots__ = ()
+
+    def plus(self, other):
+        return Drift(*(a + b for a, b in zip(self, other)))
+
+
+NO_DRIFT = Drift(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+LoopEstimate = namedtuple('LoopEstimate', 'length duration gap drift')   # m, s, m, Drift
+
+
+class LoopDrift(object):
+    """The drift model of ``route`` over ``landmarks`` corrected by ``correction`` (or None)."""
+
+    def __init__(self, route, landmarks, correction=None, params=None):
+        landmarks = list(landmarks)
+        if len(landmarks) != len(route.sections):
+            raise ValueError('loop drift: %d landmarks for a route of %d sections'
+                             % (len(landmarks), len(route.sections)))
+        self.route = route
+        self.bias_std = _std(correction, 'bias_std', drift_param(params, 'uncorrected_bias_std'))
+        self.scale_std = _std(correction, 'scale_std', drift_param(params, 'uncorrected_scale_std'))
+        self.noise_density = drift_param(params, 'gyro_noise_density')
+        self.wheel_error = drift_param(params, 'wheel_error_per_m')
+        self.arrive, self.leave = vertex_passes(route, landmarks)
+        self._sums()
+
+    def _sums(self):
+        """Prefix sums per vertex v: standing at v, then the segment from v + 1 to v."""
+        route, arrive, leave = self.route, self.arrive, self.leave
+        ox, oy = route.x[0], route.y[0]
+        keys = ('gx', 'gy', 'tx', 'ty', 'hx', 'hy', 'c', 'dx', 'dy', 'f')
+        sums = {k: [0.0] for k in keys}
+        self.stand = []
+        for v in range(route.vertices):
+            x, y = route.x[v] - ox, route.y[v] - oy
+            stood = max(0.0, leave[v][0] - arrive[v][0])
+            self.stand.append((stood, stood * x, stood * y, stood * (x * x + y * y)))
+            add = dict.fromkeys(keys, 0.0)
+            add['c'], add['dx'], add['dy'], add['f'] = self.stand[-1]
+            if v + 1 < route.vertices:
+                gx, gy = route.x[v] - route.x[v + 1], route.y[v] - route.y[v + 1]
+                t_mid = (leave[v + 1][0] + arrive[v][0]) / 2.0
+                h_mid = (leave[v + 1][1] + arrive[v][1]) / 2.0
+                dt = max(0.0, arrive[v][0] - leave[v + 1][0])
+                mx, my = x - gx / 2.0, y - gy / 2.0
+                add.update(gx=gx, gy=gy, tx=t_mid * gx, ty=t_mid * gy, hx=h_mid * gx, hy=h_mid * gy)
+                add['c'] += dt
+                add['dx'] += dt * mx
+                add['dy'] += dt * my
+                add['f'] += dt * (mx * mx + my * my)
+            for k in keys:
+                sums[k].append(sums[k][-1] + add[k])
+        self._prefix = sums
+        self._origin = (ox, oy)
+
+    def _between(self, name, u, w):
+        return self._prefix[name][w] - self._prefix[name][u]
+
+    def loop(self, u, w):
+        """:class:`LoopEstimate` of the loop from vertex ``w`` back to ``u < w``."""
+        if not 0 <= u < w < self.route.vertices:
+            raise ValueError('loop drift: need 0 <= later %d < earlier %d < %d vertices'
+                             % (u, w, self.route.vertices))
+        route = self.route
+        gx, gy = self._between('gx', u, w), self._between('gy', u, w)
+        t_ref, h_ref = self.leave[w]
+        bias = (self._between('tx', u, w) - t_ref * gx, self._between('ty', u, w) - t_ref * gy)
+        scale = (self._between('hx', u, w) - h_ref * gx, self._between('hy', u, w) - h_ref * gy)
+        stood = self.stand[u]        # standing at u comes after the loop: not in it
+        c = self._between('c', u, w) - stood[0]
+        dx, dy = self._between('dx', u, w) - stood[1], self._between('dy', u, w) - stood[2]
+        f = self._between('f', u, w) - stood[3]
+        ux, uy = route.x[u] - self._origin[0], route.y[u] - self._origin[1]
+        noise = max(0.0, c * (ux * ux + uy * uy) - 2.0 * (ux * dx + uy * dy) + f)
+        length = route.s[w] - route.s[u]
+        drift = Drift(bias[0], bias[1], scale[0], scale[1], noise, self.wheel_error * length)
+        return LoopEstimate(length, self.arrive[u][0] - t_ref,
+                            math.hypot(route.x[u] - route.x[w], route.y[u] - route.y[w]), drift)
+
+    def sigma(self, drift):
+        """Standard deviation (m) of the true offset between the passes for ``drift``."""
+        bias = self.bias_std * math.hypot(drift.bias_x, drift.bias_y)
+        scale = self.scale_std * math.hypot(drift.scale_x, drift.scale_y)
+        return math.sqrt(bias * bias + scale * scale + self.noise_density ** 2 * drift.noise
+                         + drift.wheel * drift.wheel)
+
+
+def _std(correction, name, prior):
+    """The correction's std of a term, or ``prior`` where it did not correct that term."""
+    value = getattr(correction, name, math.inf) if correction is not None else math.inf
+    return value if math.isfinite(value) else prior
+
+
+def vertex_passes(route, landmarks):
+    """Per route vertex: (recording time s, unwrapped heading rad) reaching and leaving it."""
+    n = len(landmarks)
+    times, headings = [], []
+    elapsed = heading = 0.0
+    for k, landmark in enumerate(landmarks):
+        elapsed += landmark.T
+        heading = landmark.psi if k == 0 else heading + period_turn(landmarks[k - 1], landmark)
+        times.append(elapsed)
+        headings.append(heading)
+    start_heading = headings[0] - landmarks[0].w * landmarks[0].T if n else 0.0
+    arrive, leave = [None] * route.vertices, [None] * route.vertices
+
+    def note(vertex, t, h):
+        if arrive[vertex] is None or t < arrive[vertex][0]:
+            arrive[vertex] = (t, h)
+        if leave[vertex] is None or t > leave[vertex][0]:
+            leave[vertex] = (t, h)
+
+    start = 0
+    for index, section in enumerate(route.sections):
+        k = n - 1 - index
+        late = (times[k], headings[k])
+        early = (times[k - 1], headings[k - 1]) if k > 0 else (0.0, start_heading)
+        end = section.end_vertex
+        if end == start:
+            note(start, *late)
+            note(start, *early)
+        span = route.s[end] - route.s[start]
+        for vertex in range(start, end + 1) if end > start else ():
+            share = (route.s[vertex] - route.s[start]) / span if span > 0 else \
+                (vertex - start) / float(end - start)
+            note(vertex, late[0] + share * (early[0] - late[0]), late[1] + share * (early[1] - late[1]))
+        start = end
+    if not route.sections:
+        note(0, 0.0, 0.0)
+    missing = [v for v in range(route.vertices) if arrive[v] is None]
+    if missing:
+        raise ValueError('loop drift: route vertices %s belong to no section' % missing[:5])
+    return arrive, leave
 
 
 class Cut(namedtuple('Cut', 'later earlier share later_xy earlier_xy gap length duration sigma '
                             'sigma_total drift started')):
-    """A candidate loop: from vertex ``later`` of the unpruned route (return
-    order) back to the earlier pass at ``share`` of the segment from vertex
-    ``earlier`` to the next (0: the vertex itself), and their (x, y); the
-    odometry ``gap`` (m), the loop's ``length`` (m) and ``duration`` (s); the
-    drift std of this loop alone (``sigma``, m) and with the cuts before it
-    (``sigma_total``, m); the accumulated core/loop_drift.Drift; when the loop
-    ``started`` (s of recording time: the robot left the earlier pass). Length
-    aside, the loop is taken to the segment's far end (conservative)."""
+    """A candidate loop from vertex ``later`` back to ``share`` of the segment after vertex
+    ``earlier`` (return order), its ``gap``, ``length``, ``duration``, drift std alone and
+    with the cuts before (``sigma``, ``sigma_total``), Drift, and recording time ``started``."""
 
     __slots__ = ()
 
-    @property
-    def landing(self):
-        """(vertex, share): where on the route the cut lands, comparable."""
-        return self.earlier, self.share
-
-    @property
-    def resume(self):
-        """The first vertex of the unpruned route the return drives after the cut."""
-        return self.earlier + 1 if self.share > 0 else self.earlier
-
-    @property
-    def saved(self):
-        """m of route the cut saves."""
-        return self.length - self.gap
+    landing = property(lambda self: (self.earlier, self.share))
+    resume = property(lambda self: self.earlier + 1 if self.share > 0 else self.earlier)
+    saved = property(lambda self: self.length - self.gap)
 
     def describe(self, params=None):
         text = ('a %.2f m, %.0f s loop (recorded from %.0f s) from (%.2f, %.2f) back to (%.2f, %.2f): '
@@ -62,17 +196,13 @@ class Cut(namedtuple('Cut', 'later earlier share later_xy earlier_xy gap length 
 
 
 class PruneResult(namedtuple('PruneResult', 'route cuts refused params examined')):
-    """The pruned route, the cuts made, the candidates refused, the params used
-    and how many nearby vertices the search looked at (its cost)."""
+    """The pruned route, cuts, refused candidates, params and vertices examined."""
 
     __slots__ = ()
 
-    @property
-    def saved(self):
-        return sum(cut.saved for cut in self.cuts)
+    saved = property(lambda self: sum(cut.saved for cut in self.cuts))
 
     def describe(self):
-        """Log lines: each cut, each refused candidate, and a summary."""
         lines = ['cut %s; saves %.2f m' % (cut.describe(), cut.saved) for cut in self.cuts]
         lines += ['refused %s' % cut.describe(self.params) for cut in self.refused]
         lines.append('pruning: %d cut(s), %d refused, route %.2f m' % (
@@ -81,7 +211,6 @@ class PruneResult(namedtuple('PruneResult', 'route cuts refused params examined'
 
 
 def prune_params(params=None):
-    """{name: value} of :data:`PRUNE_DEFAULTS` from ``params`` (attributes), checked."""
     values = {name: drift_param(params, name, PRUNE_DEFAULTS) for name in PRUNE_DEFAULTS}
     if not values['prune_radius'] > 0:
         raise ValueError('prune_radius must be > 0, got %r' % values['prune_radius'])
@@ -89,9 +218,7 @@ def prune_params(params=None):
 
 
 def prune_route(route, landmarks, correction=None, params=None):
-    """:class:`PruneResult` of ``route`` (core/route.Route built from ``landmarks``,
-    recording order, in the frame of ``correction``, a GyroCorrection or None);
-    ``params``: attributes of :data:`PRUNE_DEFAULTS` and core/route.ROUTE_DEFAULTS."""
+    """:class:`PruneResult` of ``route`` built from ``landmarks`` in the frame of ``correction``."""
     values = prune_params(params)
     drift = LoopDrift(route, landmarks, correction, params)
     radius, sigmas, min_loop = values['prune_radius'], values['prune_sigmas'], values['prune_min_loop']
@@ -147,8 +274,7 @@ def _point(route, index, share):
 
 
 def _landings(route, u, vertices):
-    """Where on the earlier passes near vertex ``u`` a cut can land: for each nearby
-    vertex, the point of each of its two segments nearest ``u``, as (vertex, share)."""
+    """(vertex, share) where a cut from ``u`` can land: each nearby vertex's segments' nearest point."""
     x, y, last = route.x[u], route.y[u], route.vertices - 1
     seen = set()
     for w in vertices:
@@ -168,9 +294,7 @@ def _landings(route, u, vertices):
 
 
 def _neighbours(route, radius, min_loop):
-    """(``near(u)``: the vertices ``w > u`` within ``radius`` of vertex ``u`` and at
-    least ``min_loop`` further along the route, from a grid of ``radius`` cells;
-    [how many cell entries it looked at])."""
+    """(``near(u)``: vertices within ``radius``, ``min_loop`` on; [entries scanned])."""
     cells = {}
     for vertex, (x, y) in enumerate(zip(route.x, route.y)):
         cells.setdefault((math.floor(x / radius), math.floor(y / radius)), []).append(vertex)
@@ -206,10 +330,8 @@ def _one_per_loop(refused):
 
 
 def apply_cuts(route, cuts, params=None):
-    """The :class:`~core.route.Route` without the loops of ``cuts`` (return order,
-    each starting at or after where the previous one resumes; module docstring:
-    sections inside a cut end at its junction, which is a corner; a cut landing
-    within a segment adds its landing point as a vertex)."""
+    """The Route without the loops of ``cuts`` (return order): sections inside a cut end at
+    its junction, a corner; a landing within a segment becomes a vertex."""
     merge = drift_param(params, 'merge_distance', ROUTE_DEFAULTS)
     corner_angle = drift_param(params, 'corner_angle', ROUTE_DEFAULTS)
     slowest_v = drift_param(params, 'slowest_v', ROUTE_DEFAULTS)

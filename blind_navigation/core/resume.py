@@ -1,11 +1,6 @@
-"""Whether a restarted layer may resume the return its progress file
-(core/progress.py) records: :func:`resume_from_file` (or, on a record read
-already, :func:`resume_decision`) answers :data:`RESUME`, :data:`IGNORE`
-(nothing was under way) or :data:`ABORT` (a return was under way and cannot
-safely continue, or the file cannot be trusted: docs/safety.md, "Faults");
-:func:`settle_abort` then records the abort, so the next start is clean;
-:func:`kept_return` is what a resumed return continues from.
-"""
+"""Whether a restarted layer may resume the return its progress file records
+(:func:`resume_from_file`: RESUME, IGNORE or ABORT; docs/safety.md, "Faults"), recording an
+abort (:func:`settle_abort`) and what a resumed return continues from (:func:`kept_return`)."""
 import datetime
 import enum
 import math
@@ -22,7 +17,6 @@ from .store import LandmarkFileError, load_landmarks
 
 
 class Action(enum.Enum):
-    """What a restarted layer does with a return's progress."""
     RESUME = 'resume'
     IGNORE = 'ignore'
     ABORT = 'abort'
@@ -30,33 +24,14 @@ class Action(enum.Enum):
 
 RESUME, IGNORE, ABORT = Action.RESUME, Action.IGNORE, Action.ABORT
 ResumeDecision = namedtuple('ResumeDecision', 'action reason progress')
-ResumeDecision.__doc__ = ('What a restarted layer does: ``action`` (RESUME, IGNORE or ABORT), '
-                          '``reason`` (one line naming the file and, for a bad file, the field), '
-                          '``progress`` (the ReturnProgress read, None if none could be).')
 
 
 def resume_decision(progress, now, digest, position, mission=None,
                     resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
                     resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], landmark_count=None):
-    """May a restarted layer resume the return ``progress`` (a ReturnProgress)? A
-    :class:`ResumeDecision`.
-
-    ``now``: wall time, s; ``digest``: sha256 of ``landmark_file`` now (None
-    if it cannot be read); ``position``: the robot's odometry [x, y] now
-    (None if unknown: wait for odometry before asking); ``mission``: the
-    current mission's id, if known; ``landmark_count``: how many landmarks
-    the file holds now, if the caller loaded it. Rules, in order:
-
-    - finished (home, aborted): IGNORE;
-    - unfinished, and both this record and the caller name a mission, and
-      they differ: IGNORE (left over from an earlier mission);
-    - otherwise a return of this mission was under way: ABORT if it was
-      updated more than ``resume_timeout`` s ago or in the future (the clock
-      changed), during the pi turn (the heading is unknown), if the file is
-      gone or changed or does not hold ``landmarks`` landmarks, if the
-      robot's position is unknown or more than
-      ``resume_max_offset`` m from where the return stopped; else RESUME.
-    """
+    """A ResumeDecision for ``progress``: finished or another mission's, IGNORE; too old,
+    mid-turn, the file (sha256 ``digest``, None: gone; ``landmark_count``) changed or the
+    robot (``position``) away, ABORT; else RESUME."""
     action, why = resume_check(progress, now, digest, resume_timeout, mission)
     if action == RESUME and landmark_count is not None and landmark_count != progress.landmarks:
         action, why = ABORT, ('%s: landmarks: the return was over %d landmarks, the file holds '
@@ -70,8 +45,7 @@ def resume_decision(progress, now, digest, position, mission=None,
 
 
 def resume_check(progress, now, digest, resume_timeout, mission=None):
-    """The file part of :func:`resume_decision` (not where the robot is):
-    ``(action, reason)``."""
+    """``(action, reason)``: :func:`resume_decision` but where the robot is."""
     if not progress.unfinished:
         return IGNORE, 'the last return (%s) ended %s' % (progress.landmark_file, progress.status)
     if mission is not None and progress.mission is not None and mission != progress.mission:
@@ -97,8 +71,7 @@ def resume_check(progress, now, digest, resume_timeout, mission=None):
 
 
 def position_check(progress, position, resume_max_offset):
-    """None if the robot (odometry ``position`` [x, y], None if unknown) is within
-    ``resume_max_offset`` m of where ``progress`` stopped, else why not."""
+    """None if ``position`` is within ``resume_max_offset`` m of where ``progress`` stopped."""
     if position is None:
         return 'no odometry to check where the robot is'
     try:
@@ -115,11 +88,7 @@ def position_check(progress, position, resume_max_offset):
 def resume_from_file(path, now, position, mission=None,
                      resume_timeout=PROGRESS_DEFAULTS['resume_timeout'],
                      resume_max_offset=PROGRESS_DEFAULTS['resume_max_offset'], limits=Limits()):
-    """What a restarted layer does with the progress at ``path``: a
-    :class:`ResumeDecision` (see :func:`resume_decision`). No file:
-    IGNORE; a file that cannot be trusted: ABORT naming the file and field.
-    The landmark file's digest and count are taken here (loaded with
-    ``limits``; a file that no longer loads: ABORT naming it)."""
+    """:func:`resume_decision` for the progress at ``path`` (none: IGNORE; untrusted: ABORT)."""
     try:
         progress = load_progress(path)
     except ProgressError as error:
@@ -140,11 +109,7 @@ def resume_from_file(path, now, position, mission=None,
 
 
 def settle_abort(path, decision, now):
-    """Record an ABORT ``decision`` at ``path`` so the next start does not decide
-    again: the progress read is marked aborted with the reason; an untrusted
-    file is first renamed to ``<path>.bad-<time>`` (kept for inspection) and
-    replaced by an aborted record. Returns the name it was set aside as, or
-    None. StorageError (naming the file) if it cannot be written."""
+    """Record an ABORT ``decision`` at ``path``; returns where an untrusted file was set aside."""
     if decision.action != ABORT:
         raise ValueError('only an abort is settled, not %r' % (decision.action,))
     if decision.progress is not None:
@@ -163,26 +128,10 @@ def settle_abort(path, decision, now):
 
 KeptReturn = namedtuple('KeptReturn', 'loaded landmarks route correction reference frame done '
                         'travelled anchor')
-KeptReturn.__doc__ = ('What a resumed return continues from: the landmark file ``loaded``, its '
-                      '``landmarks`` in the corrected frame, the ``route``, the heading ``correction``, '
-                      'its ``reference`` and ``frame`` (core/heading_correction.CorrectedOdometry, '
-                      'None without one), the goals ``done``, m ``travelled``, the ``anchor``.')
-
-
-def resumed_route(progress, digest, goals, path):
-    """(route, problem): the route ``progress`` (kept at ``path``) keeps, if the landmark file
-    (sha256 ``digest``, ``goals`` landmarks) is still the one its return started over."""
-    if digest != progress.digest or goals != progress.landmarks:
-        return None, 'landmark file %s changed since the return started' % progress.landmark_file
-    try:
-        return kept_route(progress), None
-    except ValueError as error:
-        return None, 'cannot resume: the route in %s: %s' % (path, error)
 
 
 def kept_return(progress, path, limits=Limits()):
-    """(:class:`KeptReturn`, None) of a RESUME decision's ``progress`` (kept at ``path``; the
-    landmark file loaded with ``limits``), or (None, why it cannot be resumed)."""
+    """(KeptReturn, None) of a RESUME decision's ``progress``, or (None, why not)."""
     try:
         loaded = load_landmarks(progress.landmark_file, limits=limits)
         digest = file_digest(progress.landmark_file)
@@ -191,8 +140,13 @@ def kept_return(progress, path, limits=Limits()):
                                                                      error.strerror)
     except LandmarkFileError as error:
         return None, 'landmark file unusable: %s' % error
-    route, problem = resumed_route(progress, digest, len(loaded.landmarks), path)
-    problem = problem or getattr(recording_problem(loaded, None), 'reason', None)
+    if digest != progress.digest or len(loaded.landmarks) != progress.landmarks:
+        return None, 'landmark file %s changed since the return started' % progress.landmark_file
+    try:
+        route = kept_route(progress)
+    except ValueError as error:
+        return None, 'cannot resume: the route in %s: %s' % (path, error)
+    problem = getattr(recording_problem(loaded, None), 'reason', None)
     if problem:
         return None, problem
     correction = reference = frame = None

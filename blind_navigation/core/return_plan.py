@@ -1,10 +1,5 @@
-"""What a return drives, decided before the first goal (no ROS).
-
-:func:`recording_problem` (is there a way back; asked before the pi turn and when the
-return starts; :func:`still_loss` is bridged), :func:`return_warning`, :func:`plan_route`
-(core/route, pruned with ``prune_loops``), :func:`return_goals` (return order) and
-:func:`nothing_to_retrace` (a return asked for before the robot moved).
-"""
+"""What a return drives, decided before the first goal: :func:`recording_problem` (is there a
+way back), the warnings, :func:`plan_return` (the route, pruned) and :func:`nothing_to_retrace`."""
 import math
 from collections import namedtuple
 
@@ -13,22 +8,16 @@ from .odometry_reset import is_untrusted_reset
 from .pruning import prune_route
 from .route import build_route
 
-#: A loss of landmarks to write failures that the return bridges: every lost landmark
-#: taken standing still, their d summing to at most STILL_LOSS_DISTANCE (m) and their
-#: heading changes to at most STILL_LOSS_TURN (rad). Why these: docs/safety.md,
-#: "Decide before the turn".
+#: m, rad: the most a loss of landmarks the return bridges (docs/safety.md, "Decide before the turn").
 STILL_LOSS_DISTANCE = 0.005
 STILL_LOSS_TURN = 0.1
 
 WriteLoss = namedtuple('WriteLoss', 'count distance turn error')
-WriteLoss.__doc__ = ('What a recorder could not write (blind_navigation/StorageUsage): ``count`` '
-                     'landmarks, covering ``distance`` m (their d) and ``turn`` rad (their heading '
-                     'changes); ``error``: the last write failure.')
 NO_LOSS = WriteLoss(0, 0.0, 0.0, '')
 
 
 def write_loss(writer, error=''):
-    """The WriteLoss of a core/landmark_writer.LandmarkWriter (``error``: its last failure)."""
+    """The WriteLoss (what could not be written) of a core/landmark_writer.LandmarkWriter."""
     return WriteLoss(writer.lost, writer.lost_distance, writer.lost_turn, error)
 
 
@@ -38,12 +27,8 @@ def still_loss(loss):
 
 
 def recording_problem(loaded, loss=None):
-    """Why the recording (core/store.LoadedPath, possibly still growing) gives no way
-    back (a core/outcome.Ending), or None: the question asked before the pi turn and again
-    when the return starts. ``loss`` (a WriteLoss; None when the return resumes: it was
-    judged before it started): landmarks lost to write failures that were not all taken
-    standing still (:func:`still_loss`, STORAGE); or an odometry reset the recording could
-    not carry (ODOMETRY)."""
+    """Why ``loaded`` (a core/store.LoadedPath) gives no way back (a core/outcome.Ending), or
+    None: ``loss`` (a WriteLoss) not all standing still, or an untrusted odometry reset."""
     if loss is not None and loss.count and not still_loss(loss):
         tail = loaded.lost_after_end(loss.count)
         what, where = (('the last %d landmark(s) of the recording' % tail, 'from here') if tail else
@@ -63,8 +48,7 @@ def recording_problem(loaded, loss=None):
 
 
 def frame_lost(lost):
-    """Why a mission whose odometry frame was lost (``lost``: an untrusted reset's reason,
-    the time moving back) cannot go back."""
+    """Why a mission whose odometry frame was ``lost`` cannot go back."""
     return '%s: the way back is unknown; not travelling back' % lost
 
 
@@ -77,15 +61,13 @@ def gaps_warning(loaded):
 
 
 def damage_warning(loss, path):
-    """The mission's warning while landmarks could not be written (``loss``, a WriteLoss)
-    to ``path``."""
+    """The mission's warning while landmarks (``loss``) could not be written to ``path``."""
     return ('RECORDING DAMAGED: %d landmark(s) (%.3f m, %.2f rad of the path) could not be '
             'written to %s: %s' % (loss.count, loss.distance, loss.turn, path, loss.error))
 
 
 def return_warning(loaded, loss=None):
-    """The mission's warning for a return over ``loaded`` after ``loss`` (a WriteLoss or
-    None) that :func:`recording_problem` let pass: its gaps, the landmarks lost standing still."""
+    """The mission's warning for a return over ``loaded`` after ``loss`` (or None)."""
     parts = [gaps_warning(loaded)]
     if loss is not None and loss.count:
         parts.append('%d landmark(s) could not be written (%s) while the robot stood still '
@@ -100,9 +82,8 @@ def return_goals(labels, landmarks):
 
 
 def plan_return(landmarks, anchor, params, prune, correction=None):
-    """(route, core/pruning.PruneResult or None): the route from ``anchor`` over
-    ``landmarks`` (recording order), with ``prune`` pruned in the frame of
-    ``correction`` (a GyroCorrection or None). ValueError if it cannot be built."""
+    """(route, core/pruning.PruneResult or None) from ``anchor`` over ``landmarks``, pruned
+    with ``prune`` in the frame of ``correction``; ValueError if it cannot be built."""
     route = build_route(landmarks, anchor, params)
     if not prune:
         return route, None
@@ -110,17 +91,8 @@ def plan_return(landmarks, anchor, params, prune, correction=None):
     return result.route, result
 
 
-def plan_route(landmarks, anchor, params, prune, correction=None):
-    """(route, log lines): :func:`plan_return`'s route and what pruning did."""
-    route, result = plan_return(landmarks, anchor, params, prune, correction)
-    return route, result.describe() if result is not None else []
-
-
 def nothing_to_retrace(recorded, start, here, tolerance):
-    """Why a return would have nothing to retrace, or None: the recording holds at most
-    ``tolerance`` m of path (``recorded``) and the robot's odometry ``here`` [x, y] is
-    within ``tolerance`` of where the recording began (``start``); the mission is then
-    home without a turn (docs/safety.md, "home"). ``start`` or ``here`` None: unknown."""
+    """Why a return has nothing to retrace (``recorded``, ``here`` to ``start`` <= ``tolerance``)."""
     if start is None or here is None or recorded > tolerance:
         return None
     off = math.hypot(here[0] - start[0], here[1] - start[1])

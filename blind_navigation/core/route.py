@@ -1,22 +1,17 @@
-"""The whole return route, built at once from the recorded landmarks (closed-loop return).
-
-``build_route(landmarks, anchor)`` -> :class:`Route`: ``sections`` (one per landmark, in
-return order), ``section_end(i)``, ``length``, ``to_lists()`` / ``Route.from_lists``;
-:func:`landmark_positions`. The way between two ticks is modelled from all five variables
-and scaled to ``d``; sharp turns are corners; progress is ``(s, phase)``
-(docs/back_travel.md, "The route").
-"""
+"""The whole return route, built at once from the recorded landmarks (closed-loop return):
+``build_route(landmarks, anchor)`` -> :class:`Route` (docs/back_travel.md, "The route")."""
 import math
+from itertools import accumulate
 
 from .geometry import wrap_angle
 from .period_model import period_shape, period_turn
+from .plausibility import nonnegative_param
 from .safety import SAFETY_DEFAULTS, expected_duration, recorded_speed
 
-#: Defaults of the route building (the back-travel nodes expose them as ~params).
+#: Defaults of the route building.
 ROUTE_DEFAULTS = {
     'merge_distance': 0.01,   # m; route points closer than this merge into one
-    'in_place_radius': 0.1,   # m; a period that turned on a smaller radius (d < this x its turn) is
-                              # a turn in place: its points merge into the corner
+    'in_place_radius': 0.1,   # m; a period that turned on a smaller radius is a turn in place
     'corner_angle': 0.5,      # rad; a turn at one point larger than this is a corner (stop, turn in place)
     'curve_step': 0.1,        # rad; largest heading change between modelled points within a period
     'curve_spacing': 0.1,     # m; largest distance between modelled points within a period
@@ -32,16 +27,11 @@ ROUTE_FIELDS = ('x', 'y', 'speed', 'corner') + tuple('section_' + f for f in SEC
 
 
 def _param(params, name):
-    value = getattr(params, name, ROUTE_DEFAULTS[name]) if params is not None else ROUTE_DEFAULTS[name]
-    value = float(value)
-    if not value >= 0 or not math.isfinite(value):
-        raise ValueError('route parameter %s must be a finite number >= 0, got %r' % (name, value))
-    return value
+    return nonnegative_param(params, name, ROUTE_DEFAULTS, 'route')
 
 
 class Section(object):
-    """One goal of the return (one landmark): where it ends, the recorded speed
-    (m/s) and turn rate (rad/s), its nominal time (s) and the corner turn it owns (rad)."""
+    """One goal of the return (one landmark): its end mark, recorded rates, nominal time, turn."""
 
     __slots__ = SECTION_FIELDS
 
@@ -55,9 +45,8 @@ class Section(object):
 
 
 class Route(object):
-    """Vertices ``x``, ``y`` (return order; 0 = anchor, last = the start of the
-    recording), modelled recorded ``speed`` at each (m/s), ``corner`` flags,
-    cumulative length ``s`` and the :class:`Section` list (see module docstring)."""
+    """Vertices ``x``, ``y`` (return order: 0 the anchor), their ``speed`` and ``corner``
+    flags, cumulative length ``s`` and the :class:`Section` list."""
 
     def __init__(self, x, y, speed, corner, sections):
         if not (len(x) == len(y) == len(speed) == len(corner)) or not x:
@@ -68,9 +57,8 @@ class Route(object):
         self.corner = [bool(c) for c in corner]
         self.corner[0] = self.corner[-1] = True
         self.sections = list(sections)
-        self.s = [0.0]
-        for i in range(1, len(self.x)):
-            self.s.append(self.s[-1] + math.hypot(self.x[i] - self.x[i - 1], self.y[i] - self.y[i - 1]))
+        self.s = list(accumulate((math.hypot(self.x[i] - self.x[i - 1], self.y[i] - self.y[i - 1])
+                                  for i in range(1, len(self.x))), initial=0.0))
         self.corners = [i for i, flag in enumerate(self.corner) if flag]
         previous = (0, 0.0)
         for index, section in enumerate(self.sections):
@@ -82,13 +70,8 @@ class Route(object):
                 raise ValueError('route: section %d ends before section %d' % (index, index - 1))
             previous = mark
 
-    @property
-    def length(self):
-        return self.s[-1]
-
-    @property
-    def vertices(self):
-        return len(self.x)
+    length = property(lambda self: self.s[-1])
+    vertices = property(lambda self: len(self.x))
 
     def section_end(self, index):
         """``(s, phase)`` progress mark at which section ``index`` is finished."""
@@ -96,8 +79,7 @@ class Route(object):
         return self.s[section.end_vertex], section.end_phase
 
     def piece_of(self, vertex):
-        """Index of the piece (the stretch between two corners) that starts at or
-        contains ``vertex`` (the last piece for the last vertex)."""
+        """Index of the piece (between two corners) that starts at or contains ``vertex``."""
         low, high = 0, len(self.corners) - 1
         while high - low > 1:
             middle = (low + high) // 2
@@ -112,8 +94,7 @@ class Route(object):
         return math.atan2(self.y[segment + 1] - self.y[segment], self.x[segment + 1] - self.x[segment])
 
     def point_at(self, s, segment=0):
-        """Point at along-route distance ``s`` (clamped to the route), searching
-        forward from ``segment``; returns (x, y, segment)."""
+        """(x, y, segment) at along-route distance ``s`` (clamped), searching from ``segment``."""
         last = len(self.x) - 1
         if last == 0:
             return self.x[0], self.y[0], 0
@@ -122,8 +103,7 @@ class Route(object):
             segment += 1
         while segment > 0 and self.s[segment] > s:
             segment -= 1
-        length = self.s[segment + 1] - self.s[segment]
-        t = 0.0 if length <= 0 else max(0.0, min(1.0, (s - self.s[segment]) / length))
+        t = self._share(s, segment)
         return (self.x[segment] + t * (self.x[segment + 1] - self.x[segment]),
                 self.y[segment] + t * (self.y[segment + 1] - self.y[segment]), segment)
 
@@ -131,13 +111,13 @@ class Route(object):
         """Modelled recorded speed at along-route distance ``s`` on ``segment`` (m/s)."""
         if len(self.x) == 1:
             return self.speed[0]
-        length = self.s[segment + 1] - self.s[segment]
-        t = 0.0 if length <= 0 else max(0.0, min(1.0, (s - self.s[segment]) / length))
-        return self.speed[segment] + t * (self.speed[segment + 1] - self.speed[segment])
+        return self.speed[segment] + self._share(s, segment) * (self.speed[segment + 1] - self.speed[segment])
 
-    # --- plain form -----------------------------------------------------------
+    def _share(self, s, segment):
+        length = self.s[segment + 1] - self.s[segment]
+        return 0.0 if length <= 0 else max(0.0, min(1.0, (s - self.s[segment]) / length))
+
     def to_lists(self):
-        """{field: [float, ...]} (:data:`ROUTE_FIELDS`); :meth:`from_lists` inverts it."""
         return route_lists(self)
 
     @classmethod
@@ -169,17 +149,12 @@ def _subdivisions(a, b, d, params):
 
 
 def _start_state(first):
-    """The state at the start of the recording (not stored): the first landmark's
-    motion extrapolated back over its period."""
+    """The state at the start of the recording: the first landmark extrapolated back."""
     return first._replace(psi=wrap_angle(first.psi - first.w * first.T))
 
 
-# --- building ---------------------------------------------------------------------
 def build_route(landmarks, anchor, params=None):
-    """The :class:`Route` back from ``anchor`` (x, y: where recording stopped, in
-    the landmarks' frame) through ``landmarks`` (recording order, core Landmark);
-    ``params``: any object with :data:`ROUTE_DEFAULTS` attributes. ValueError for
-    a bad anchor or landmark, naming it."""
+    """The :class:`Route` back from ``anchor`` (x, y) through ``landmarks`` (recording order)."""
     try:
         ax, ay = (float(c) for c in anchor)
     except (TypeError, ValueError):
@@ -195,17 +170,15 @@ def build_route(landmarks, anchor, params=None):
 
 
 def landmark_positions(landmarks, anchor, params=None):
-    """Where each landmark was taken, rebuilt as the route does, in recording
-    order and starting with the start of the recording: [(x, y)] * (n + 1)."""
+    """[(x, y)] * (n + 1): the recording's start and each landmark's place, as the route has them."""
     landmarks = list(landmarks)
     chain = _chain(tuple(float(c) for c in anchor), landmarks, params)
     return [chain[-1][3] if chain else tuple(anchor)] + [link[0] for link in reversed(chain)]
 
 
 def _chain(anchor, landmarks, params):
-    """Per landmark, in return order: (its point, the modelled points of its period
-    in return order, their speeds, the previous landmark's point, the period's
-    turn, whether it was a turn in place), the points placed back from ``anchor``."""
+    """Per landmark (return order): (its point, its period's modelled points and speeds,
+    the previous landmark's point, the period's turn, turned in place) back from ``anchor``."""
     point = anchor
     chain = []
     for k in range(len(landmarks) - 1, -1, -1):
@@ -264,15 +237,9 @@ def _assemble(anchor, landmarks, chain, params):
 
 
 def _corners(xs, ys, corner_angle):
-    """Corner flags: the first and last vertex, and every vertex where the route turns by more
-    than ``corner_angle``."""
-    corner = [False] * len(xs)
+    """Corner flags: both ends and every vertex turning by more than ``corner_angle``."""
+    corner = [abs(corner_turn(xs, ys, i)) > corner_angle for i in range(len(xs))]
     corner[0] = corner[-1] = True
-    for i in range(1, len(xs) - 1):
-        before = math.atan2(ys[i] - ys[i - 1], xs[i] - xs[i - 1])
-        after = math.atan2(ys[i + 1] - ys[i], xs[i + 1] - xs[i])
-        if abs(wrap_angle(after - before)) > corner_angle:
-            corner[i] = True
     return corner
 
 
@@ -286,9 +253,7 @@ def corner_turn(xs, ys, vertex):
 
 
 def _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params):
-    """Sections in return order: end marks (a recorded turn in place at a corner
-    ends with its share of the corner's turn), recorded speed and turn rate,
-    nominal time and the corner turn each owns."""
+    """Sections in return order (a turn in place at a corner ends with its share of the turn)."""
     slowest_v = _param(params, 'slowest_v')
     n = len(landmarks)
     phases = [0.0] * n
@@ -330,8 +295,7 @@ def _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params
 
 
 def route_lists(route):
-    """{field: [float, ...]} (:data:`ROUTE_FIELDS`) of anything with a route's ``x``,
-    ``y``, ``speed``, ``corner`` and ``sections`` (a Route, a ReturnRoute message)."""
+    """{field: [float, ...]} (:data:`ROUTE_FIELDS`) of a Route or a ReturnRoute message."""
     data = {'x': list(route.x), 'y': list(route.y), 'speed': list(route.speed),
             'corner': [1.0 if c else 0.0 for c in route.corner]}
     for field in SECTION_FIELDS:

@@ -1,9 +1,5 @@
-"""The closed-loop return (``closed_loop``): :class:`RouteFollower` drives the whole
-route (core/route.build_route) from where the robot turned back to the start: pure
-pursuit between corners, a turn in place at each corner, at the recorded speed and
-never faster (:func:`section_limits`). Its params are core/back_travel's
-BACK_TRAVEL_DEFAULTS; the why: docs/back_travel.md, "The route follower".
-"""
+"""The closed-loop return: :class:`RouteFollower` drives the whole route back to the start,
+pure pursuit between corners, a turn in place at each (docs/back_travel.md, "The route follower")."""
 import math
 from types import SimpleNamespace
 
@@ -19,25 +15,14 @@ DRIVING, STOPPING, TURNING, FINISHED = 'driving', 'stopping', 'turning', 'finish
 
 
 def section_limits(section, max_v, max_w, correction_w, creep_v):
-    """core/safety.goal_limits of a route section: never faster than its recorded
-    speed, never turning faster than its recorded turn rate + ``correction_w``;
-    but a stretch recorded slower than ``creep_v`` (at most a few centimetres:
-    d / T is below it) may be driven at ``creep_v``."""
+    """core/safety.goal_limits of a route section; a slower stretch may be driven at ``creep_v``."""
     limits = goal_limits(Landmark(section.speed, section.turn_rate, 0.0, 1.0, 0.0),
                          max_v, max_w, correction_w)
     return limits._replace(max_v=max(limits.max_v, min(creep_v, max_v)))
 
 
 class RouteFollower(Odometer):
-    """Drives a core/route.Route from its anchor to its end.
-
-    Modes: ``driving`` a piece (pure pursuit), ``stopping`` at a corner,
-    ``turning`` in place there (core/rotation.Rotation to the heading of the
-    route point ``aim_distance`` ahead), ``finished``. ``params``: attributes
-    of :data:`BACK_TRAVEL_DEFAULTS`, core/allowance.ALLOWANCE_DEFAULTS and
-    core/rotation.ROTATION_DEFAULTS (gain, decel, min_w, tolerance; missing
-    ones take the defaults).
-    """
+    """Drives a core/route.Route: ``driving`` a piece, ``stopping`` and ``turning`` at a corner."""
 
     def __init__(self, route, params=None):
         self.route = route
@@ -54,25 +39,14 @@ class RouteFollower(Odometer):
         self.watch = ProgressWatch(sum(self.nominal), params)
         self.done = self.failed = False
         self.reason, self.code = '', outcome.NONE   # why it failed, core/outcome's cause
-        self.mode = None
-        self.section = 0
-        self.late = []
-        self.travelled = 0.0
+        self.mode, self.section, self.late, self.travelled = None, 0, [], 0.0
         self._mark = (0.0, 0.0)       # progress: (s along the route, phase of the corner turn)
-        self._piece = 0
-        self._segment = 0
+        self._piece = self._segment = 0
         self._target = None           # the last pursuit target: (x, y, segment) on the current piece
-        self._rotation = None
-        self._turn_angle = 0.0
-        self._last = None
-        self._stop_since = None
-        self._section_started = 0.0
+        self._rotation = self._last = self._stop_since = None
+        self._turn_angle = self._section_started = 0.0
 
-    # --- progress ---------------------------------------------------------------
-    @property
-    def started(self):
-        """True once :meth:`start` was called."""
-        return self._last is not None
+    started = property(lambda self: self._last is not None)
 
     @property
     def progress(self):
@@ -80,11 +54,10 @@ class RouteFollower(Odometer):
         return self._mark
 
     def section_finished(self, index):
-        """Whether section (goal) ``index`` of the route is done."""
         return self.done or self._mark >= self.route.section_end(index)
 
     def _advance(self, mark):
-        """Move the progress mark forward (never back) and close finished sections."""
+        """Move the progress mark forward (never back); close finished sections."""
         if mark > self._mark:
             self._mark = mark
         sections = self.route.sections
@@ -101,29 +74,22 @@ class RouteFollower(Odometer):
             return VelocityLimits(min(self.creep_v, self.max_v), min(self.correction_w, self.max_w))
         return self.limits[min(self.section, len(self.limits) - 1)]
 
-    # --- control ----------------------------------------------------------------
     def start(self, odom_state, section=0):
         """Start (or resume at goal ``section``) from ``odom_state``."""
         route = self.route
         if not 0 <= section <= len(route.sections):
             raise ValueError('cannot start at section %d of %d' % (section, len(route.sections)))
-        self._last = odom_state
-        self.travelled = 0.0
+        self._last, self.travelled, self.reason = odom_state, 0.0, ''
         self.done = self.failed = False
-        self.reason = ''
         self.watch.update(odom_state.stamp, 0.0)
         mark = (0.0, 0.0) if section == 0 else route.section_end(section - 1)
         vertex = 0 if section == 0 else route.sections[section - 1].end_vertex
-        self._mark = mark
-        self.section = section
-        self._section_started = self.watch.active
+        self._mark, self.section, self._section_started = mark, section, self.watch.active
         self._advance(mark)
         if route.vertices == 1 or vertex >= route.vertices - 1:
             self._finish(odom_state)
             return
-        self._piece = route.piece_of(vertex)
-        self._segment = vertex
-        self._target = None
+        self._piece, self._segment, self._target = route.piece_of(vertex), vertex, None
         if route.corner[vertex] and mark[1] < 1.0:
             self._start_turn(odom_state)
         else:
@@ -149,9 +115,7 @@ class RouteFollower(Odometer):
         return self._limit().clamp(*command)
 
     def _finish(self, odom):
-        """The route's end reached: finished if the robot, coasting ``stop_lead`` s from
-        ``odom``, stops within ``finish_tolerance`` of the end point (the mission's start),
-        else failed (docs/safety.md, "home")."""
+        """The route's end reached: finished if the robot stops within ``finish_tolerance``."""
         off = self.off_end(odom)
         if off > self.finish_tolerance:
             self._fail(outcome.NOT_HOME, 'the route ends %.2f m from where the robot stops (finish_tolerance %.2f m)'
@@ -162,8 +126,7 @@ class RouteFollower(Odometer):
         self.done = True
 
     def off_end(self, odom):
-        """m from where the robot stops, coasting ``stop_lead`` s from ``odom``, to the
-        route's end point (the mission's start)."""
+        """m from where the robot stops (coasting ``stop_lead`` s) to the route's end."""
         coast = max(odom.v, 0.0) * self.stop_lead
         return distance(odom.x + coast * math.cos(odom.yaw), odom.y + coast * math.sin(odom.yaw),
                         self.route.x[-1], self.route.y[-1])
@@ -175,10 +138,8 @@ class RouteFollower(Odometer):
         return self.route.corners[self._piece + 1]
 
     def _locate(self, x, y):
-        """Along-route distance of the robot's projection on the current piece,
-        walking forward from the last segment (progress only moves forward). A
-        robot nearer its last pursuit target than that projection cut across a
-        curl of the piece: it is on the nearest segment up to the target's."""
+        """(along-route distance, offset) of the robot's projection on the current piece, walking
+        forward; nearer the last target than that, it cut a curl: the nearest segment up to it."""
         route, last = self.route, self._piece_end() - 1
         segment = max(self._segment, self.route.corners[self._piece])
         while True:
@@ -200,7 +161,6 @@ class RouteFollower(Odometer):
         route = self.route
         along, off = self._locate(odom.x, odom.y)
         if off > self.route_max_offset:
-            # pushed or driven off (a takeover): never across space the robot has not driven
             self._fail(outcome.OFF_ROUTE, 'the robot is %.2f m off the route at %.2f m along it (route_max_offset '
                        '%.2f m): not rejoining it' % (off, along, self.route_max_offset))
             return (0.0, 0.0), None
@@ -225,7 +185,6 @@ class RouteFollower(Odometer):
         reach = distance(odom.x, odom.y, tx, ty)
         alpha = wrap_angle(math.atan2(ty - odom.y, tx - odom.x) - odom.yaw)
         if abs(alpha) > math.pi / 3.0:
-            # Target well off the bow (after a poor turn, or pushed off): face it first.
             return (0.0, math.copysign(min(limit.max_w, 2.0 * abs(alpha)), alpha)), abs(alpha)
         return (speed, 2.0 * speed * math.sin(alpha) / max(reach, 1e-6)), None
 
@@ -233,13 +192,11 @@ class RouteFollower(Odometer):
         still = abs(odom.v) <= self.stopped_v and abs(odom.w) <= self.stopped_w
         if still or odom.stamp - self._stop_since >= self.stop_timeout:
             self._piece += 1
-            self._segment = self.route.corners[self._piece]
-            self._target = None
+            self._segment, self._target = self.route.corners[self._piece], None
             self._start_turn(odom)
         return 0.0, 0.0
 
     def _aim_heading(self, odom):
-        """Heading from the robot to the route point ``aim_distance`` into the piece."""
         route = self.route
         corner = route.corners[self._piece]
         end = route.s[self._piece_end()]
@@ -257,13 +214,12 @@ class RouteFollower(Odometer):
             self.mode, self._rotation = DRIVING, None
             return
         limit = self._limit()
-        turn = dict((name, _rotation_param(self.params, name)) for name in ROTATION_DEFAULTS)
+        turn = dict((name, _param(self.params, name, ROTATION_DEFAULTS)) for name in ROTATION_DEFAULTS)
         turn.update(angle=angle, max_w=limit.max_w, min_w=min(turn['min_w'], limit.max_w),
                     time_allowance=float('inf'))
         self._rotation = Rotation(SimpleNamespace(**turn))
         self._rotation.start(odom)
-        self._turn_angle = angle
-        self.mode = TURNING
+        self._turn_angle, self.mode = angle, TURNING
 
     def _turn(self, odom):
         rotation = self._rotation
@@ -277,17 +233,10 @@ class RouteFollower(Odometer):
 
 
 def _project(route, segment, x, y):
-    """(t, squared distance): the share along ``segment`` of the route of the
-    projection of (x, y) (unclamped; 1 on a zero-length segment) and the squared
-    distance from (x, y) to the segment."""
+    """(t, squared distance): unclamped share of (x, y)'s projection on ``segment``, its gap."""
     ax, ay = route.x[segment], route.y[segment]
     dx, dy = route.x[segment + 1] - ax, route.y[segment + 1] - ay
     length_sq = dx * dx + dy * dy
     t = ((x - ax) * dx + (y - ay) * dy) / length_sq if length_sq > 0 else 1.0
     share = max(0.0, min(1.0, t))
     return t, (ax + share * dx - x) ** 2 + (ay + share * dy - y) ** 2
-
-
-def _rotation_param(params, name):
-    return float(getattr(params, name, ROTATION_DEFAULTS[name]) if params is not None
-                 else ROTATION_DEFAULTS[name])

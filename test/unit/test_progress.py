@@ -151,7 +151,7 @@ def test_a_progress_that_cannot_be_written_is_a_warning_and_no_stale_file_is_lef
     link, path, digest = mission
     warned, changes = [], []
     log = type('Log', (), {'warn': lambda self, *args: warned.append(args[0] % args[1:])})()
-    keeper = ProgressKeeper(link, None, log, changed=lambda: changes.append(keeper.warning))
+    keeper = ProgressKeeper(link, log, changed=lambda: changes.append(keeper.warning))
     keeper.save(returning(link, digest, completed=4))
     assert load_progress(path).completed == 4 and keeper.warning == '' and changes == []
     real_write = os.write

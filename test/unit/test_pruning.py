@@ -1,5 +1,5 @@
 """Pruning of the return route (core/pruning.py) and its drift model
-(core/loop_drift.py): loops, doubled-back stretches and a pass by the start are
+(core/pruning.LoopDrift): loops, doubled-back stretches and a pass by the start are
 cut at a junction within the radius, only through recorded points; a loop
 whose drift the radius cannot tolerate is refused and reported; the route keeps
 one section per landmark and survives its plain form; a follower drives the
@@ -10,8 +10,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from blind_navigation.core.loop_drift import LoopDrift
-from blind_navigation.core.pruning import PRUNE_DEFAULTS, prune_params, prune_route
+from blind_navigation.core.pruning import PRUNE_DEFAULTS, LoopDrift, prune_params, prune_route
 from blind_navigation.core.route import Route, build_route
 
 from unicycle import follow_route, record

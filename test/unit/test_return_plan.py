@@ -12,7 +12,7 @@ from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.odometry_reset import UNTRUSTED
 from blind_navigation.core.pruning import prune_route
 from blind_navigation.core.return_plan import (NO_LOSS, STILL_LOSS_DISTANCE, STILL_LOSS_TURN,
-                                               WriteLoss, gaps_warning, plan_route,
+                                               WriteLoss, gaps_warning, plan_return,
                                                recording_problem, return_goals, return_warning,
                                                still_loss)
 from blind_navigation.core.route import build_route
@@ -91,6 +91,12 @@ def test_an_untrusted_reset_refuses_the_return_naming_the_last():
 
 def test_goals_go_in_return_order():
     assert return_goals(['a', 'b', 'c'], [1, 2, 3]) == [('c', 3), ('b', 2), ('a', 1)]
+
+
+def plan_route(landmarks, anchor, params, prune):
+    """(route, log lines) of core/return_plan.plan_return."""
+    route, result = plan_return(landmarks, anchor, params, prune)
+    return route, result.describe() if result is not None else []
 
 
 def test_the_route_is_pruned_only_with_prune():
