@@ -91,8 +91,17 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
 
 class OdometryGate(object):
     """Refuses odometry no Kobuki can produce: :meth:`check` each state in arrival order.
-    A refused state never becomes the reference; with ``on_reanchor``, a self-consistent
-    refused chain spanning ``reanchor_time`` becomes it (docs/safety.md, "Plausibility margins")."""
+
+    Rules, in order: every field finite; ``|v|``, ``|w|`` within the limits; against the
+    last accepted state (the reference) the stamp not going back, the position step within
+    ``top_v dt + position_jitter`` (the top speed, not the twist: a fused twist may lag its
+    pose) and the yaw step within ``top_w dt + yaw_jitter``. A refused state never becomes
+    the reference, so garbage interleaved with the real stream is refused message by
+    message; a state continuing the refused stream is refused too. With ``on_reanchor``
+    only, a self-consistent refused chain with advancing stamps spanning ``reanchor_time``
+    becomes the reference (a reset; docs/safety.md, "Odometry resets"); a chain with a gap
+    over ``reanchor_time`` is forgotten; without it the gate never re-anchors.
+    """
 
     def __init__(self, params=None, on_reanchor=None):
         self.limits = Limits.from_params(params)
