@@ -1,11 +1,7 @@
-"""One-off gyro scale calibration: spin in place under visual odometry, both ways.
-
-:class:`SpinCalibration` turns ``turns`` full turns each way while
-core/gyro_fit.GyroVisualFit compares gyro and visual-odometry yaw (both ways separate
-scale from bias); the result, :class:`GyroCalibration`, is kept in a small YAML file
-(:func:`save_calibration`, :func:`load_calibration`). Plain Python: the calibrate_gyro
-node and the harness drive the same object (docs/back_travel.md, "Gyro heading correction").
-"""
+"""One-off gyro scale calibration: :class:`SpinCalibration` spins ``turns`` full turns each
+way under visual odometry (core/gyro_fit.GyroVisualFit); the :class:`GyroCalibration` is
+kept in a small YAML file (:func:`save_calibration`, :func:`load_calibration`).
+docs/back_travel.md, "Gyro heading correction"."""
 import datetime
 import math
 import os
@@ -19,7 +15,6 @@ from .heading_correction import CORRECTION_DEFAULTS
 from .rotation import Rotation
 from .files import write_atomically
 
-#: Defaults; the calibrate_gyro node exposes each one as a ~private param.
 SPIN_DEFAULTS = {
     'turns': 5.0,          # full turns each way: scale std ~0.005 / sqrt(2 pi turns x 2)
     'max_w': 0.6,          # rad/s, cruise turn rate (as the pi turn)
@@ -33,9 +28,8 @@ FILE_KEYS = ('gyro_scale_error', 'gyro_scale_error_std', 'gyro_bias', 'gyro_bias
 
 
 class GyroCalibration(namedtuple('GyroCalibration', 'scale scale_std bias bias_std windows')):
-    """Gyro ``scale`` error (measured rate = (1 + scale) true rate + bias) and
-    its standard error; the ``bias`` seen during the calibration (rad/s; it
-    changes from run to run, so only informative); ``windows`` used."""
+    """Gyro ``scale`` error (measured rate = (1 + scale) true rate + bias), its std, the
+    ``bias`` seen (rad/s, informative only) and its std, ``windows`` used."""
 
     __slots__ = ()
 
@@ -48,14 +42,9 @@ class CalibrationError(Exception):
 
 
 class SpinCalibration(object):
-    """Drives the spins and collects the yaw data; see the module docstring.
-
-    Feed its :attr:`fit` odometry and visual odometry as they come;
-    :meth:`step` returns the command for the latest odometry; when
-    :attr:`done`, :meth:`result` gives the
-    :class:`GyroCalibration` (CalibrationError if the data do not determine it);
-    :attr:`failed` names what went wrong (a turn's time allowance).
-    """
+    """Feed :attr:`fit` odometry and visual odometry; :meth:`step` gives the command for
+    the latest odometry; once :attr:`done`, :meth:`result` the :class:`GyroCalibration`;
+    :attr:`failed` names what went wrong (a turn's time allowance)."""
 
     def __init__(self, params=None):
         for name, default in SPIN_DEFAULTS.items():
@@ -134,7 +123,7 @@ class SpinCalibration(object):
 
 
 def save_calibration(path, calibration, turns, when=None):
-    """Write ``calibration`` to ``path`` (atomically: a crash leaves the old file)."""
+    """Write ``calibration`` to ``path`` atomically."""
     path = os.path.abspath(os.path.expanduser(path))
     os.makedirs(os.path.dirname(path), exist_ok=True)
     values = {'gyro_scale_error': float(calibration.scale),
@@ -150,8 +139,7 @@ def save_calibration(path, calibration, turns, when=None):
 
 
 def load_calibration(path):
-    """The :class:`GyroCalibration` in ``path``; CalibrationError naming the file
-    and key when it is missing, unreadable or out of range."""
+    """The :class:`GyroCalibration` in ``path``; CalibrationError naming file and key."""
     path = os.path.abspath(os.path.expanduser(path))
     try:
         with open(path) as stream:

@@ -103,7 +103,7 @@ class SampleLog(object):
 def answer_problem(answer, mark):
     """Why ``answer`` (a RecordedSamples response: ``recording``, ``message``,
     ``samples`` with ``seq``, ``yaw``, ``period``, and columns ``x``, ``y``, ``v``,
-    ``w``) cannot continue a file whose last sample is ``mark`` (core/landmark_format.SampleMark,
+    ``w``) cannot continue a file whose last sample is ``mark`` (core/store.SampleMark,
     or None for none), or '': the right recording, the samples from ``mark`` on in
     order, one odometry row each, every number finite."""
     if not answer.samples:

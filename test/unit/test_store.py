@@ -11,11 +11,19 @@ import yaml
 
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
-from blind_navigation.core.landmark_format import Gap, LandmarkFileError, SampleMark, format_entry
-from blind_navigation.core.landmark_writer import LandmarkWriter
-from blind_navigation.core.mission_files import (RESTART_GAP, mission_number, next_mission_id,
-                                                 open_mission_file, start_mission_file)
-from blind_navigation.core.store import load_landmarks
+from blind_navigation.core import mission_files
+from blind_navigation.core.mission_files import (RESTART_GAP, LandmarkWriter, mission_number,
+                                                 next_mission_id, open_mission_file)
+from blind_navigation.core.store import Gap, LandmarkFileError, SampleMark, format_entry, load_landmarks
+
+
+def start_mission_file(landmark_file, when=None):
+    """A new mission file's path, ``landmark_file`` pointed at it (open_mission_file's rules)."""
+    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
+    target = mission_files._new_target(landmark_file, when)
+    mission_files._point_at(landmark_file, target)
+    return target
+
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
         Landmark(0.0859, 0.0964, 0.0862, 1.0, 0.0610),
