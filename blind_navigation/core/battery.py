@@ -1,11 +1,6 @@
-"""The low-battery watch: a Kobuki battery below ``battery_low`` (V) starts the return.
-
-:class:`BatteryWatch` says when the battery is low: the running median of the last
-``battery_window`` readings below ``battery_low`` for ``battery_hold`` s and as many
-readings (one noisy reading never decides); low until the median rises
-``battery_hysteresis`` above it. Readings that are no voltage (NaN, 0, outside
-:data:`PLAUSIBLE`) are ignored with a reason. docs/safety.md, "Low battery".
-"""
+"""The low-battery watch: :class:`BatteryWatch` says when a Kobuki battery is below
+``battery_low`` (V), by the running median of its readings held ``battery_hold`` s, which
+starts the return. docs/safety.md, "Low battery"."""
 import math
 
 #: The watch's constants (see the module docstring; docs/safety.md says why these).

@@ -28,13 +28,9 @@ ResumeInfo.__doc__ = ('What :meth:`LandmarkWriter.resume` found: ``landmarks`` i
 
 
 class LandmarkWriter(object):
-    """Appends landmarks to a mission file, one durable line each (module docstring).
-
-    ``LandmarkWriter(path, metadata, fsync)`` creates a new file (FileExistsError if it
-    exists); :meth:`resume` continues one. ``count`` landmarks in the file, ``lost`` failed
-    appends (``lost_distance``, ``lost_turn``: their d and heading change), ``total_distance``,
-    ``bytes``, ``finished``, ``resumed`` (a :class:`ResumeInfo` or None), ``sample`` (the last
-    landmark's SampleMark), ``pending_gap`` (the reason of a gap entry due before the next)."""
+    """Creates a mission file (FileExistsError if it exists; :meth:`resume`: continues one);
+    ``count``, ``lost`` (``lost_distance``, ``lost_turn``: their d, heading change), ``bytes``,
+    ``total_distance``, ``finished``, ``resumed``, ``sample``, ``pending_gap`` (a gap's reason)."""
 
     def __init__(self, path, metadata=None, fsync=True):
         self._setup(path, fsync)
@@ -61,7 +57,7 @@ class LandmarkWriter(object):
 
     def _setup(self, path, fsync):
         self.path, self.fsync = os.path.abspath(path), fsync
-        self.count = self.lost = self._size = self._gaps = self._samples_entries = 0
+        self.count = self.lost = self.bytes = self._gaps = self._samples_entries = 0
         self.lost_distance = self.lost_turn = self.total_distance = 0.0
         self._psi = None            # psi of the last landmark appended, written or lost
         self.finished, self._damaged = False, False
@@ -71,21 +67,16 @@ class LandmarkWriter(object):
 
     @classmethod
     def resume(cls, path, fsync=True, limits=Limits(), reason='the recorder restarted'):
-        """Continue the mission file ``path`` (a regular file): validated (load_landmarks), a
-        torn last entry cut off, labels continued, a gap entry (``reason``) pending unless
-        :meth:`chain_restored`; a finished file is not reopened (the writer refuses appends)."""
+        """Continue ``path`` (validated, a torn last entry cut off, a gap for ``reason`` pending
+        unless :meth:`chain_restored`); a finished file is not reopened."""
         writer = cls.__new__(cls)
         writer._setup(path, fsync)
         loaded = load_landmarks(writer.path, limits, allow_empty=True, follow_symlinks=False)
-        writer.count = len(loaded.landmarks)
-        writer.total_distance = loaded.total_distance
+        writer.count, writer.total_distance = len(loaded.landmarks), loaded.total_distance
         writer._psi = loaded.landmarks[-1].psi if loaded.landmarks else None
-        writer._next_index = loaded.last_index + 1
-        writer._gaps = loaded.gap_entries
-        writer._samples_entries = loaded.samples_entries
-        writer._size = loaded.intact_bytes
-        writer.sample = loaded.sample   # the next landmark writes a samples_ entry of its own:
-                                        # one a killed writer left before a torn line may be wrong
+        writer._next_index, writer._gaps = loaded.last_index + 1, loaded.gap_entries
+        writer._samples_entries, writer.bytes = loaded.samples_entries, loaded.intact_bytes
+        writer.sample = loaded.sample   # the next landmark writes a samples_ entry of its own
         writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, loaded.sample)
         if loaded.finished:
             writer.finished = True
@@ -108,11 +99,6 @@ class LandmarkWriter(object):
         return writer
 
     @property
-    def bytes(self):
-        """Size of the file so far (whole lines only), bytes."""
-        return self._size
-
-    @property
     def next_label(self):
         return label_for(self._next_index)
 
@@ -131,10 +117,8 @@ class LandmarkWriter(object):
         return key, flow_line(key, {'before': self.next_label, 'reason': str(reason)})
 
     def append(self, landmark, sample=None):
-        """Write ``landmark`` (taken at the SampleMark ``sample``, if known) durably after the
-        pending gap and the ``samples_`` entry it needs, in one write; return its label. A
-        failed write: StorageError, the label used up, ``lost`` counting it, ``lost_distance``
-        its d, ``lost_turn`` its heading change (from the last psi, or w x T for the first)."""
+        """Write ``landmark`` (at SampleMark ``sample``) with the gap and ``samples_`` entries it
+        needs in one write; its label. StorageError: lost (its d and heading change counted)."""
         label = self.next_label
         self._check_open('append %s' % label)
         lines, gap_key, offset = [], None, self._offset
@@ -203,7 +187,7 @@ class LandmarkWriter(object):
         """Write whole lines; on failure cut the file back to its last whole line."""
         data = text.encode('utf-8')
         if self._damaged:           # an earlier failure could not be cut off: retry first
-            os.ftruncate(self._fd, self._size)
+            os.ftruncate(self._fd, self.bytes)
             self._damaged = False
         try:
             write_all(self._fd, data)
@@ -211,11 +195,11 @@ class LandmarkWriter(object):
                 os.fsync(self._fd)
         except OSError:
             try:
-                os.ftruncate(self._fd, self._size)
+                os.ftruncate(self._fd, self.bytes)
             except OSError:
                 self._damaged = True
             raise
-        self._size += len(data)
+        self.bytes += len(data)
 
     def close(self):
         if self._fd is not None:
@@ -224,12 +208,6 @@ class LandmarkWriter(object):
                 os.close(fd)
             except OSError:
                 pass
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *_exc):
-        self.close()
 
 
 def next_mission_id(current):
@@ -323,13 +301,9 @@ def read_mission(path):
 
 def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, limits=Limits(),
                       when=None):
-    """The :class:`LandmarkWriter` of the current mission: if ``landmark_file`` is a symlink to
-    a file whose header carries this ``mission`` id (the same for every restart within a
-    mission), that file is continued (:meth:`LandmarkWriter.resume`, gap ``RESTART_GAP``);
-    otherwise a new file is started with ``metadata`` and ``mission`` in its header, and only
-    once it holds its header is ``landmark_file`` pointed at it (an existing regular file
-    there archived under a time-stamped name). Without ``mission`` a file is never continued.
-    LandmarkFileError (``landmark_file`` unusable, the current file corrupt) or StorageError."""
+    """The writer of the current mission: the file ``landmark_file`` points at if its header
+    carries this ``mission`` id (resumed), else a new file with ``metadata``, which
+    ``landmark_file`` points at once it holds its header. LandmarkFileError or StorageError."""
     if mission is not None and not (isinstance(mission, str) and mission.strip()):
         raise ValueError('mission must be a non-empty string or None, got %r' % (mission,))
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))

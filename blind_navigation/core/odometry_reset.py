@@ -1,10 +1,6 @@
-"""An odometry reset carried across: the transform from the new frame to the old one.
-
-:func:`estimate_reset` gives the :class:`Frame` that maps the new frame onto the old one
-from the gate's last accepted state and the refused chain, or why it cannot be trusted
-(:data:`UNTRUSTED`, :func:`is_untrusted_reset`); :class:`ResetCarrier` applies it behind the
-gate and adopts another process's (docs/safety.md, "Odometry resets").
-"""
+"""An odometry reset carried across: :func:`estimate_reset` gives the :class:`Frame` mapping
+the new frame onto the old one, or why it cannot be trusted (:data:`UNTRUSTED`);
+:class:`ResetCarrier` applies it behind the gate (docs/safety.md, "Odometry resets")."""
 import math
 from collections import namedtuple
 
@@ -154,13 +150,9 @@ class ResetCarrier(object):
         """The gate re-anchors only with a callback; the estimate names the jump."""
 
     def _after_silence(self, before, state):
-        """None, or the untrusted ResetEstimate of a state the gate accepted after more
-        than ``reset_max_gap`` of silence that is not where the twists say (a driver
-        restarted within what the base could have driven meanwhile). The two v samples
-        are noisy (wheel speed ripple, encoder ticks), also turning in place where v is
-        about 0: the position may be off their mean by ``reset_speed_noise`` x the gap more;
-        so are the two w samples (the gyro's rate noise, also standing still): the yaw by
-        ``reset_yaw_rate_noise`` x the gap."""
+        """None, or the untrusted ResetEstimate of a state accepted after more than
+        ``reset_max_gap`` of silence that is not where the twists say (within
+        ``reset_speed_noise`` and ``reset_yaw_rate_noise`` x the gap)."""
         if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
             return None
         p = {name: _param(self.params, name) for name in RESET_DEFAULTS}
@@ -200,10 +192,9 @@ class ResetCarrier(object):
         return Taken(states, None, estimate)
 
     def adopt(self, frame, stamp):
-        """Take ``frame`` (a whole Frame) that another carrier of the same odometry made
-        for the reset at ``stamp`` (s), unless this one carried it (or a later one) itself.
-        Returns None (not taken), 'taken', or 'restart': states at or after ``stamp`` were
-        accepted in the old frame (the gate starts again; the caller drops them)."""
+        """Take another carrier's ``frame`` for the reset at ``stamp`` (s) unless this one carried
+        it or a later one: None, 'taken', or 'restart' (states since were accepted in the old
+        frame: the gate starts again, the caller drops them)."""
         reference = self.gate.reference
         if self.reset_stamp is not None and stamp <= self.reset_stamp + 1e-9:
             return None

@@ -1,10 +1,6 @@
-"""Path recording: odometry at each sampling tick -> the paper's path landmark.
-
-:class:`PathRecorder` takes ``v`` and ``w`` from the odometry's twist, ``d`` from the
-previous landmark's position (the first: from where recording started), ``T`` and
-``psi`` from the tick (paper 3.3.1); also the storage of a recording (count, bytes,
-bytes per metre) and the low-space watch (:class:`SpaceWatch`).
-"""
+"""Path recording (paper 3.3.1): :class:`PathRecorder` turns the odometry at each sampling
+tick into the path landmark; also a recording's storage (count, bytes, bytes per metre)
+and its low-space watch (:class:`SpaceWatch`)."""
 import bisect
 import itertools
 import os
@@ -88,11 +84,8 @@ class SpaceWatch(object):
 
 
 class OdometryHistory(object):
-    """The last ``span`` seconds of odometry, to read the odometry *at a tick's
-    stamp* (the latest state stamped no later than the tick) however late the
-    tick's message arrives. Both recorder variants then read the same state
-    for the same tick, and the start is where the robot was when the
-    publisher started, whenever the saver itself started."""
+    """The last ``span`` seconds of odometry, to read the odometry at a tick's stamp (the
+    latest state no later than it) however late the tick's message arrives."""
 
     def __init__(self, span=10.0):
         if not span > 0:
@@ -136,12 +129,8 @@ class OdometryHistory(object):
 
 
 class PathRecorder(object):
-    """Turns odometry at sampling ticks into path landmarks ``(v, w, d, T, psi)``.
-
-    Call :meth:`start` with the first odometry seen (where recording starts);
-    :meth:`take` starts implicitly from its own odometry if :meth:`start` was
-    never called (the first landmark then has ``d = 0``).
-    """
+    """Odometry at sampling ticks -> landmarks ``(v, w, d, T, psi)``; ``d`` from the previous
+    landmark, the first from :meth:`start`'s state (none: its own, ``d = 0``)."""
 
     def __init__(self, limits=Limits()):
         self.limits = limits
@@ -168,13 +157,8 @@ class PathRecorder(object):
         self._previous = (odom_state.x, odom_state.y)
 
     def take(self, odom_state, yaw, period):
-        """The landmark for a tick with yaw ``yaw`` (rad) and period ``period`` (s).
-
-        Raises ValueError (naming the field) when the result is not a valid
-        landmark, e.g. a non-positive period or a velocity beyond the limits;
-        the recorder's position is then unchanged, so the next landmark's
-        ``d`` still counts from the last landmark actually taken.
-        """
+        """The landmark for a tick with yaw ``yaw`` (rad) and period ``period`` (s); ValueError
+        (naming the field) for an invalid one, the recorder's position then unchanged."""
         self.start(odom_state)
         px, py = self._previous
         step = distance(px, py, odom_state.x, odom_state.y)

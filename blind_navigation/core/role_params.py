@@ -1,11 +1,6 @@
-"""The roles' param schemas (core/params.py): what a user may set, per role.
-
-Each role's ``Schema`` names its user params (unit, range, default, meaning)
-and takes its other values as constants (``fixed``) from the core modules'
-``*_DEFAULTS`` dicts and the dicts below, each line with its reason: values no
-user should tune (timeouts, margins, graces, budgets, factors). docs/params.md
-is generated from :data:`SCHEMAS` (scripts/param_table.py).
-"""
+"""Every role's param schema (core/params.py): its user params, and as ``fixed`` constants
+the values no user should tune (the core modules' ``*_DEFAULTS`` and the reasons below).
+docs/params.md is generated from :data:`SCHEMAS` (scripts/param_table.py)."""
 from .allowance import ALLOWANCE_DEFAULTS
 from .back_travel import BACK_TRAVEL_DEFAULTS, MODES
 from .battery import BATTERY_DEFAULTS, PLAUSIBLE

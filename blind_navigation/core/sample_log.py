@@ -1,10 +1,6 @@
-"""The sampling publisher's record of its samples, for a recorder restarted mid-recording.
-
-Per sample what a landmark needs (command, stamp, yaw, period, the odometry at the stamp:
-seven doubles); a restarted saver asks for the samples after its file's last one and
-rebuilds the landmarks it missed. :meth:`SampleLog.confirm` drops what every recorder
-holds; past ``capacity`` the oldest half goes (docs/recording.md, "File").
-"""
+"""The sampling publisher's record of its samples (what a landmark needs, seven doubles
+each), from which a recorder restarted mid-recording rebuilds the landmarks it missed;
+past ``capacity`` the oldest half goes (docs/recording.md, "File")."""
 import math
 from array import array
 from collections import namedtuple
@@ -68,9 +64,8 @@ class SampleLog(object):
         return self.last
 
     def confirm(self, recorder, seq):
-        """Recorder ``recorder`` (e.g. its file) holds the samples up to ``seq``: a
-        restart of it asks from ``seq`` on. Drops what no confirmed recorder needs:
-        the samples before the oldest confirmation."""
+        """Recorder ``recorder`` (e.g. its file) holds the samples up to ``seq``; drops the
+        samples before the oldest confirmation."""
         if seq > self.last or seq < self.confirmed.get(recorder, 0):
             return                  # not taken yet, or older than what it said before
         self.confirmed[recorder] = seq
@@ -101,11 +96,9 @@ class SampleLog(object):
 
 
 def answer_problem(answer, mark):
-    """Why ``answer`` (a RecordedSamples response: ``recording``, ``message``,
-    ``samples`` with ``seq``, ``yaw``, ``period``, and columns ``x``, ``y``, ``v``,
-    ``w``) cannot continue a file whose last sample is ``mark`` (core/store.SampleMark,
-    or None for none), or '': the right recording, the samples from ``mark`` on in
-    order, one odometry row each, every number finite."""
+    """Why the RecordedSamples response ``answer`` cannot continue a file whose last sample is
+    ``mark`` (a SampleMark or None), or '' (the right recording, the samples from ``mark`` on
+    in order, one odometry row each, every number finite)."""
     if not answer.samples:
         return answer.message or 'no samples sent'
     after = mark.seq if mark else 0

@@ -100,25 +100,14 @@ class LoadedPath(object):
     """What :func:`load_landmarks` read: ``landmarks`` in recording order, their ``labels``,
     the header ``metadata``, ``warnings``, ``gaps`` (:class:`Gap`s: d chain breaks and lost
     landmarks), ``finished``, ``dropped`` torn entries, ``size`` and ``intact_bytes`` (before
-    a dropped entry), ``sample`` (the :class:`SampleMark` of the last label, or None)."""
+    a dropped entry), ``last_index`` (of the last label), ``sample`` (its :class:`SampleMark`)."""
 
-    def __init__(self, path, landmarks, labels, metadata, warnings, **details):
-        self.path, self.landmarks, self.labels = path, landmarks, labels
-        self.metadata, self.warnings = metadata, warnings
-        self.gaps = details.get('gaps', [])
-        self.finished = details.get('finished', False)
-        self.sample = details.get('sample')
-        for name in ('dropped', 'size', 'intact_bytes', 'last_index', 'gap_entries',
-                     'samples_entries'):
-            setattr(self, name, details.get(name, 0))
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
 
     @property
     def total_distance(self):
         return sum(landmark.d for landmark in self.landmarks)
-
-    @property
-    def total_duration(self):
-        return sum(landmark.T for landmark in self.landmarks)
 
     @property
     def missing(self):
@@ -231,8 +220,8 @@ def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=Tru
     gaps.sort(key=lambda gap: gap.before)
     for gap in gaps:
         warnings.append('%s: gap in the recorded path before %s: %s' % (path, gap.before, gap.reason))
-    return LoadedPath(path, landmarks, labels, metadata.get(METADATA_KEY, {}) or {}, warnings,
-                      gaps=gaps, finished=FINISHED_KEY in metadata,
+    return LoadedPath(path=path, landmarks=landmarks, labels=labels, warnings=warnings, gaps=gaps,
+                      metadata=metadata.get(METADATA_KEY, {}) or {}, finished=FINISHED_KEY in metadata,
                       dropped=1 if intact != text else 0, size=len(data),
                       intact_bytes=len(intact.encode('utf-8')), last_index=previous_index,
                       gap_entries=gap_entries, samples_entries=len(marks),
