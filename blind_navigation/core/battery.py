@@ -26,10 +26,7 @@ def reading_problem(volts):
 
 
 class BatteryWatch(object):
-    """``threshold``: battery_low, V (0: off); ``settings``: :data:`BATTERY_DEFAULTS` names.
-    ``low``: the battery is low now; ``reason``: why (the voltage and the threshold), else
-    None; ``level``: the median, V (None: not known); ``ignored``/``problem``: readings
-    ignored and why the last one was."""
+    """``low`` (with ``reason``) when the median ``level`` (V) is below ``threshold``; ``ignored``."""
 
     def __init__(self, threshold=0.0, **settings):
         self.threshold = float(threshold or 0.0)

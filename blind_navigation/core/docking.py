@@ -1,7 +1,6 @@
-"""The mission's docking (dock_at_home): :class:`Docking`, its behaviour in state ``docking``,
-asks the owner once for the Kobuki's auto-docking goal (Step.dock) and ends ``docked`` or
-``home`` ('docking failed: <why>') on its result, a takeover or :data:`DOCK_TIMEOUT`.
-docs/safety.md, "Docking"."""
+"""The mission's docking (dock_at_home): :class:`Docking` asks the owner once for the Kobuki's
+auto-docking (Step.dock) and ends ``docked`` or ``home`` ('docking failed: <why>') on its
+result, a takeover or :data:`DOCK_TIMEOUT`. docs/safety.md, "Docking"."""
 import collections
 
 from . import mission_state, outcome

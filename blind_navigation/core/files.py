@@ -1,7 +1,6 @@
-"""Safe file primitives for everything the layer writes or reads back: atomic
-replacement (exclusive temporary, fsync, rename: a crash leaves the old or the new
-content, a planted file is never written through), reading regular files only, and the
-errors naming the file (:class:`StorageError`, :class:`FileContentError`)."""
+"""Safe file primitives: atomic replacement (a crash leaves the old or the new content, a
+planted file is never written through), reading regular files only, and the errors
+naming the file (:class:`StorageError`, :class:`FileContentError`)."""
 import errno
 import os
 import secrets
@@ -12,8 +11,7 @@ TEMPORARY_ATTEMPTS = 16
 
 
 class StorageError(OSError):
-    """Writing ``path`` failed: ``action`` (e.g. 'append landmark_000054 to'), the errno
-    and its text; ``lost`` counts the records lost so far. ``str()``: one line."""
+    """Writing ``path`` failed (``action``, errno, its text; ``lost`` records so far): one line."""
 
     def __init__(self, path, error, action='write', lost=0):
         code = getattr(error, 'errno', None)
@@ -98,8 +96,7 @@ def _free_name(make, shown):
 
 
 def create_exclusive(directory, prefix, suffix='.tmp', mode=0o666):
-    """``(fd, path)`` of a new file ``<directory>/<prefix><random><suffix>`` (never an existing
-    file, never through a symlink)."""
+    """``(fd, path)`` of a new ``<directory>/<prefix><random><suffix>`` (never existing, never a symlink)."""
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | getattr(os, 'O_CLOEXEC', 0)
 
     def make(token):
@@ -109,8 +106,7 @@ def create_exclusive(directory, prefix, suffix='.tmp', mode=0o666):
 
 
 def replace_with_symlink(path, target):
-    """Make ``path`` (not a directory) a symlink to ``target`` atomically: made under a random
-    name beside it, then renamed over it."""
+    """Make ``path`` a symlink to ``target`` atomically (made beside it, renamed over it)."""
     directory, name = os.path.split(os.path.abspath(path))
 
     def make(token):
@@ -127,8 +123,7 @@ def replace_with_symlink(path, target):
 
 
 def write_atomically(path, text):
-    """Replace ``path`` by ``text`` (UTF-8) atomically; StorageError naming ``path`` on any
-    failure (the temporary removed, the old content kept)."""
+    """Replace ``path`` by ``text`` atomically; StorageError naming it on failure (old content kept)."""
     path = os.path.abspath(path)
     directory, name = os.path.split(path)
     temporary = None
@@ -155,8 +150,7 @@ def write_atomically(path, text):
 
 
 def read_regular_file(path, max_bytes, follow_symlinks=True):
-    """The bytes of ``path``, a regular file (a symlink to one when ``follow_symlinks``) of at
-    most ``max_bytes``: else FileNotFoundError, NotRegularFileError or OSError naming it."""
+    """The bytes of the regular file ``path`` (at most ``max_bytes``), else an OSError naming it."""
     flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0)
     if not follow_symlinks:
         flags |= os.O_NOFOLLOW

@@ -26,8 +26,7 @@ class BiasEstimate(namedtuple('BiasEstimate', 'bias std source')):
 
 
 def fuse_bias(estimates):
-    """Inverse-variance mean of :class:`BiasEstimate` s: (bias, std), (0, inf) for none; exact
-    ones (std 0) win."""
+    """Inverse-variance mean (bias, std) of BiasEstimates ((0, inf): none; exact ones win)."""
     exact = [e.bias for e in estimates if e.std == 0.0]
     if exact:
         return sum(exact) / len(exact), 0.0
@@ -39,9 +38,7 @@ def fuse_bias(estimates):
 
 
 class StandstillBias(object):
-    """Gyro bias while ``|v| <= still_speed`` and ``|w| <= still_rate``: the heading change
-    over the time still (each spell's first ``still_settle`` s skipped), its std from the
-    spread of the per-sample rates. ``params``: as :data:`STANDSTILL_DEFAULTS`."""
+    """Gyro bias from the heading change while still (``params``: as :data:`STANDSTILL_DEFAULTS`)."""
 
     def __init__(self, params=None):
         self.still_speed, self.still_rate, self.settle = (
@@ -81,9 +78,8 @@ class StandstillBias(object):
 
 
 def standstill_complete(visual, standstill, recording_time, params=None):
-    """True once the standstill may end: it lasted ``standstill_time``, or ``standstill_min``
-    and the bias (fused with ``visual``, the VO estimate or None) is known to ``std x
-    recording_time <= heading_budget`` (rad). ``params``: as :data:`STANDSTILL_DEFAULTS`."""
+    """True once the standstill may end: after ``standstill_time``, or ``standstill_min`` once the
+    bias (fused with ``visual``) is known to ``std x recording_time <= heading_budget``."""
     longest, shortest, budget = (float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
                                  for name in ('standstill_time', 'standstill_min', 'heading_budget'))
     if standstill.duration >= longest - 1e-9:
@@ -96,8 +92,7 @@ def standstill_complete(visual, standstill, recording_time, params=None):
 
 
 def standstill_timeout(params=None):
-    """s after vision loss the standstill ends anyway: ``standstill_timeout``, or (None)
-    2 x ``standstill_time`` + 5."""
+    """s after vision loss the standstill ends anyway (None: 2 x ``standstill_time`` + 5)."""
     timeout = getattr(params, 'standstill_timeout', None)
     if timeout is None:
         return 2.0 * float(getattr(params, 'standstill_time',

@@ -1,7 +1,6 @@
-"""One-off gyro scale calibration: :class:`SpinCalibration` spins ``turns`` full turns each
-way under visual odometry (core/gyro_fit.GyroVisualFit); the :class:`GyroCalibration` is
-kept in a small YAML file (:func:`save_calibration`, :func:`load_calibration`).
-docs/back_travel.md, "Gyro heading correction"."""
+"""One-off gyro scale calibration: :class:`SpinCalibration` spins both ways under visual
+odometry; its :class:`GyroCalibration` is kept in a small YAML file (:func:`save_calibration`,
+:func:`load_calibration`). docs/back_travel.md, "Gyro heading correction"."""
 import datetime
 import math
 import os
@@ -28,8 +27,7 @@ FILE_KEYS = ('gyro_scale_error', 'gyro_scale_error_std', 'gyro_bias', 'gyro_bias
 
 
 class GyroCalibration(namedtuple('GyroCalibration', 'scale scale_std bias bias_std windows')):
-    """Gyro ``scale`` error (measured rate = (1 + scale) true rate + bias), its std, the
-    ``bias`` seen (rad/s, informative only) and its std, ``windows`` used."""
+    """Gyro ``scale`` error, its std, the ``bias`` seen (informative), its std, ``windows``."""
 
     __slots__ = ()
 
@@ -42,9 +40,7 @@ class CalibrationError(Exception):
 
 
 class SpinCalibration(object):
-    """Feed :attr:`fit` odometry and visual odometry; :meth:`step` gives the command for
-    the latest odometry; once :attr:`done`, :meth:`result` the :class:`GyroCalibration`;
-    :attr:`failed` names what went wrong (a turn's time allowance)."""
+    """Feed :attr:`fit`; :meth:`step` commands the spins; once :attr:`done`, :meth:`result`."""
 
     def __init__(self, params=None):
         for name, default in SPIN_DEFAULTS.items():
@@ -58,11 +54,8 @@ class SpinCalibration(object):
         self._allowance = 2.0 * angle / self.max_w + 20.0
         self._legs = [('pause', self.pause), ('turn', angle), ('pause', self.pause),
                       ('turn', -angle), ('pause', self.pause)]
-        self._leg = -1
-        self._leg_started = None
-        self._rotation = None
-        self.done = False
-        self.failed = ''
+        self._leg, self._leg_started, self._rotation = -1, None, None
+        self.done, self.failed = False, ''
 
     @property
     def progress(self):
@@ -158,5 +151,4 @@ def load_calibration(path):
             raise CalibrationError('%s: %s must be a number in [%g, %g], got %r'
                                    % (path, key, low, high, value))
         values.append(value)
-    return GyroCalibration(float(values[0]), float(values[1]), float(values[2]), float(values[3]),
-                           int(values[4]))
+    return GyroCalibration(*[float(value) for value in values[:4]], int(values[4]))

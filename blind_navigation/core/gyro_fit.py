@@ -1,7 +1,6 @@
-"""Gyro yaw against visual-odometry yaw, the fit behind the calibration and the bias:
-:class:`GyroVisualFit` cuts the data into windows of ``window`` s (lost VO or gaps
-skipped) and fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (:func:`robust_fit`).
-docs/back_travel.md, "Gyro heading correction"."""
+"""Gyro yaw against visual-odometry yaw: :class:`GyroVisualFit` cuts them into windows and
+fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (:func:`robust_fit`). docs/back_travel.md,
+"Gyro heading correction"."""
 import math
 from array import array
 from collections import deque
@@ -25,8 +24,7 @@ MAX_WINDOWS = 3600
 
 
 class WindowRows(object):
-    """The fit's windows ``(gyro increment, VO increment, dt)``, packed; past ``capacity``
-    rows the oldest half is dropped."""
+    """The fit's windows ``(gyro increment, VO increment, dt)``, packed; the oldest half dropped when full."""
 
     def __init__(self, capacity=MAX_WINDOWS):
         if not capacity >= 2:
@@ -49,8 +47,7 @@ class WindowRows(object):
 
 
 class GyroVisualFit(object):
-    """Takes gyro and visual-odometry yaw as they come; one row per window in ``rows``.
-    ``params``: any object with :data:`GYRO_FIT_DEFAULTS`' attributes (missing: default)."""
+    """Gyro and VO yaw as they come, one row per window in ``rows`` (``params``: GYRO_FIT_DEFAULTS')."""
 
     def __init__(self, params=None):
         for name, default in GYRO_FIT_DEFAULTS.items():
@@ -125,8 +122,7 @@ class GyroVisualFit(object):
         return 0.0 if self._first_stamp is None else until - self._first_stamp
 
     def visual_bias(self, fixed_scale=None):
-        """(:class:`BiasEstimate` or None with fewer than ``min_windows``, windows used); the
-        scale held at ``fixed_scale``, or (None) fitted along as a nuisance."""
+        """(BiasEstimate or None, windows used), the scale held at ``fixed_scale`` (None: fitted)."""
         rows = list(self.rows)
         if len(rows) < self.min_windows:
             return None, len(rows)
@@ -139,8 +135,7 @@ class GyroVisualFit(object):
 
 
 def _fit(rows, with_scale):
-    """Least squares of ``gyro - vo = s vo + b dt``; (b, s, std_b, std_s, residuals)
-    or None when singular. Without scale, s = 0 and std_s = inf."""
+    """Least squares of ``gyro - vo = s vo + b dt``: (b, s, std_b, std_s, residuals), None if singular."""
     n = len(rows)
     ys = [g - v for g, v, _ in rows]
     stt = sum(dt * dt for _, _, dt in rows)
@@ -164,8 +159,7 @@ def _fit(rows, with_scale):
 
 
 def robust_fit(rows, with_scale, outlier_k):
-    """:func:`_fit`, again without the windows whose residual exceeds ``outlier_k`` x 1.4826 x
-    the median absolute residual: (b, s, std_b, std_s, windows used), None when singular."""
+    """:func:`_fit` again without outliers: (b, s, std_b, std_s, windows used), None if singular."""
     fit = _fit(rows, with_scale)
     if fit is None:
         return None

@@ -1,7 +1,6 @@
-"""The return's heading correction: :func:`estimate_correction` (the
-:class:`GyroCorrection`: bias and scale, each only when sane and significant),
-:class:`CorrectedOdometry` (the corrected frame the pi turn and the return drive on) and
-:func:`correct_landmarks` (the landmarks in it). docs/back_travel.md, "Gyro heading correction"."""
+"""The return's heading correction: :func:`estimate_correction` (a :class:`GyroCorrection`),
+:class:`CorrectedOdometry` (the frame the pi turn and the return drive on) and
+:func:`correct_landmarks`. docs/back_travel.md, "Gyro heading correction"."""
 import math
 from collections import namedtuple
 
@@ -21,8 +20,7 @@ CORRECTION_DEFAULTS = {
 
 class GyroCorrection(namedtuple('GyroCorrection',
                                  'bias scale bias_std scale_std windows status reason')):
-    """Gyro ``bias`` (rad/s), ``scale`` error, their stds, ``windows`` used, ``status`` (full,
-    bias, scale, none), ``reason`` a term was left out."""
+    """Gyro ``bias``, ``scale``, their stds, ``windows``, ``status``, the ``reason`` for a term left out."""
 
     __slots__ = ()
 
@@ -54,8 +52,7 @@ def _param(params, name):
 
 
 def calibrated_scale(prior, params=None, notes=None):
-    """(scale, std) to correct by: the calibrated ``prior`` (a GyroCalibration or None) when
-    significant, else (0, inf) with the reason appended to ``notes``."""
+    """(scale, std) of the calibrated ``prior`` when significant, else (0, inf) and a note."""
     notes = [] if notes is None else notes
     if prior is None:
         notes.append('no gyro calibration: scale not corrected (calibrate_gyro.launch)')
@@ -68,15 +65,13 @@ def calibrated_scale(prior, params=None, notes=None):
 
 
 def visual_bias(fit, scale_prior=None, params=None):
-    """(BiasEstimate, windows) of ``fit`` (a GyroVisualFit), the scale held at the calibrated
-    one (none: fitted along)."""
+    """(BiasEstimate, windows) of ``fit``, the scale held at the calibrated one (none: fitted along)."""
     fixed = None if scale_prior is None else calibrated_scale(scale_prior, params)[0]
     return fit.visual_bias(fixed)
 
 
 def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
-    """The :class:`GyroCorrection` the recording's GyroVisualFit ``fit``, the standstill's
-    BiasEstimate (or None) and the calibrated ``scale_prior`` (or None) support."""
+    """The :class:`GyroCorrection` that ``fit``, the ``standstill`` and ``scale_prior`` support."""
     notes = []
     scale, scale_std = calibrated_scale(scale_prior, params, notes)
     visual, used = visual_bias(fit, scale_prior, params)
@@ -95,8 +90,7 @@ def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
 
 
 def _bias_problem(bias, bias_std, params, measured=False):
-    """Why the bias estimate is not used, or None (with a standstill, ``measured``: any bias
-    but 0 within ``max_bias``; else only beyond ``significance`` std)."""
+    """Why the bias is not used (beyond ``max_bias``; not significant unless ``measured``), or None."""
     max_bias = _param(params, 'max_bias')
     if abs(bias) > max_bias:
         return 'bias estimate %.2e rad/s beyond %.2e' % (bias, max_bias)
@@ -106,8 +100,7 @@ def _bias_problem(bias, bias_std, params, measured=False):
 
 
 class CorrectedOdometry(object):
-    """Raw odometry in the corrected frame of ``correction``, equal to the raw one at the
-    first state given to :meth:`update`."""
+    """Raw odometry in ``correction``'s frame, equal to the raw one at the first :meth:`update`."""
 
     def __init__(self, correction):
         self.correction = correction
@@ -136,49 +129,37 @@ class CorrectedOdometry(object):
         return self.state
 
     def snapshot(self):
-        """The frame's state as plain numbers (kept by a return's progress: :meth:`restored`);
-        None before the first update."""
-        if self._last is None:
-            return None
+        """The frame's state as plain numbers (kept by a return's progress), None before the first update."""
         last = self._last
-        return {'raw': [last.x, last.y, last.yaw, last.stamp], 'raw_yaw': self._raw_yaw,
-                'pose': [self._x, self._y, self._yaw]}
-
-    @classmethod
-    def restored(cls, correction, snapshot):
-        """The frame continuing from :meth:`snapshot`'s ``snapshot``; ValueError naming what is wrong."""
-        try:
-            raw, raw_yaw, pose = snapshot['raw'], float(snapshot['raw_yaw']), snapshot['pose']
-            values = [float(v) for v in raw] + [raw_yaw] + [float(v) for v in pose]
-        except (KeyError, TypeError, ValueError):
-            raise ValueError('corrected-frame snapshot must hold raw [x, y, yaw, stamp], raw_yaw and '
-                             'pose [x, y, yaw], got %r' % (snapshot,))
-        if len(values) != 8 or not all(math.isfinite(v) for v in values):
-            raise ValueError('corrected-frame snapshot must hold 8 finite numbers, got %r' % (values,))
-        frame = cls(correction)
-        frame._last = OdomState(values[0], values[1], values[2], 0.0, 0.0, values[3])
-        frame._raw_yaw, (frame._x, frame._y, frame._yaw) = values[4], values[5:]
-        frame.state = OdomState(frame._x, frame._y, wrap_angle(frame._yaw), 0.0, 0.0, values[3])
-        return frame
+        return None if last is None else {'raw': [last.x, last.y, last.yaw, last.stamp],
+                                          'raw_yaw': self._raw_yaw, 'pose': [self._x, self._y, self._yaw]}
 
     @classmethod
     def started(cls, correction, reference, latest=None, snapshot=None):
-        """The frame equal to the raw one at ``reference`` (or :meth:`restored` from
-        ``snapshot``), brought up to ``latest`` when that is newer."""
-        if snapshot is not None:
-            frame = cls.restored(correction, snapshot)
-        else:
-            frame = cls(correction)
+        """The frame equal to the raw one at ``reference`` (or a :meth:`snapshot`'s), up to ``latest``."""
+        frame = cls(correction)
+        if snapshot is None:
             frame.update(reference)
+        else:
+            try:
+                raw, raw_yaw, pose = snapshot['raw'], float(snapshot['raw_yaw']), snapshot['pose']
+                values = [float(v) for v in raw] + [raw_yaw] + [float(v) for v in pose]
+            except (KeyError, TypeError, ValueError):
+                raise ValueError('corrected-frame snapshot must hold raw [x, y, yaw, stamp], raw_yaw '
+                                 'and pose [x, y, yaw], got %r' % (snapshot,))
+            if len(values) != 8 or not all(math.isfinite(v) for v in values):
+                raise ValueError('corrected-frame snapshot must hold 8 finite numbers, got %r' % (values,))
+            frame._last = OdomState(values[0], values[1], values[2], 0.0, 0.0, values[3])
+            frame._raw_yaw, (frame._x, frame._y, frame._yaw) = values[4], values[5:]
+            frame.state = OdomState(frame._x, frame._y, wrap_angle(frame._yaw), 0.0, 0.0, values[3])
         if latest is not None and latest.stamp > reference.stamp:
             frame.update(latest)
         return frame
 
 
 def correct_landmarks(landmarks, correction, reference_yaw=None, recorded_after=0.0):
-    """``landmarks`` (recording order, raw frame) in the corrected frame whose reference (raw
-    yaw ``reference_yaw``, default the last ``psi``) is ``recorded_after`` s before the last
-    landmark; each heading gets the correction accumulated back to when it was taken."""
+    """``landmarks`` in the corrected frame equal to the raw one at yaw ``reference_yaw`` (default
+    the last ``psi``), ``recorded_after`` s before the last landmark."""
     landmarks = list(landmarks)
     if not correction.applied or not landmarks:
         return landmarks

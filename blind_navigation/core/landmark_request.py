@@ -1,7 +1,6 @@
-"""A landmark asked of a core/mission.Mission by the paper's service recorder
-(``record_landmark``): :func:`hand_in` checks it and hands it to the mission's recording
-(taken in time order, then answered); :func:`withdraw` answers one not taken in time.
-docs/recording.md, "The service recorder in one process"."""
+"""A landmark asked of a core/mission.Mission by the paper's ``record_landmark`` service:
+:func:`hand_in` hands it to the recording (taken in time order, then answered);
+:func:`withdraw` answers one not taken in time (docs/recording.md)."""
 import math
 
 from .mission import RECORDING
@@ -14,8 +13,7 @@ FINAL_REFUSED = ("refused: 'final' is not taken here: the mission takes its fina
 
 
 class LandmarkRequest(object):
-    """``command``, ``yaw`` (psi, rad), ``period`` (T, s), ``stamp`` (s; 0/None: the next
-    odometry state); ``answer``: ``(label, '')`` or ``('', why not)``, then ``answered(self)``."""
+    """``command``, ``yaw``, ``period``, ``stamp``; ``answer`` (label, why not), then ``answered``."""
 
     def __init__(self, command, yaw, period, stamp, answered=None):
         self.command, self.yaw, self.period = command, yaw, period
@@ -45,8 +43,7 @@ def problem(request):
 
 
 def hand_in(mission, request):
-    """Give ``request`` to ``mission``'s recording, or answer why not (bad, not recording, no
-    odometry yet, stamped before the last landmark). Under the mission's owner's lock."""
+    """Give ``request`` to ``mission``'s recording or answer why not; under the owner's lock."""
     why = problem(request)
     recording = mission.recording
     if why is None and mission.phase != RECORDING:

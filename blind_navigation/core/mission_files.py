@@ -1,9 +1,7 @@
-"""Mission files: each mission records into its own time-stamped landmark file, and the
-configured ``landmark_file`` is a symlink to the current one. :func:`open_mission_file`
-continues the current mission's file (a recorder restarted mid-mission) or starts a new
-one; :class:`LandmarkWriter` appends one durable line per landmark (whole lines only, a
-failed write a StorageError). Nothing recorded is overwritten or deleted. Format and
-reader: core/store.py; why: docs/recording.md, "File"."""
+"""Mission files: each mission records into its own time-stamped landmark file, behind the
+``landmark_file`` symlink (:func:`open_mission_file`: continued after a restart, else new);
+:class:`LandmarkWriter` appends one durable line per landmark; nothing recorded is
+overwritten. Format and reader: core/store.py; why: docs/recording.md, "File"."""
 import datetime
 import os
 import stat
@@ -23,14 +21,12 @@ RESTART_GAP = ('the recorder restarted mid-mission: this landmark measures d fro
                'was at the restart, not from the previous landmark')
 
 ResumeInfo = namedtuple('ResumeInfo', 'landmarks dropped warnings sample')
-ResumeInfo.__doc__ = ('What :meth:`LandmarkWriter.resume` found: ``landmarks`` in the file, '
-                      '``dropped`` torn entries, ``warnings``, ``sample`` (the last SampleMark or None).')
+ResumeInfo.__doc__ = 'What :meth:`LandmarkWriter.resume` found (``sample``: the last SampleMark).'
 
 
 class LandmarkWriter(object):
-    """Creates a mission file (FileExistsError if it exists; :meth:`resume`: continues one);
-    ``count``, ``lost`` (``lost_distance``, ``lost_turn``: their d, heading change), ``bytes``,
-    ``total_distance``, ``finished``, ``resumed``, ``sample``, ``pending_gap`` (a gap's reason)."""
+    """Creates a mission file (FileExistsError if it exists; :meth:`resume` continues one): ``count``,
+    ``lost``, ``lost_distance``, ``lost_turn``, ``bytes``, ``total_distance``, ``sample``, ``pending_gap``."""
 
     def __init__(self, path, metadata=None, fsync=True):
         self._setup(path, fsync)
@@ -43,8 +39,7 @@ class LandmarkWriter(object):
             raise
         except OSError as error:
             raise StorageError(self.path, error, 'create')
-        header = {'format': FORMAT_VERSION, 'fields': list(FIELDS)}
-        header.update(metadata or {})
+        header = {'format': FORMAT_VERSION, 'fields': list(FIELDS), **(metadata or {})}
         try:
             self._write_line('# blind_navigation path landmarks [v, w, d, T, psi] '
                              '(m/s, rad/s, m, s, rad; d from the previous landmark)\n'
@@ -67,8 +62,7 @@ class LandmarkWriter(object):
 
     @classmethod
     def resume(cls, path, fsync=True, limits=Limits(), reason='the recorder restarted'):
-        """Continue ``path`` (validated, a torn last entry cut off, a gap for ``reason`` pending
-        unless :meth:`chain_restored`); a finished file is not reopened."""
+        """Continue ``path`` (validated, torn tail cut, a gap pending; a finished file is not reopened)."""
         writer = cls.__new__(cls)
         writer._setup(path, fsync)
         loaded = load_landmarks(writer.path, limits, allow_empty=True, follow_symlinks=False)
@@ -103,8 +97,7 @@ class LandmarkWriter(object):
         return label_for(self._next_index)
 
     def holds(self, sample):
-        """True if the SampleMark ``sample`` is in the file already (the last landmark's
-        recording, not after its sample)."""
+        """True if the SampleMark ``sample`` is in the file already (its recording, not later)."""
         return (sample is not None and self.sample is not None
                 and sample.recording == self.sample.recording and sample.seq <= self.sample.seq)
 
@@ -153,8 +146,7 @@ class LandmarkWriter(object):
         return label
 
     def note_gap(self, reason):
-        """Write a gap entry before the next landmark (its ``d`` will not start at the previous
-        one); return the entry's key. StorageError on failure."""
+        """Write a gap entry before the next landmark; its key. StorageError on failure."""
         self._check_open('note a gap')
         key, line = self._gap_line(reason)
         try:
@@ -165,8 +157,7 @@ class LandmarkWriter(object):
         return key
 
     def finish(self):
-        """Mark the recording finished (a later :meth:`resume` will not append) and close;
-        StorageError if the mark cannot be written (still closed)."""
+        """Mark the recording finished and close (StorageError if the mark is not written)."""
         self._check_open('finish')
         try:
             self._write_line(flow_line(FINISHED_KEY, {'landmarks': self.count, 'lost': self.lost}))
@@ -232,8 +223,7 @@ def mission_file_name(landmark_file, when=None):
 
 
 def inspect_landmark_file(landmark_file):
-    """``'missing'``, ``'regular'`` (an old layout's file), ``'symlink'`` (to a regular file)
-    or ``'dangling'``; anything else raises LandmarkFileError naming it."""
+    """'missing', 'regular' (an old layout), 'symlink' (to a regular file), 'dangling', else an error."""
     mode = _mode(os.lstat, landmark_file, 'cannot inspect: %s')
     if mode is None:
         return 'missing'
@@ -255,8 +245,7 @@ def inspect_landmark_file(landmark_file):
 
 
 def _mode(stat_call, landmark_file, problem):
-    """``stat_call(landmark_file).st_mode``, None if nothing is there; another error
-    raises LandmarkFileError with ``problem`` % its text."""
+    """``stat_call(landmark_file).st_mode``, None if nothing is there (else LandmarkFileError)."""
     try:
         return stat_call(landmark_file).st_mode
     except FileNotFoundError:
@@ -301,9 +290,8 @@ def read_mission(path):
 
 def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, limits=Limits(),
                       when=None):
-    """The writer of the current mission: the file ``landmark_file`` points at if its header
-    carries this ``mission`` id (resumed), else a new file with ``metadata``, which
-    ``landmark_file`` points at once it holds its header. LandmarkFileError or StorageError."""
+    """The writer of the current mission: the file ``landmark_file`` points at if its header carries
+    this ``mission`` id (resumed), else a new one, pointed at once it holds its header."""
     if mission is not None and not (isinstance(mission, str) and mission.strip()):
         raise ValueError('mission must be a non-empty string or None, got %r' % (mission,))
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))

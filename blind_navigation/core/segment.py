@@ -8,16 +8,14 @@ from .geometry import wrap_angle
 STRAIGHT = 'straight'
 CURVED = 'curved'
 
-#: Default dead-band on yaw differences, rad (see module docstring).
+#: Default dead-band on yaw differences, rad.
 DEFAULT_DEADBAND = 0.01
 #: The paper's sampling periods, s: 0.5 Hz on straight segments, 1 Hz on curves.
 PAPER_STRAIGHT_PERIOD = 2.0
 PAPER_CURVED_PERIOD = 1.0
 WINDOW = 4
 
-#: The sampling params (the sampling publisher's; back_travel_server reads
-#: ``straight_rate`` too: a landmark sampled at its period is a straight segment):
-#: straight_rate and curved_rate (Hz), deadband (rad per yaw difference).
+#: The sampling publisher's params (back_travel_server reads ``straight_rate`` too).
 SAMPLING_DEFAULTS = {
     'straight_rate': 1.0 / PAPER_STRAIGHT_PERIOD,  # Hz, the sampling rate on straight segments
     'curved_rate': 1.0 / PAPER_CURVED_PERIOD,      # Hz, the sampling rate on curved segments

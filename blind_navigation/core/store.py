@@ -1,8 +1,6 @@
-"""The landmark file: its format (one flow-map line per entry: the ``blind_navigation``
-header, ``landmark_NNNNNN: {data: [v, w, d, T, psi]}``, ``gap_<n>`` and ``samples_<n>``
-marks, a ``finished`` line; INTERFACE.md) and its reader, :func:`load_landmarks`
-(validated, a bad entry a LandmarkFileError naming file and entry). Writing:
-core/mission_files.py; why: docs/recording.md, "File"."""
+"""The landmark file's format (one flow-map line per entry: header, ``landmark_NNNNNN``,
+``gap_<n>``, ``samples_<n>``, ``finished``; INTERFACE.md) and its validating reader
+:func:`load_landmarks`. Writing: core/mission_files.py; docs/recording.md, "File"."""
 import re
 from collections import namedtuple
 
@@ -97,10 +95,8 @@ def drop_torn_tail(path, text, warnings):
 
 
 class LoadedPath(object):
-    """What :func:`load_landmarks` read: ``landmarks`` in recording order, their ``labels``,
-    the header ``metadata``, ``warnings``, ``gaps`` (:class:`Gap`s: d chain breaks and lost
-    landmarks), ``finished``, ``dropped`` torn entries, ``size`` and ``intact_bytes`` (before
-    a dropped entry), ``last_index`` (of the last label), ``sample`` (its :class:`SampleMark`)."""
+    """What :func:`load_landmarks` read: ``landmarks``, ``labels``, ``metadata``, ``warnings``, ``gaps``,
+    ``finished``, ``dropped``, ``size``, ``intact_bytes``, ``last_index`` and its ``sample``."""
 
     def __init__(self, **fields):
         self.__dict__.update(fields)
@@ -115,8 +111,7 @@ class LoadedPath(object):
         return self.last_index - len(self.landmarks) if self.landmarks else 0
 
     def lost_after_end(self, reported_lost):
-        """Of the recorder's ``reported_lost`` landmarks (StorageUsage.lost), those after the
-        file's last one (not holes a return bridges: the end of the path, e.g. a full disk)."""
+        """Of the recorder's ``reported_lost`` landmarks, those after the file's last one."""
         if isinstance(reported_lost, bool) or not isinstance(reported_lost, int) or reported_lost < 0:
             raise ValueError('reported_lost must be a count >= 0, got %r' % (reported_lost,))
         return max(0, reported_lost - self.missing)
@@ -156,8 +151,7 @@ def _samples_from(path, key, value):
 
 
 def _last_sample(marks, last_index):
-    """The SampleMark of label ``last_index`` by the latest ``samples_`` entry at or before
-    it (of two for one label, the later in the file)."""
+    """The SampleMark of label ``last_index`` by the latest ``samples_`` entry at or before it."""
     best = None
     for index, mark in marks:
         if index <= last_index and (best is None or index >= best[0]):
@@ -176,8 +170,7 @@ def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=Tru
         document = parse(intact)
     except yaml.YAMLError as error:
         raise LandmarkFileError(path, 'not valid YAML: %s' % str(error).replace('\n', ' '))
-    if document is None:
-        document = {}
+    document = {} if document is None else document
     if not isinstance(document, dict):
         raise LandmarkFileError(path, 'top level must be a map of landmark entries, got %s'
                                 % type(document).__name__)

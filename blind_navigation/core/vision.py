@@ -1,7 +1,6 @@
-"""Vision-loss detectors with debounce: camera stall, dark images, visual odometry lost
-or stalled, RTAB-Map's ``lost`` flag, the manual trigger, bundled by
-:class:`VisionLossMonitor`; :class:`VisionBack` says when vision is back
-(docs/detection.md)."""
+"""Vision-loss detectors with debounce (camera stall, dark images, VO lost or stalled,
+RTAB-Map's ``lost`` flag, manual) bundled by :class:`VisionLossMonitor`; :class:`VisionBack`
+says when vision is back (docs/detection.md)."""
 import math
 import struct
 from collections import namedtuple
@@ -26,8 +25,7 @@ class Debounce(object):
         self.reset()
 
     def update(self, t, bad, onset=None):
-        """The condition at ``t``; True exactly when it fires (``onset``: when a new bad run
-        began, if not ``t``)."""
+        """The condition at ``t`` (``onset``: a new bad run's start); True exactly when it fires."""
         if not bad:
             self.reset()
             return False
@@ -45,8 +43,7 @@ class Debounce(object):
 
 
 class HostFlow(object):
-    """The wheel odometry's arrivals: silent over ``gap`` s, the host stalled (no vision
-    loss); a stall's silence counts from when it resumed at the earliest."""
+    """The wheel odometry's arrivals: a silence over ``gap`` s is the host's, no vision loss."""
 
     def __init__(self, gap):
         if not gap > 0:
@@ -116,19 +113,15 @@ class ConditionDetector(object):
                     t, self.debounce.onset)
 
 
-# --- what makes a message bad ------------------------------------------------------------------
-
-_CHANNELS = {'mono8': 1, '8UC1': 1, 'rgb8': 3, 'bgr8': 3, '8UC3': 3, 'rgba8': 4, 'bgra8': 4,
-             '8UC4': 4, 'mono16': 1, '16UC1': 1, 'rgb16': 3, 'bgr16': 3, 'rgba16': 4,
-             'bgra16': 4}
+_CHANNELS = {'mono8': 1, '8UC1': 1, 'rgb8': 3, 'bgr8': 3, '8UC3': 3, 'rgba8': 4, 'bgra8': 4, '8UC4': 4,
+             'mono16': 1, '16UC1': 1, 'rgb16': 3, 'bgr16': 3, 'rgba16': 4, 'bgra16': 4}
 _BAYER_PREFIX = 'bayer_'
 #: Pixels sampled per image (evenly strided).
 MAX_SAMPLES = 20000
 
 
 def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False):
-    """Mean intensity (0..255) of a raw sensor_msgs/Image (8/16-bit mono, RGB/BGR(A), Bayer;
-    padded rows; alpha ignored); ValueError for another encoding or a short buffer."""
+    """Mean intensity (0..255) of a raw sensor_msgs/Image; ValueError for its encoding or size."""
     if encoding.startswith(_BAYER_PREFIX):
         channels, depth = 1, 2 if encoding.endswith('16') else 1
     elif encoding in _CHANNELS:
@@ -149,8 +142,7 @@ def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False
 
 
 def vo_lost_reason(position, orientation, pose_cov_diag, twist_cov_diag):
-    """Why an RTAB-Map odometry message means lost (non-finite, null quaternion, covariance
-    9999), or None."""
+    """Why an RTAB-Map odometry message means lost (non-finite, null quaternion, covariance), or None."""
     values = tuple(position) + tuple(orientation)
     if not all(math.isfinite(v) for v in values):
         return 'VO pose not finite %r' % (values,)
@@ -172,8 +164,7 @@ _HEADER = struct.Struct('<III')  # std_msgs/Header: seq, stamp.secs, stamp.nsecs
 
 
 def odom_info_lost(buff):
-    """The ``lost`` flag of a serialised rtabmap_ros/ or rtabmap_msgs/OdomInfo (after its
-    header); ValueError when too short."""
+    """The ``lost`` flag of a serialised rtabmap OdomInfo; ValueError when too short."""
     offset = _HEADER.size
     if len(buff) < offset + 4:
         raise ValueError('odom_info message of %d bytes is shorter than its header' % len(buff))
@@ -183,8 +174,6 @@ def odom_info_lost(buff):
         raise ValueError('odom_info message of %d bytes ends before its lost flag' % len(buff))
     return bytearray(buff[offset:offset + 1])[0] != 0
 
-
-# --- the bundle --------------------------------------------------------------------------------
 
 class VisionLossMonitor(object):
     """The ``enabled`` detectors (names from DETECTORS) behind one vision-loss signal."""
@@ -204,8 +193,7 @@ class VisionLossMonitor(object):
         self.odom_info = ConditionDetector('odom_info', debounce)
         self._stalls = (self.stall, self.vo_stall)
         self._all = (self.stall, self.vo_stall, self.dark, self.vo_lost, self.odom_info)
-        self.host = HostFlow(host_gap)
-        self.last_t = None
+        self.host, self.last_t = HostFlow(host_gap), None
 
     def _clock(self, t):
         """Reset every detector when time jumps backwards."""
