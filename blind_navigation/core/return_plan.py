@@ -28,7 +28,7 @@ NO_LOSS = WriteLoss(0, 0.0, 0.0, '')
 
 
 def write_loss(writer, error=''):
-    """The WriteLoss of a core/mission_files.LandmarkWriter (``error``: its last failure)."""
+    """The WriteLoss of a core/landmark_writer.LandmarkWriter (``error``: its last failure)."""
     return WriteLoss(writer.lost, writer.lost_distance, writer.lost_turn, error)
 
 
