@@ -1,5 +1,1 @@
-"""ROS-free core of blind_navigation; nothing here imports rospy.
-
-The same code runs inside the ROS nodes and inside the plain-Python simulation
-harness used for Monte-Carlo evaluation.
-"""
+"""ROS-free core of blind_navigation (no rospy), run alike by the nodes and the harness."""

@@ -1,11 +1,6 @@
-"""The low-battery watch: a Kobuki battery below ``battery_low`` (V) starts the return.
-
-:class:`BatteryWatch` says when the battery is low: the running median of the last
-``battery_window`` readings below ``battery_low`` for ``battery_hold`` s and as many
-readings (one noisy reading never decides); low until the median rises
-``battery_hysteresis`` above it. Readings that are no voltage (NaN, 0, outside
-:data:`PLAUSIBLE`) are ignored with a reason. docs/safety.md, "Low battery".
-"""
+"""The low-battery watch: :class:`BatteryWatch` says when a Kobuki battery is below
+``battery_low`` (V), by the running median of its readings held ``battery_hold`` s, which
+starts the return. docs/safety.md, "Low battery"."""
 import math
 
 #: The watch's constants (see the module docstring; docs/safety.md says why these).
@@ -31,10 +26,7 @@ def reading_problem(volts):
 
 
 class BatteryWatch(object):
-    """``threshold``: battery_low, V (0: off); ``settings``: :data:`BATTERY_DEFAULTS` names.
-    ``low``: the battery is low now; ``reason``: why (the voltage and the threshold), else
-    None; ``level``: the median, V (None: not known); ``ignored``/``problem``: readings
-    ignored and why the last one was."""
+    """``low`` (with ``reason``) when the median ``level`` (V) is below ``threshold``; ``ignored``."""
 
     def __init__(self, threshold=0.0, **settings):
         self.threshold = float(threshold or 0.0)

@@ -1,11 +1,6 @@
-"""The mission's docking (dock_at_home): after the return's ``home`` verdict, the Kobuki's own
-auto-docking drives the robot onto its charger; the mission only asks for it once and waits:
-:class:`Docking` is the mission's behaviour in phase :data:`DOCK` (state ``docking``):
-:attr:`Docking.start` asks the owner to send the auto-docking goal (Step.dock, once);
-``inputs.docking`` (:class:`DockingResult`) ends it ``docked`` or ``home``
-('docking failed: <why>'), as do an operator's takeover and the allowance :data:`DOCK_TIMEOUT`.
-Cancel, a cliff or a wheel drop end it ``aborted`` in core/mission. docs/safety.md, "Docking".
-"""
+"""The mission's docking (dock_at_home): :class:`Docking` asks the owner once for the Kobuki's
+auto-docking (Step.dock) and ends ``docked`` or ``home`` ('docking failed: <why>') on its
+result, a takeover or :data:`DOCK_TIMEOUT`. docs/safety.md, "Docking"."""
 import collections
 
 from . import mission_state, outcome

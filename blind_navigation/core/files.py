@@ -1,34 +1,24 @@
-"""Safe file primitives for everything the layer writes or reads back.
-
-:class:`StorageError` (a failed write, naming file and errno), :func:`write_atomically`
-and :func:`replace_with_symlink` (exclusive temporary, fsync, rename: a crash leaves the
-old or the new content, a planted file is never written through), :func:`write_all`,
-:func:`read_regular_file` (refuses directories, FIFOs, devices by name) and
-:class:`FileContentError` (the base of the landmark and progress files' errors).
-"""
+"""Safe file primitives: atomic replacement (a crash leaves the old or the new content, a
+planted file is never written through), reading regular files only, and the errors
+naming the file (:class:`StorageError`, :class:`FileContentError`)."""
 import errno
 import os
 import secrets
 import stat
 
-#: Attempts at a free random temporary name before giving up (each collision
-#: is a 64-bit random name already taken: in practice never).
+#: Attempts at a free random temporary name (a 64-bit name already taken: in practice never).
 TEMPORARY_ATTEMPTS = 16
 
 
 class StorageError(OSError):
-    """Writing ``path`` failed: ``action`` (e.g. 'write', 'append landmark_000054 to'),
-    the errno and its text; ``lost`` counts the records lost so far (0 if not
-    applicable). ``str()`` is one line fit for a log or a status reason."""
+    """Writing ``path`` failed (``action``, errno, its text; ``lost`` records so far): one line."""
 
     def __init__(self, path, error, action='write', lost=0):
         code = getattr(error, 'errno', None)
         text = getattr(error, 'strerror', None) or str(error)
         super(StorageError, self).__init__(code, text)
-        self.filename = path
-        self.path = path
-        self.action = action
-        self.lost = lost
+        self.filename = self.path = path
+        self.action, self.lost = action, lost
         name = errno.errorcode.get(code) if code else None
         self.message = 'cannot %s %s: %s%s' % (action, path, text, ' (%s)' % name if name else '')
         if lost:
@@ -39,13 +29,10 @@ class StorageError(OSError):
 
 
 class FileContentError(Exception):
-    """A file whose content cannot be used: ``str()`` names the file, the ``part``
-    (an entry, a field; may be None) and the ``reason``."""
+    """A file whose content cannot be used: names the file, the ``part`` (or None), the ``reason``."""
 
     def __init__(self, path, part, reason):
-        self.path = path
-        self.part = part
-        self.reason = reason
+        self.path, self.part, self.reason = path, part, reason
         where = '%s: %s' % (path, part) if part else str(path)
         super(FileContentError, self).__init__('%s: %s' % (where, reason))
 
@@ -55,8 +42,7 @@ class NotRegularFileError(OSError):
 
     def __init__(self, path, what):
         super(NotRegularFileError, self).__init__(errno.EINVAL, 'is %s, not a regular file' % what)
-        self.filename = path
-        self.path = path
+        self.filename = self.path = path
         self.what = what
 
     def __str__(self):
@@ -85,8 +71,7 @@ def write_all(fd, data):
 
 
 def fsync_directory(directory):
-    """fsync a directory so a rename or a new file in it survives a crash (best
-    effort: some file systems refuse to open or fsync a directory)."""
+    """fsync ``directory`` so a rename or a new file in it survives a crash (best effort)."""
     try:
         fd = os.open(directory, os.O_RDONLY | getattr(os, 'O_DIRECTORY', 0))
     except OSError:
@@ -99,35 +84,36 @@ def fsync_directory(directory):
         os.close(fd)
 
 
-def create_exclusive(directory, prefix, suffix='.tmp', mode=0o666):
-    """Create a new file ``<directory>/<prefix><random><suffix>`` exclusively
-    (never an existing file, never through a symlink); return ``(fd, path)``."""
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | getattr(os, 'O_CLOEXEC', 0)
+def _free_name(make, shown):
+    """``make(token)`` for the first random token whose name is free (FileExistsError: taken)."""
     for _ in range(TEMPORARY_ATTEMPTS):
-        path = os.path.join(directory, '%s%s%s' % (prefix, secrets.token_hex(8), suffix))
         try:
-            return os.open(path, flags, mode), path
+            return make(secrets.token_hex(8))
         except FileExistsError:
             continue
     raise FileExistsError(errno.EEXIST, 'no free temporary name after %d attempts'
-                          % TEMPORARY_ATTEMPTS, os.path.join(directory, prefix + '*' + suffix))
+                          % TEMPORARY_ATTEMPTS, shown)
+
+
+def create_exclusive(directory, prefix, suffix='.tmp', mode=0o666):
+    """``(fd, path)`` of a new ``<directory>/<prefix><random><suffix>`` (never existing, never a symlink)."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | getattr(os, 'O_CLOEXEC', 0)
+
+    def make(token):
+        path = os.path.join(directory, '%s%s%s' % (prefix, token, suffix))
+        return os.open(path, flags, mode), path
+    return _free_name(make, os.path.join(directory, prefix + '*' + suffix))
 
 
 def replace_with_symlink(path, target):
-    """Make ``path`` a symlink to ``target`` atomically: the symlink is made under
-    a random name in the same directory (symlink creation never reuses an
-    existing name) and renamed over ``path`` (which must not be a directory)."""
+    """Make ``path`` a symlink to ``target`` atomically (made beside it, renamed over it)."""
     directory, name = os.path.split(os.path.abspath(path))
-    for _ in range(TEMPORARY_ATTEMPTS):
-        link = os.path.join(directory, '.%s.%s.link' % (name, secrets.token_hex(8)))
-        try:
-            os.symlink(target, link)
-            break
-        except FileExistsError:
-            continue
-    else:
-        raise FileExistsError(errno.EEXIST, 'no free temporary name after %d attempts'
-                              % TEMPORARY_ATTEMPTS, path)
+
+    def make(token):
+        link = os.path.join(directory, '.%s.%s.link' % (name, token))
+        os.symlink(target, link)
+        return link
+    link = _free_name(make, path)
     try:
         os.replace(link, path)
     except OSError:
@@ -137,9 +123,7 @@ def replace_with_symlink(path, target):
 
 
 def write_atomically(path, text):
-    """Replace ``path`` by ``text`` (str, UTF-8) atomically; see the module
-    docstring. Raises :class:`StorageError` naming ``path`` on any failure (the
-    temporary file is removed, the old content stays)."""
+    """Replace ``path`` by ``text`` atomically; StorageError naming it on failure (old content kept)."""
     path = os.path.abspath(path)
     directory, name = os.path.split(path)
     temporary = None
@@ -166,10 +150,7 @@ def write_atomically(path, text):
 
 
 def read_regular_file(path, max_bytes, follow_symlinks=True):
-    """The bytes of ``path``, which must be a regular file (a symlink to one
-    when ``follow_symlinks``) of at most ``max_bytes``. Raises
-    FileNotFoundError, :class:`NotRegularFileError`, or OSError (naming the
-    file) if it cannot be read or is larger."""
+    """The bytes of the regular file ``path`` (at most ``max_bytes``), else an OSError naming it."""
     flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, 'O_CLOEXEC', 0)
     if not follow_symlinks:
         flags |= os.O_NOFOLLOW

@@ -12,11 +12,8 @@ def wrap_angle(angle):
 
 
 def yaw_from_quaternion(x, y, z, w):
-    """Yaw (rotation about z) of a quaternion, as tf.transformations.euler_from_quaternion.
-
-    Raises ValueError for a zero-length or non-finite quaternion (RTAB-Map
-    publishes (0, 0, 0, 0) when its odometry is lost).
-    """
+    """Yaw of a quaternion (as tf's euler_from_quaternion); ValueError for a null or
+    non-finite one (RTAB-Map's "lost")."""
     norm = math.sqrt(x * x + y * y + z * z + w * w)
     if not math.isfinite(norm) or norm < 1e-9:
         raise ValueError('invalid quaternion (%g, %g, %g, %g)' % (x, y, z, w))

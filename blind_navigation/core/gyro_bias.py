@@ -1,16 +1,11 @@
-"""The gyro's bias, measured for each mission.
-
-While recording against visual odometry (core/gyro_fit.py); after vision loss by
-standing still (:class:`StandstillBias`); the two fused by inverse variance
-(:func:`fuse_bias`); the standstill only as long as the mission needs
-(:func:`standstill_complete`, :func:`standstill_timeout`).
-"""
+"""The gyro's bias, measured each mission: against visual odometry while recording
+(core/gyro_fit.py), standing still after vision loss (:class:`StandstillBias`, only as
+long as the mission needs: :func:`standstill_complete`), fused by :func:`fuse_bias`."""
 import math
 from collections import namedtuple
 
 from .geometry import wrap_angle
 
-#: Defaults of the standstill bias measurement after vision loss (heading_correction node params).
 STANDSTILL_DEFAULTS = {
     'standstill_time': 120.0,    # s, the longest standstill (0: none); bias std = gyro noise /
                                  # sqrt(samples): 0.003 rad/s at 50 Hz -> 3.9e-5 rad/s after 120 s
@@ -31,8 +26,7 @@ class BiasEstimate(namedtuple('BiasEstimate', 'bias std source')):
 
 
 def fuse_bias(estimates):
-    """Inverse-variance mean of :class:`BiasEstimate` s: (bias, std); (0, inf)
-    for none. Exact ones (std 0, e.g. a noiseless gyro standing still) win."""
+    """Inverse-variance mean (bias, std) of BiasEstimates ((0, inf): none; exact ones win)."""
     exact = [e.bias for e in estimates if e.std == 0.0]
     if exact:
         return sum(exact) / len(exact), 0.0
@@ -44,14 +38,7 @@ def fuse_bias(estimates):
 
 
 class StandstillBias(object):
-    """Gyro bias measured while the robot stands still (after vision loss,
-    before the pi turn): the wheels say it is not moving (``|v| <=
-    still_speed``) and the gyro that it is not turning (``|w| <=
-    still_rate``), so any heading change is the bias. The first ``settle``
-    seconds of each still spell are skipped (the base is still stopping).
-    ``params``: any object with the attributes of :data:`STANDSTILL_DEFAULTS`.
-    The estimate is the heading change over the time still; its standard
-    error comes from the spread of the per-sample rates."""
+    """Gyro bias from the heading change while still (``params``: as :data:`STANDSTILL_DEFAULTS`)."""
 
     def __init__(self, params=None):
         self.still_speed, self.still_rate, self.settle = (
@@ -91,15 +78,8 @@ class StandstillBias(object):
 
 
 def standstill_complete(visual, standstill, recording_time, params=None):
-    """True once the standstill after vision loss may end: it lasted
-    ``standstill_time``, or at least ``standstill_min`` and the bias, the
-    standstill's fused with ``visual`` (the visual-odometry estimate at vision
-    loss, core/heading_correction.visual_bias, or None), is known well enough for this mission: ``bias std x
-    recording_time <= heading_budget`` (rad). The landmarks' headings are
-    corrected back over the recording, and the return takes about as long (the
-    standstill itself adds nothing: its drift is what it measures). A short
-    mission needs little, a long one up to ``standstill_time``; a noiseless gyro
-    none. ``params``: as :data:`STANDSTILL_DEFAULTS`."""
+    """True once the standstill may end: after ``standstill_time``, or ``standstill_min`` once the
+    bias (fused with ``visual``) is known to ``std x recording_time <= heading_budget``."""
     longest, shortest, budget = (float(getattr(params, name, STANDSTILL_DEFAULTS[name]))
                                  for name in ('standstill_time', 'standstill_min', 'heading_budget'))
     if standstill.duration >= longest - 1e-9:
@@ -112,11 +92,9 @@ def standstill_complete(visual, standstill, recording_time, params=None):
 
 
 def standstill_timeout(params=None):
-    """s after vision loss at which the standstill ends even if the robot kept
-    moving: ``standstill_timeout`` when set, else 2 x ``standstill_time`` + 5."""
+    """s after vision loss the standstill ends anyway (None: 2 x ``standstill_time`` + 5)."""
     timeout = getattr(params, 'standstill_timeout', None)
     if timeout is None:
         return 2.0 * float(getattr(params, 'standstill_time',
                                    STANDSTILL_DEFAULTS['standstill_time'])) + 5.0
     return float(timeout)
-

@@ -1,11 +1,6 @@
-"""One-off gyro scale calibration: spin in place under visual odometry, both ways.
-
-:class:`SpinCalibration` turns ``turns`` full turns each way while
-core/gyro_fit.GyroVisualFit compares gyro and visual-odometry yaw (both ways separate
-scale from bias); the result, :class:`GyroCalibration`, is kept in a small YAML file
-(:func:`save_calibration`, :func:`load_calibration`). Plain Python: the calibrate_gyro
-node and the harness drive the same object (docs/back_travel.md, "Gyro heading correction").
-"""
+"""One-off gyro scale calibration: :class:`SpinCalibration` spins both ways under visual
+odometry; its :class:`GyroCalibration` is kept in a small YAML file (:func:`save_calibration`,
+:func:`load_calibration`). docs/back_travel.md, "Gyro heading correction"."""
 import datetime
 import math
 import os
@@ -19,7 +14,6 @@ from .heading_correction import CORRECTION_DEFAULTS
 from .rotation import Rotation
 from .files import write_atomically
 
-#: Defaults; the calibrate_gyro node exposes each one as a ~private param.
 SPIN_DEFAULTS = {
     'turns': 5.0,          # full turns each way: scale std ~0.005 / sqrt(2 pi turns x 2)
     'max_w': 0.6,          # rad/s, cruise turn rate (as the pi turn)
@@ -33,9 +27,7 @@ FILE_KEYS = ('gyro_scale_error', 'gyro_scale_error_std', 'gyro_bias', 'gyro_bias
 
 
 class GyroCalibration(namedtuple('GyroCalibration', 'scale scale_std bias bias_std windows')):
-    """Gyro ``scale`` error (measured rate = (1 + scale) true rate + bias) and
-    its standard error; the ``bias`` seen during the calibration (rad/s; it
-    changes from run to run, so only informative); ``windows`` used."""
+    """Gyro ``scale`` error, its std, the ``bias`` seen (informative), its std, ``windows``."""
 
     __slots__ = ()
 
@@ -48,14 +40,7 @@ class CalibrationError(Exception):
 
 
 class SpinCalibration(object):
-    """Drives the spins and collects the yaw data; see the module docstring.
-
-    Feed its :attr:`fit` odometry and visual odometry as they come;
-    :meth:`step` returns the command for the latest odometry; when
-    :attr:`done`, :meth:`result` gives the
-    :class:`GyroCalibration` (CalibrationError if the data do not determine it);
-    :attr:`failed` names what went wrong (a turn's time allowance).
-    """
+    """Feed :attr:`fit`; :meth:`step` commands the spins; once :attr:`done`, :meth:`result`."""
 
     def __init__(self, params=None):
         for name, default in SPIN_DEFAULTS.items():
@@ -69,11 +54,8 @@ class SpinCalibration(object):
         self._allowance = 2.0 * angle / self.max_w + 20.0
         self._legs = [('pause', self.pause), ('turn', angle), ('pause', self.pause),
                       ('turn', -angle), ('pause', self.pause)]
-        self._leg = -1
-        self._leg_started = None
-        self._rotation = None
-        self.done = False
-        self.failed = ''
+        self._leg, self._leg_started, self._rotation = -1, None, None
+        self.done, self.failed = False, ''
 
     @property
     def progress(self):
@@ -134,7 +116,7 @@ class SpinCalibration(object):
 
 
 def save_calibration(path, calibration, turns, when=None):
-    """Write ``calibration`` to ``path`` (atomically: a crash leaves the old file)."""
+    """Write ``calibration`` to ``path`` atomically."""
     path = os.path.abspath(os.path.expanduser(path))
     os.makedirs(os.path.dirname(path), exist_ok=True)
     values = {'gyro_scale_error': float(calibration.scale),
@@ -150,8 +132,7 @@ def save_calibration(path, calibration, turns, when=None):
 
 
 def load_calibration(path):
-    """The :class:`GyroCalibration` in ``path``; CalibrationError naming the file
-    and key when it is missing, unreadable or out of range."""
+    """The :class:`GyroCalibration` in ``path``; CalibrationError naming file and key."""
     path = os.path.abspath(os.path.expanduser(path))
     try:
         with open(path) as stream:
@@ -170,5 +151,4 @@ def load_calibration(path):
             raise CalibrationError('%s: %s must be a number in [%g, %g], got %r'
                                    % (path, key, low, high, value))
         values.append(value)
-    return GyroCalibration(float(values[0]), float(values[1]), float(values[2]), float(values[3]),
-                           int(values[4]))
+    return GyroCalibration(*[float(value) for value in values[:4]], int(values[4]))

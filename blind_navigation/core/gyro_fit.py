@@ -1,11 +1,6 @@
-"""Gyro yaw against visual-odometry yaw: the least-squares fit behind the calibration
-and the per-mission bias.
-
-:class:`GyroVisualFit` cuts the data into windows of ``window`` s (lost VO or gaps skipped)
-and fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (:func:`robust_fit`: one outlier pass);
-the windows are kept packed, the newest :data:`MAX_WINDOWS` (:class:`WindowRows`).
-docs/back_travel.md, "Gyro heading correction".
-"""
+"""Gyro yaw against visual-odometry yaw: :class:`GyroVisualFit` cuts them into windows and
+fits ``dpsi_gyro - dpsi_vo = s dpsi_vo + b dt`` (:func:`robust_fit`). docs/back_travel.md,
+"Gyro heading correction"."""
 import math
 from array import array
 from collections import deque
@@ -13,7 +8,6 @@ from collections import deque
 from .geometry import wrap_angle
 from .gyro_bias import BiasEstimate
 
-#: Parameters of the fit (window s, max_gap s, min_windows count, outlier_k robust std).
 GYRO_FIT_DEFAULTS = {
     'window': 2.0,               # s, length of one yaw-increment window
     'max_gap': 0.5,              # s, a longer gap between samples breaks the window
@@ -30,8 +24,7 @@ MAX_WINDOWS = 3600
 
 
 class WindowRows(object):
-    """The fit's windows ``(gyro increment, VO increment, dt)``, packed: a sequence
-    of 3-tuples with ``append``; past ``capacity`` rows the oldest half is dropped."""
+    """The fit's windows ``(gyro increment, VO increment, dt)``, packed; the oldest half dropped when full."""
 
     def __init__(self, capacity=MAX_WINDOWS):
         if not capacity >= 2:
@@ -48,33 +41,13 @@ class WindowRows(object):
     def __len__(self):
         return len(self._values) // 3
 
-    def _offset(self, index):
-        """Where window ``index`` (negative: from the end) starts in the packed values."""
-        count = len(self)
-        if not -count <= index < count:
-            raise IndexError('window %d of %d' % (index, count))
-        return 3 * (index % count)
-
-    def __getitem__(self, index):
-        if isinstance(index, slice):
-            return [self[i] for i in range(*index.indices(len(self)))]
-        at = self._offset(index)
-        return tuple(self._values[at:at + 3])
-
-    def __setitem__(self, index, row):
-        at = self._offset(index)
-        self._values[at:at + 3] = array('d', row)
-
     def __iter__(self):
         values = self._values
         return (tuple(values[i:i + 3]) for i in range(0, len(values), 3))
 
 
 class GyroVisualFit(object):
-    """Collects odometry (gyro) yaw and visual-odometry yaw as they come and keeps
-    one row ``(gyro increment, VO increment, dt)`` per window (module
-    docstring). ``params``: any object with the attributes of
-    :data:`GYRO_FIT_DEFAULTS` (missing ones default)."""
+    """Gyro and VO yaw as they come, one row per window in ``rows`` (``params``: GYRO_FIT_DEFAULTS')."""
 
     def __init__(self, params=None):
         for name, default in GYRO_FIT_DEFAULTS.items():
@@ -149,11 +122,7 @@ class GyroVisualFit(object):
         return 0.0 if self._first_stamp is None else until - self._first_stamp
 
     def visual_bias(self, fixed_scale=None):
-        """(:class:`BiasEstimate` from the windows, windows used); None with fewer
-        than ``min_windows``. ``fixed_scale`` None: the scale is fitted along with
-        the bias (as a nuisance: an uncorrected scale error in the turns would
-        bias the bias), not returned; else the bias is fitted with the scale held
-        at ``fixed_scale``."""
+        """(BiasEstimate or None, windows used), the scale held at ``fixed_scale`` (None: fitted)."""
         rows = list(self.rows)
         if len(rows) < self.min_windows:
             return None, len(rows)
@@ -166,8 +135,7 @@ class GyroVisualFit(object):
 
 
 def _fit(rows, with_scale):
-    """Least squares of ``gyro - vo = s vo + b dt``; (b, s, std_b, std_s, residuals)
-    or None when singular. Without scale, s = 0 and std_s = inf."""
+    """Least squares of ``gyro - vo = s vo + b dt``: (b, s, std_b, std_s, residuals), None if singular."""
     n = len(rows)
     ys = [g - v for g, v, _ in rows]
     stt = sum(dt * dt for _, _, dt in rows)
@@ -191,9 +159,7 @@ def _fit(rows, with_scale):
 
 
 def robust_fit(rows, with_scale, outlier_k):
-    """:func:`_fit`, then again without the windows whose residual exceeds
-    ``outlier_k`` x 1.4826 x the median absolute residual. Returns
-    (b, s, std_b, std_s, windows used) or None when singular."""
+    """:func:`_fit` again without outliers: (b, s, std_b, std_s, windows used), None if singular."""
     fit = _fit(rows, with_scale)
     if fit is None:
         return None
@@ -206,4 +172,3 @@ def robust_fit(rows, with_scale, outlier_k):
             if fit is None:
                 return None
     return fit[0], fit[1], fit[2], fit[3], len(rows)
-

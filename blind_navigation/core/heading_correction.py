@@ -1,11 +1,6 @@
-"""The heading correction of the return: which gyro errors to correct, and the
-corrected odometry frame the pi turn and the return drive on.
-
-:func:`estimate_correction` (the :class:`GyroCorrection`: bias and scale, each only when
-sane and, but a bias measured standing still, significant), :class:`CorrectedOdometry`
-(raw odometry in the corrected frame, equal to the raw one at the reference),
-:func:`correct_landmarks` (the landmarks in it). docs/back_travel.md, "Gyro heading correction".
-"""
+"""The return's heading correction: :func:`estimate_correction` (a :class:`GyroCorrection`),
+:class:`CorrectedOdometry` (the frame the pi turn and the return drive on) and
+:func:`correct_landmarks`. docs/back_travel.md, "Gyro heading correction"."""
 import math
 from collections import namedtuple
 
@@ -13,8 +8,6 @@ from .geometry import OdomState, wrap_angle
 from .gyro_bias import fuse_bias
 from .period_model import period_turn
 
-#: Parameters of the decision (max_bias rad/s, max_scale, significance and
-#: scale_significance in standard errors).
 CORRECTION_DEFAULTS = {
     'max_bias': 0.01,            # rad/s, a larger bias estimate is rejected (Kobuki gyro: ~6e-4)
     'max_scale': 0.05,           # a larger |scale error| estimate is rejected
@@ -27,9 +20,7 @@ CORRECTION_DEFAULTS = {
 
 class GyroCorrection(namedtuple('GyroCorrection',
                                  'bias scale bias_std scale_std windows status reason')):
-    """Estimated gyro ``bias`` (rad/s) and ``scale`` error (fraction) with their
-    standard errors; ``windows`` used; ``status`` ``full`` | ``bias`` | ``scale`` | ``none``;
-    ``reason`` says why a term was left out."""
+    """Gyro ``bias``, ``scale``, their stds, ``windows``, ``status``, the ``reason`` for a term left out."""
 
     __slots__ = ()
 
@@ -56,17 +47,12 @@ def no_correction(reason, windows=0):
     return GyroCorrection(0.0, 0.0, float('inf'), float('inf'), windows, 'none', reason)
 
 
-
 def _param(params, name):
     return float(getattr(params, name, CORRECTION_DEFAULTS[name]))
 
 
 def calibrated_scale(prior, params=None, notes=None):
-    """(scale, std) to correct by: the calibrated ``prior`` (a
-    core/gyro_calibration.GyroCalibration, or None) when significant, else
-    (0, inf) with the reason appended to ``notes``. A mission's own turns do not
-    give it: they are few, and visual odometry's drift in them passed for a
-    scale error on a perfect gyro (an S-curve on the fake: -0.0093 +- 0.0024)."""
+    """(scale, std) of the calibrated ``prior`` when significant, else (0, inf) and a note."""
     notes = [] if notes is None else notes
     if prior is None:
         notes.append('no gyro calibration: scale not corrected (calibrate_gyro.launch)')
@@ -79,21 +65,13 @@ def calibrated_scale(prior, params=None, notes=None):
 
 
 def visual_bias(fit, scale_prior=None, params=None):
-    """(BiasEstimate, windows) of the visual-odometry windows of ``fit``
-    (core/gyro_fit.GyroVisualFit) with the scale held at the calibrated one, or
-    fitted along as a nuisance without a calibration."""
+    """(BiasEstimate, windows) of ``fit``, the scale held at the calibrated one (none: fitted along)."""
     fixed = None if scale_prior is None else calibrated_scale(scale_prior, params)[0]
     return fit.visual_bias(fixed)
 
 
 def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
-    """The :class:`GyroCorrection` the data support (see module docstring).
-
-    ``fit``: the recording's core/gyro_fit.GyroVisualFit; ``standstill``: a
-    BiasEstimate from core/gyro_bias.StandstillBias (or None), fused with the
-    visual-odometry bias by inverse variance; ``scale_prior``: the gyro's
-    calibrated scale error (a core/gyro_calibration.GyroCalibration, or None);
-    ``params``: as :data:`CORRECTION_DEFAULTS`."""
+    """The :class:`GyroCorrection` that ``fit``, the ``standstill`` and ``scale_prior`` support."""
     notes = []
     scale, scale_std = calibrated_scale(scale_prior, params, notes)
     visual, used = visual_bias(fit, scale_prior, params)
@@ -112,9 +90,7 @@ def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
 
 
 def _bias_problem(bias, bias_std, params, measured=False):
-    """Why the bias estimate is not used, or None. With a standstill (``measured``) any
-    bias but 0 within ``max_bias`` is used, else only beyond ``significance`` std
-    (docs/back_travel.md, "Gyro heading correction")."""
+    """Why the bias is not used (beyond ``max_bias``; not significant unless ``measured``), or None."""
     max_bias = _param(params, 'max_bias')
     if abs(bias) > max_bias:
         return 'bias estimate %.2e rad/s beyond %.2e' % (bias, max_bias)
@@ -124,8 +100,7 @@ def _bias_problem(bias, bias_std, params, measured=False):
 
 
 class CorrectedOdometry(object):
-    """Raw odometry -> the corrected frame of ``correction`` (module docstring).
-    The frame equals the raw one at the first state given to :meth:`update`."""
+    """Raw odometry in ``correction``'s frame, equal to the raw one at the first :meth:`update`."""
 
     def __init__(self, correction):
         self.correction = correction
@@ -154,56 +129,37 @@ class CorrectedOdometry(object):
         return self.state
 
     def snapshot(self):
-        """The frame's state as plain numbers (a return's progress keeps it, so a
-        restarted layer continues the same frame: :meth:`restored`); None before
-        the first update."""
-        if self._last is None:
-            return None
+        """The frame's state as plain numbers (kept by a return's progress), None before the first update."""
         last = self._last
-        return {'raw': [last.x, last.y, last.yaw, last.stamp], 'raw_yaw': self._raw_yaw,
-                'pose': [self._x, self._y, self._yaw]}
-
-    @classmethod
-    def restored(cls, correction, snapshot):
-        """The CorrectedOdometry of ``correction`` continuing from :meth:`snapshot`'s
-        ``snapshot``; ValueError naming what is wrong with it."""
-        try:
-            raw, raw_yaw, pose = snapshot['raw'], float(snapshot['raw_yaw']), snapshot['pose']
-            values = [float(v) for v in raw] + [raw_yaw] + [float(v) for v in pose]
-        except (KeyError, TypeError, ValueError):
-            raise ValueError('corrected-frame snapshot must hold raw [x, y, yaw, stamp], raw_yaw and '
-                             'pose [x, y, yaw], got %r' % (snapshot,))
-        if len(values) != 8 or not all(math.isfinite(v) for v in values):
-            raise ValueError('corrected-frame snapshot must hold 8 finite numbers, got %r' % (values,))
-        frame = cls(correction)
-        frame._last = OdomState(values[0], values[1], values[2], 0.0, 0.0, values[3])
-        frame._raw_yaw, (frame._x, frame._y, frame._yaw) = values[4], values[5:]
-        frame.state = OdomState(frame._x, frame._y, wrap_angle(frame._yaw), 0.0, 0.0, values[3])
-        return frame
-
+        return None if last is None else {'raw': [last.x, last.y, last.yaw, last.stamp],
+                                          'raw_yaw': self._raw_yaw, 'pose': [self._x, self._y, self._yaw]}
 
     @classmethod
     def started(cls, correction, reference, latest=None, snapshot=None):
-        """The frame equal to the raw one at the raw OdomState ``reference`` (or
-        continuing from an earlier run's ``snapshot``: :meth:`restored`), brought up to
-        ``latest`` when that is newer than ``reference``."""
-        if snapshot is not None:
-            frame = cls.restored(correction, snapshot)
-        else:
-            frame = cls(correction)
+        """The frame equal to the raw one at ``reference`` (or a :meth:`snapshot`'s), up to ``latest``."""
+        frame = cls(correction)
+        if snapshot is None:
             frame.update(reference)
+        else:
+            try:
+                raw, raw_yaw, pose = snapshot['raw'], float(snapshot['raw_yaw']), snapshot['pose']
+                values = [float(v) for v in raw] + [raw_yaw] + [float(v) for v in pose]
+            except (KeyError, TypeError, ValueError):
+                raise ValueError('corrected-frame snapshot must hold raw [x, y, yaw, stamp], raw_yaw '
+                                 'and pose [x, y, yaw], got %r' % (snapshot,))
+            if len(values) != 8 or not all(math.isfinite(v) for v in values):
+                raise ValueError('corrected-frame snapshot must hold 8 finite numbers, got %r' % (values,))
+            frame._last = OdomState(values[0], values[1], values[2], 0.0, 0.0, values[3])
+            frame._raw_yaw, (frame._x, frame._y, frame._yaw) = values[4], values[5:]
+            frame.state = OdomState(frame._x, frame._y, wrap_angle(frame._yaw), 0.0, 0.0, values[3])
         if latest is not None and latest.stamp > reference.stamp:
             frame.update(latest)
         return frame
 
+
 def correct_landmarks(landmarks, correction, reference_yaw=None, recorded_after=0.0):
-    """``landmarks`` (recording order, raw odometry frame) in the corrected frame
-    whose reference (raw yaw ``reference_yaw``, default the last landmark's ``psi``)
-    is ``recorded_after`` s before the last landmark (0: where recording stopped;
-    over ROS the recording goes on while the bias is measured standing still after
-    the loss, docs/evaluation.md issue 29). Landmark k was taken ``sum(T of the
-    landmarks after k) - recorded_after`` seconds before the reference; its heading
-    gets the correction accumulated back to then."""
+    """``landmarks`` in the corrected frame equal to the raw one at yaw ``reference_yaw`` (default
+    the last ``psi``), ``recorded_after`` s before the last landmark."""
     landmarks = list(landmarks)
     if not correction.applied or not landmarks:
         return landmarks

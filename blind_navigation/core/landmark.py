@@ -1,9 +1,5 @@
-"""The path landmark ``(v, w, d, T, psi)`` of the paper (equation 2) and its checks.
-
-``v`` m/s and ``w`` rad/s (the odometry's twist), ``d`` m from the previous landmark,
-``T`` s the sampling period in force, ``psi`` rad the yaw; the limits it must respect
-are core/plausibility.Limits.
-"""
+"""The paper's path landmark ``(v, w, d, T, psi)`` (equation 2: m/s, rad/s, m from the
+previous landmark, s, rad) and its checks against core/plausibility.Limits."""
 import math
 from collections import namedtuple
 
@@ -24,13 +20,8 @@ class Landmark(namedtuple('Landmark', FIELDS)):
 
 
 def landmark_from_values(values, limits=Limits()):
-    """Build a Landmark from five numbers, or raise ValueError naming the bad field.
-
-    Refused: not exactly five numbers, booleans, NaN/Inf, negative ``d``,
-    ``T <= 0``, ``|v|`` or ``|w|`` beyond ``limits`` (+ their margin), ``d``
-    farther than the base can go in ``T`` (:meth:`Limits.distance_problem`),
-    ``|psi| > pi``.
-    """
+    """A Landmark from five numbers, or ValueError naming the bad field (not five numbers,
+    NaN/Inf, ``d < 0``, ``T <= 0``, beyond ``limits``, ``|psi| > pi``)."""
     if not isinstance(values, (list, tuple)) or len(values) != len(FIELDS):
         raise ValueError('data must be a list of five numbers [v, w, d, T, psi], got %r' % (values,))
     numbers = []

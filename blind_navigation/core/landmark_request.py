@@ -1,9 +1,6 @@
-"""A landmark asked for by the paper's service recorder (``record_landmark``) of a
-core/mission.Mission: :func:`hand_in` checks the request against the mission and
-hands it to its recording (core/mission_record.MissionRecording), which takes it in
-time order with its own samples at the next steps and answers it; :func:`withdraw`
-answers one not taken in time. docs/recording.md, "The service recorder in one process".
-"""
+"""A landmark asked of a core/mission.Mission by the paper's ``record_landmark`` service:
+:func:`hand_in` hands it to the recording (taken in time order, then answered);
+:func:`withdraw` answers one not taken in time (docs/recording.md)."""
 import math
 
 from .mission import RECORDING
@@ -16,9 +13,7 @@ FINAL_REFUSED = ("refused: 'final' is not taken here: the mission takes its fina
 
 
 class LandmarkRequest(object):
-    """One request: ``command``, ``yaw`` (psi, rad), ``period`` (T, s), ``stamp`` (s; 0
-    or None: the next odometry state); ``answer`` is ``(label, '')`` once taken or
-    ``('', why not)``, and ``answered(request)`` is called then (once)."""
+    """``command``, ``yaw``, ``period``, ``stamp``; ``answer`` (label, why not), then ``answered``."""
 
     def __init__(self, command, yaw, period, stamp, answered=None):
         self.command, self.yaw, self.period = command, yaw, period
@@ -48,9 +43,7 @@ def problem(request):
 
 
 def hand_in(mission, request):
-    """Give ``request`` to ``mission``'s recording, or answer why not: a bad request
-    (:func:`problem`), the mission not recording (its state named), no odometry yet, a
-    stamp before the last landmark's. Call under the mission's owner's lock."""
+    """Give ``request`` to ``mission``'s recording or answer why not; under the owner's lock."""
     why = problem(request)
     recording = mission.recording
     if why is None and mission.phase != RECORDING:
@@ -69,8 +62,7 @@ def hand_in(mission, request):
 
 
 def withdraw(mission, request, waited):
-    """Answer ``request`` if it was not taken within ``waited`` s (nothing is saved for it
-    then). Call under the mission's owner's lock."""
+    """Answer ``request`` if not taken within ``waited`` s. Under the mission's owner's lock."""
     if request in mission.recording.requested:
         mission.recording.requested.remove(request)
     if mission.phase != RECORDING:

@@ -1,30 +1,208 @@
-"""Mission files: each mission records into its own time-stamped file, and the
-configured ``landmark_file`` is a symlink to the current one.
-
-:func:`open_mission_file` continues the current mission's file (a recorder
-restarted mid-mission) or starts a new one (:func:`start_mission_file`);
-``new_mission`` numbers the missions of a launch (:func:`next_mission_id`);
-nothing recorded is overwritten or deleted. Why: docs/recording.md, "File".
-"""
+"""Mission files: each mission records into its own time-stamped landmark file, behind the
+``landmark_file`` symlink (:func:`open_mission_file`: continued after a restart, else new);
+:class:`LandmarkWriter` appends one durable line per landmark; nothing recorded is
+overwritten. Format and reader: core/store.py; why: docs/recording.md, "File"."""
 import datetime
 import os
 import stat
+from collections import namedtuple
 
 import yaml
 
-from .files import StorageError, describe_mode, read_regular_file, replace_with_symlink
-from .landmark import Limits
-from .landmark_format import MAX_FILE_BYTES, METADATA_KEY, OWN_LINES, LandmarkFileError, parse
-from .landmark_writer import LandmarkWriter
+from .files import StorageError, describe_mode, fsync_directory, read_regular_file, \
+    replace_with_symlink, write_all
+from .geometry import wrap_angle
+from .landmark import FIELDS, Limits
+from .store import (FINISHED_KEY, FORMAT_VERSION, MAX_FILE_BYTES, METADATA_KEY, OWN_LINES,
+                    LandmarkFileError, flow_line, format_entry, label_for, load_landmarks, parse)
 
 #: Why a restarted recorder's first landmark breaks the d chain.
 RESTART_GAP = ('the recorder restarted mid-mission: this landmark measures d from where the robot '
                'was at the restart, not from the previous landmark')
 
+ResumeInfo = namedtuple('ResumeInfo', 'landmarks dropped warnings sample')
+ResumeInfo.__doc__ = 'What :meth:`LandmarkWriter.resume` found (``sample``: the last SampleMark).'
+
+
+class LandmarkWriter(object):
+    """Creates a mission file (FileExistsError if it exists; :meth:`resume` continues one): ``count``,
+    ``lost``, ``lost_distance``, ``lost_turn``, ``bytes``, ``total_distance``, ``sample``, ``pending_gap``."""
+
+    def __init__(self, path, metadata=None, fsync=True):
+        self._setup(path, fsync)
+        flags = (os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_APPEND
+                 | getattr(os, 'O_CLOEXEC', 0))
+        try:
+            os.makedirs(os.path.dirname(self.path), exist_ok=True)
+            self._fd = os.open(self.path, flags, 0o666)
+        except FileExistsError:
+            raise
+        except OSError as error:
+            raise StorageError(self.path, error, 'create')
+        header = {'format': FORMAT_VERSION, 'fields': list(FIELDS), **(metadata or {})}
+        try:
+            self._write_line('# blind_navigation path landmarks [v, w, d, T, psi] '
+                             '(m/s, rad/s, m, s, rad; d from the previous landmark)\n'
+                             + flow_line(METADATA_KEY, header))
+            fsync_directory(os.path.dirname(self.path))
+        except OSError as error:
+            self.close()
+            _remove(self.path)
+            raise StorageError(self.path, error, 'create')
+
+    def _setup(self, path, fsync):
+        self.path, self.fsync = os.path.abspath(path), fsync
+        self.count = self.lost = self.bytes = self._gaps = self._samples_entries = 0
+        self.lost_distance = self.lost_turn = self.total_distance = 0.0
+        self._psi = None            # psi of the last landmark appended, written or lost
+        self.finished, self._damaged = False, False
+        self.resumed = self._fd = self.sample = self.pending_gap = None
+        self._next_index = 1
+        self._offset = None         # (recording, seq - label index) the last samples_ entry set
+
+    @classmethod
+    def resume(cls, path, fsync=True, limits=Limits(), reason='the recorder restarted'):
+        """Continue ``path`` (validated, torn tail cut, a gap pending; a finished file is not reopened)."""
+        writer = cls.__new__(cls)
+        writer._setup(path, fsync)
+        loaded = load_landmarks(writer.path, limits, allow_empty=True, follow_symlinks=False)
+        writer.count, writer.total_distance = len(loaded.landmarks), loaded.total_distance
+        writer._psi = loaded.landmarks[-1].psi if loaded.landmarks else None
+        writer._next_index, writer._gaps = loaded.last_index + 1, loaded.gap_entries
+        writer._samples_entries, writer.bytes = loaded.samples_entries, loaded.intact_bytes
+        writer.sample = loaded.sample   # the next landmark writes a samples_ entry of its own
+        writer.resumed = ResumeInfo(writer.count, loaded.dropped, loaded.warnings, loaded.sample)
+        if loaded.finished:
+            writer.finished = True
+            return writer
+        try:
+            writer._fd = os.open(writer.path, os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW
+                                 | getattr(os, 'O_CLOEXEC', 0))
+            info = os.fstat(writer._fd)
+            if info.st_size != loaded.size:
+                writer.close()
+                raise LandmarkFileError(writer.path, 'changed while it was being reopened (%d bytes '
+                                        'read, %d now): is another recorder writing it?'
+                                        % (loaded.size, info.st_size))
+            if loaded.intact_bytes < info.st_size:
+                os.ftruncate(writer._fd, loaded.intact_bytes)
+        except OSError as error:
+            writer.close()
+            raise StorageError(writer.path, error, 'reopen')
+        writer.pending_gap = str(reason)
+        return writer
+
+    @property
+    def next_label(self):
+        return label_for(self._next_index)
+
+    def holds(self, sample):
+        """True if the SampleMark ``sample`` is in the file already (its recording, not later)."""
+        return (sample is not None and self.sample is not None
+                and sample.recording == self.sample.recording and sample.seq <= self.sample.seq)
+
+    def chain_restored(self):
+        """The next landmark measures ``d`` from the file's last one after all: no gap entry."""
+        self.pending_gap = None
+
+    def _gap_line(self, reason):
+        key = 'gap_%d' % (self._gaps + 1)
+        return key, flow_line(key, {'before': self.next_label, 'reason': str(reason)})
+
+    def append(self, landmark, sample=None):
+        """Write ``landmark`` (at SampleMark ``sample``) with the gap and ``samples_`` entries it
+        needs in one write; its label. StorageError: lost (its d and heading change counted)."""
+        label = self.next_label
+        self._check_open('append %s' % label)
+        lines, gap_key, offset = [], None, self._offset
+        if self.pending_gap is not None:
+            gap_key, line = self._gap_line(self.pending_gap)
+            lines.append(line)
+        self._next_index += 1
+        turn = (abs(wrap_angle(landmark.psi - self._psi)) if self._psi is not None
+                else abs(landmark.w) * landmark.T)
+        self._psi = landmark.psi
+        if sample is not None and (sample.recording, sample.seq - (self._next_index - 1)) != offset:
+            offset = (sample.recording, sample.seq - (self._next_index - 1))
+            lines.append(flow_line('samples_%d' % (self._samples_entries + 1), {
+                'from': label, 'recording': float(sample.recording), 'sample': int(sample.seq)}))
+        lines.append(format_entry(label, landmark))
+        try:
+            self._write_line(''.join(lines))
+        except OSError as error:
+            self.lost += 1
+            self.lost_distance += landmark.d
+            self.lost_turn += turn
+            raise StorageError(self.path, error, 'append %s to' % label, lost=self.lost)
+        if gap_key is not None:
+            self._gaps += 1
+            self.pending_gap = None
+        if offset != self._offset:
+            self._samples_entries += 1
+            self._offset = offset
+        self.sample = sample
+        self.count += 1
+        self.total_distance += landmark.d
+        return label
+
+    def note_gap(self, reason):
+        """Write a gap entry before the next landmark; its key. StorageError on failure."""
+        self._check_open('note a gap')
+        key, line = self._gap_line(reason)
+        try:
+            self._write_line(line)
+        except OSError as error:
+            raise StorageError(self.path, error, 'write %s to' % key, lost=self.lost)
+        self._gaps += 1
+        return key
+
+    def finish(self):
+        """Mark the recording finished and close (StorageError if the mark is not written)."""
+        self._check_open('finish')
+        try:
+            self._write_line(flow_line(FINISHED_KEY, {'landmarks': self.count, 'lost': self.lost}))
+        except OSError as error:
+            raise StorageError(self.path, error, 'mark finished', lost=self.lost)
+        finally:
+            self.finished = True
+            self.close()
+
+    def _check_open(self, action):
+        if self.finished:
+            raise LandmarkFileError(self.path, 'cannot %s: the recording of this file has '
+                                    'finished' % action)
+        if self._fd is None:
+            raise LandmarkFileError(self.path, 'cannot %s: the writer is closed' % action)
+
+    def _write_line(self, text):
+        """Write whole lines; on failure cut the file back to its last whole line."""
+        data = text.encode('utf-8')
+        if self._damaged:           # an earlier failure could not be cut off: retry first
+            os.ftruncate(self._fd, self.bytes)
+            self._damaged = False
+        try:
+            write_all(self._fd, data)
+            if self.fsync:
+                os.fsync(self._fd)
+        except OSError:
+            try:
+                os.ftruncate(self._fd, self.bytes)
+            except OSError:
+                self._damaged = True
+            raise
+        self.bytes += len(data)
+
+    def close(self):
+        if self._fd is not None:
+            fd, self._fd = self._fd, None
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+
 
 def next_mission_id(current):
-    """The id of the mission after ``current`` (a launch's id, None, or one made here):
-    ``<launch id>#<n>``, numbered on from ``current``'s."""
+    """The id after ``current`` (a launch's id, None, or one made here): ``<launch id>#<n>``."""
     launch, _, number = (current or '').rpartition('#')
     if launch and number.isdigit():
         return '%s#%d' % (launch, int(number) + 1)
@@ -45,10 +223,7 @@ def mission_file_name(landmark_file, when=None):
 
 
 def inspect_landmark_file(landmark_file):
-    """What the configured ``landmark_file`` name is: ``'missing'``, ``'regular'``
-    (an old layout's file), ``'symlink'`` (to a regular file) or ``'dangling'``
-    (a symlink to nothing). Anything else (a directory, a FIFO, a symlink to a
-    directory or a loop) raises LandmarkFileError naming it."""
+    """'missing', 'regular' (an old layout), 'symlink' (to a regular file), 'dangling', else an error."""
     mode = _mode(os.lstat, landmark_file, 'cannot inspect: %s')
     if mode is None:
         return 'missing'
@@ -70,8 +245,7 @@ def inspect_landmark_file(landmark_file):
 
 
 def _mode(stat_call, landmark_file, problem):
-    """``stat_call(landmark_file).st_mode``, None if nothing is there; another error
-    raises LandmarkFileError with ``problem`` % its text."""
+    """``stat_call(landmark_file).st_mode``, None if nothing is there (else LandmarkFileError)."""
     try:
         return stat_call(landmark_file).st_mode
     except FileNotFoundError:
@@ -80,24 +254,8 @@ def _mode(stat_call, landmark_file, problem):
         raise LandmarkFileError(landmark_file, problem % (error.strerror or error))
 
 
-def start_mission_file(landmark_file, when=None):
-    """Choose a new file for a mission and point ``landmark_file`` at it.
-
-    Returns the new (not yet created) path. An existing regular file at
-    ``landmark_file`` is kept by renaming it to a time-stamped name first; an
-    existing symlink is replaced atomically (core/files.replace_with_symlink). Anything else at
-    ``landmark_file`` is refused (:func:`inspect_landmark_file`). Nothing
-    recorded is deleted. :func:`open_mission_file` creates the file before it
-    points the symlink at it.
-    """
-    target = _new_target(landmark_file, when)
-    _point_at(landmark_file, target)
-    return target
-
-
 def _new_target(landmark_file, when):
     """The unused time-stamped name of a new mission file (``landmark_file`` inspected)."""
-    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
     os.makedirs(os.path.dirname(landmark_file), exist_ok=True)
     inspect_landmark_file(landmark_file)
     return _unused(mission_file_name(landmark_file, when))
@@ -105,7 +263,6 @@ def _new_target(landmark_file, when):
 
 def _point_at(landmark_file, target):
     """``landmark_file`` a symlink to ``target`` (an old layout's regular file there archived)."""
-    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
     if inspect_landmark_file(landmark_file) == 'regular':
         mtime = datetime.datetime.fromtimestamp(os.path.getmtime(landmark_file))
         os.rename(landmark_file, _unused(mission_file_name(landmark_file, mtime)))
@@ -113,8 +270,7 @@ def _point_at(landmark_file, target):
 
 
 def read_mission(path):
-    """The ``mission`` id in the header of the landmark file ``path``, or None
-    (no header, no id, or not readable: then it is not the current mission)."""
+    """The ``mission`` id in the header of the landmark file ``path``, or None."""
     try:
         text = read_regular_file(path, MAX_FILE_BYTES).decode('utf-8')
     except (OSError, UnicodeDecodeError):
@@ -134,25 +290,8 @@ def read_mission(path):
 
 def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, limits=Limits(),
                       when=None):
-    """The :class:`LandmarkWriter` of the current mission.
-
-    Rule: if ``mission`` (a non-empty id of the current mission, the same for
-    every node restart within it and new for each mission, e.g. the launch's
-    start time) is given, and ``landmark_file`` is a symlink to a file whose
-    header carries that same ``mission``, the recorder restarted mid-mission:
-    that file is continued (:meth:`LandmarkWriter.resume`: validated, a torn
-    last entry cut off, labels continued, a gap entry pending; a finished
-    recording is not appended to). Otherwise a new file is started with
-    ``metadata`` and ``mission`` in its header, and only once it holds its
-    header is ``landmark_file`` pointed at it (:func:`start_mission_file`'s
-    rules): a storage that cannot hold a file leaves ``landmark_file`` as it
-    was, never a symlink to nothing. Without a ``mission`` id a file is never
-    continued: appending a new mission to an old one would send the return
-    along the old path.
-
-    Raises LandmarkFileError (a ``landmark_file`` that is not a regular file or
-    a symlink to one; the current mission's file is corrupt) or StorageError.
-    """
+    """The writer of the current mission: the file ``landmark_file`` points at if its header carries
+    this ``mission`` id (resumed), else a new one, pointed at once it holds its header."""
     if mission is not None and not (isinstance(mission, str) and mission.strip()):
         raise ValueError('mission must be a non-empty string or None, got %r' % (mission,))
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))

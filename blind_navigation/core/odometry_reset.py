@@ -1,10 +1,6 @@
-"""An odometry reset carried across: the transform from the new frame to the old one.
-
-:func:`estimate_reset` gives the :class:`Frame` that maps the new frame onto the old one
-from the gate's last accepted state and the refused chain, or why it cannot be trusted
-(:data:`UNTRUSTED`, :func:`is_untrusted_reset`); :class:`ResetCarrier` applies it behind the
-gate and adopts another process's (docs/safety.md, "Odometry resets").
-"""
+"""An odometry reset carried across: :func:`estimate_reset` gives the :class:`Frame` mapping
+the new frame onto the old one, or why it cannot be trusted (:data:`UNTRUSTED`);
+:class:`ResetCarrier` applies it behind the gate (docs/safety.md, "Odometry resets")."""
 import math
 from collections import namedtuple
 
@@ -31,16 +27,13 @@ def is_untrusted_reset(reason):
 
 
 class Frame(namedtuple('Frame', 'x y yaw')):
-    """A planar rigid transform: a state's pose ``p`` becomes ``R(yaw) p + (x, y)``,
-    its yaw ``yaw`` more; the twist (body frame) and stamp stay."""
+    """A planar rigid transform: a pose ``p`` becomes ``R(yaw) p + (x, y)``, its yaw ``yaw`` more."""
 
     __slots__ = ()
 
     def apply(self, state):
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        return state._replace(x=self.x + c * state.x - s * state.y,
-                              y=self.y + s * state.x + c * state.y,
-                              yaw=wrap_angle(state.yaw + self.yaw))
+        """``state`` moved (its twist and stamp stay)."""
+        return state._replace(**self.after(Frame(state.x, state.y, state.yaw))._asdict())
 
     def after(self, first):
         """The Frame that applies ``first``, then this one."""
@@ -71,9 +64,7 @@ def _param(params, name):
 
 
 def estimate_reset(before, chain, params=None):
-    """The :class:`ResetEstimate` for a discontinuity after ``before`` (the last
-    accepted state, old frame; None if it was never confirmed by a successor)
-    whose new frame's states are ``chain`` (oldest first, self-consistent)."""
+    """The :class:`ResetEstimate` of a jump after ``before`` (old frame, or None) to ``chain``."""
     p = {name: _param(params, name) for name in RESET_DEFAULTS}
     first, last = chain[0], chain[-1]
     where = 'at %.3f s (from (%.3f, %.3f, %.3f) to (%.3f, %.3f, %.3f))' % (
@@ -138,9 +129,7 @@ Taken.__doc__ = ('states: the states to use, oldest first (a trusted re-anchor g
 
 
 class ResetCarrier(object):
-    """An OdometryGate (core/plausibility) whose re-anchors carry the old frame on:
-    :meth:`take` each raw state in arrival order. ``frame`` maps the raw frame onto
-    the one every accepted state is in (the first frame, across trusted resets)."""
+    """An OdometryGate whose re-anchors carry the old frame on (``frame``: raw -> the first frame)."""
 
     def __init__(self, gate, params=None):
         self.gate = gate
@@ -154,13 +143,7 @@ class ResetCarrier(object):
         """The gate re-anchors only with a callback; the estimate names the jump."""
 
     def _after_silence(self, before, state):
-        """None, or the untrusted ResetEstimate of a state the gate accepted after more
-        than ``reset_max_gap`` of silence that is not where the twists say (a driver
-        restarted within what the base could have driven meanwhile). The two v samples
-        are noisy (wheel speed ripple, encoder ticks), also turning in place where v is
-        about 0: the position may be off their mean by ``reset_speed_noise`` x the gap more;
-        so are the two w samples (the gyro's rate noise, also standing still): the yaw by
-        ``reset_yaw_rate_noise`` x the gap."""
+        """None, or the untrusted ResetEstimate of a state after a silence, off where its twists say."""
         if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
             return None
         p = {name: _param(self.params, name) for name in RESET_DEFAULTS}
@@ -200,10 +183,7 @@ class ResetCarrier(object):
         return Taken(states, None, estimate)
 
     def adopt(self, frame, stamp):
-        """Take ``frame`` (a whole Frame) that another carrier of the same odometry made
-        for the reset at ``stamp`` (s), unless this one carried it (or a later one) itself.
-        Returns None (not taken), 'taken', or 'restart': states at or after ``stamp`` were
-        accepted in the old frame (the gate starts again; the caller drops them)."""
+        """Take another carrier's ``frame`` for the reset at ``stamp``: None, 'taken' or 'restart'."""
         reference = self.gate.reference
         if self.reset_stamp is not None and stamp <= self.reset_stamp + 1e-9:
             return None

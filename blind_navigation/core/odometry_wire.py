@@ -1,10 +1,5 @@
-"""Reading a serialised nav_msgs/Odometry without deserialising it.
-
-The layer subscribes to odometry as raw bytes and reads the fields it uses with one
-precompiled ``struct`` call, about ten times cheaper than the whole message: after the
-header and child_frame_id strings everything (pose, its covariance, twist, its
-covariance: 85 float64) has a fixed size.
-"""
+"""The fields the layer uses of a serialised nav_msgs/Odometry, read with one ``struct``
+call (after the two strings, pose, twist and covariances are 85 fixed float64)."""
 import struct
 from collections import namedtuple
 
@@ -18,14 +13,12 @@ FIXED_SIZE = 680
 
 WireOdometry = namedtuple('WireOdometry', 'stamp frame_id x y qx qy qz qw pose_covariance v w '
                                           'twist_covariance')
-WireOdometry.__doc__ = ('The fields of a nav_msgs/Odometry the layer uses: stamp (s), frame_id, '
-                        'position x, y (m), orientation quaternion, pose covariance diagonal, '
-                        'twist.linear.x v (m/s), twist.angular.z w (rad/s), twist covariance diagonal.')
+WireOdometry.__doc__ = ('stamp (s), frame_id, x, y (m), quaternion, pose covariance diagonal, '
+                        'v (m/s), w (rad/s), twist covariance diagonal.')
 
 
 def read_odometry(buff):
-    """The :class:`WireOdometry` of the serialised message ``buff`` (bytes);
-    ValueError when the buffer is shorter than the lengths it declares."""
+    """The :class:`WireOdometry` of ``buff`` (bytes); ValueError when it is too short."""
     size = len(buff)
     if size < 20 + FIXED_SIZE:
         raise ValueError('%d bytes are too few for a nav_msgs/Odometry' % size)
@@ -45,8 +38,8 @@ def read_odometry(buff):
 
 
 def odom_state(wire):
-    """OdomState of a :class:`WireOdometry`; ValueError (naming what) for a
-    non-finite pose or twist or a null quaternion (RTAB-Map's "lost")."""
+    """OdomState of a :class:`WireOdometry`; ValueError for a non-finite pose or twist or a
+    null quaternion (RTAB-Map's "lost")."""
     values = (wire.x, wire.y, wire.v, wire.w)
     if not all(value == value and abs(value) != float('inf') for value in values):
         raise ValueError('non-finite odometry (x, y, v, w) = %r' % (values,))

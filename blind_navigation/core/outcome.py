@@ -1,9 +1,6 @@
-"""The mission's outcome as a code: one constant per cause of a terminal state, the same
-names and numbers as blind_navigation/MissionStatus's ``OUTCOME_*`` constants (a unit test
-compares them). :data:`NONE` while the mission has not ended. :class:`Ending` carries a
-code and its reason together to where the state is set. The table: docs/safety.md,
-"Outcome codes".
-"""
+"""The mission's outcome code per cause of a terminal state (as MissionStatus's ``OUTCOME_*``),
+:data:`NONE` until it ends; :class:`Ending` carries code and reason (docs/safety.md,
+"Outcome codes")."""
 import collections
 
 NONE = 0                # not terminal (idle, recording, rotating, returning)

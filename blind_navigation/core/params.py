@@ -1,10 +1,6 @@
-"""Typed, frozen parameters: a role's schema, validated once at start.
-
-A :class:`Param` is one setting a user may give (default, unit, range or choices,
-meaning); a :class:`Schema` is a role's params plus its constants (``fixed``); validated,
-a frozen :class:`Params`, or a :class:`ParamError` naming role, param, value and range.
-docs/params.md is generated from the schemas (scripts/param_table.py).
-"""
+"""Typed, frozen parameters: a :class:`Param` is one setting a user may give, a
+:class:`Schema` a role's params and constants (``fixed``); validated once at start into
+frozen params, or a :class:`ParamError` naming role, param, value and range."""
 import math
 from collections import namedtuple
 
@@ -17,8 +13,8 @@ class ParamError(ValueError):
 
 
 class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
-    """One user param: ``lo``/``hi`` bound a number (inclusive, None: open),
-    ``choices`` lists the strings allowed (a tuple default: a list of them)."""
+    """One user param: ``lo``/``hi`` bound a number (inclusive, None: open), ``choices`` the
+    strings allowed (a tuple default: a list of them)."""
 
     def __new__(cls, name, default, unit, doc, lo=None, hi=None, choices=None):
         return super(Param, cls).__new__(cls, name, default, unit, doc, lo, hi,
@@ -26,7 +22,7 @@ class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
 
     @property
     def kind(self):
-        """bool, int, float, str or tuple: the type of the default (a REQUIRED param: of its range)."""
+        """The type of the default (a REQUIRED param: of its range)."""
         if self.default is not REQUIRED:
             return type(self.default)
         return str if self.choices else bool if self.lo is None else float
@@ -46,8 +42,7 @@ class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
         return '%s in [%s, %s]' % ('an integer' if self.kind is int else 'a number', low, high)
 
     def check(self, value, role, where=''):
-        """``value`` as this param's type; ParamError naming role, param (``where``: its
-        namespace prefix), value and range."""
+        """``value`` as this param's type; ParamError naming role, ``where`` + param, value, range."""
         kind, ok = self.kind, False
         if kind is float and isinstance(value, int) and not isinstance(value, bool):
             value = float(value)
@@ -70,9 +65,8 @@ class Param(namedtuple('Param', 'name default unit doc lo hi choices')):
 
 
 class Schema(object):
-    """A role's params (``Param``s) and the constants read with them (``fixed``: {name: value},
-    each documented where it is defined). ``shared``: the params every role of a process
-    reads under one name (``~name``, not ``~<role>/name``)."""
+    """A role's ``params``, its constants ``fixed`` ({name: value}) and the params ``shared``
+    by every role of a process (``~name``, not ``~<role>/name``)."""
 
     def __init__(self, role, params, fixed=None, shared=()):
         self.role = role
@@ -86,8 +80,7 @@ class Schema(object):
         return next(p for p in self.params if p.name == name)
 
     def validate(self, values, where=''):
-        """Frozen params from ``values`` ({name: value}, user params only; missing: the
-        default): a ParamError for a missing REQUIRED one, an unknown name or a bad value.
+        """Frozen params from ``values`` (user params; missing: the default), or a ParamError;
         ``where``: the namespace prefix the errors name (a str, or a function of the name)."""
         prefix = where if callable(where) else (lambda name: where)
         unknown = sorted(set(values) - {p.name for p in self.params})
@@ -105,7 +98,6 @@ class Schema(object):
         return self._type(**typed)
 
     def make(self, **overrides):
-        """The defaults with ``overrides`` (any name, fixed ones too): for tests and the
-        simulator; a REQUIRED param must be given. The robot reads :meth:`validate`'s."""
+        """The defaults with ``overrides`` (fixed ones too), for tests and the simulator."""
         user = {k: v for k, v in overrides.items() if k not in self.fixed}
         return self.validate(user)._replace(**{k: v for k, v in overrides.items() if k in self.fixed})

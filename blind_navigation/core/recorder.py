@@ -1,10 +1,6 @@
-"""Path recording: odometry at each sampling tick -> the paper's path landmark.
-
-:class:`PathRecorder` takes ``v`` and ``w`` from the odometry's twist, ``d`` from the
-previous landmark's position (the first: from where recording started), ``T`` and
-``psi`` from the tick (paper 3.3.1); also the storage of a recording (count, bytes,
-bytes per metre) and the low-space watch (:class:`SpaceWatch`).
-"""
+"""Path recording (paper 3.3.1): :class:`PathRecorder` turns the odometry at each sampling
+tick into the path landmark; also a recording's storage (count, bytes, bytes per metre)
+and its low-space watch (:class:`SpaceWatch`)."""
 import bisect
 import itertools
 import os
@@ -14,15 +10,11 @@ from .geometry import distance, wrap_angle
 from .landmark import Limits, landmark_from_values
 
 PathStorage = namedtuple('PathStorage', 'landmarks bytes distance bytes_per_metre')
-PathStorage.__doc__ = ('Storage used by a recorded path: landmark count, file bytes, path length '
-                     '(sum of d, m) and bytes per metre (0 until the robot has moved).')
+PathStorage.__doc__ = 'Storage used by a recorded path: landmarks, bytes, length (m), bytes per metre.'
 
-
-#: Minutes of recording the free space must hold, at the recording's rate, before the
-#: recorder warns (why this many: docs/safety.md, "Decide before the turn").
+#: Minutes of recording the free space must hold, else a warning (docs/safety.md, "Decide before the turn").
 LOW_SPACE_MINUTES = 10.0
-#: Bytes per minute assumed until the recording has measured its own: an 80-byte landmark
-#: line every second (the paper's curved rate, its fastest).
+#: Bytes per minute assumed until a recording measured its own: an 80-byte line a second (its fastest).
 ASSUMED_BYTES_PER_MINUTE = 80.0 * 60
 #: s of recording after which its own rate replaces the assumed one.
 RATE_WINDOW = 60.0
@@ -35,16 +27,14 @@ def storage_usage(landmarks, size_bytes, total_distance):
 
 
 def recording_rate(recorded_bytes, seconds):
-    """Bytes per minute of a recording that wrote ``recorded_bytes`` in ``seconds``: measured
-    once it has run RATE_WINDOW s, ASSUMED_BYTES_PER_MINUTE before."""
+    """Bytes per minute written: measured after RATE_WINDOW s, ASSUMED_BYTES_PER_MINUTE before."""
     if seconds < RATE_WINDOW or recorded_bytes <= 0:
         return ASSUMED_BYTES_PER_MINUTE
     return recorded_bytes * 60.0 / seconds
 
 
 def space_warning(free_bytes, rate, where, minutes=LOW_SPACE_MINUTES):
-    """'' if ``free_bytes`` (on ``where``) hold ``minutes`` of recording at ``rate`` bytes
-    per minute, else the warning saying how many they hold."""
+    """'' if ``free_bytes`` on ``where`` hold ``minutes`` of recording at ``rate``, else the warning."""
     if rate <= 0 or free_bytes >= minutes * rate:
         return ''
     return ('LOW SPACE: %d bytes free on %s hold %.1f min of recording at %.0f bytes/min (less '
@@ -53,8 +43,7 @@ def space_warning(free_bytes, rate, where, minutes=LOW_SPACE_MINUTES):
 
 
 def free_bytes(directory):
-    """Bytes an unprivileged writer may still use on ``directory``'s file system (None if
-    it cannot be asked)."""
+    """Bytes an unprivileged writer may still use on ``directory``'s file system (None: unknown)."""
     try:
         info = os.statvfs(directory)
     except OSError:
@@ -63,9 +52,7 @@ def free_bytes(directory):
 
 
 class SpaceWatch(object):
-    """The low-space warning of one recording into ``directory``: :meth:`update` measures
-    its rate from its first landmark on and keeps ``warning`` (:func:`space_warning`, ''
-    when the space holds enough); ``free`` is :func:`free_bytes` (replaceable in tests)."""
+    """The low-space warning of one recording into ``directory`` (``free``: :func:`free_bytes`)."""
 
     def __init__(self, directory, free=free_bytes):
         self.directory = directory
@@ -74,8 +61,7 @@ class SpaceWatch(object):
         self._start = None          # (s, bytes) of the first update with a landmark
 
     def update(self, now, size, landmarks):
-        """The warning for a file of ``size`` bytes holding ``landmarks`` at ``now`` (s); True
-        as the second value when it has just appeared (the caller says so once)."""
+        """(the warning for ``size`` bytes, ``landmarks`` at ``now`` s; True when it just appeared)."""
         if self._start is None and landmarks:
             self._start = (now, size)
         start, start_size = self._start or (now, size)
@@ -88,11 +74,7 @@ class SpaceWatch(object):
 
 
 class OdometryHistory(object):
-    """The last ``span`` seconds of odometry, to read the odometry *at a tick's
-    stamp* (the latest state stamped no later than the tick) however late the
-    tick's message arrives. Both recorder variants then read the same state
-    for the same tick, and the start is where the robot was when the
-    publisher started, whenever the saver itself started."""
+    """The last ``span`` s of odometry, read at a tick's stamp however late its message comes."""
 
     def __init__(self, span=10.0):
         if not span > 0:
@@ -101,8 +83,7 @@ class OdometryHistory(object):
         self._states = deque()
 
     def append(self, state):
-        """Add an OdomState; a stamp older than the last one restarts the history
-        (sim time was reset)."""
+        """Add an OdomState; an older stamp than the last restarts the history (sim time reset)."""
         if self._states and state.stamp < self._states[-1].stamp:
             self._states.clear()
         self._states.append(state)
@@ -118,8 +99,7 @@ class OdometryHistory(object):
         return self._states[-1] if self._states else None
 
     def at(self, stamp):
-        """The latest state stamped at or before ``stamp``; the oldest kept if all
-        are newer; None if empty."""
+        """The latest state stamped at or before ``stamp`` (all newer: the oldest; empty: None)."""
         if not self._states:
             return None
         return self._states[max(self._index_after(stamp) - 1, 0)]
@@ -136,12 +116,7 @@ class OdometryHistory(object):
 
 
 class PathRecorder(object):
-    """Turns odometry at sampling ticks into path landmarks ``(v, w, d, T, psi)``.
-
-    Call :meth:`start` with the first odometry seen (where recording starts);
-    :meth:`take` starts implicitly from its own odometry if :meth:`start` was
-    never called (the first landmark then has ``d = 0``).
-    """
+    """Odometry at sampling ticks -> landmarks; ``d`` from the previous one (the first: :meth:`start`)."""
 
     def __init__(self, limits=Limits()):
         self.limits = limits
@@ -161,20 +136,13 @@ class PathRecorder(object):
             self._previous = self.origin
 
     def restart(self, odom_state):
-        """A new ``d`` chain from ``odom_state`` (after an odometry discontinuity: the next
-        landmark's ``d`` counts from there); the count and the total distance go on."""
+        """A new ``d`` chain from ``odom_state`` (after a discontinuity); count and distance go on."""
         if self.origin is None:
             self.origin = (odom_state.x, odom_state.y)
         self._previous = (odom_state.x, odom_state.y)
 
     def take(self, odom_state, yaw, period):
-        """The landmark for a tick with yaw ``yaw`` (rad) and period ``period`` (s).
-
-        Raises ValueError (naming the field) when the result is not a valid
-        landmark, e.g. a non-positive period or a velocity beyond the limits;
-        the recorder's position is then unchanged, so the next landmark's
-        ``d`` still counts from the last landmark actually taken.
-        """
+        """The landmark of a tick (``yaw`` rad, ``period`` s); ValueError naming the field (nothing taken)."""
         self.start(odom_state)
         px, py = self._previous
         step = distance(px, py, odom_state.x, odom_state.y)

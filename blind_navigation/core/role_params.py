@@ -1,11 +1,6 @@
-"""The roles' param schemas (core/params.py): what a user may set, per role.
-
-Each role's ``Schema`` names its user params (unit, range, default, meaning)
-and takes its other values as constants (``fixed``) from the core modules'
-``*_DEFAULTS`` dicts and the dicts below, each line with its reason: values no
-user should tune (timeouts, margins, graces, budgets, factors). docs/params.md
-is generated from :data:`SCHEMAS` (scripts/param_table.py).
-"""
+"""Every role's param schema (core/params.py): its user params, and as ``fixed`` constants
+the values no user should tune (the core modules' ``*_DEFAULTS`` and the reasons below).
+docs/params.md is generated from :data:`SCHEMAS` (scripts/param_table.py)."""
 from .allowance import ALLOWANCE_DEFAULTS
 from .back_travel import BACK_TRAVEL_DEFAULTS, MODES
 from .battery import BATTERY_DEFAULTS, PLAUSIBLE
@@ -72,8 +67,7 @@ LANDMARK_SAVING = Schema('landmark_saver', (
 ), fixed={
     'odom_timeout': 1.0,        # s (sim); a sample with older odometry is saved with a warning
     'odom_wait': 0.2,           # s (wall) a sample waits for odometry covering its stamp
-    'catch_up_timeout': 3.0,    # s (wall) a restarted saver waits for its sample subscription's
-                                # connection, then again for the publisher's sample record
+    'catch_up_timeout': 3.0,    # s (wall) a restarted saver waits for its samples' connection, then record
 })
 
 HEADING_CORRECTION = Schema('heading_correction', (
@@ -150,8 +144,7 @@ BACK_TRAVEL_CLIENT = Schema('back_travel_client', (
     'resume_max_offset': PROGRESS_DEFAULTS['resume_max_offset'],
     'path_spacing': 0.02,           # m between the poses of return_path (RViz only)
     'correction_timeout': 5.0,      # s the return waits for the heading correction (none: aborted)
-    'rotation_margin': 60.0,        # s added to the standstill's timeout and vision_back_grace:
-                                    # the rotation_timeout, from vision loss to the turn's end
+    'rotation_margin': 60.0,        # s + standstill timeout + vision_back_grace: the rotation_timeout
     'turn_tolerance': 0.3,          # rad a finished pi turn may differ from pi
 }), shared=SHARED)
 

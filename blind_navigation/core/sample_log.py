@@ -1,10 +1,6 @@
-"""The sampling publisher's record of its samples, for a recorder restarted mid-recording.
-
-Per sample what a landmark needs (command, stamp, yaw, period, the odometry at the stamp:
-seven doubles); a restarted saver asks for the samples after its file's last one and
-rebuilds the landmarks it missed. :meth:`SampleLog.confirm` drops what every recorder
-holds; past ``capacity`` the oldest half goes (docs/recording.md, "File").
-"""
+"""The sampling publisher's record of its samples (what a landmark needs, seven doubles
+each), from which a recorder restarted mid-recording rebuilds the landmarks it missed;
+past ``capacity`` the oldest half goes (docs/recording.md, "File")."""
 import math
 from array import array
 from collections import namedtuple
@@ -15,17 +11,14 @@ START = 'start'
 CAPACITY = 100000
 
 LoggedSample = namedtuple('LoggedSample', 'seq command stamp yaw period x y v w')
-LoggedSample.__doc__ = ('One sample as published (``seq`` from 0 = the start, ``command``, '
-                        '``stamp`` s, ``yaw`` rad, ``period`` s) and the odometry read at its stamp '
-                        '(``x``, ``y`` m, ``v`` m/s, ``w`` rad/s).')
+LoggedSample.__doc__ = ('One sample as published (``seq`` from 0 = the start) and the odometry '
+                        '(``x``, ``y``, ``v``, ``w``) read at its stamp.')
 
 _FIELDS = LoggedSample._fields[2:]
 
 
 class Ticks(object):
-    """core/recorder.PathRecorder's part where the landmarks are made elsewhere (the
-    sampling publisher's core/mission_record.MissionRecording): a take is the tick
-    ``(state, yaw, period)`` itself."""
+    """core/recorder.PathRecorder where the landmarks are made elsewhere: a take is the tick itself."""
     total_distance = 0.0
 
     def start(self, state):
@@ -42,8 +35,7 @@ class SampleLog(object):
     """Samples of one recording, numbered from 0 (its start); see the module docstring."""
 
     def __init__(self, recording, start, capacity=CAPACITY):
-        """``recording``: the recording's id (the time it started, s); ``start``: an
-        OdomState-like object where it started (entry 0)."""
+        """``recording``: its id (start time, s); ``start``: the OdomState-like entry 0."""
         if not capacity >= 2:
             raise ValueError('sample log capacity must be >= 2, got %r' % (capacity,))
         self.recording = float(recording)
@@ -68,9 +60,7 @@ class SampleLog(object):
         return self.last
 
     def confirm(self, recorder, seq):
-        """Recorder ``recorder`` (e.g. its file) holds the samples up to ``seq``: a
-        restart of it asks from ``seq`` on. Drops what no confirmed recorder needs:
-        the samples before the oldest confirmation."""
+        """Recorder ``recorder`` holds the samples up to ``seq``; drops those no recorder needs."""
         if seq > self.last or seq < self.confirmed.get(recorder, 0):
             return                  # not taken yet, or older than what it said before
         self.confirmed[recorder] = seq
@@ -90,8 +80,7 @@ class SampleLog(object):
             self._values[name].append(value)
 
     def since(self, after):
-        """Sample ``after`` and every later one, as LoggedSample, or None if sample
-        ``after`` is not kept (dropped, or not taken yet)."""
+        """Sample ``after`` and every later one (LoggedSample), None if ``after`` is not kept."""
         if not self.first <= after <= self.last:
             return None
         offset = after - self.first
@@ -101,11 +90,7 @@ class SampleLog(object):
 
 
 def answer_problem(answer, mark):
-    """Why ``answer`` (a RecordedSamples response: ``recording``, ``message``,
-    ``samples`` with ``seq``, ``yaw``, ``period``, and columns ``x``, ``y``, ``v``,
-    ``w``) cannot continue a file whose last sample is ``mark`` (core/landmark_format.SampleMark,
-    or None for none), or '': the right recording, the samples from ``mark`` on in
-    order, one odometry row each, every number finite."""
+    """Why the RecordedSamples ``answer`` cannot continue a file last at SampleMark ``mark``, or ''."""
     if not answer.samples:
         return answer.message or 'no samples sent'
     after = mark.seq if mark else 0

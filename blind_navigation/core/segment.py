@@ -1,10 +1,5 @@
-"""The paper's straight/curved segment classifier and the two-rate sampling schedule.
-
-Paper 3.3.2: over four consecutive yaws, *curved* when the three differences are all
-positive, all negative, or of both signs with one in [pi, 2pi] / [-2pi, -pi]; else
-straight. ``deadband`` makes a difference within it "no change" (0: the paper's rule;
-docs/recording.md, "The classifier's dead-band"). :class:`SamplingSchedule` picks the period.
-"""
+"""The paper's straight/curved segment classifier (3.3.2, with a ``deadband``: docs/recording.md,
+"The classifier's dead-band") and the two-rate :class:`SamplingSchedule`."""
 import math
 from collections import deque
 
@@ -13,16 +8,14 @@ from .geometry import wrap_angle
 STRAIGHT = 'straight'
 CURVED = 'curved'
 
-#: Default dead-band on yaw differences, rad (see module docstring).
+#: Default dead-band on yaw differences, rad.
 DEFAULT_DEADBAND = 0.01
 #: The paper's sampling periods, s: 0.5 Hz on straight segments, 1 Hz on curves.
 PAPER_STRAIGHT_PERIOD = 2.0
 PAPER_CURVED_PERIOD = 1.0
 WINDOW = 4
 
-#: The sampling params (the sampling publisher's; back_travel_server reads
-#: ``straight_rate`` too: a landmark sampled at its period is a straight segment):
-#: straight_rate and curved_rate (Hz), deadband (rad per yaw difference).
+#: The sampling publisher's params (back_travel_server reads ``straight_rate`` too).
 SAMPLING_DEFAULTS = {
     'straight_rate': 1.0 / PAPER_STRAIGHT_PERIOD,  # Hz, the sampling rate on straight segments
     'curved_rate': 1.0 / PAPER_CURVED_PERIOD,      # Hz, the sampling rate on curved segments
@@ -59,12 +52,8 @@ def classify(yaws, deadband=DEFAULT_DEADBAND):
 
 
 class SamplingSchedule(object):
-    """Chooses the next sampling period from the last four yaws.
-
-    Feed it the yaw at each sampling tick with :meth:`update`; it returns the
-    period for the next cycle. Until four yaws are known the segment is taken
-    as straight.
-    """
+    """The next sampling period from the last four yaws (:meth:`update` at each tick;
+    straight until four are known)."""
 
     def __init__(self, straight_period=PAPER_STRAIGHT_PERIOD,
                  curved_period=PAPER_CURVED_PERIOD, deadband=DEFAULT_DEADBAND):

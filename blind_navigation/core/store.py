@@ -1,52 +1,109 @@
-"""The landmark store's reader: a landmark file read back and validated.
+"""The landmark file's format (one flow-map line per entry: header, ``landmark_NNNNNN``,
+``gap_<n>``, ``samples_<n>``, ``finished``; INTERFACE.md) and its validating reader
+:func:`load_landmarks`. Writing: core/mission_files.py; docs/recording.md, "File"."""
+import re
+from collections import namedtuple
 
-:func:`load_landmarks` reads a file (format: core/landmark_format.py) with its
-gaps, lost landmarks and sample marks into a :class:`LoadedPath`; a bad entry
-raises LandmarkFileError naming the file and the entry. Writing:
-core/landmark_writer.py; mission files: core/mission_files.py. Why lines,
-gaps, sample marks and mission files: docs/recording.md, "File".
-"""
 import yaml
 
-from .files import NotRegularFileError, read_regular_file
+from .files import FileContentError, NotRegularFileError, read_regular_file
 from .landmark import Limits, landmark_from_values
-from .landmark_format import (FINISHED_KEY, GAP_RE, LABEL_PREFIX, LABEL_RE, MAX_FILE_BYTES,
-                              METADATA_KEY, SAMPLES_RE, Gap, LandmarkFileError, SampleMark,
-                              drop_torn_tail, label_for, parse)
+
+LABEL_PREFIX = 'landmark_'
+LABEL_RE = re.compile(r'^landmark_(\d+)$')
+GAP_RE = re.compile(r'^gap_(\d+)$')
+SAMPLES_RE = re.compile(r'^samples_(\d+)$')
+METADATA_KEY = 'blind_navigation'
+FINISHED_KEY = 'finished'
+FORMAT_VERSION = 1
+#: Largest landmark file read (about 300 hours of recording at 1 landmark/s).
+MAX_FILE_BYTES = 64 << 20
+#: Kinds of entry line the writer makes (a torn one is dropped on load).
+OWN_LINES = (LABEL_PREFIX, 'gap_', 'samples_', FINISHED_KEY + ':')
+
+Gap = namedtuple('Gap', 'before reason')
+Gap.__doc__ = ('A break in the d chain before the landmark labelled ``before`` (its d does not '
+               'start at the previous landmark); ``reason`` says why.')
+SampleMark = namedtuple('SampleMark', 'recording seq')
+SampleMark.__doc__ = ('A sample of the sampling publisher: its ``recording`` (the time the recording '
+                      'started, s) and its number ``seq`` in it (1, 2, ...).')
+
+
+class LandmarkFileError(FileContentError):
+    """A landmark file that cannot be used; the message names the file and entry."""
+
+    def __init__(self, path, reason, entry=None):
+        super(LandmarkFileError, self).__init__(path, entry, reason)
+        self.entry = entry
+
+
+def label_for(index):
+    """The unique, ordered key of the ``index``-th landmark (1-based)."""
+    return '%s%06d' % (LABEL_PREFIX, index)
+
+
+def format_number(value):
+    """Six significant digits that YAML 1.1 reads as a float ('1e-05' needs a '.')."""
+    mantissa, e, exponent = ('%.6g' % value).partition('e')
+    if '.' not in mantissa:
+        mantissa += '.0'
+    return mantissa + e + exponent
+
+
+def format_entry(label, landmark):
+    """One line of the store for ``landmark`` under ``label``."""
+    return '%s: {data: [%s]}\n' % (label, ', '.join(format_number(v) for v in landmark))
+
+
+def flow_line(key, value):
+    """``key: {...}`` on one line (YAML flow style)."""
+    return '%s: %s' % (key, yaml.safe_dump(value, default_flow_style=True, width=1 << 30))
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """SafeLoader that refuses duplicate keys instead of keeping the last one."""
+
+    def construct_mapping(self, node, deep=False):
+        seen = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=True)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None, None, 'duplicate key %r' % (key,), key_node.start_mark)
+            seen.add(key)
+        return super(_UniqueKeyLoader, self).construct_mapping(node, deep)
+
+
+def parse(text):
+    return yaml.load(text, Loader=_UniqueKeyLoader)
+
+
+def drop_torn_tail(path, text, warnings):
+    """``text`` without a torn last entry (a killed writer's partial line)."""
+    if text and not text.endswith('\n'):
+        cut = text.rfind('\n') + 1
+        warnings.append('%s: dropped a torn last entry (no end of line): %r' % (path, text[cut:][:80]))
+        return text[:cut]
+    lines = text.splitlines(True)
+    if lines and lines[-1].startswith(OWN_LINES):
+        try:
+            parse(lines[-1])
+        except yaml.YAMLError:
+            warnings.append('%s: dropped an unparsable last entry: %r' % (path, lines[-1][:80]))
+            return ''.join(lines[:-1])
+    return text
 
 
 class LoadedPath(object):
-    """What :func:`load_landmarks` read: landmarks in recording order, their
-    labels, the header map (may be empty), ``warnings`` (e.g. a dropped torn
-    entry), ``gaps`` (:class:`Gap` list: breaks of the d chain and landmarks
-    lost to write failures), ``finished`` (the recorder marked the end),
-    ``dropped`` (torn entries dropped), ``size`` and ``intact_bytes`` (file
-    bytes, and those before a dropped torn entry), ``sample`` (the
-    :class:`SampleMark` of the last label, from the ``samples_`` entries, or None)."""
+    """What :func:`load_landmarks` read: ``landmarks``, ``labels``, ``metadata``, ``warnings``, ``gaps``,
+    ``finished``, ``dropped``, ``size``, ``intact_bytes``, ``last_index`` and its ``sample``."""
 
-    def __init__(self, path, landmarks, labels, metadata, warnings, **details):
-        self.path = path
-        self.landmarks = landmarks
-        self.labels = labels
-        self.metadata = metadata
-        self.warnings = warnings
-        self.gaps = details.get('gaps', [])
-        self.finished = details.get('finished', False)
-        self.dropped = details.get('dropped', 0)
-        self.size = details.get('size', 0)
-        self.intact_bytes = details.get('intact_bytes', 0)
-        self.last_index = details.get('last_index', 0)
-        self.gap_entries = details.get('gap_entries', 0)
-        self.samples_entries = details.get('samples_entries', 0)
-        self.sample = details.get('sample')
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
 
     @property
     def total_distance(self):
         return sum(landmark.d for landmark in self.landmarks)
-
-    @property
-    def total_duration(self):
-        return sum(landmark.T for landmark in self.landmarks)
 
     @property
     def missing(self):
@@ -54,13 +111,11 @@ class LoadedPath(object):
         return self.last_index - len(self.landmarks) if self.landmarks else 0
 
     def lost_after_end(self, reported_lost):
-        """Of the ``reported_lost`` landmarks the recorder could not write (its count,
-        blind_navigation/StorageUsage.lost), those after this file's last landmark: not
-        holes in the numbering, which a return bridges, but the end of the recorded
-        path, where the way back starts (e.g. the disk filled up and stayed full)."""
+        """Of the recorder's ``reported_lost`` landmarks, those after the file's last one."""
         if isinstance(reported_lost, bool) or not isinstance(reported_lost, int) or reported_lost < 0:
             raise ValueError('reported_lost must be a count >= 0, got %r' % (reported_lost,))
         return max(0, reported_lost - self.missing)
+
 
 def _read(path, follow_symlinks):
     try:
@@ -96,8 +151,7 @@ def _samples_from(path, key, value):
 
 
 def _last_sample(marks, last_index):
-    """The SampleMark of label ``last_index`` by the ``samples_`` entry for the
-    latest label at or before it (of two for one label, the later in the file)."""
+    """The SampleMark of label ``last_index`` by the latest ``samples_`` entry at or before it."""
     best = None
     for index, mark in marks:
         if index <= last_index and (best is None or index >= best[0]):
@@ -116,8 +170,7 @@ def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=Tru
         document = parse(intact)
     except yaml.YAMLError as error:
         raise LandmarkFileError(path, 'not valid YAML: %s' % str(error).replace('\n', ' '))
-    if document is None:
-        document = {}
+    document = {} if document is None else document
     if not isinstance(document, dict):
         raise LandmarkFileError(path, 'top level must be a map of landmark entries, got %s'
                                 % type(document).__name__)
@@ -160,8 +213,8 @@ def load_landmarks(path, limits=Limits(), allow_empty=False, follow_symlinks=Tru
     gaps.sort(key=lambda gap: gap.before)
     for gap in gaps:
         warnings.append('%s: gap in the recorded path before %s: %s' % (path, gap.before, gap.reason))
-    return LoadedPath(path, landmarks, labels, metadata.get(METADATA_KEY, {}) or {}, warnings,
-                      gaps=gaps, finished=FINISHED_KEY in metadata,
+    return LoadedPath(path=path, landmarks=landmarks, labels=labels, warnings=warnings, gaps=gaps,
+                      metadata=metadata.get(METADATA_KEY, {}) or {}, finished=FINISHED_KEY in metadata,
                       dropped=1 if intact != text else 0, size=len(data),
                       intact_bytes=len(intact.encode('utf-8')), last_index=previous_index,
                       gap_entries=gap_entries, samples_entries=len(marks),

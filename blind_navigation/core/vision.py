@@ -1,49 +1,33 @@
-"""Vision-loss detectors with debounce (no ROS): camera stall, dark images, visual
-odometry lost or stalled, RTAB-Map's ``lost`` flag, the manual trigger.
-
-Fed times by their caller; a condition must hold for ``debounce`` s to fire, once per
-loss. :class:`VisionLossMonitor` bundles them; :class:`VisionBack` says when vision is
-back; :class:`HostFlow` counts a stall only while wheel odometry flows (docs/detection.md).
-"""
+"""Vision-loss detectors with debounce (camera stall, dark images, VO lost or stalled,
+RTAB-Map's ``lost`` flag, manual) bundled by :class:`VisionLossMonitor`; :class:`VisionBack`
+says when vision is back (docs/detection.md)."""
 import math
 import struct
 from collections import namedtuple
 
 import numpy
 
-
 Loss = namedtuple('Loss', 'detector reason t since')
-Loss.__doc__ = ('A detector fired at sim time ``t`` (s); ``since`` is when the failure it saw '
-                'began (last image for a stall, first bad message otherwise).')
-
+Loss.__doc__ = 'A detector fired at ``t`` (s); ``since``: when the failure it saw began.'
+#: RTAB-Map's odometry sets pose/twist covariance diagonals to 9999 when lost.
 LOST_COVARIANCE = 9999.0
-"""RTAB-Map's odometry sets pose/twist covariance diagonals to 9999 when lost."""
-
 DETECTORS = ('stall', 'dark', 'vo_lost', 'vo_stall', 'odom_info', 'manual')
 
 
 class Debounce(object):
-    """A condition must hold continuously for ``hold`` seconds (and for at least
-    ``min_count`` consecutive updates) to fire; fires once, re-arms when it clears."""
+    """A condition holding ``hold`` s and ``min_count`` updates fires, once until it clears."""
 
     def __init__(self, hold, min_count=1):
         if hold < 0 or min_count < 1:
             raise ValueError('Debounce: hold must be >= 0 and min_count >= 1, got %r, %r'
                              % (hold, min_count))
-        self.hold = hold
-        self.min_count = min_count
-        self.onset = None       # when the current bad run began, None while good
-        self.count = 0          # consecutive bad updates in the current run
-        self.fired = False
+        self.hold, self.min_count = hold, min_count
+        self.reset()
 
     def update(self, t, bad, onset=None):
-        """Feed the condition at time ``t``; True exactly when it fires.
-
-        ``onset`` overrides when a new bad run began (a stall starts at
-        last image + timeout, not when somebody noticed it).
-        """
+        """The condition at ``t`` (``onset``: a new bad run's start); True exactly when it fires."""
         if not bad:
-            self.onset, self.count, self.fired = None, 0, False
+            self.reset()
             return False
         if self.onset is None:
             self.onset = t if onset is None else onset
@@ -54,25 +38,17 @@ class Debounce(object):
         return True
 
     def reset(self):
-        """Forget everything (e.g. the clock jumped backwards)."""
+        """Forget the current run (onset, count of bad updates, fired)."""
         self.onset, self.count, self.fired = None, 0, False
 
 
 class HostFlow(object):
-    """Arrival times of a stream that shares the host and the transport with the
-    watched ones but not the camera: the wheel odometry. While it flows, a silent
-    camera or visual odometry is a vision fault; when it is silent too (longer than
-    ``gap`` s), the whole host or transport stalled, and that is no vision loss.
-    A stall's silence counts from the later of its last message and the moment this
-    stream resumed after such an outage, so the backlog that arrives after a host
-    stall is read before anything fires. Unknown (nothing received yet): no effect."""
+    """The wheel odometry's arrivals: a silence over ``gap`` s is the host's, no vision loss."""
 
     def __init__(self, gap):
         if not gap > 0:
             raise ValueError('host flow gap must be > 0 s, got %r' % (gap,))
-        self.gap = gap
-        self.last = None        # last arrival
-        self.resumed = None     # end of the last outage
+        self.gap, self.last, self.resumed = gap, None, None   # resumed: end of the last outage
 
     def arrived(self, t):
         if self.last is not None and t - self.last > self.gap:
@@ -84,23 +60,16 @@ class HostFlow(object):
 
 
 class StallDetector(object):
-    """Fires when no message arrived for ``timeout`` s (+ debounce). Armed by the first message.
-    With a :class:`HostFlow`, only silence while that stream flows counts."""
+    """Fires after ``timeout`` s (+ debounce) without a message, once armed by the first one."""
 
     def __init__(self, name, timeout, debounce, what='message'):
         if timeout <= 0:
             raise ValueError('%s: timeout must be > 0 s, got %r' % (name, timeout))
-        self.name, self.timeout, self.what = name, timeout, what
-        self.last = None
+        self.name, self.timeout, self.what, self.last = name, timeout, what, None
         self.debounce = Debounce(debounce)
 
-    @property
-    def armed(self):
-        """True once the first message has been seen."""
-        return self.last is not None
-
     def seen(self, t):
-        """A message arrived at ``t``; clears the stall (re-arms)."""
+        """A message arrived at ``t`` (clears the stall)."""
         self.last = t
         self.debounce.update(t, False)
 
@@ -116,26 +85,24 @@ class StallDetector(object):
                     % (self.what, t - self.last, self.timeout, self.debounce.hold), t, self.last)
 
     def due(self, now, host=None):
-        """When this stall could fire next (an unarmed one: as if its first message came
-        ``now``); while ``host`` is silent, ``host.gap`` from now."""
+        """When this stall could fire next (unarmed: as if armed ``now``; a silent host: gap)."""
         if host is not None and not host.flowing(now):
             return now + host.gap
         return self._since(now if self.last is None else self.last, host) + self.timeout + self.debounce.hold
 
     @staticmethod
     def _since(last, host):
-        """Where the silence counts from: the last message, or the host's resumption."""
+        """Where the silence counts from: the last message, or the host's resumption if later."""
         if host is not None and host.resumed is not None:
             return max(last, host.resumed)
         return last
 
 
 class ConditionDetector(object):
-    """Fires when each message reports a bad condition for ``debounce`` s and ``min_count`` messages."""
+    """Fires when the messages report a bad condition for ``debounce`` s and ``min_count`` messages."""
 
     def __init__(self, name, debounce, min_count=1):
-        self.name = name
-        self.debounce = Debounce(debounce, min_count)
+        self.name, self.debounce = name, Debounce(debounce, min_count)
 
     def update(self, t, why):
         """A message at ``t``; ``why`` says what is wrong with it (None when fine)."""
@@ -146,24 +113,15 @@ class ConditionDetector(object):
                     t, self.debounce.onset)
 
 
-# --- what makes a message bad ------------------------------------------------------------------
-
-_CHANNELS = {'mono8': 1, '8UC1': 1, 'rgb8': 3, 'bgr8': 3, '8UC3': 3, 'rgba8': 4, 'bgra8': 4,
-             '8UC4': 4, 'mono16': 1, '16UC1': 1, 'rgb16': 3, 'bgr16': 3, 'rgba16': 4,
-             'bgra16': 4}
+_CHANNELS = {'mono8': 1, '8UC1': 1, 'rgb8': 3, 'bgr8': 3, '8UC3': 3, 'rgba8': 4, 'bgra8': 4, '8UC4': 4,
+             'mono16': 1, '16UC1': 1, 'rgb16': 3, 'bgr16': 3, 'rgba16': 4, 'bgra16': 4}
 _BAYER_PREFIX = 'bayer_'
+#: Pixels sampled per image (evenly strided).
 MAX_SAMPLES = 20000
-"""Pixels sampled per image (evenly strided): the mean costs the same for any resolution."""
 
 
 def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False):
-    """Mean intensity on a 0..255 scale of a raw sensor_msgs/Image.
-
-    Handles 8- and 16-bit mono, RGB/BGR(A) and Bayer encodings, row padding
-    (``step``) and ignores the alpha channel. At most MAX_SAMPLES pixels are
-    read. ValueError for an unsupported encoding or a buffer shorter than its
-    header says.
-    """
+    """Mean intensity (0..255) of a raw sensor_msgs/Image; ValueError for its encoding or size."""
     if encoding.startswith(_BAYER_PREFIX):
         channels, depth = 1, 2 if encoding.endswith('16') else 1
     elif encoding in _CHANNELS:
@@ -184,11 +142,7 @@ def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False
 
 
 def vo_lost_reason(position, orientation, pose_cov_diag, twist_cov_diag):
-    """Why an RTAB-Map odometry message means lost, or None when it is fine.
-
-    RTAB-Map publishes position 0, quaternion (0, 0, 0, 0) and covariance
-    diagonals 9999 when visual odometry is lost; non-finite values count too.
-    """
+    """Why an RTAB-Map odometry message means lost (non-finite, null quaternion, covariance), or None."""
     values = tuple(position) + tuple(orientation)
     if not all(math.isfinite(v) for v in values):
         return 'VO pose not finite %r' % (values,)
@@ -210,11 +164,7 @@ _HEADER = struct.Struct('<III')  # std_msgs/Header: seq, stamp.secs, stamp.nsecs
 
 
 def odom_info_lost(buff):
-    """The ``lost`` flag of a serialised rtabmap_ros/OdomInfo (or rtabmap_msgs/OdomInfo).
-
-    Both start with ``std_msgs/Header header`` then ``bool lost``, so only the
-    header is skipped: no rtabmap package is needed. ValueError when too short.
-    """
+    """The ``lost`` flag of a serialised rtabmap OdomInfo; ValueError when too short."""
     offset = _HEADER.size
     if len(buff) < offset + 4:
         raise ValueError('odom_info message of %d bytes is shorter than its header' % len(buff))
@@ -225,15 +175,8 @@ def odom_info_lost(buff):
     return bytearray(buff[offset:offset + 1])[0] != 0
 
 
-# --- the bundle --------------------------------------------------------------------------------
-
 class VisionLossMonitor(object):
-    """The enabled detectors behind one vision-loss signal.
-
-    ``enabled`` is a set of names from DETECTORS. Thresholds: ``image_timeout``
-    and ``vo_timeout`` (s), ``debounce`` (s), ``dark_threshold`` (mean
-    intensity 0..255), ``dark_frames`` (consecutive dark images).
-    """
+    """The ``enabled`` detectors (names from DETECTORS) behind one vision-loss signal."""
 
     def __init__(self, enabled, image_timeout=1.0, vo_timeout=1.0, debounce=0.5,
                  dark_threshold=10.0, dark_frames=3, host_gap=0.5):
@@ -250,11 +193,10 @@ class VisionLossMonitor(object):
         self.odom_info = ConditionDetector('odom_info', debounce)
         self._stalls = (self.stall, self.vo_stall)
         self._all = (self.stall, self.vo_stall, self.dark, self.vo_lost, self.odom_info)
-        self.host = HostFlow(host_gap)
-        self.last_t = None
+        self.host, self.last_t = HostFlow(host_gap), None
 
     def _clock(self, t):
-        """Reset every detector when time jumps backwards (a restarted sim clock)."""
+        """Reset every detector when time jumps backwards."""
         if self.last_t is not None and t < self.last_t:
             for detector in self._all:
                 detector.debounce.reset()
@@ -277,7 +219,7 @@ class VisionLossMonitor(object):
         return self._fired(self.dark.update(t, why))
 
     def vo_odometry(self, t, lost_reason):
-        """A VO odometry message at ``t``; ``lost_reason`` from vo_lost_reason()."""
+        """A VO odometry message at ``t`` (``lost_reason``: vo_lost_reason's)."""
         self._clock(t)
         self.vo_stall.seen(t)
         return self._fired(self.vo_lost.update(t, lost_reason))
@@ -288,22 +230,21 @@ class VisionLossMonitor(object):
         return self._fired(self.odom_info.update(t, 'odom_info lost flag set' if lost else None))
 
     def host_flow(self, t):
-        """A wheel-odometry message arrived at ``t`` (see :class:`HostFlow`)."""
+        """A wheel-odometry message arrived at ``t`` (:class:`HostFlow`)."""
         self.host.arrived(t)
 
     def check(self, t):
-        """Periodic check for the stall detectors (call at a few times the debounce rate)."""
+        """Periodic check of the stall detectors."""
         self._clock(t)
         return self._fired(*(stall.check(t, self.host) for stall in self._stalls))
 
     def manual(self, t, source):
-        """Somebody declared vision lost by hand; fires at once (no debounce) if enabled."""
+        """Vision declared lost by hand: fires at once if enabled."""
         self._clock(t)
         return self._fired(Loss('manual', 'vision_lost published by %s' % source, t, t))
 
     def unhealthy(self, t):
-        """Why vision is not healthy at ``t`` by the enabled detectors (None: healthy): a
-        watched stream silent for its timeout or never seen, a bad condition holding."""
+        """Why vision is not healthy at ``t`` by the enabled detectors, or None."""
         watched = [stall for stall in self._stalls if stall.name in self.enabled]
         if 'dark' in self.enabled and self.stall not in watched:
             watched.append(self.stall)      # the dark detector reads the images themselves
@@ -319,15 +260,13 @@ class VisionLossMonitor(object):
 
 
 class VisionBack(object):
-    """Vision is back once ``monitor`` (a :class:`VisionLossMonitor`) has been healthy
-    without a break for ``hold`` seconds since the loss."""
+    """Vision is back once ``monitor`` has been healthy for ``hold`` s without a break."""
 
     def __init__(self, monitor, hold):
         if not hold > 0:
             raise ValueError('vision_back_time must be > 0 s, got %r' % (hold,))
-        self.monitor = monitor
-        self.debounce = Debounce(hold)
+        self.monitor, self.debounce = monitor, Debounce(hold)
 
     def update(self, t):
-        """Check at ``t``; True exactly once, when vision has been back for ``hold``."""
+        """True exactly once, when vision has been back for ``hold``."""
         return self.debounce.update(t, self.monitor.unhealthy(t) is None)

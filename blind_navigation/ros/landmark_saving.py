@@ -19,7 +19,7 @@ from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.sample_log import START, answer_problem
-from blind_navigation.core.landmark_format import SampleMark
+from blind_navigation.core.store import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import PathSample, StorageUsage
@@ -115,7 +115,7 @@ class LandmarkSaving(object):
 
     def save(self, command, yaw, period, stamp, sample=None):
         """Save the landmark of the tick at ``stamp`` (s), the publisher's ``sample``
-        (a core/landmark_format.SampleMark, if known); return ``(label, '')`` or ``('', why
+        (a core/store.SampleMark, if known); return ``(label, '')`` or ``('', why
         not)``. The first tick's start is the odometry at ``stamp - period`` (when the
         publisher started), or the first odometry seen if that is later. A sample
         the file holds already (caught up) is skipped."""

@@ -23,7 +23,7 @@ class FileStore(object):
         self.space = SpaceWatch(os.path.dirname(writer.path))
 
     def append(self, landmark, sample=None):
-        """The label of ``landmark`` (``sample``: the core/landmark_format.SampleMark it
+        """The label of ``landmark`` (``sample``: the core/store.SampleMark it
         came from), None: lost (logged; ``error`` says why)."""
         try:
             return self.writer.append(landmark, sample)

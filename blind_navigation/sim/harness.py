@@ -21,7 +21,7 @@ from ..core.gyro_bias import STANDSTILL_DEFAULTS
 from ..core.gyro_calibration import CalibrationError, SpinCalibration
 from ..core.heading_correction import correct_landmarks
 from ..core.landmark import Landmark
-from ..core.landmark_writer import LandmarkWriter
+from ..core.mission_files import LandmarkWriter
 from ..core.docking import DOCK
 from ..core.final_approach import APPROACH, SETTLE
 from ..core.mission import RECORDING, STANDSTILL, TURN, TURNED, Inputs, Mission
@@ -166,7 +166,7 @@ class _Run(object):
 
 
 class _Store(object):
-    """The mission's landmark store: written for real (core/landmark_writer), read back at the
+    """The mission's landmark store: written for real (core/mission_files), read back at the
     turn; a failed write is counted by the writer (lost) and kept in ``error``."""
 
     def __init__(self, path, name):

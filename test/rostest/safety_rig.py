@@ -20,7 +20,7 @@ from std_msgs.msg import Bool, Empty, String
 
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.mission_state import TERMINAL
-from blind_navigation.core.landmark_writer import LandmarkWriter
+from blind_navigation.core.mission_files import LandmarkWriter
 from blind_navigation.msg import StorageUsage
 
 from fake_base import FakeBase

@@ -9,11 +9,10 @@ import pytest
 
 from blind_navigation.core import landmark_request as lr
 from blind_navigation.core.geometry import OdomState
-from blind_navigation.core.landmark_format import label_for
-from blind_navigation.core.landmark_writer import LandmarkWriter
+from blind_navigation.core.mission_files import LandmarkWriter
 from blind_navigation.core.mission import Inputs, Mission
 from blind_navigation.core.return_plan import write_loss
-from blind_navigation.core.store import load_landmarks
+from blind_navigation.core.store import label_for, load_landmarks
 
 SPEED, RATE = 0.1, 50       # m/s along +x, odometry Hz
 

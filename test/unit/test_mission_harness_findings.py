@@ -8,7 +8,7 @@ import math
 import pytest
 
 from blind_navigation.core import outcome
-from blind_navigation.core.landmark_writer import LandmarkWriter
+from blind_navigation.core.mission_files import LandmarkWriter
 from blind_navigation.core.return_plan import STILL_LOSS_DISTANCE
 from blind_navigation.sim.harness import play
 from blind_navigation.sim.mission import Mission as Script

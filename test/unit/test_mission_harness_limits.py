@@ -11,7 +11,7 @@ import pytest
 from blind_navigation.core import outcome
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.landmark import Landmark
-from blind_navigation.core.landmark_writer import LandmarkWriter
+from blind_navigation.core.mission_files import LandmarkWriter
 from blind_navigation.core.mission_limits import LIMIT_DEFAULTS, ReturnWatch
 from blind_navigation.core.safety import return_allowance
 from blind_navigation.sim import harness

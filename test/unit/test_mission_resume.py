@@ -14,7 +14,7 @@ pytest.importorskip('rospy')
 
 from blind_navigation.core import outcome
 from blind_navigation.core import mission_state as state  # noqa: E402
-from blind_navigation.core.landmark_writer import LandmarkWriter  # noqa: E402
+from blind_navigation.core.mission_files import LandmarkWriter  # noqa: E402
 from blind_navigation.core.mission import RESUMED, Mission  # noqa: E402
 from blind_navigation.core.mission_drive import FINAL, GOAL, HANDOVER  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path, save_progress  # noqa: E402

@@ -179,7 +179,7 @@ def test_landmark_distance_rule_covers_the_final_partial_period_and_rounding():
     assert limits.distance_problem(0.7 * 0.03, 0.01) is None
     assert limits.distance_problem(0.7 * 0.01 * 1.1 + 0.7 * 0.25 + 1e-6, 0.01) is not None
     # the fastest honest landmark, stored with six significant digits, still loads
-    from blind_navigation.core.landmark_format import format_entry
+    from blind_navigation.core.store import format_entry
     import yaml
     fastest = Landmark(0.7, 3.14159, 0.7 * (2.0 + 0.25), 2.0, 0.0)
     stored = yaml.safe_load(format_entry('landmark_000001', fastest))['landmark_000001']['data']

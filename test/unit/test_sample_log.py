@@ -11,7 +11,7 @@ from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.geometry import wrap_angle
 from blind_navigation.core.mission_record import MissionRecording
 from blind_navigation.core.sample_log import START, SampleLog, Ticks, answer_problem
-from blind_navigation.core.landmark_format import SampleMark
+from blind_navigation.core.store import SampleMark
 
 
 def state(t):

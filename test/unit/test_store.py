@@ -2,6 +2,7 @@
 kinds of landmark_file, write failures, and a restarted recorder continuing
 its mission's file."""
 import datetime
+from contextlib import closing
 import errno
 import math
 import os
@@ -11,11 +12,19 @@ import yaml
 
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
-from blind_navigation.core.landmark_format import Gap, LandmarkFileError, SampleMark, format_entry
-from blind_navigation.core.landmark_writer import LandmarkWriter
-from blind_navigation.core.mission_files import (RESTART_GAP, mission_number, next_mission_id,
-                                                 open_mission_file, start_mission_file)
-from blind_navigation.core.store import load_landmarks
+from blind_navigation.core import mission_files
+from blind_navigation.core.mission_files import (RESTART_GAP, LandmarkWriter, mission_number,
+                                                 next_mission_id, open_mission_file)
+from blind_navigation.core.store import Gap, LandmarkFileError, SampleMark, format_entry, load_landmarks
+
+
+def start_mission_file(landmark_file, when=None):
+    """A new mission file's path, ``landmark_file`` pointed at it (open_mission_file's rules)."""
+    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
+    target = mission_files._new_target(landmark_file, when)
+    mission_files._point_at(landmark_file, target)
+    return target
+
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
         Landmark(0.0859, 0.0964, 0.0862, 1.0, 0.0610),
@@ -24,7 +33,7 @@ PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
 
 
 def write(path, landmarks=PATH, **kwargs):
-    with LandmarkWriter(str(path), **kwargs) as writer:
+    with closing(LandmarkWriter(str(path), **kwargs)) as writer:
         for landmark in landmarks:
             writer.append(landmark)
     return writer
@@ -100,14 +109,14 @@ def test_new_missions_are_numbered_on_from_the_launch_id():
 
 def test_a_new_mission_id_opens_a_new_file_and_keeps_the_old_one_byte_identical(tmp_path):
     link = str(tmp_path / 'landmarks.yaml')
-    with open_mission_file(link, 'launch', fsync=False) as writer:
+    with closing(open_mission_file(link, 'launch', fsync=False)) as writer:
         for landmark in PATH:
             writer.append(landmark)
         writer.finish()
         first = writer.path
     with open(first, 'rb') as stream:
         before = stream.read()
-    with open_mission_file(link, next_mission_id('launch'), fsync=False) as writer:
+    with closing(open_mission_file(link, next_mission_id('launch'), fsync=False)) as writer:
         writer.append(PATH[0])
         second = writer.path
     assert second != first and os.path.realpath(link) == second
@@ -487,7 +496,7 @@ def test_d_beyond_what_the_base_can_cover_in_T_refuses_the_file(tmp_path):
 
 def test_samples_entries_only_where_the_numbering_changes(tmp_path):
     path = str(tmp_path / 'lm.yaml')
-    with LandmarkWriter(path) as writer:
+    with closing(LandmarkWriter(path)) as writer:
         for seq, landmark in zip((1, 2, 4, 5), PATH):       # sample 3 made no landmark
             writer.append(landmark, SampleMark(12.5, seq))
         writer.append(PATH[0], SampleMark(40.25, 1))         # the publisher restarted
@@ -501,7 +510,7 @@ def test_samples_entries_only_where_the_numbering_changes(tmp_path):
 
 def test_the_last_sample_counts_lost_labels(tmp_path):
     path = str(tmp_path / 'lm.yaml')
-    with LandmarkWriter(path) as writer:
+    with closing(LandmarkWriter(path)) as writer:
         writer.append(PATH[0], SampleMark(3.0, 7))
         writer._next_index += 1                              # landmark_000002 lost (sample 8)
         writer.append(PATH[1], SampleMark(3.0, 9))

@@ -69,7 +69,7 @@ def test_debounce_rejects_bad_settings():
 def test_stall_not_armed_before_first_image():
     monitor = VisionLossMonitor({'stall'})
     assert silence(monitor, 0.0, 10.0) == []
-    assert not monitor.stall.armed
+    assert monitor.stall.last is None
 
 
 def test_stall_fires_after_timeout_plus_debounce_once():
