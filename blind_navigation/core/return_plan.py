@@ -17,7 +17,7 @@ NO_LOSS = WriteLoss(0, 0.0, 0.0, '')
 
 
 def write_loss(writer, error=''):
-    """The WriteLoss (what could not be written) of a core/landmark_writer.LandmarkWriter."""
+    """The WriteLoss (what could not be written) of a core/mission_files.LandmarkWriter."""
     return WriteLoss(writer.lost, writer.lost_distance, writer.lost_turn, error)
 
 
