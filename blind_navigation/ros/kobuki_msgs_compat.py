@@ -1,8 +1,5 @@
-"""Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs.
-
-The installed package's classes when there are any, else identical classes (same type
-names and MD5 sums) generated at import from the same definitions; the auto-docking
-action's seven types (``AutoDocking*``) likewise.
+"""Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs: the
+installed package's classes, else identical ones (same names and MD5 sums) generated at import.
 """
 import genpy.dynamic
 from actionlib_msgs.msg import GoalID, GoalStatus

@@ -1,10 +1,7 @@
-"""What may move the robot: the Kobuki's safety events and the one velocity output.
-
-:class:`SafetyMonitor` halts every output of the process at once on a bumper, cliff or
-wheel drop. :class:`MotionOutput` publishes ``cmd_vel`` for one role only while it may
-move (core/mission_state.may_move), clamped; after ``halt`` every command is zero until
-``release`` (or, for a safety halt, :meth:`MotionOutput.contact_over`); zero for good after a
-fault; nothing at all during a takeover.
+"""What may move the robot: :class:`SafetyMonitor` halts every output of the process on a
+bumper, cliff or wheel drop; :class:`MotionOutput` publishes ``cmd_vel`` for one role only
+while it may move, clamped; zero after ``halt`` until ``release``, for good after a fault;
+nothing during a takeover.
 """
 import threading
 
@@ -18,19 +15,15 @@ from ..core.safety import CONTACT, SafetyEvents, VelocityLimits
 from . import faults, kobuki_msgs_compat as kobuki
 from .common import subscribe_checked, twist
 
-#: kind -> (message class, field naming the sensor)
-#: How a halt by a safety event begins (MotionOutput.halted)
+#: How a halt by a safety event begins; kind -> (message class, field naming the sensor)
 SAFETY_HALT = 'safety: '
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
                'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
 
 
 class SafetyMonitor(object):
-    """The Kobuki's safety events (names.SAFETY_EVENTS) for this process;
-    ``active`` lists the conditions active now; :meth:`on_trip` registers
-    ``callback(reason)``, called from the event's thread when a sensor becomes active;
-    ``contact_wait``: s after a bumper release in which a press is a bounce (the
-    back travel server sets its own)."""
+    """The Kobuki's safety events: ``active`` conditions; :meth:`on_trip` ``callback(reason)``
+    when a sensor becomes active; ``contact_wait``: s after a release in which a press bounces."""
 
     def __init__(self, guard=None):
         self.contact_wait = CONTACT_DEFAULTS['contact_wait']
@@ -64,7 +57,7 @@ class SafetyMonitor(object):
 
     @property
     def terminal(self):
-        """The active conditions other than a bumper contact (core/safety.is_contact)."""
+        """The active conditions other than a bumper contact."""
         with self._lock:
             return self._events.terminal
 
@@ -76,8 +69,7 @@ class SafetyMonitor(object):
 
 
 class MotionOutput(object):
-    """The velocity output of ``role`` (see module docstring); ``mission`` is the
-    process's ros/mission.MissionStateView (None: no mission, e.g. the calibration)."""
+    """The velocity output of ``role``; ``mission``: the MissionStateView (None: no mission)."""
 
     def __init__(self, role, max_v, max_w, mission=None, safety=None, takeover=None):
         if max_v < 0 or max_w <= 0:
@@ -88,8 +80,7 @@ class MotionOutput(object):
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
-        self.takeover = takeover    # ros/takeover.TakeoverWatch: silent while it is active
-        self.safety = safety        # the SafetyMonitor that halts it (contact_over asks it)
+        self.takeover, self.safety = takeover, safety   # silent during a takeover; halts it
         self._lock = threading.Lock()
         self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
         if safety is not None:
@@ -101,7 +92,7 @@ class MotionOutput(object):
 
     @property
     def allowed(self):
-        """True when the mission state lets this role move."""
+        """The mission state lets this role move."""
         return mission_state.may_move(self.role, self.mission.state if self.mission else None)
 
     def _on_state(self, old, new):
@@ -133,8 +124,7 @@ class MotionOutput(object):
             self.halted = None
 
     def contact_over(self):
-        """Release a halt of a safety event once no safety condition is active (its owner
-        drives on: the mission has waited its contact_wait); any other halt stays."""
+        """Release a safety event's halt once no condition is active; any other halt stays."""
         with self._lock:
             if self.halted and self.halted.startswith(SAFETY_HALT) and self.safety is not None \
                     and not self.safety.active:

@@ -1,10 +1,6 @@
-"""The operator's takeover, watched once per process (core/pause.Takeover).
-
-A takeover is a command on the layer's mux input from none of the layer's nodes, a
-``takeover_inputs`` input active on ``cmd_vel_mux/active``, or a moving command on the
-mux output that this process did not send while it drives (not read while the Kobuki's
-dock drive drives it: :meth:`TakeoverWatch.watch_base`). While active, MotionOutput
-publishes nothing and the drive pauses (core/mission_drive.Pauses) (docs/safety.md, "Takeover").
+"""The operator's takeover, watched once per process (core/pause.Takeover; docs/safety.md,
+"Takeover"): another node's command on the mux input, a ``takeover_inputs`` input active, or
+a moving command on the mux output this process did not send (not while docking).
 """
 import threading
 
@@ -16,7 +12,7 @@ from .. import names
 from ..core.pause import Takeover
 from .common import subscribe
 
-#: The layer's nodes that publish on its mux input, in either layout (resolved in its namespace).
+#: The layer's nodes that publish on its mux input, in either layout.
 LAYER_NODES = ('blind_navigation', 'back_travel_server', 'rotate_pi', 'calibrate_gyro')
 
 
