@@ -67,7 +67,6 @@ class BackTravelServer(Role):
         self.log.info('serving %s in %s mode on %s', rospy.resolve_name(names.BACK_TRAVEL),
                       p.control, rospy.resolve_name(names.CMD_VEL))
 
-    # --- who may send what -------------------------------------------------------------------
     def _on_set_route(self, request):
         """The return's route, its goals' landmarks and how many are done."""
         p = self.params
@@ -185,7 +184,6 @@ class BackTravelServer(Role):
         else:
             stat.summary(diagnostics.OK, 'ready' if self.drive is None else 'route set')
 
-    # --- driving: the one loop -----------------------------------------------------------------
     def run(self):
         """Step the return while a goal, a hand-over or the final hold is under way."""
         for now, jump in self.driver.ticks(self._locked_busy):

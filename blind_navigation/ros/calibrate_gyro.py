@@ -16,7 +16,8 @@ from blind_navigation.core.gyro_calibration import CalibrationError, SpinCalibra
 from blind_navigation.core.role_params import CALIBRATE_GYRO
 from blind_navigation.core.mission_drive import DONE, FAILED
 from blind_navigation.ros.drive_node import DriveNode
-from blind_navigation.ros.heading_correction import calibration_file
+from blind_navigation.ros.common import ros_home_file
+from blind_navigation.ros.heading_correction import CALIBRATION_FILE
 from blind_navigation.ros.mission import Role
 from blind_navigation.ros.odometry import visual_yaw
 
@@ -29,7 +30,7 @@ class CalibrateGyro(Role):
 
     def __init__(self, layer):
         Role.__init__(self, layer)
-        self.path = calibration_file(self.params.calibration_file)
+        self.path = ros_home_file(CALIBRATION_FILE, self.params.calibration_file)
         self.spin = SpinCalibration(self.params)   # validates the spin and fit params
         self.odom = layer.odometry
         self._lock = threading.Lock()
@@ -75,9 +76,7 @@ class CalibrateGyro(Role):
         """Drive the spins; '' when done, else why they stopped."""
         p = self.params
         deadline = time.monotonic() + p.start_timeout
-        # Under use_sim_time, odometry can arrive before this node's first /clock
-        # message (time 0): wait for the clock too, or the first check after the
-        # clock jumps would find that odometry stale.
+        # the clock too: under use_sim_time odometry may come before the first /clock
         while rospy.Time.now().is_zero() or not self._vo_valid:
             if rospy.is_shutdown() or time.monotonic() > deadline:
                 if not self._vo_valid:

@@ -4,6 +4,7 @@ sleeps as rospy does, but a jump back ends the sleep, warned and returned, never
 """
 import threading
 import time
+from types import SimpleNamespace
 
 import actionlib
 import rospy
@@ -52,34 +53,21 @@ class LoopClock(object):
             self._warned_at, self._unwarned = wall, 0
         return now, jump
 
-    def sleep(self, seconds):
-        """rospy.sleep(``seconds``), ended by a jump back; s the time moved back since the last look."""
+    def sleep(self, seconds, rate=None):
+        """rospy.sleep(``seconds``) (or ``rate.sleep()``: the next tick a period from a jump), ended
+        by a jump back; s the time moved back since the last look."""
         jump = self._look()[1]
         try:
-            rospy.sleep(seconds)
+            rate.sleep() if rate is not None else rospy.sleep(seconds)
         except rospy.ROSTimeMovedBackwardsException:
-            pass                    # measured from the last look, just below
+            if rate is not None:
+                rate.last_time = rospy.get_rostime()
         return jump + self._look()[1]
 
     def rate(self, hz):
-        """A :class:`Rate` of ``hz`` on this clock."""
-        return Rate(self, hz)
-
-
-class Rate(object):
-    """rospy.Rate on a LoopClock: :meth:`sleep` returns s the time moved back instead of raising."""
-
-    def __init__(self, clock, hz):
-        self.clock = clock
-        self._rate = rospy.Rate(hz)
-
-    def sleep(self):
-        jump = self.clock._look()[1]
-        try:
-            self._rate.sleep()
-        except rospy.ROSTimeMovedBackwardsException:
-            self._rate.last_time = rospy.get_rostime()
-        return jump + self.clock._look()[1]
+        """A rospy.Rate of ``hz`` whose ``sleep()`` returns s the time moved back instead of raising."""
+        rate = rospy.Rate(hz)
+        return SimpleNamespace(sleep=lambda: self.sleep(None, rate))
 
 
 def every(period, callback, loop, log=None):

@@ -1,7 +1,6 @@
 """Small rospy glue shared by every node (the layer's and the fake TurtleBot's): watched
-(and type-checked) subscriptions, Twist, poses, ROS_HOME, a wall-bounded wait."""
+(and type-checked) subscriptions, Twist, poses, ROS_HOME."""
 import os
-import time
 
 import rospkg
 import rospy
@@ -10,14 +9,6 @@ from geometry_msgs.msg import Twist
 from . import subscription_watchdog, wiring
 from .faults import shutting_down  # noqa: F401 -- the roles' one import of it
 from ..core.geometry import quaternion_from_yaw
-
-
-def wait_wall(condition, timeout, poll=0.05):
-    """Poll ``condition()`` every ``poll`` s until true, ``timeout`` s (wall) or shutdown; its last value."""
-    deadline = time.monotonic() + timeout
-    while not condition() and time.monotonic() < deadline and not rospy.is_shutdown():
-        time.sleep(poll)
-    return condition()
 
 
 def subscribe(topic, data_class, callback, callback_args=None, expected=None, **options):

@@ -90,8 +90,8 @@ class Faults(object):
                 except Exception as error:  # noqa: B902 -- what this module is for
                     if shutting_down():
                         rospy.logdebug('%s: %s while shutting down', role, error)
-                        return None
-                    self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))
+                    else:
+                        self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))
                     return None
             return guarded
         return wrap

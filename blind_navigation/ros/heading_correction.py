@@ -26,11 +26,6 @@ CALIBRATE_COMMAND = 'roslaunch blind_navigation calibrate_gyro.launch'
 CALIBRATION_FILE = os.path.join('blind_navigation', 'gyro_calibration.yaml')
 
 
-def calibration_file(param):
-    """The configured gyro calibration file: ``param``, or the default under $ROS_HOME."""
-    return ros_home_file(CALIBRATION_FILE, param)
-
-
 def scale_prior(path, log):
     """The GyroCalibration at ``path``, or None: missing (warned) or unusable (logged)."""
     if not os.path.exists(path):
@@ -69,7 +64,7 @@ class HeadingCorrectionRole(Role):
     def __init__(self, layer):
         Role.__init__(self, layer)
         p, guard = self.params, self.guard
-        self.calibration_path = calibration_file(p.gyro_calibration_file)
+        self.calibration_path = ros_home_file(CALIBRATION_FILE, p.gyro_calibration_file)
         self.scale_prior = scale_prior(self.calibration_path, self.log)
         self._fresh()
         self._vo_last = None        # rospy time of the last visual odometry (diagnostics)
@@ -80,7 +75,8 @@ class HeadingCorrectionRole(Role):
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self._listen()
         self.follow('heading correction: visual odometry')
-        layer.diagnostics.add('heading correction: gyro calibration', self._calibration_status)
+        layer.diagnostics.add('heading correction: gyro calibration', lambda stat: calibration_status(
+            stat, self.calibration_path, self.scale_prior))
         self.log.info('calibrating the gyro against %s until vision is lost, then standing still '
                       'up to %.0f s to measure its bias', rospy.resolve_name(names.VO_ODOM),
                       p.standstill_time)
@@ -184,17 +180,14 @@ class HeadingCorrectionRole(Role):
         self.layer.visual_odometry.release(self.ROLE)
 
     def _diagnose(self, stat):
-        vo_status(stat, self.lost,
-                  None if self._vo_last is None else rospy.get_time() - self._vo_last,
-                  rospy.get_time() - self._started, self.params.vo_timeout, len(self.fit.rows))
-
-    def _calibration_status(self, stat):
-        calibration_status(stat, self.calibration_path, self.scale_prior)
+        vo_status(stat, self.lost, self._vo_last, self._started, self.params.vo_timeout, len(self.fit.rows))
 
 
-def vo_status(stat, lost, age, waited, timeout, windows):
-    """The visual odometry's status: ``lost`` (no longer used), its ``age`` (None: never heard),
-    ``waited`` s since the mission began, ``timeout`` (vo_timeout), the fit's ``windows``."""
+def vo_status(stat, lost, heard, since, timeout, windows):
+    """The visual odometry's status: ``lost`` (no longer used), last ``heard`` (rospy time, None:
+    never), the mission ``since``, ``timeout`` (vo_timeout), the fit's ``windows``."""
+    now = rospy.get_time()
+    age, waited = None if heard is None else now - heard, now - since
     if lost:
         stat.summary(diagnostics.OK, 'vision lost: visual odometry no longer used')
         return

@@ -77,13 +77,7 @@ def _load():
 
 
 _CLASSES = _load()
-BumperEvent = _CLASSES['BumperEvent']
-CliffEvent = _CLASSES['CliffEvent']
-WheelDropEvent = _CLASSES['WheelDropEvent']
-MotorPower = _CLASSES['MotorPower']
-DockInfraRed = _CLASSES['DockInfraRed']
-SensorState = _CLASSES['SensorState']
-AutoDockingAction = _CLASSES['AutoDockingAction']
-AutoDockingGoal = _CLASSES['AutoDockingGoal']
-AutoDockingResult = _CLASSES['AutoDockingResult']
-AutoDockingFeedback = _CLASSES['AutoDockingFeedback']
+(BumperEvent, CliffEvent, WheelDropEvent, MotorPower, DockInfraRed, SensorState, AutoDockingAction,
+ AutoDockingGoal, AutoDockingResult, AutoDockingFeedback) = (_CLASSES[name] for name in (
+    'BumperEvent', 'CliffEvent', 'WheelDropEvent', 'MotorPower', 'DockInfraRed', 'SensorState',
+    'AutoDockingAction', 'AutoDockingGoal', 'AutoDockingResult', 'AutoDockingFeedback'))

@@ -5,6 +5,7 @@ mission's file; ``storage``, ``recorded_path``; gaps, catch-up (docs/recording.m
 import math
 import os
 import threading
+import time
 from array import array
 
 import rospy
@@ -13,7 +14,6 @@ from nav_msgs.msg import Path
 
 from blind_navigation import names
 from blind_navigation.core.geometry import OdomState
-from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.landmark_format import SampleMark
@@ -21,18 +21,13 @@ from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmarkResponse
-from blind_navigation.ros.common import ros_home_file, set_pose, subscribe, wait_wall
+from blind_navigation.ros.common import ros_home_file, set_pose, subscribe
 from blind_navigation.ros.mission import Role
 from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
 #: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
 LANDMARK_FILE = os.path.join('blind_navigation', 'landmarks.yaml')
-
-
-def landmark_file(param):
-    """The configured landmark file: ``param``, or the default under $ROS_HOME."""
-    return ros_home_file(LANDMARK_FILE, param)
 
 
 class LandmarkSaving(Role):
@@ -78,7 +73,7 @@ class LandmarkSaving(Role):
         started (lock held, or before the callbacks exist)."""
         self._poses = array('d')       # x, y, yaw of every landmark (and the start)
         self.recorder = PathRecorder()
-        configured = landmark_file(self.params.landmark_file)
+        configured = ros_home_file(LANDMARK_FILE, self.params.landmark_file)
         self.mission_id = self.layer.current_mission_id()   # of the file open
         self.writer = open_mission_file(configured, self.mission_id, fsync=self.params.fsync, metadata={
             'recorder': self.VARIANT, 'odom_topic': rospy.resolve_name(names.ODOM),
@@ -158,11 +153,7 @@ class LandmarkSaving(Role):
         self._poses.extend((odom.x, odom.y, odom.yaw))
         self.finished = command == FINAL
         if self.finished:
-            try:
-                self.writer.finish()
-            except StorageError as error:
-                self.store.error = str(error)
-                self.log.error('%s', error)
+            self.store.finish()
             self.log.info('final landmark saved; recording finished')
         return label, landmark
 
@@ -178,35 +169,30 @@ class LandmarkSaving(Role):
 
         def run():
             try:
-                wait_wall(subscribed, self.params.catch_up_timeout, poll=0.01)
+                deadline = time.monotonic() + self.params.catch_up_timeout
+                while not subscribed() and time.monotonic() < deadline and not rospy.is_shutdown():
+                    time.sleep(0.01)
                 self._catch_up()
             finally:
                 self._lock.release()
-        thread = threading.Thread(target=self.guard(run), name='catch_up')
-        thread.daemon = True
-        thread.start()
-        return thread
+        threading.Thread(target=self.guard(run), name='catch_up', daemon=True).start()
 
     def _catch_up(self):
         """Save the samples this file misses, asked of the publisher (lock held); True: restored."""
-        mark = self.writer.sample
+        mark, name = self.writer.sample, rospy.resolve_name(names.RECORDED_SAMPLES)
         if mark is None and self.writer.count:
-            self.log.warn('%s does not say which sample its last landmark came from: cannot '
-                          'catch up; the recording goes on after a gap', self.writer.path)
-            return False
-        name = rospy.resolve_name(names.RECORDED_SAMPLES)
-        try:
-            rospy.wait_for_service(name, self.params.catch_up_timeout)
-            answer = rospy.ServiceProxy(name, RecordedSamples)(
-                recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
-        except (rospy.ROSException, rospy.ServiceException) as error:
-            self.log.warn('cannot catch up on the samples missed (%s); the recording goes on '
-                          'after a gap', error)
-            return False
-        problem = answer_problem(answer, mark)
+            problem = '%s does not say which sample its last landmark came from' % self.writer.path
+        else:
+            try:
+                rospy.wait_for_service(name, self.params.catch_up_timeout)
+                answer = rospy.ServiceProxy(name, RecordedSamples)(
+                    recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
+                problem = answer_problem(answer, mark)
+            except (rospy.ROSException, rospy.ServiceException) as error:
+                problem = str(error)
         if problem:
-            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on '
-                          'after a gap', problem)
+            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on after a gap',
+                          problem)
             return False
         caught = []
         for index, sample in enumerate(answer.samples):

@@ -18,9 +18,8 @@ from .diagnostics import Diagnostics
 from . import faults
 from .faults import Faults
 from .mission import MissionStateView
-from .motion import SafetyMonitor
+from .motion import SafetyMonitor, TakeoverWatch
 from .odometry import OdometryFeed
-from .takeover import TakeoverWatch
 
 #: The mission state's owner in the paper layout; the param of the mission's id.
 MISSION_OWNER = 'back_travel_client'
@@ -68,8 +67,7 @@ class Layer(object):
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
-        # a new mission starts on the odometry as it finds it (ros/odometry.py), and so does
-        # its recording: a reset while idle (a restarted simulator's clock) loses nothing
+        # a new mission (and its recording) starts on the odometry as it finds it
         self.mission.on_new_mission(self.guard('odometry feed')(
             lambda: self.odometry.set_correction(None, None)))
         self.mission.on_change(self.guard('odometry feed')(

@@ -19,8 +19,8 @@ from blind_navigation.core.progress_keeper import MissionProgress
 from blind_navigation.core.return_plan import plan_return
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.common import set_pose
-from blind_navigation.ros.heading_correction import (calibration_file, calibration_status,
+from blind_navigation.ros.common import ros_home_file, set_pose
+from blind_navigation.ros.heading_correction import (CALIBRATION_FILE, calibration_status,
                                                     correction_message, vo_status)
 from blind_navigation.ros.landmark_saving import path_message
 
@@ -50,10 +50,9 @@ def add_diagnostics(owner, settings):
     if not settings['heading_correction']:
         return
     heading = settings['standstill']
-    path = calibration_file(heading.gyro_calibration_file)
+    path = ros_home_file(CALIBRATION_FILE, heading.gyro_calibration_file)
     add('heading correction: visual odometry', lambda stat: vo_status(
-        stat, m().phase != RECORDING, None if owner.vo_heard is None else
-        rospy.get_time() - owner.vo_heard, rospy.get_time() - owner.vo_since, heading.vo_timeout,
+        stat, m().phase != RECORDING, owner.vo_heard, owner.vo_since, heading.vo_timeout,
         len(getattr(m().recording.fit, 'rows', ()))))
     add('heading correction: gyro calibration',
         lambda stat: calibration_status(stat, path, settings['scale_prior']))

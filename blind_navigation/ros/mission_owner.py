@@ -22,10 +22,10 @@ from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_S
 from blind_navigation.msg import BackTravelAction, BackTravelResult, MissionStatus, PathSample, StorageUsage
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 from blind_navigation.ros.clock import LoopClock, action_server, describe
-from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.common import ros_home_file, subscribe
 from blind_navigation.ros.docking import DockingClient, subscribe_battery
-from blind_navigation.ros.heading_correction import calibration_file, scale_prior
-from blind_navigation.ros.landmark_saving import landmark_file
+from blind_navigation.ros.heading_correction import CALIBRATION_FILE, scale_prior
+from blind_navigation.ros.landmark_saving import LANDMARK_FILE
 from blind_navigation.ros.layer import MISSION_ID
 from blind_navigation.ros.mission_outputs import MissionOutputs, add_diagnostics, reply
 from blind_navigation.ros.mission_store import FileStore
@@ -93,13 +93,13 @@ def owner_params(layer):
         straight_period=params.straight_period, curved_period=1.0 / sampling.curved_rate,
         deadband=sampling.deadband, event_sampling=sampling.event_sampling,
         heading_correction=correct, standstill=heading, mode=server.control,
-        scale_prior=scale_prior(calibration_file(heading.gyro_calibration_file),
+        scale_prior=scale_prior(ros_home_file(CALIBRATION_FILE, heading.gyro_calibration_file),
                                 layer.logger('heading_correction')) if correct else None,
         prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
         handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
         turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
         limits=client, battery_low=owner.battery_low, dock_at_home=bool(owner.dock_at_home))
-    return params, settings, landmark_file(client.landmark_file), rotate.max_w
+    return params, settings, ros_home_file(LANDMARK_FILE, client.landmark_file), rotate.max_w
 
 
 def _drivers(layer, p, turn_w, takeover):
@@ -112,8 +112,7 @@ def _drivers(layer, p, turn_w, takeover):
                                           layer.mission, layer.safety, takeover)}
 
 
-#: s (wall) a record_landmark request waits for the mission's answer; why every BackTravel
-#: goal is rejected here.
+#: s (wall) a record_landmark request waits for its answer; why every BackTravel goal is rejected.
 ANSWER_WAIT = 2.0
 REJECTED = ("the one-process layer drives its return itself (one mission object); landmark goals "
             "are served by paper.launch's back_travel_server (one_process:=false)")
@@ -233,7 +232,6 @@ class MissionOwner(object):
         self.log.info('recording path landmarks into %s', writer.path)
         return FileStore(writer)
 
-    # --- the loop ------------------------------------------------------------------------------
     def run(self):
         """Step the mission until shutdown."""
         clock = LoopClock(self.ROLE, self.log, then='a turn or a return ends aborted')
@@ -338,7 +336,6 @@ class MissionOwner(object):
             output.halt('node shutdown')
         self.store.close()
 
-    # --- services ------------------------------------------------------------------------------
     def _on_go_home(self, request):
         """Answered once the loop acted on it (at most ``server_timeout``)."""
         with self.stepped:

@@ -38,11 +38,16 @@ class FileStore(object):
             self.error = str(error)
             self.log.error('gap not noted: %s', error)
 
-    def load(self):
+    def finish(self):
+        """The file finished (a failure logged, kept in ``error`` unless one is)."""
         try:
             self.writer.finish()
         except StorageError as error:
             self.error = self.error or str(error)
+            self.log.error('%s', error)
+
+    def load(self):
+        self.finish()
         return load_landmarks(self.writer.path)
 
     def loss(self):

@@ -64,7 +64,6 @@ class OdometryFeed(object):
             self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
             subscribe(frame_topic, PoseStamped, guard(self._on_frame))
 
-    # --- subscription --------------------------------------------------------------------------
     def acquire(self, holder):
         """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
         with self._lock:
@@ -132,7 +131,6 @@ class OdometryFeed(object):
             self._listeners = tuple(c for c in self._listeners if c != callback)
             self._raw_listeners = tuple(c for c in self._raw_listeners if c != callback)
 
-    # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
         if self.expected.accepts(self.topic, msg._connection_header):
             with self.carrier_lock:     # a frame adopted meanwhile waits (_on_frame)
@@ -188,7 +186,6 @@ class OdometryFeed(object):
         rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s'
                                % (rospy.get_name(), rospy.resolve_name(self.topic), reason))
 
-    # --- output --------------------------------------------------------------------------------
     def latest(self):
         """The newest accepted raw OdomState, or None."""
         with self._lock:
@@ -247,7 +244,6 @@ class OdometryFeed(object):
             return 'no valid odometry received on %s' % topic
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
 
-    # --- the heading-corrected frame -------------------------------------------------------------
     def set_correction(self, correction, reference):
         """:meth:`fresh` in the frame of ``correction`` (a GyroCorrection), the raw one at
         ``reference``; None: a new mission, the raw frame as found (not lost)."""

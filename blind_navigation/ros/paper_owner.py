@@ -26,8 +26,8 @@ from blind_navigation.core.safety import is_contact
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
 from blind_navigation.msg import (BackTravelAction, BackTravelGoal, HeadingCorrection, ReturnRoute,
                                   RouteSection, StorageUsage)
-from blind_navigation.ros.common import subscribe
-from blind_navigation.ros.landmark_saving import landmark_file
+from blind_navigation.ros.common import ros_home_file, subscribe
+from blind_navigation.ros.landmark_saving import LANDMARK_FILE
 from blind_navigation.ros.layer import correction_from_message
 from blind_navigation.ros.mission_owner import MissionOwner
 from blind_navigation.srv import SetReturnRoute
@@ -41,7 +41,7 @@ def paper_params(layer):
                     prune_loops=client.prune_loops, on_vision_back=client.on_vision_back,
                     turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
                     limits=client, remote_goals=True, remote=Remote(client.heading_correction))
-    return params, settings, landmark_file(client.landmark_file), None
+    return params, settings, ros_home_file(LANDMARK_FILE, client.landmark_file), None
 
 
 class SaverFile(object):
@@ -101,7 +101,6 @@ class PaperOwner(MissionOwner):
             subscribe(names.HEADING_CORRECTION, HeadingCorrection, guard(
                 lambda msg: self._on_correction(correction_from_message(msg)[0])), queue_size=1)
 
-    # --- the other nodes ---------------------------------------------------------------------
     def _on_failure(self, msg):
         sender = msg._connection_header.get('callerid', '?')
         if sender != rospy.get_name():          # this process's roles report at once
@@ -142,7 +141,6 @@ class PaperOwner(MissionOwner):
             else:
                 self.inbox.put(goal_result=result)
 
-    # --- the loop ----------------------------------------------------------------------------
     def _step(self, now, odom, visual, events):
         m = self.mission
         if m.state == state.RECORDING and (events.get('vision_lost') or 'go_home' in m.requests):

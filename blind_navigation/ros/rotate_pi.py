@@ -59,7 +59,6 @@ class RotatePi(Role):
             stat.add('heading correction', 'installed' if self.correction.received else 'awaited')
         self.driver.diagnose(stat)
 
-    # --- events ----------------------------------------------------------------------------------
     def _on_sample(self, msg):
         if msg.command == FINAL:
             self.final = True
@@ -86,7 +85,6 @@ class RotatePi(Role):
     def rotating(self):
         return self.layer.mission.state == mission_state.ROTATING
 
-    # --- the turn: one loop ----------------------------------------------------------------------
     def run(self):
         """Wait for the mission to rotate, turn, report (ros/layer.run_roles)."""
         for now, jump in self.driver.ticks(lambda: self.trigger or self.waiting is not None or

@@ -84,7 +84,6 @@ class SamplingPublisher(Role):
         else:
             stat.summary(diagnostics.OK, 'sampling: %s segment' % self.rec.schedule.segment)
 
-    # -- inputs -------------------------------------------------------------
     def _on_pose2d(self, msg):
         if math.isfinite(msg.theta):
             self._on_yaw(OdomState(0.0, 0.0, msg.theta, 0.0, 0.0, rospy.get_time()))
@@ -108,7 +107,6 @@ class SamplingPublisher(Role):
             self.layer.odometry.acquire(self.ROLE)
         self.log.info('new mission: recording again')
 
-    # -- the sampling ---------------------------------------------------------
     def _on_yaw(self, state):
         """Step the sampling (started once the mission records and the recorders listen)."""
         with self._lock:
@@ -162,34 +160,27 @@ class SamplingPublisher(Role):
     def _recorded_samples(self, request):
         """RecordedSamples: this recording's samples after ``request.after``."""
         with self._lock:
-            response = RecordedSamplesResponse(recording=self.recording)
+            response, logged = RecordedSamplesResponse(recording=self.recording), None
             if self.samples is None:
                 response.message = 'no samples logged (%s)' % (
                     'yaw_source is not odom' if self.params.yaw_source != 'odom' else 'not recording yet')
-                return response
-            if request.after and request.recording != self.recording:
+            elif request.after and request.recording != self.recording:
                 response.message = ('the caller follows recording %.3f, this is recording %.3f'
                                     % (request.recording, self.recording))
-                return response
-            logged = self.samples.since(request.after)
-            if logged is None:
-                response.message = 'sample %d is not kept (%d to %d are)' % (
+            else:
+                logged = self.samples.since(request.after)
+                response.message = '' if logged is not None else 'sample %d is not kept (%d to %d are)' % (
                     request.after, self.samples.first, self.samples.last)
+            if logged is None:
                 return response
-        add_logged(response, logged)
+        for entry in logged:
+            sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
+                                recording=response.recording, seq=entry.seq)
+            sample.header.stamp = rospy.Time.from_sec(entry.stamp)
+            response.samples.append(sample)
+            for name in ('x', 'y', 'v', 'w'):
+                getattr(response, name).append(getattr(entry, name))
         self.log.info('sent samples %d to %d of recording %.3f to a restarted recorder',
                       request.after, self.seq, self.recording)
         return response
 
-
-def add_logged(response, logged):
-    """Add the ``logged`` core/sample_log entries to a RecordedSamples ``response``."""
-    for entry in logged:
-        sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
-                            recording=response.recording, seq=entry.seq)
-        sample.header.stamp = rospy.Time.from_sec(entry.stamp)
-        response.samples.append(sample)
-        response.x.append(entry.x)
-        response.y.append(entry.y)
-        response.v.append(entry.v)
-        response.w.append(entry.w)

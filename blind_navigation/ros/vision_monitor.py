@@ -38,11 +38,9 @@ class VisionMonitor(Role):
         p, guard = self.params, self.guard
         self.enabled = enabled = set(p.detectors)
         self.lock = threading.Lock()
-        self.done = False
+        self.done, self.warned = False, set()
         self.generation = 0   # the missions watched (new_mission watches anew)
-        self.lost = None      # the loss detected (core/vision.Loss), until vision is back
-        self.back = None      # its core/vision.VisionBack
-        self.warned = set()
+        self.lost = self.back = None    # the loss detected (core/vision.Loss) and its VisionBack
         self.started = None   # first stall check: sim time may not have arrived yet here
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
@@ -78,8 +76,7 @@ class VisionMonitor(Role):
         if self.watching_vo:
             self.layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
             self.layer.visual_odometry.acquire(self.ROLE)
-        # the wheel odometry's arrivals tell a host stall from a vision fault (one process:
-        # the recorder's subscription already; the paper's layout: one more)
+        # the wheel odometry's arrivals tell a host stall from a vision fault
         self.layer.odometry.add_listener(self.listeners['wheel'], raw=True)
         self.layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
@@ -89,7 +86,6 @@ class VisionMonitor(Role):
         threading.Thread(target=guard(self.watch_stalls), args=(self.generation,),
                          name='vision_monitor_stalls', daemon=True).start()
 
-    # --- inputs ---------------------------------------------------------------------------------
     def on_camera_info(self, _msg):
         self.last_camera = rospy.get_time()
         self.feed(self.monitor.image, None)
@@ -146,8 +142,7 @@ class VisionMonitor(Role):
 
     def _new_mission(self):
         with self.lock:
-            self.done, self.started = False, None
-            self.lost = self.back = None
+            self.done, self.started, self.lost, self.back = False, None, None, None
             self.generation += 1
         self.log.info('new mission: watching again')
         self.start_watching()
@@ -203,7 +198,6 @@ class VisionMonitor(Role):
                            'detectors are not armed; detection falls back to the camera '
                            'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
 
-    # --- output ---------------------------------------------------------------------------------
     def feed(self, method, *args):
         """Run one core feed method now; act on a loss and on its end."""
         with self.lock:
@@ -217,15 +211,12 @@ class VisionMonitor(Role):
                 # vision back only after a loss seen here, not after one declared by hand
                 self.back = None if lost.detector == 'manual' else VisionBack(
                     self.monitor, self.params.vision_back_time)
-            elif lost is not None and self.back is not None and self.back.update(now):
-                self.lost = self.back = None
-                self.back_pub.publish(String(data='vision back after %.1f s (%s lost)'
-                                             % (now - self.params.vision_back_time - lost.since,
-                                                lost.detector)))
-                self.log.warn('VISION BACK after %.1f s: watching for the next loss',
-                              now - lost.since)
-                return
             else:
+                if lost is not None and self.back is not None and self.back.update(now):
+                    self.lost = self.back = None
+                    self.back_pub.publish(String(data='vision back after %.1f s (%s lost)' % (
+                        now - self.params.vision_back_time - lost.since, lost.detector)))
+                    self.log.warn('VISION BACK after %.1f s: watching for the next loss', now - lost.since)
                 return
         self.fire(lost)
 
