@@ -59,7 +59,10 @@ class CalibrateGyro(Role):
             if not reason:
                 with self._lock:
                     calibration = self.spin.result()
-                self._save(calibration)
+                if os.path.exists(self.path):     # kept as .previous, the new one written atomically
+                    shutil.copy2(self.path, self.path + '.previous')
+                    self.log.info('previous calibration kept as %s.previous', self.path)
+                save_calibration(self.path, calibration, self.spin.turns)
         except CalibrationError as error:
             reason = str(error)
         except (OSError, rospy.ROSInterruptException) as error:
@@ -96,13 +99,6 @@ class CalibrateGyro(Role):
             if ended is not None and ended.kind != drive.CANCELLED:
                 return ended.reason
         return 'node shutdown before the spins were done (%s)' % self.spin.progress
-
-    def _save(self, calibration):
-        """Keep an existing file as ``.previous``, then write the new one atomically."""
-        if os.path.exists(self.path):
-            shutil.copy2(self.path, self.path + '.previous')
-            self.log.info('previous calibration kept as %s.previous', self.path)
-        save_calibration(self.path, calibration, self.spin.turns)
 
 
 class _Spins(object):

@@ -7,7 +7,7 @@ import threading
 import rospy
 
 from .. import names
-from ..core.mission_state import IDLE, RECORDING
+from ..core.mission_state import IDLE, RECORDING, starts_new_mission
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
@@ -54,8 +54,7 @@ class Layer(object):
         owner = self.node if compact else rospy.get_param('~mission_owner', MISSION_OWNER)
         self.mission_owner = rospy.resolve_name(owner)
         self.mission_id = rospy.get_param(MISSION_ID, None)
-        namespace = rospy.get_namespace().strip('/')
-        self.diagnostics = Diagnostics(namespace or 'none')
+        self.diagnostics = Diagnostics(rospy.get_namespace().strip('/'))
         self.faults = Faults(self.diagnostics)
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
         faults.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
@@ -68,15 +67,11 @@ class Layer(object):
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
         # a new mission (and its recording) starts on the odometry as it finds it
-        self.mission.on_new_mission(self.guard('odometry feed')(
-            lambda: self.odometry.set_correction(None, None)))
-        self.mission.on_change(self.guard('odometry feed')(
-            lambda old, new: self.odometry.set_correction(None, None)
-            if (old, new) == (IDLE, RECORDING) else None))
+        self.mission.on_change(self.guard('odometry feed')(lambda old, new: self.odometry.set_correction(
+            None, None) if starts_new_mission(old, new) or (old, new) == (IDLE, RECORDING) else None))
         self.safety = SafetyMonitor(self.guard('safety monitor'))
-        self._correction = None
+        self._correction = self._takeover = None
         self._correction_lock = threading.Lock()
-        self._takeover = None
 
     def params(self, role, schema):
         """``role``'s params, typed by ``schema`` (ParamError names a bad one); ``~<role>/name``

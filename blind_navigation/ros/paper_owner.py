@@ -98,8 +98,7 @@ class PaperOwner(MissionOwner):
         self.end_pub = rospy.Publisher(names.RECORDING_END, Empty, queue_size=1, latch=True)
         subscribe(names.ROTATION_DONE, Bool, guard(lambda msg: self._on_rotation_done(msg.data)), queue_size=1)
         if self.mission.config.heading_correction:
-            subscribe(names.HEADING_CORRECTION, HeadingCorrection, guard(
-                lambda msg: self._on_correction(correction_from_message(msg)[0])), queue_size=1)
+            subscribe(names.HEADING_CORRECTION, HeadingCorrection, guard(self._on_correction), queue_size=1)
 
     def _on_failure(self, msg):
         sender = msg._connection_header.get('callerid', '?')
@@ -117,10 +116,10 @@ class PaperOwner(MissionOwner):
                 self.publish_status()
         self.inbox.put()
 
-    def _on_correction(self, correction):
+    def _on_correction(self, msg):
         with self.lock:
             if self.mission.state == state.ROTATING:
-                self.mission.config.remote.measured = correction
+                self.mission.config.remote.measured = correction_from_message(msg)[0]
 
     def _on_rotation_done(self, ok):
         """rotate_pi's end of the turn: the mission's turn takes it (a failed one ends the
