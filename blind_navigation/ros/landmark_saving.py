@@ -157,11 +157,6 @@ class LandmarkSaving(Role):
             self.log.info('final landmark saved; recording finished')
         return label, landmark
 
-    @property
-    def resuming(self):
-        """True if this saver continued the mission's file and may catch up."""
-        return self.writer.resumed is not None and not self.finished
-
     def start_catch_up(self, subscribed):
         """Take the lock and catch up in a thread (samples arriving meanwhile wait): call before
         subscribing; it asks once ``subscribed()`` or after ``catch_up_timeout``."""
@@ -272,7 +267,7 @@ class LandmarkSaver(LandmarkSaving):
         self.when_ready(self._take_samples)
 
     def _take_samples(self):
-        if self.resuming:
+        if self.writer.resumed is not None and not self.finished:     # continued the file: catch up
             self.start_catch_up(lambda: self.sample_sub is not None and self.sample_sub.get_num_connections() > 0)
         self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample), queue_size=20)
 
