@@ -10,7 +10,7 @@ namespace they are INTERFACE.md's. Only ``/clock`` is global.
 ODOM = 'odom'
 #: geometry_msgs/Twist the pi turn and the back travel drive (a cmd_vel_mux input, as in the paper)
 CMD_VEL = 'cmd_vel_mux/input/teleop'
-#: std_msgs/String, the mux's active input (its name, or ``idle``): a takeover (ros/takeover.py)
+#: std_msgs/String, the mux's active input (its name, or ``idle``): a takeover (ros/motion.TakeoverWatch)
 CMD_VEL_MUX_ACTIVE = 'cmd_vel_mux/active'
 #: geometry_msgs/Twist the mux forwards to the base: a command the layer did not send is a takeover
 MUX_OUTPUT = 'mobile_base/commands/velocity'

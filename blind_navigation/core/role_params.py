@@ -23,7 +23,7 @@ from .segment import SAMPLING_DEFAULTS
 from .vision import DETECTORS
 
 #: The params every role of a process reads as ``~name`` (not ``~<role>/name``); the
-#: takeover's: one watch per process (ros/takeover.py) for every role that drives.
+#: takeover's: one watch per process (ros/motion.py) for every role that drives.
 SHARED = ('straight_rate', 'standstill_time', 'takeover_wait', 'on_takeover', 'takeover_inputs')
 YAW_SOURCES = ('odom', 'pose2d')
 

@@ -14,7 +14,7 @@ from blind_navigation.ros.layer import start_roles
 def main():
     rospy.init_node('calibrate_gyro')
     calibration, = start_roles([CalibrateGyro])
-    ok = calibration.layer.guard(calibration.ROLE)(calibration.run)()   # None: it failed
+    ok = calibration.guard(calibration.run)()   # None: it failed
     time.sleep(0.3)   # wall: let the zero command and the last log line leave before exiting
     rospy.signal_shutdown('calibration finished' if ok else 'calibration failed')
     sys.exit(0 if ok else 1)

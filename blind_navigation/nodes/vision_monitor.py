@@ -1,16 +1,8 @@
 #!/usr/bin/env python3
-"""The vision_monitor node, automatic vision-loss detection, alone in its process (the paper's node
-layout, launch/paper.launch). The role's class: blind_navigation/ros/vision_monitor.py."""
-import rospy
-
+"""The vision_monitor node, automatic vision-loss detection, alone in its process
+(launch/paper.launch). The role's class: blind_navigation/ros/vision_monitor.py."""
 from blind_navigation.ros.vision_monitor import VisionMonitor
-from blind_navigation.ros.layer import run_roles, start_roles
-
-
-def main():
-    rospy.init_node('vision_monitor')
-    run_roles(start_roles([VisionMonitor]))
-
+from blind_navigation.ros.layer import run_node
 
 if __name__ == '__main__':
-    main()
+    run_node('vision_monitor', VisionMonitor)

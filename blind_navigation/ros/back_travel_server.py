@@ -1,9 +1,6 @@
-"""The back-travel server: the paper's action server (3.3.5-3.3.6).
-
-Serves ``blind_navigation/back_travel``: one landmark per goal of the route the owner set
-(``set_return_route``), driven by the mission's own core/mission_drive.ReturnDrive (each next
-goal awaited) on ros/drive_node.DriveNode; only the owner's goals, while ``returning``, the
-route's next one (docs/back_travel.md, docs/safety.md).
+"""The back-travel server (paper 3.3.5-3.3.6): one landmark per ``back_travel`` goal of the
+route the owner set (``set_return_route``), driven by the mission's ReturnDrive on a DriveNode;
+only the owner's goals, while ``returning``, the route's next one (docs/back_travel.md).
 """
 import threading
 import types
@@ -19,29 +16,30 @@ from blind_navigation.core.landmark import landmark_from_values
 from blind_navigation.core.mission_drive import FINAL, GOAL, HANDOVER, ZERO, ReturnDrive
 from blind_navigation.core.pause import Contacts
 from blind_navigation.core.role_params import BACK_TRAVEL_SERVER
+from blind_navigation.core.route import Route, route_lists
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.core.safety import goal_limits, landmarks_from_flat
 from blind_navigation.core.segment import period_of
-from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult
+from blind_navigation.msg import BackTravelAction, BackTravelFeedback, BackTravelResult, ReturnRoute
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.clock import action_server
 from blind_navigation.ros.drive_node import DriveNode
-from blind_navigation.ros.route_wire import route_of
+from blind_navigation.ros.mission import Role
 from blind_navigation.srv import SetReturnRoute, SetReturnRouteResponse
 
-#: The client watches the whole return (core/mission_limits.ReturnWatch); the server's goals none.
+#: The client watches the whole return; the server's goals: none.
 UNWATCHED = types.SimpleNamespace(problem=lambda now, travelled: None, resumed=lambda seconds: None)
 
 
-class BackTravelServer(object):
+class BackTravelServer(Role):
     """Drives one landmark per goal (module docstring)."""
 
     ROLE = mission_state.BACK_TRAVEL_ROLE
     SCHEMA = BACK_TRAVEL_SERVER
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.SCHEMA)
-        self.log = layer.logger(self.ROLE)
+        Role.__init__(self, layer)
+        p = self.params
         for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset',
                      'status_frequency'):
             if not getattr(p, name) > 0:
@@ -51,11 +49,10 @@ class BackTravelServer(object):
         self.goal_params = types.SimpleNamespace(**dict(
             p._asdict(), straight_period=period_of(p.straight_rate, '~straight_rate'),
             await_goals=True))
-        self.layer, self.odometry = layer, layer.odometry
+        self.odometry = layer.odometry
         layer.heading_correction()       # drive on the corrected odometry once it exists
-        self.driver = DriveNode(layer, self.ROLE, p, self.log, (p.max_v, p.max_w), layer.mission, True,
-                                self._label)
-        self.output, self.takeover = self.driver.output, self.driver.takeover
+        self.driver = DriveNode(self, (p.max_v, p.max_w), layer.mission, True, self._label)
+        self.output = self.driver.output
         self._lock = threading.Lock()
         self.follower = self.drive = None   # the return's RouteFollower (closed_loop), ReturnDrive
         self.landmarks = []             # its goals' landmarks, return order
@@ -63,16 +60,13 @@ class BackTravelServer(object):
         self.ended = None               # the core/drive.Outcome that ended the return, if any
         self.started = self.feedback_at = self.pending_since = self.odom = self.index = None
         self.last_abort = ''
-        guard = layer.guard(self.ROLE)
-        layer.mission.on_change(guard(self._on_state))
-        rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, guard(self._on_set_route))
-        self.server = action_server(names.BACK_TRAVEL, BackTravelAction, guard, self._on_goal,
+        self.follow('back travel')
+        rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, self.guard(self._on_set_route))
+        self.server = action_server(names.BACK_TRAVEL, BackTravelAction, self.guard, self._on_goal,
                                     self._on_cancel, 1.0 / p.status_frequency, self.log)
-        layer.diagnostics.add('back travel', self._diagnose)
         self.log.info('serving %s in %s mode on %s', rospy.resolve_name(names.BACK_TRAVEL),
                       p.control, rospy.resolve_name(names.CMD_VEL))
 
-    # --- who may send what -------------------------------------------------------------------
     def _on_set_route(self, request):
         """The return's route, its goals' landmarks and how many are done."""
         p = self.params
@@ -138,7 +132,7 @@ class BackTravelServer(object):
         self.driver.wake.set()
 
     def _goal_problem(self, handle):
-        """Why a goal is rejected, or None (module docstring)."""
+        """Why a goal is rejected, or None."""
         state = self.layer.mission.state
         if state != mission_state.RETURNING:
             return 'the mission is %s, not returning' % state
@@ -181,7 +175,7 @@ class BackTravelServer(object):
         stat.add('control', self.params.control)
         stat.add('goals done', '%d of %d' % (self.drive.index if self.drive else 0, len(self.landmarks)))
         stat.add('bumper contacts', self.driver.pauses.contacts.describe() if self.driver.pauses else 'none')
-        stat.add('takeover', self.takeover.active() or 'none')
+        self.driver.diagnose(stat)
         if self.layer.mission.state == mission_state.RETURNING:
             diagnostics.age_status(stat, 'odometry', self.odometry.age(), self.params.odom_timeout,
                                    diagnostics.ERROR, listening=self.odometry.listening())
@@ -190,9 +184,8 @@ class BackTravelServer(object):
         else:
             stat.summary(diagnostics.OK, 'ready' if self.drive is None else 'route set')
 
-    # --- driving: the one loop -----------------------------------------------------------------
     def run(self):
-        """Step the return while a goal, a hand-over or the final hold is under way (ros/layer.run_roles)."""
+        """Step the return while a goal, a hand-over or the final hold is under way."""
         for now, jump in self.driver.ticks(self._locked_busy):
             self._cycle(now, jump)
 
@@ -252,8 +245,7 @@ class BackTravelServer(object):
         return calls
 
     def _end(self, ended, now, travelled):
-        """The active goal ended with the core/drive.Outcome ``ended`` after ``travelled`` m: the
-        call that ends its handle."""
+        """The call that ends the active goal's handle with ``ended`` after ``travelled`` m."""
         handle, self.active = self.active, None
         result = BackTravelResult(distance=travelled, duration=now - self.started, outcome=ended.cause)
         reason = ended.reason
@@ -274,3 +266,14 @@ def _report_late(follower, log):
         index, taken, nominal = follower.late.pop(0)
         log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
                  'only when it stops making progress)', index + 1, taken, nominal)
+
+
+def route_of(request):
+    """The core/route.Route a SetReturnRoute request carries; ValueError naming a bad field."""
+    msg = request.route
+    if msg.version != ReturnRoute.ROUTE_VERSION:
+        raise ValueError('route: version %d, this server reads version %d' % (msg.version, ReturnRoute.ROUTE_VERSION))
+    try:
+        return Route.from_lists(route_lists(msg))
+    except ValueError as error:
+        raise ValueError('route: %s' % error)

@@ -1,9 +1,6 @@
-"""calibrate_gyro: the one-off gyro scale calibration (core/gyro_calibration.py) as a node.
-
-Spins the robot ``turns`` full turns each way while feeding odometry and RTAB-Map's
-visual-odometry yaw to the fit (no visual odometry: it says so and does not spin),
-then writes ``calibration_file`` atomically (the old one kept as ``.previous``). On any
-failure it stops the robot, logs why, leaves the file and exits 1.
+"""calibrate_gyro: the one-off gyro scale calibration (core/gyro_calibration.py): ``turns``
+spins each way fitting odometry against visual-odometry yaw, then ``calibration_file`` written
+atomically (the old one kept as ``.previous``); on failure the robot stops, the file stays.
 """
 import os
 import shutil
@@ -15,36 +12,33 @@ import rospy
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state, outcome
 from blind_navigation.core.allowance import DRIVE
-from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_calibration import CalibrationError, SpinCalibration, save_calibration
 from blind_navigation.core.role_params import CALIBRATE_GYRO
-from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.core.mission_drive import DONE, FAILED
 from blind_navigation.ros.drive_node import DriveNode
-from blind_navigation.ros.heading_correction import calibration_file
+from blind_navigation.ros.common import ros_home_file
+from blind_navigation.ros.heading_correction import CALIBRATION_FILE
+from blind_navigation.ros.mission import Role
+from blind_navigation.ros.odometry import visual_yaw
 
 
-class CalibrateGyro(object):
+class CalibrateGyro(Role):
     """The calibration routine on ROS (module docstring)."""
 
     ROLE = mission_state.CALIBRATION_ROLE
     SCHEMA = CALIBRATE_GYRO
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.SCHEMA)
-        self.log = layer.logger(self.ROLE)
-        self.path = calibration_file(p.calibration_file)
-        self.spin = SpinCalibration(p)   # validates the spin and fit params
-        self.layer = layer
+        Role.__init__(self, layer)
+        self.path = ros_home_file(CALIBRATION_FILE, self.params.calibration_file)
+        self.spin = SpinCalibration(self.params)   # validates the spin and fit params
         self.odom = layer.odometry
         self._lock = threading.Lock()
         self._vo_valid = False
-        guard = layer.guard(self.ROLE)
-        self.driver = DriveNode(layer, self.ROLE, p, self.log, (0.0, self.spin.max_w), None, False,
-                                lambda: 'spin')
+        self.driver = DriveNode(self, (0.0, self.spin.max_w), None, False, lambda: 'spin')
         self.output = self.driver.output
-        self.odom.add_listener(guard(self._on_odom))
-        layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
+        self.odom.add_listener(self.guard(self._on_odom))
+        layer.visual_odometry.add_listener(self.guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)
         layer.visual_odometry.acquire(self.ROLE)
 
@@ -53,10 +47,9 @@ class CalibrateGyro(object):
             self.spin.fit.add_odometry(state.stamp, state.yaw)
 
     def _on_vo(self, wire):
-        valid = wire_lost_reason(wire) is None
-        yaw = yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw) if valid else None
+        yaw = visual_yaw(wire)
         with self._lock:
-            self._vo_valid = self._vo_valid or valid
+            self._vo_valid = self._vo_valid or yaw is not None
             self.spin.fit.add_visual(wire.stamp, yaw)
 
     def run(self):
@@ -66,7 +59,10 @@ class CalibrateGyro(object):
             if not reason:
                 with self._lock:
                     calibration = self.spin.result()
-                self._save(calibration)
+                if os.path.exists(self.path):     # kept as .previous, the new one written atomically
+                    shutil.copy2(self.path, self.path + '.previous')
+                    self.log.info('previous calibration kept as %s.previous', self.path)
+                save_calibration(self.path, calibration, self.spin.turns)
         except CalibrationError as error:
             reason = str(error)
         except (OSError, rospy.ROSInterruptException) as error:
@@ -83,9 +79,7 @@ class CalibrateGyro(object):
         """Drive the spins; '' when done, else why they stopped."""
         p = self.params
         deadline = time.monotonic() + p.start_timeout
-        # Under use_sim_time, odometry can arrive before this node's first /clock
-        # message (time 0): wait for the clock too, or the first check after the
-        # clock jumps would find that odometry stale.
+        # the clock too: under use_sim_time odometry may come before the first /clock
         while rospy.Time.now().is_zero() or not self._vo_valid:
             if rospy.is_shutdown() or time.monotonic() > deadline:
                 if not self._vo_valid:
@@ -105,13 +99,6 @@ class CalibrateGyro(object):
             if ended is not None and ended.kind != drive.CANCELLED:
                 return ended.reason
         return 'node shutdown before the spins were done (%s)' % self.spin.progress
-
-    def _save(self, calibration):
-        """Keep an existing file as ``.previous``, then write the new one atomically."""
-        if os.path.exists(self.path):
-            shutil.copy2(self.path, self.path + '.previous')
-            self.log.info('previous calibration kept as %s.previous', self.path)
-        save_calibration(self.path, calibration, self.spin.turns)
 
 
 class _Spins(object):

@@ -1,18 +1,15 @@
-"""ROS time that moves back, and loops and timers that go on across it.
-
-:class:`LoopClock` (``sleep``, ``rate``) sleeps as rospy does, but a jump back (a
-restarted simulator's ``/clock``) ends the sleep early and is returned and warned, never
-raised (docs/safety.md, "Time that moves back"); :func:`every`: a timer on it (a daemon
-thread); :func:`action_server`: an actionlib server without actionlib's status timer.
+"""ROS time that moves back, and loops and timers that go on across it: :class:`LoopClock`
+sleeps as rospy does, but a jump back ends the sleep, warned and returned, never raised
+(docs/safety.md, "Time that moves back"); :func:`every`, a timer on it; :func:`action_server`.
 """
 import threading
 import time
+from types import SimpleNamespace
 
 import actionlib
 import rospy
 
-#: wall s: a loop warns at most once in this long (a clock that keeps jumping: the next
-#: warning counts the jumps it did not warn about)
+#: wall s: a loop warns at most once in this long (the next warning counts the jumps since)
 WARN_PERIOD = 10.0
 
 
@@ -23,16 +20,15 @@ def describe(jump, before, now):
 
 
 class LoopClock(object):
-    """The ROS clock as the loop ``loop`` (a name for the warning) sees it; ``log``:
-    a ros/layer.RoleLog, or None (rospy's); ``then``: what the loop does after a jump."""
+    """The ROS clock as the loop ``loop`` sees it; ``log``: a RoleLog or None; ``then``: what the
+    loop does after a jump (for the warning)."""
 
     def __init__(self, loop, log=None, then='going on'):
         self.loop, self.then = loop, then
         self._warn = log.warn if log is not None else rospy.logwarn
-        self._seen = None           # ROS time (s) this loop last looked
-        self._warned_at = None      # wall time of its last warning
+        self._seen = self._warned_at = None     # ROS time last looked; wall time last warned
         self._unwarned = 0          # jumps since then not warned about
-        self.moved_back = 0.0       # s the time moved back in all, as this loop saw it
+        self.moved_back = 0.0       # s the time moved back in all
         self.last_jump = None       # (jump, before, now) of the last jump back, s
 
     def now(self):
@@ -57,41 +53,26 @@ class LoopClock(object):
             self._warned_at, self._unwarned = wall, 0
         return now, jump
 
-    def sleep(self, seconds):
-        """rospy.sleep(``seconds``); a jump back ends it early. Returns how far the time
-        moved back since the last look (0.0: it did not)."""
+    def sleep(self, seconds, rate=None):
+        """rospy.sleep(``seconds``) (or ``rate.sleep()``: the next tick a period from a jump), ended
+        by a jump back; s the time moved back since the last look."""
         jump = self._look()[1]
         try:
-            rospy.sleep(seconds)
+            rate.sleep() if rate is not None else rospy.sleep(seconds)
         except rospy.ROSTimeMovedBackwardsException:
-            pass                    # measured from the last look, just below
+            if rate is not None:
+                rate.last_time = rospy.get_rostime()
         return jump + self._look()[1]
 
     def rate(self, hz):
-        """A :class:`Rate` of ``hz`` on this clock."""
-        return Rate(self, hz)
-
-
-class Rate(object):
-    """rospy.Rate on a LoopClock: :meth:`sleep` returns how far the time moved back
-    (0.0: it did not) instead of raising; the next tick is then a period from now."""
-
-    def __init__(self, clock, hz):
-        self.clock = clock
-        self._rate = rospy.Rate(hz)
-
-    def sleep(self):
-        jump = self.clock._look()[1]
-        try:
-            self._rate.sleep()
-        except rospy.ROSTimeMovedBackwardsException:
-            self._rate.last_time = rospy.get_rostime()
-        return jump + self.clock._look()[1]
+        """A rospy.Rate of ``hz`` whose ``sleep()`` returns s the time moved back instead of raising."""
+        rate = rospy.Rate(hz)
+        return SimpleNamespace(sleep=lambda: self.sleep(None, rate))
 
 
 def every(period, callback, loop, log=None):
-    """Call ``callback()`` every ``period`` s of ROS time in a daemon thread named
-    ``loop``, until shutdown or until the returned threading.Event is set."""
+    """``callback()`` every ``period`` s of ROS time in a daemon thread ``loop``, until shutdown
+    or the returned Event is set."""
     stop = threading.Event()
 
     def run():
@@ -108,10 +89,9 @@ def every(period, callback, loop, log=None):
 
 
 def action_server(name, action, guard, on_goal, on_cancel=None, status_period=None, log=None):
-    """A started actionlib.ActionServer of ``action`` on ``name`` (callbacks through
-    ``guard``) without actionlib's status timer (a rospy.Timer, which the time moving back
-    ends): actionlib publishes the status at each goal's transition and, with
-    ``status_period`` (s), :func:`every` that long."""
+    """A started actionlib.ActionServer (callbacks through ``guard``) without actionlib's status
+    timer (a rospy.Timer, ended by the time moving back): the status at each transition and,
+    with ``status_period`` (s), :func:`every` that long."""
     callbacks = [guard(on_goal)] + ([guard(on_cancel)] if on_cancel is not None else [])
     server = actionlib.ActionServer(name, action, *callbacks, auto_start=False)
     # read by start(), searched from the node's private namespace first: 0, no timer

@@ -1,7 +1,6 @@
 """Small rospy glue shared by every node (the layer's and the fake TurtleBot's): watched
-(and type-checked) subscriptions, Twist, poses, ROS_HOME, a wall-bounded wait."""
+(and type-checked) subscriptions, Twist, poses, ROS_HOME."""
 import os
-import time
 
 import rospkg
 import rospy
@@ -12,28 +11,14 @@ from .faults import shutting_down  # noqa: F401 -- the roles' one import of it
 from ..core.geometry import quaternion_from_yaw
 
 
-
-def wait_wall(condition, timeout, poll=0.05):
-    """Poll ``condition()`` every ``poll`` s until it is true, ``timeout`` s (wall) passed
-    or the node shuts down; returns its last value."""
-    deadline = time.monotonic() + timeout
-    while not condition() and time.monotonic() < deadline and not rospy.is_shutdown():
-        time.sleep(poll)
-    return condition()
-
-
 def subscribe(topic, data_class, callback, callback_args=None, expected=None, **options):
-    """``rospy.Subscriber`` whose registration the subscription watchdog checks
-    (a publisher registering at the same moment is not missed); with ``expected``
-    (ros/wiring.Expected: for a raw ``rospy.AnyMsg`` subscription) the watchdog
-    also checks the topic's type at the master."""
+    """``rospy.Subscriber`` checked by the subscription watchdog (its type too, with ``expected``)."""
     return subscription_watchdog.watch(rospy.Subscriber(topic, data_class, callback, callback_args,
                                                         **options), expected)
 
 
 def subscribe_checked(topic, data_class, callback, callback_args=None, **options):
-    """:func:`subscribe` of ``topic`` as ``data_class`` that refuses another type
-    (ros/wiring.py): raw bytes, checked per connection, then deserialised."""
+    """:func:`subscribe` of ``topic`` as ``data_class``, another type refused (ros/wiring.py)."""
     expected = wiring.Expected.of(data_class)
 
     def on_raw(raw, args=None):
@@ -52,9 +37,10 @@ def twist(v=0.0, w=0.0):
     return msg
 
 
-def ros_home_file(relative):
-    """``relative`` under $ROS_HOME (default ~/.ros), where ROS keeps a user's files."""
-    return os.path.join(rospkg.get_ros_home(), relative)
+def ros_home_file(relative, configured=''):
+    """The file ``configured`` (a path param), or if empty ``relative`` under $ROS_HOME."""
+    return os.path.abspath(os.path.expanduser(configured.strip() or os.path.join(
+        rospkg.get_ros_home(), relative)))
 
 
 def set_pose(pose_msg, x, y, yaw):

@@ -1,9 +1,6 @@
-"""The layer's /diagnostics: one diagnostic_updater.Updater per process, a status per
-thing a user must see (odometry, visual odometry, calibration, landmark file, mission).
-
-Roles add checks with :meth:`Diagnostics.add` (run through ``guard``); a condition that
-blocks the return is an ERROR, one that degrades it a WARN; published every
-``~diagnostic_period`` s (read once), and at once by :meth:`Diagnostics.now`.
+"""The layer's /diagnostics: one Updater per process; roles add statuses (:meth:`Diagnostics.add`;
+what blocks the return an ERROR, what degrades it a WARN), published every
+``~diagnostic_period`` s (read once) and at once by :meth:`Diagnostics.now`.
 """
 import diagnostic_updater
 import rospy
@@ -40,8 +37,7 @@ class Diagnostics(object):
         self.updater.add(name, task)
 
     def now(self):
-        """Publish every status now; while the master cannot be reached (the updater asks it
-        for its period), the statuses wait: a warning, never a fault that ends the mission."""
+        """Publish every status now (the master unreachable: a warning, never a fault)."""
         try:
             self.updater.force_update()
         except rospy.ROSException:
@@ -52,10 +48,9 @@ class Diagnostics(object):
 
 
 def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR, listening=None):
-    """Fill ``stat`` for a stream last heard ``age`` s ago (None: never): OK while
-    fresh, ``level_when_stale`` beyond ``stale`` s, ``missing_level`` if never heard.
-    ``listening``: s since the subscription began (a role that subscribes when its
-    phase begins), if known: nothing heard since then is OK (waiting) for ``stale`` s."""
+    """``stat`` of a stream last heard ``age`` s ago (None: never): OK while fresh,
+    ``level_when_stale`` beyond ``stale`` s, ``missing_level`` if never heard; ``listening``
+    (s since subscribed, if known): nothing heard yet is OK for ``stale`` s."""
     if listening is not None and listening <= stale and (age is None or age > listening):
         stat.summary(OK, 'waiting for the first %s (listening for %.2f s)' % (what, listening))
         return

@@ -1,9 +1,7 @@
-"""The Kobuki's auto-docking for the mission owner (dock_at_home): a client of
-kobuki_auto_docking's action ``dock_drive_action`` (kobuki_msgs/AutoDocking). The goal is sent when the mission's Step asks (core/docking); its end goes into the owner's
-Inbox as ``docking`` (core/docking.DockingResult). While the mission is ``docking`` the dock
-drive drives ``mobile_base/commands/velocity`` past the mux, so the takeover watch does not
-read that output (ros/takeover.py); once the mission leaves ``docking`` a goal still pending
-is cancelled and one zero velocity is published there (docs/safety.md, "Docking").
+"""The Kobuki's auto-docking and battery for the mission owner: :class:`DockingClient` sends
+``dock_drive_action`` when the mission's step asks, its end into the owner's Inbox; leaving
+``docking`` cancels it and stops the base (docs/safety.md, "Docking"). :func:`subscribe_battery`
+feeds the battery (V) to the Inbox (core/battery.py).
 """
 import threading
 
@@ -15,8 +13,13 @@ from geometry_msgs.msg import Twist
 
 from .. import names
 from ..core import mission_state
+from ..core.battery import reading_problem
 from ..core.docking import DockingResult
 from . import kobuki_msgs_compat as kobuki
+from .common import subscribe_checked
+
+#: s between two warnings about ignored battery readings
+WARN_PERIOD = 10.0
 
 
 class DockingClient(object):
@@ -71,3 +74,21 @@ class DockingClient(object):
             self.client.cancel_goal()
             self.velocity.publish(Twist())
             self.log.info('docking: the auto-docking goal is cancelled (%s)', why)
+
+
+def subscribe_battery(threshold, inbox, guard, log):
+    """With ``threshold`` (battery_low, V) > 0: each SensorState's battery (V) put into ``inbox``
+    as ``battery`` (another type refused); the subscriber, or None."""
+    if not threshold > 0:
+        return None
+
+    def on_core(msg):
+        volts = msg.battery / 10.0
+        problem = reading_problem(volts)
+        if problem:
+            rospy.logwarn_throttle(WARN_PERIOD, '%s: battery reading ignored: %s'
+                                   % (rospy.get_name(), problem))
+        inbox.put(battery=volts)
+    log.info('battery_low %.1f V: a battery below it on %s while recording starts the return',
+             threshold, rospy.resolve_name(names.CORE_SENSORS))
+    return subscribe_checked(names.CORE_SENSORS, kobuki.SensorState, guard(on_core), queue_size=1)

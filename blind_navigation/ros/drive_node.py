@@ -1,8 +1,6 @@
 """The one loop of a node that drives (rotate_pi, back_travel_server, calibrate_gyro): a
-core/mission_drive drive (TurnDrive, ReturnDrive; the spins) stepped at ``control_rate`` as
-core/mission.Mission steps it, on this process's odometry: the Kobuki's events, a cancel,
-the mission leaving the state, the pauses (core/mission_drive.Pauses), the odometry grace.
-Commands go through ros/motion.MotionOutput; every end but success halts it.
+core/mission_drive drive stepped at ``control_rate`` as core/mission.Mission steps it (events,
+cancel, pauses, odometry grace) on a ros/motion.MotionOutput; every end but success halts it.
 """
 import threading
 from collections import deque
@@ -20,15 +18,15 @@ from blind_navigation.ros.motion import MotionOutput
 
 
 class DriveNode(object):
-    """Steps one drive at a time for ``role`` on its :attr:`output` (clamped to ``max_v``, ``max_w``;
-    ``mission``: the state gating it, None: none and no takeover watch); ``params``: control_rate,
-    odom_timeout, odom_grace and core/pause's; ``contacts``: a bumper press pauses the drive
-    (else it ends it); ``label()``: its name in the log."""
+    """Steps one drive at a time for ``role`` (a ros/layer.Role) on :attr:`output`, clamped to
+    ``limits`` (max_v, max_w); ``mission``: the state gating it (None: no takeover watch either);
+    ``contacts``: a bumper press pauses the drive (else ends it); ``label()``: its name in logs."""
 
-    def __init__(self, layer, role, params, log, limits, mission, contacts, label):
-        self.odometry, self.safety, self.params = layer.odometry, layer.safety, params
-        self.role, self.log, self.contacts, self.label = role, log, contacts, label
-        self.takeover = layer.takeover(params) if mission is not None else None
+    def __init__(self, role, limits, mission, contacts, label):
+        layer, self.params, self.log, role = role.layer, role.params, role.log, role.ROLE
+        self.odometry, self.safety = layer.odometry, layer.safety
+        self.role, self.contacts, self.label = role, contacts, label
+        self.takeover = layer.takeover(self.params) if mission is not None else None
         self.output = MotionOutput(role, *limits, mission=mission, safety=layer.safety, takeover=self.takeover)
         self.wake = threading.Event()       # set when the node has something to drive
         self.bumps = deque()                # bumper presses (reasons) since the last cycle
@@ -42,9 +40,15 @@ class DriveNode(object):
         else:
             self.tripped = reason           # ends the drive, even if released by the next cycle
 
+    def diagnose(self, stat):
+        """The safety conditions active and the takeover, for the role's status."""
+        if self.safety.active:
+            stat.add('safety', ', '.join(self.safety.active))
+        stat.add('takeover', self.takeover.active() or 'none')
+
     def ticks(self, busy=lambda: True):
-        """(now, jump) at control_rate while ``busy()`` (else waiting for :attr:`wake`), until
-        shutdown; ``jump``: s the ROS time moved back."""
+        """(now, s the ROS time moved back) at control_rate while ``busy()``, else waiting for
+        :attr:`wake`; until shutdown."""
         self.clock = LoopClock(self.role, self.log, then='the drive under way ends (its times and '
                                'odometry are of the old clock)')
         rate = self.clock.rate(self.params.control_rate)
@@ -67,7 +71,7 @@ class DriveNode(object):
         self.output.release()
 
     def feed(self, cycle):
-        """core/mission's feed on this process's odometry: (decision, odometry stamped now, message)."""
+        """core/mission's feed: (decision, odometry stamped now, message)."""
         age = self.odometry.age()
         decision, message = cycle.decide(self.now, None if age is None else self.now - age)
         ended = isinstance(decision, drive.Outcome)
@@ -80,8 +84,7 @@ class DriveNode(object):
         return (HOLD, None, message) if odom is None else (DRIVE, odom, message)
 
     def step(self, now, jump=0.0, cancelled=False, inactive=None, next_goal=False):
-        """One cycle of the drive at ``now``: None while it goes on (its command published), else
-        the core/drive.Outcome that ended it."""
+        """One cycle at ``now``: None while the drive goes on, else the Outcome that ended it."""
         self.now = now
         ended = self._interrupted(jump, cancelled, inactive)
         if ended is None:

@@ -1,10 +1,6 @@
-"""A role that fails ends the mission safely: the one wrapper of every thread target and
-callback a role registers (docs/safety.md, "A role that fails").
-
-``layer.guard(role)(fn)``: an unexpected exception calls :meth:`Faults.fail`, which
-declares ``<role> failed: <Type>: <message>`` in the process's fault registry
-(:func:`declare`): every velocity output zero for good, the owner aborts the mission,
-traceback logged once, diagnostics ERROR; repeats counted.
+"""A role that fails ends the mission safely (docs/safety.md, "A role that fails"): the
+process's fault registry (:func:`declare`: every output zero for good, the owner aborts) and
+``layer.guard(role)(fn)``, the wrapper of every callback and thread target (:class:`Faults`).
 """
 import functools
 import threading
@@ -30,16 +26,14 @@ rospy.on_shutdown(_shutting_down.set)   # the first hook of the process: it impo
 
 
 def shutting_down():
-    """True from the moment the node's shutdown is requested (the first
-    ``rospy.on_shutdown`` hook ran; ``rospy.is_shutdown()`` turns true only after all
-    of them): a thread woken by such a hook must ask this, or it takes the wake-up for work."""
+    """True once the node's shutdown is requested (before ``rospy.is_shutdown()``, true only
+    after every hook ran): a thread woken by a hook asks this."""
     return _shutting_down.is_set()
 
 
 def declare(key, fault, code=outcome.ROLE_FAILURE):
-    """A fault of this process (``key``: where, e.g. a topic; ``fault``: its text; ``code``:
-    its core/outcome cause, :func:`code_of`): once per key, every :func:`on_fault` listener
-    is called. False if ``key`` had one."""
+    """A fault ``fault`` (its core/outcome ``code``) at ``key`` (e.g. a topic): once per key,
+    every :func:`on_fault` listener called; False if ``key`` had one."""
     with _lock:
         if key in _faults:
             return False
@@ -56,7 +50,7 @@ def declare(key, fault, code=outcome.ROLE_FAILURE):
 
 
 def on_fault(callback):
-    """Call ``callback(fault)`` on every fault declared, at once for those declared already."""
+    """``callback(fault)`` on every fault declared, at once for those declared already."""
     with _lock:
         _listeners.append(callback)
         faults = list(_faults.values())
@@ -65,21 +59,18 @@ def on_fault(callback):
 
 
 def code_of(fault):
-    """The core/outcome code :func:`declare` was given with the text ``fault``; a fault this
-    process did not declare (another process's report): ROLE_FAILURE."""
+    """The core/outcome code declared with ``fault`` (another process's: ROLE_FAILURE)."""
     with _lock:
         return _codes.get(fault, outcome.ROLE_FAILURE)
 
 
 def faulty():
-    """True once a fault was declared (read without the lock: a velocity output asks it
-    at every command)."""
+    """True once a fault was declared (no lock: asked at every command)."""
     return bool(_faults)
 
 
 class Faults(object):
-    """The failures of this process's roles; ``diagnostics``: ros/diagnostics.Diagnostics
-    (``add``, ``now``)."""
+    """The failures of this process's roles, on ``diagnostics``."""
 
     def __init__(self, diagnostics):
         self._diagnostics = diagnostics
@@ -90,8 +81,7 @@ class Faults(object):
         diagnostics.add('role failures', self._status)
 
     def guard(self, role):
-        """A decorator-like function: ``guard(fn)`` runs ``fn`` and fails ``role`` on an
-        exception (module docstring)."""
+        """``guard(fn)`` runs ``fn`` and fails ``role`` on an exception."""
         def wrap(fn):
             @functools.wraps(fn)
             def guarded(*args, **kwargs):
@@ -100,16 +90,15 @@ class Faults(object):
                 except Exception as error:  # noqa: B902 -- what this module is for
                     if shutting_down():
                         rospy.logdebug('%s: %s while shutting down', role, error)
-                        return None
-                    self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))
+                    else:
+                        self.fail(role, error, place=getattr(fn, '__qualname__', repr(fn)))
                     return None
             return guarded
         return wrap
 
     def fail(self, role, error, place=''):
-        """``role`` failed with ``error`` (an exception, in its ``except`` block: its
-        traceback is logged) at ``place`` (where, e.g. a method's name): declare it,
-        log it, diagnose it (module docstring)."""
+        """``role`` failed with ``error`` (in its ``except`` block) at ``place``: declared, its
+        traceback logged once (repeats counted), diagnostics ERROR."""
         reason = '%s failed: %s: %s' % (role, type(error).__name__, error)
         now = time.monotonic()
         with self._lock:

@@ -1,10 +1,6 @@
-"""The heading correction: measures the gyro's errors for this mission and hands the
-correction to the roles that drive the return.
-
-While recording it fits gyro against visual-odometry yaw; in ``rotating`` it measures the
-bias standing still, then publishes the estimate latched on
-``blind_navigation/heading_correction`` (no odometry relay: the drivers install it in
-their feed). docs/back_travel.md, "Gyro heading correction".
+"""The heading correction: while recording, gyro fitted against visual-odometry yaw; in
+``rotating`` the bias measured standing still; the correction latched on ``heading_correction``
+for the drivers' feeds (docs/back_travel.md, "Gyro heading correction").
 """
 import datetime
 import os
@@ -14,31 +10,24 @@ import rospy
 
 from blind_navigation import names
 from blind_navigation.core import mission_state
-from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.gyro_bias import standstill_timeout
 from blind_navigation.core.gyro_calibration import CalibrationError, load_calibration
 from blind_navigation.core.gyro_fit import GyroVisualFit
 from blind_navigation.core.mission_record import Standstill
 from blind_navigation.core.role_params import HEADING_CORRECTION
-from blind_navigation.core.vision import wire_lost_reason
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import ros_home_file
+from blind_navigation.ros.mission import Role
+from blind_navigation.ros.odometry import visual_yaw
 
-#: How to make the gyro calibration file (the warning when it is missing says so).
+#: How to make the gyro calibration file; where it is when ``gyro_calibration_file`` is empty.
 CALIBRATE_COMMAND = 'roslaunch blind_navigation calibrate_gyro.launch'
-#: The calibration file when ``gyro_calibration_file`` is empty: under $ROS_HOME.
 CALIBRATION_FILE = os.path.join('blind_navigation', 'gyro_calibration.yaml')
 
 
-def calibration_file(param):
-    """The configured gyro calibration file: ``param``, or the default under $ROS_HOME."""
-    return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(CALIBRATION_FILE)))
-
-
 def scale_prior(path, log):
-    """The gyro calibration at ``path`` (core/gyro_calibration.GyroCalibration), or None:
-    missing (warned) or unusable (error logged)."""
+    """The GyroCalibration at ``path``, or None: missing (warned) or unusable (logged)."""
     if not os.path.exists(path):
         log.warn("no gyro calibration at %s: the pi turn keeps the gyro's scale error; run `%s` "
                  'once to make it', path, CALIBRATE_COMMAND)
@@ -53,8 +42,8 @@ def scale_prior(path, log):
 
 
 def correction_message(correction, reference, frame_id):
-    """The blind_navigation/HeadingCorrection of a core GyroCorrection whose frame starts at
-    the raw OdomState ``reference`` (None: now, at the origin) in ``frame_id``."""
+    """The HeadingCorrection of a GyroCorrection whose frame starts at the raw ``reference``
+    (None: now, at the origin) in ``frame_id``."""
     msg = HeadingCorrection(bias=correction.bias, scale=correction.scale,
                             bias_std=correction.bias_std, scale_std=correction.scale_std,
                             windows=correction.windows, status=correction.status,
@@ -66,41 +55,36 @@ def correction_message(correction, reference, frame_id):
     return msg
 
 
-class HeadingCorrectionRole(object):
+class HeadingCorrectionRole(Role):
     """Module docstring."""
 
     ROLE = 'heading_correction'
     SCHEMA = HEADING_CORRECTION
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.SCHEMA)
-        self.log = layer.logger(self.ROLE)
-        self.layer = layer
-        self.calibration_path = calibration_file(p.gyro_calibration_file)
+        Role.__init__(self, layer)
+        p, guard = self.params, self.guard
+        self.calibration_path = ros_home_file(CALIBRATION_FILE, p.gyro_calibration_file)
         self.scale_prior = scale_prior(self.calibration_path, self.log)
         self._fresh()
         self._vo_last = None        # rospy time of the last visual odometry (diagnostics)
         self._lock = threading.Lock()
         self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
                                               queue_size=1, latch=True)
-        guard = layer.guard(self.ROLE)
         self._odom_listener = guard(self._on_odom)    # removed at the standstill's end
         layer.visual_odometry.add_listener(guard(self._on_vo), raw=True)
         self._listen()
-        layer.mission.on_change(guard(self._on_state))
-        layer.mission.on_new_mission(guard(self._new_mission))
-        layer.diagnostics.add('heading correction: visual odometry', self._vo_status)
-        layer.diagnostics.add('heading correction: gyro calibration', self._calibration_status)
+        self.follow('heading correction: visual odometry')
+        layer.diagnostics.add('heading correction: gyro calibration', lambda stat: calibration_status(
+            stat, self.calibration_path, self.scale_prior))
         self.log.info('calibrating the gyro against %s until vision is lost, then standing still '
                       'up to %.0f s to measure its bias', rospy.resolve_name(names.VO_ODOM),
                       p.standstill_time)
 
     def _fresh(self):
-        """Nothing measured yet for this mission."""
         self.fit = GyroVisualFit(self.params)
         self.lost = False           # vision lost: the standstill measures
-        self.standstill = None      # core/mission_record.Standstill from the first state after
-        self.reference = None       # raw OdomState where the corrected frame starts
+        self.standstill = self.reference = None     # Standstill; raw OdomState the frame starts at
         self.result = None          # GyroCorrection once estimated
         self._started = rospy.get_time()
 
@@ -111,9 +95,7 @@ class HeadingCorrectionRole(object):
 
     def _on_vo(self, wire):
         self._vo_last = rospy.get_time()
-        yaw = None
-        if wire_lost_reason(wire) is None:
-            yaw = yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw)
+        yaw = visual_yaw(wire)
         with self._lock:
             if not self.lost:
                 self.fit.add_visual(wire.stamp, yaw)
@@ -197,20 +179,15 @@ class HeadingCorrectionRole(object):
         self.layer.odometry.release(self.ROLE)
         self.layer.visual_odometry.release(self.ROLE)
 
-    # --- diagnostics ---------------------------------------------------------------------------
-    def _vo_status(self, stat):
-        vo_status(stat, self.lost,
-                  None if self._vo_last is None else rospy.get_time() - self._vo_last,
-                  rospy.get_time() - self._started, self.params.vo_timeout, len(self.fit.rows))
-
-    def _calibration_status(self, stat):
-        calibration_status(stat, self.calibration_path, self.scale_prior)
+    def _diagnose(self, stat):
+        vo_status(stat, self.lost, self._vo_last, self._started, self.params.vo_timeout, len(self.fit.rows))
 
 
-def vo_status(stat, lost, age, waited, timeout, windows):
-    """The visual odometry's diagnostics: ``lost`` (vision lost: no longer used), its ``age``
-    (s, None: never heard), ``waited`` s since the mission began, ``timeout`` (vo_timeout),
-    the fit's ``windows``."""
+def vo_status(stat, lost, heard, since, timeout, windows):
+    """The visual odometry's status: ``lost`` (no longer used), last ``heard`` (rospy time, None:
+    never), the mission ``since``, ``timeout`` (vo_timeout), the fit's ``windows``."""
+    now = rospy.get_time()
+    age, waited = None if heard is None else now - heard, now - since
     if lost:
         stat.summary(diagnostics.OK, 'vision lost: visual odometry no longer used')
         return
@@ -220,7 +197,7 @@ def vo_status(stat, lost, age, waited, timeout, windows):
 
 
 def calibration_status(stat, path, scale_prior):
-    """The gyro calibration's diagnostics: its file ``path``, ``scale_prior`` (None: unusable)."""
+    """The gyro calibration's status: its ``path``, ``scale_prior`` (None: unusable)."""
     stat.add('file', path)
     if scale_prior is None:
         stat.summary(diagnostics.WARN, 'no usable gyro calibration: run `%s`' % CALIBRATE_COMMAND)

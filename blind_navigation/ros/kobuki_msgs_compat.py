@@ -1,8 +1,5 @@
-"""Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs.
-
-The installed package's classes when there are any, else identical classes (same type
-names and MD5 sums) generated at import from the same definitions; the auto-docking
-action's seven types (``AutoDocking*``) likewise.
+"""Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs: the
+installed package's classes, else identical ones (same names and MD5 sums) generated at import.
 """
 import genpy.dynamic
 from actionlib_msgs.msg import GoalID, GoalStatus
@@ -80,13 +77,7 @@ def _load():
 
 
 _CLASSES = _load()
-BumperEvent = _CLASSES['BumperEvent']
-CliffEvent = _CLASSES['CliffEvent']
-WheelDropEvent = _CLASSES['WheelDropEvent']
-MotorPower = _CLASSES['MotorPower']
-DockInfraRed = _CLASSES['DockInfraRed']
-SensorState = _CLASSES['SensorState']
-AutoDockingAction = _CLASSES['AutoDockingAction']
-AutoDockingGoal = _CLASSES['AutoDockingGoal']
-AutoDockingResult = _CLASSES['AutoDockingResult']
-AutoDockingFeedback = _CLASSES['AutoDockingFeedback']
+(BumperEvent, CliffEvent, WheelDropEvent, MotorPower, DockInfraRed, SensorState, AutoDockingAction,
+ AutoDockingGoal, AutoDockingResult, AutoDockingFeedback) = (_CLASSES[name] for name in (
+    'BumperEvent', 'CliffEvent', 'WheelDropEvent', 'MotorPower', 'DockInfraRed', 'SensorState',
+    'AutoDockingAction', 'AutoDockingGoal', 'AutoDockingResult', 'AutoDockingFeedback'))

@@ -1,13 +1,11 @@
-"""Saving path landmarks at sampling ticks: the paper's recorder variants (3.3.3, Figure 4),
-the landmark saver (topic) and the record server (service) with its client.
-
-Reads the odometry at the tick's stamp, makes the landmark (core/recorder.PathRecorder),
-appends it durably (ros/mission_store.FileStore), publishes ``storage`` and ``recorded_path``;
-gaps, a restarted saver's catch-up, ``new_mission``'s new file (docs/recording.md, "Saving").
+"""The paper's recorders (3.3.3, Figure 4): the landmark saver (topic), the record server
+(service) and its client. A tick's landmark from the odometry at its stamp, appended to the
+mission's file; ``storage``, ``recorded_path``; gaps, catch-up (docs/recording.md, "Saving").
 """
 import math
 import os
 import threading
+import time
 from array import array
 
 import rospy
@@ -16,7 +14,6 @@ from nav_msgs.msg import Path
 
 from blind_navigation import names
 from blind_navigation.core.geometry import OdomState
-from blind_navigation.core.files import StorageError
 from blind_navigation.core.recorder import PathRecorder
 from blind_navigation.core.sample_log import START, answer_problem
 from blind_navigation.core.store import SampleMark
@@ -24,7 +21,8 @@ from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.core.role_params import LANDMARK_SAVING
 from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmarkResponse
-from blind_navigation.ros.common import ros_home_file, set_pose, subscribe, wait_wall
+from blind_navigation.ros.common import ros_home_file, set_pose, subscribe
+from blind_navigation.ros.mission import Role
 from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
@@ -32,38 +30,30 @@ from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 LANDMARK_FILE = os.path.join('blind_navigation', 'landmarks.yaml')
 
 
-def landmark_file(param):
-    """The configured landmark file: ``param``, or the default under $ROS_HOME."""
-    if not isinstance(param, str):
-        raise ValueError('~landmark_file must be a file path, got %r' % (param,))
-    return os.path.abspath(os.path.expanduser(param.strip() or ros_home_file(LANDMARK_FILE)))
-
-
-class LandmarkSaving(object):
-    """Latest odometry -> landmark -> mission file, storage and recorded path."""
+class LandmarkSaving(Role):
+    """Odometry at a tick -> landmark -> mission file, storage and recorded path; ``VARIANT``:
+    the recorder, in the file's metadata."""
 
     SCHEMA = LANDMARK_SAVING
 
-    def __init__(self, layer, role, variant):
-        p = self.params = layer.params(role, self.SCHEMA)
-        self.log = layer.logger(role)
-        self.guard = layer.guard(role)      # the recorder's callbacks and threads
+    def __init__(self, layer):
+        Role.__init__(self, layer)
         self.odometry = layer.odometry
-        self.odometry.acquire(role)   # reads back: at a stamp, waiting for it
+        self.odometry.acquire(self.ROLE)   # reads back: at a stamp, waiting for it
         self.odometry.on_reanchor(self.guard(self._on_reanchor))
         self._lock = threading.Lock()
-        self.variant, self.layer = variant, layer
         self.writer = None
         self._open()
         rospy.on_shutdown(lambda: self.writer.close())
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
-        layer.mission.on_new_mission(self.guard(self._new_mission))
-        layer.diagnostics.add('%s: recording' % role, lambda stat: self.store.status(stat, self.finished))
+        self.follow('%s: recording' % self.ROLE)
+
+    def _diagnose(self, stat):
+        self.store.status(stat, self.finished)
 
     def when_ready(self, start):
-        """Call ``start()`` (it subscribes to the samples, or serves them) once the feed has
-        a state, at once or at its first: a recorder takes samples only when it can save them."""
+        """``start()`` (taking samples) once the feed has a state, at once or at its first."""
         once = threading.Lock()
 
         def on_state(_state):
@@ -79,14 +69,14 @@ class LandmarkSaving(object):
                           rospy.resolve_name(names.ODOM))
 
     def _open(self):
-        """Open the mission's file (continued within the mission, else a new one) and start
-        the path (lock held, or before the callbacks exist)."""
+        """Open the mission's file (continued within the mission, else a new one), the path
+        started (lock held, or before the callbacks exist)."""
         self._poses = array('d')       # x, y, yaw of every landmark (and the start)
         self.recorder = PathRecorder()
-        configured = landmark_file(self.params.landmark_file)
+        configured = ros_home_file(LANDMARK_FILE, self.params.landmark_file)
         self.mission_id = self.layer.current_mission_id()   # of the file open
         self.writer = open_mission_file(configured, self.mission_id, fsync=self.params.fsync, metadata={
-            'recorder': self.variant, 'odom_topic': rospy.resolve_name(names.ODOM),
+            'recorder': self.VARIANT, 'odom_topic': rospy.resolve_name(names.ODOM),
             'started_ros_time': round(rospy.Time.now().to_sec(), 3)})
         self.store = FileStore(self.writer)
         self.finished = self.writer.finished   # a continued mission file may be finished already
@@ -105,20 +95,16 @@ class LandmarkSaving(object):
             self._follow_mission()
 
     def _follow_mission(self):
-        """If ``new_mission`` set a new mission id (lock held): the old file closed as it is,
-        the new mission's opened, RViz's path emptied; at the new mission's state or at its
-        first sample, whichever reaches this process first."""
+        """A new mission id (lock held): the old file closed, the new one opened, RViz's path
+        emptied; at the new mission's state or first sample, whichever comes first."""
         if self.layer.current_mission_id() != self.mission_id:
             self.writer.close()
             self._open()
             self.path_pub.publish(path_message(self._poses, rospy.Time.now(), self.odometry.frame_id))
 
     def save(self, command, yaw, period, stamp, sample=None):
-        """Save the landmark of the tick at ``stamp`` (s), the publisher's ``sample``
-        (a core/store.SampleMark, if known); return ``(label, '')`` or ``('', why
-        not)``. The first tick's start is the odometry at ``stamp - period`` (when the
-        publisher started), or the first odometry seen if that is later. A sample
-        the file holds already (caught up) is skipped."""
+        """Save the landmark of the tick at ``stamp`` (``sample``: its SampleMark, if known):
+        ``(label, '')`` or ``('', why not)``; the chain starts at the odometry at ``stamp - period``."""
         with self._lock:
             if command not in COMMANDS:
                 return self._refuse('unknown command %r (expected one of %s)'
@@ -155,8 +141,7 @@ class LandmarkSaving(object):
         self._poses.extend((state.x, state.y, state.yaw))
 
     def _take(self, command, yaw, period, odom, sample):
-        """Make the landmark of a sample at odometry ``odom`` and write it (lock
-        held): ``(label, landmark)``, or ``('', why not)``."""
+        """Write the landmark of a sample at ``odom`` (lock held): ``(label, landmark)`` or ``('', why)``."""
         try:
             landmark = self.recorder.take(odom, yaw, period)
         except ValueError as error:
@@ -168,57 +153,41 @@ class LandmarkSaving(object):
         self._poses.extend((odom.x, odom.y, odom.yaw))
         self.finished = command == FINAL
         if self.finished:
-            try:
-                self.writer.finish()
-            except StorageError as error:
-                self.store.error = str(error)
-                self.log.error('%s', error)
+            self.store.finish()
             self.log.info('final landmark saved; recording finished')
         return label, landmark
 
-    @property
-    def resuming(self):
-        """True if this saver continued the mission's file and may catch up."""
-        return self.writer.resumed is not None and not self.finished
-
     def start_catch_up(self, subscribed):
-        """Take the lock now and catch up in a thread, so samples that arrive meanwhile
-        wait for it: call before subscribing to them. The thread asks for the record once
-        ``subscribed()`` (connected to the publisher) or after ``catch_up_timeout``."""
+        """Take the lock and catch up in a thread (samples arriving meanwhile wait): call before
+        subscribing; it asks once ``subscribed()`` or after ``catch_up_timeout``."""
         self._lock.acquire()
 
         def run():
             try:
-                wait_wall(subscribed, self.params.catch_up_timeout, poll=0.01)
+                deadline = time.monotonic() + self.params.catch_up_timeout
+                while not subscribed() and time.monotonic() < deadline and not rospy.is_shutdown():
+                    time.sleep(0.01)
                 self._catch_up()
             finally:
                 self._lock.release()
-        thread = threading.Thread(target=self.guard(run), name='catch_up')
-        thread.daemon = True
-        thread.start()
-        return thread
+        threading.Thread(target=self.guard(run), name='catch_up', daemon=True).start()
 
     def _catch_up(self):
-        """Ask the sampling publisher for the samples this file misses and save them
-        (module docstring; the lock held); True if the chain was restored."""
-        mark = self.writer.sample
+        """Save the samples this file misses, asked of the publisher (lock held); True: restored."""
+        mark, name = self.writer.sample, rospy.resolve_name(names.RECORDED_SAMPLES)
         if mark is None and self.writer.count:
-            self.log.warn('%s does not say which sample its last landmark came from: cannot '
-                          'catch up; the recording goes on after a gap', self.writer.path)
-            return False
-        name = rospy.resolve_name(names.RECORDED_SAMPLES)
-        try:
-            rospy.wait_for_service(name, self.params.catch_up_timeout)
-            answer = rospy.ServiceProxy(name, RecordedSamples)(
-                recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
-        except (rospy.ROSException, rospy.ServiceException) as error:
-            self.log.warn('cannot catch up on the samples missed (%s); the recording goes on '
-                          'after a gap', error)
-            return False
-        problem = answer_problem(answer, mark)
+            problem = '%s does not say which sample its last landmark came from' % self.writer.path
+        else:
+            try:
+                rospy.wait_for_service(name, self.params.catch_up_timeout)
+                answer = rospy.ServiceProxy(name, RecordedSamples)(
+                    recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
+                problem = answer_problem(answer, mark)
+            except (rospy.ROSException, rospy.ServiceException) as error:
+                problem = str(error)
         if problem:
-            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on '
-                          'after a gap', problem)
+            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on after a gap',
+                          problem)
             return False
         caught = []
         for index, sample in enumerate(answer.samples):
@@ -243,9 +212,7 @@ class LandmarkSaving(object):
         return True
 
     def _on_reanchor(self, reason, trusted):
-        """The odometry jumped and the gate took the new stream: carried across in the old
-        frame (``trusted``: the chain goes on), or the d chain breaks here (a gap whose reason
-        names the reset: the return refuses such a file, core/odometry_reset.is_untrusted_reset)."""
+        """A re-anchor: ``trusted`` (carried across) goes on, else the d chain breaks (a gap)."""
         if trusted:
             return
         with self._lock:
@@ -263,7 +230,7 @@ class LandmarkSaving(object):
         return '', reason
 
     def _report(self, label, landmark):
-        """Publish the storage and (when listened to) the recorded path; log the storage."""
+        """Publish (and log) the storage and, when listened to, the recorded path."""
         now = rospy.Time.now()
         used = self._publish_storage(now)
         self.log.info('%s %s: %d landmarks, %d bytes, %.2f m, %.0f B/m', label,
@@ -289,59 +256,49 @@ def path_message(poses, stamp, frame_id):
     return path
 
 
-class LandmarkSaver(object):
-    """The paper's subscriber: each ``sample``/``final`` on ``blind_navigation/sample`` is one
-    landmark, once the odometry has a state; restarted within the mission it first catches up."""
+class LandmarkSaver(LandmarkSaving):
+    """The paper's subscriber: each sample is one landmark (restarted: caught up first)."""
 
-    ROLE = 'landmark_saver'
+    ROLE, VARIANT = 'landmark_saver', 'topic'
 
     def __init__(self, layer):
-        self.saving = LandmarkSaving(layer, self.ROLE, 'topic')
+        LandmarkSaving.__init__(self, layer)
         self.sample_sub = None
-        self.saving.when_ready(self._take_samples)
+        self.when_ready(self._take_samples)
 
     def _take_samples(self):
-        if self.saving.resuming:
-            self.saving.start_catch_up(
-                lambda: self.sample_sub is not None and self.sample_sub.get_num_connections() > 0)
-        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.saving.guard(self.on_sample),
-                                    queue_size=20)
+        if self.writer.resumed is not None and not self.finished:     # continued the file: catch up
+            self.start_catch_up(lambda: self.sample_sub is not None and self.sample_sub.get_num_connections() > 0)
+        self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample), queue_size=20)
 
     def on_sample(self, msg):
-        self.saving.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec(),
-                         SampleMark(msg.recording, msg.seq) if msg.seq else None)
+        self.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec(),
+                  SampleMark(msg.recording, msg.seq) if msg.seq else None)
 
 
-class RecordServer(object):
-    """The paper's service server: serves ``blind_navigation/record_landmark`` once the odometry
-    has a state; a request is one landmark, answered saved, its label, or why not."""
+class RecordServer(LandmarkSaving):
+    """The paper's service server: a ``record_landmark`` request is one landmark."""
 
-    ROLE = 'record_server'
+    ROLE, VARIANT = 'record_server', 'service'
 
     def __init__(self, layer):
-        self.saving = LandmarkSaving(layer, self.ROLE, 'service')
+        LandmarkSaving.__init__(self, layer)
         self.service = None
-        self.saving.when_ready(self._serve)
-
-    def _serve(self):
-        self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
-                                     self.saving.guard(self.on_request))
+        self.when_ready(lambda: setattr(self, 'service', rospy.Service(
+            names.RECORD_LANDMARK, RecordLandmark, self.guard(self.on_request))))
 
     def on_request(self, request):
-        label, why_not = self.saving.save(request.command, request.yaw, request.period,
-                                          request.header.stamp.to_sec())
+        label, why_not = self.save(request.command, request.yaw, request.period, request.header.stamp.to_sec())
         return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
 
 
-class RecordClient(object):
-    """The paper's service client: each sample on ``blind_navigation/sample`` becomes a
-    request to ``blind_navigation/record_landmark``, once the server is up."""
+class RecordClient(Role):
+    """The paper's service client: each sample a ``record_landmark`` request, once it is served."""
 
     ROLE = 'record_client'
 
     def __init__(self, layer):
-        self.log = layer.logger(self.ROLE)
-        self.guard = layer.guard(self.ROLE)
+        Role.__init__(self, layer)
         self.calls = 0
         self.service = rospy.resolve_name(names.RECORD_LANDMARK)
         self.record = rospy.ServiceProxy(names.RECORD_LANDMARK, RecordLandmark, persistent=False)

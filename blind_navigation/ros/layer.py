@@ -1,16 +1,13 @@
-"""What the roles hosted in one process share; a *role* is built as ``Role(layer)``.
-
-:meth:`Layer.params` (validated against the role's schema), :meth:`Layer.logger`,
-:attr:`Layer.odometry` / :attr:`Layer.visual_odometry` (one shared feed each),
-:attr:`Layer.mission`, :attr:`Layer.safety`, :meth:`Layer.heading_correction`,
-:meth:`Layer.takeover`, :attr:`Layer.diagnostics` and :meth:`Layer.guard` (docs/DESIGN.md).
+"""What the roles hosted in one process share (docs/DESIGN.md, "The paper's layout"):
+:class:`Layer` (params, logs, the odometry feeds, the mission state, safety, heading
+correction, takeover, diagnostics, guards); a role (ros/mission.Role) is built as ``Role(layer)``.
 """
 import threading
 
 import rospy
 
 from .. import names
-from ..core.mission_state import IDLE, RECORDING
+from ..core.mission_state import IDLE, RECORDING, starts_new_mission
 from ..core.geometry import OdomState
 from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
@@ -21,13 +18,11 @@ from .diagnostics import Diagnostics
 from . import faults
 from .faults import Faults
 from .mission import MissionStateView
-from .motion import SafetyMonitor
+from .motion import SafetyMonitor, TakeoverWatch
 from .odometry import OdometryFeed
-from .takeover import TakeoverWatch
 
-#: The node that owns the mission state when back_travel_client runs as its own node.
+#: The mission state's owner in the paper layout; the param of the mission's id.
 MISSION_OWNER = 'back_travel_client'
-#: The param holding the mission's id (blind_navigation.launch sets it to $(anon mission)).
 MISSION_ID = 'blind_navigation/mission_id'
 
 
@@ -51,19 +46,15 @@ class RoleLog(object):
 
 
 class Layer(object):
-    """Shared context of the roles of one process; ``compact``: several roles in
-    this process (params under ``~<role>/``)."""
+    """The roles' shared context; ``compact``: several roles in this process (``~<role>/`` params)."""
 
     def __init__(self, compact=False):
         self.compact = compact
         self.node = rospy.get_name()
         owner = self.node if compact else rospy.get_param('~mission_owner', MISSION_OWNER)
         self.mission_owner = rospy.resolve_name(owner)
-        #: This mission's id: the same for every restart of a node within one launch of the
-        #: layer, new for each launch (the recorder continues its file, the client its return).
         self.mission_id = rospy.get_param(MISSION_ID, None)
-        namespace = rospy.get_namespace().strip('/')
-        self.diagnostics = Diagnostics(namespace or 'none')
+        self.diagnostics = Diagnostics(rospy.get_namespace().strip('/'))
         self.faults = Faults(self.diagnostics)
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
         faults.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
@@ -75,23 +66,16 @@ class Layer(object):
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
                                             guard=self.guard('visual odometry feed'))
         self.mission = MissionStateView(self.mission_owner, self.guard('mission state view'))
-        # a new mission starts on the odometry as it finds it (ros/odometry.py), and so does
-        # its recording: a reset while idle (a restarted simulator's clock) loses nothing
-        self.mission.on_new_mission(self.guard('odometry feed')(
-            lambda: self.odometry.set_correction(None, None)))
-        self.mission.on_change(self.guard('odometry feed')(
-            lambda old, new: self.odometry.set_correction(None, None)
-            if (old, new) == (IDLE, RECORDING) else None))
+        # a new mission (and its recording) starts on the odometry as it finds it
+        self.mission.on_change(self.guard('odometry feed')(lambda old, new: self.odometry.set_correction(
+            None, None) if starts_new_mission(old, new) or (old, new) == (IDLE, RECORDING) else None))
         self.safety = SafetyMonitor(self.guard('safety monitor'))
-        self._correction = None
+        self._correction = self._takeover = None
         self._correction_lock = threading.Lock()
-        self._takeover = None
 
     def params(self, role, schema):
-        """The params of ``role`` (a name), typed and frozen by its ``schema``
-        (core/params.Schema); a ParamError (ValueError) names a bad one. Hosted with
-        other roles, a role's params are ``~<role>/name``, except the schema's shared
-        ones that several roles read (e.g. ``straight_rate``): ``~name`` for the process."""
+        """``role``'s params, typed by ``schema`` (ParamError names a bad one); ``~<role>/name``
+        when compact, but for the schema's shared ones."""
         def prefix(name):
             return '~' if not self.compact or name in schema.shared else '~%s/' % role
         values = {p.name: rospy.get_param(prefix(p.name) + p.name) for p in schema.params
@@ -102,32 +86,27 @@ class Layer(object):
         return typed
 
     def current_mission_id(self):
-        """The mission id, read again: ``new_mission`` sets a new one before the roles see
-        ``idle`` (ros/mission_owner.py)."""
+        """The mission id, read again (``new_mission`` sets it before the roles see ``idle``)."""
         self.mission_id = rospy.get_param(MISSION_ID, self.mission_id)
         return self.mission_id
 
     def guard(self, role):
-        """``guard(fn)``: ``fn`` whose unexpected exception fails ``role``: zero velocity,
-        the mission ``aborted`` naming it, diagnostics ERROR (ros/faults.py). Every thread
-        target and callback a role registers goes through it."""
+        """``guard(fn)``: ``fn`` whose exception fails ``role`` (ros/faults.py)."""
         return self.faults.guard(role)
 
     def logger(self, role):
-        """A RoleLog naming the node, and the role when it shares the node."""
+        """A RoleLog naming the node (and the role when compact)."""
         return RoleLog('%s/%s' % (self.node, role) if self.compact else self.node)
 
     def takeover(self, params):
-        """The process's TakeoverWatch (created at the first call, from that role's
-        ``params``: takeover_wait, on_takeover, takeover_inputs, shared by the process)."""
+        """The process's TakeoverWatch, made from the first caller's ``params``."""
         with self._correction_lock:
             if self._takeover is None:
                 self._takeover = TakeoverWatch(params, self.guard('takeover watch'))
             return self._takeover
 
     def heading_correction(self):
-        """The process's receiver of the latched heading correction (created at the
-        first call: only the roles that drive on it subscribe)."""
+        """The process's CorrectionReceiver, made at the first call."""
         with self._correction_lock:
             if self._correction is None:
                 guard = self.guard('heading correction receiver')
@@ -146,14 +125,9 @@ def correction_from_message(msg):
 
 
 def start_roles(role_classes, compact=False):
-    """Build the roles (classes taking the Layer) of this process, in order, after
-    ``rospy.init_node``; a bad param (ValueError) or a file a role cannot use (e.g. a
-    ``landmark_file`` that is a directory: core/files.FileContentError, OSError) is logged
-    as fatal, naming it, and exits with status 1. Returns the roles (a list with the
-    ``layer`` they share); :func:`run_roles` runs them."""
-    layer = Layer(compact)
-    roles = Roles()
-    roles.layer = layer
+    """The roles of this process, built in order; a bad param or file (ValueError,
+    FileContentError, OSError) is logged fatal and exits 1."""
+    layer, roles = Layer(compact), []
     for role_class in role_classes:
         try:
             roles.append(role_class(layer))
@@ -163,17 +137,11 @@ def start_roles(role_classes, compact=False):
     return roles
 
 
-class Roles(list):
-    """The roles of a process (start_roles), with ``layer``, the Layer they share."""
-
-
 def run_roles(roles):
-    """Run each role's blocking ``run()`` loop (if it has one) in its own guarded thread
-    (:meth:`Layer.guard`), and spin until shutdown."""
+    """Each role's ``run()``, if any, in its own guarded thread; spin until shutdown."""
     for role in roles:
         if hasattr(role, 'run'):
-            threading.Thread(target=roles.layer.guard(role.ROLE)(role.run), name=role.ROLE,
-                             daemon=True).start()
+            threading.Thread(target=role.guard(role.run), name=role.ROLE, daemon=True).start()
     rospy.spin()
 
 
@@ -184,8 +152,8 @@ def run_node(name, role_class):
 
 
 class CorrectionReceiver(object):
-    """Installs the mission's latched blind_navigation/HeadingCorrection (the first one since
-    :meth:`forget`) into ``odometry`` (ros/odometry.OdometryFeed.set_correction): ``received``."""
+    """The mission's latched HeadingCorrection (the first since :meth:`forget`) installed
+    into ``odometry``: ``received``."""
 
     def __init__(self, odometry, guard):
         self.odometry, self.received, self._lock = odometry, False, threading.Lock()
@@ -198,6 +166,6 @@ class CorrectionReceiver(object):
                 self.received = True
 
     def forget(self):
-        """A new mission: the raw frame until its own correction arrives (the layer drops the feed's)."""
+        """A new mission: the raw frame until its correction arrives."""
         with self._lock:
             self.received = False

@@ -1,9 +1,7 @@
-"""The mission state as every role of a process sees it (core/mission_state.py).
-
-:class:`MissionStateView` follows the owner's latched ``blind_navigation/state`` (any
-other node's state is refused and logged; in the owner's process it is set directly,
-:meth:`~MissionStateView.set_local`) and tells the roles of changes and of
-``new_mission`` (:meth:`~MissionStateView.on_new_mission`).
+"""The mission state as every role of a process sees it: :class:`MissionStateView` follows the
+owner's latched ``state`` (another node's refused), or :meth:`~MissionStateView.set_local` in
+the owner's process, and tells the roles of changes and of ``new_mission``; :class:`Role`,
+what every role of ros/layer has.
 """
 import threading
 
@@ -16,8 +14,7 @@ from .common import subscribe
 
 
 class MissionStateView(object):
-    """Current mission state (None before any) of the owner node ``owner``
-    (a node name, resolved in this node's namespace)."""
+    """The mission state (None before any) of the owner node ``owner``."""
 
     def __init__(self, owner, guard=None):
         self.owner = rospy.resolve_name(owner)
@@ -30,10 +27,8 @@ class MissionStateView(object):
                                      queue_size=10)
 
     def on_change(self, callback):
-        """Call ``callback(old, new)`` on every change of state, from the thread that saw it,
-        and at once with ``(None, state)`` if the state is known already: a role learns the
-        state it starts in however its construction and the (latched) state message raced
-        (a node restarted mid-mission, e.g. rotate_pi while ``rotating``, must know it)."""
+        """``callback(old, new)`` on every change, from the thread that saw it, and at once
+        ``(None, state)`` if the state is known: a role learns the state it starts in."""
         with self._delivery:
             with self._lock:
                 self._callbacks.append(callback)
@@ -42,8 +37,7 @@ class MissionStateView(object):
                 callback(None, current)
 
     def on_new_mission(self, callback):
-        """Call ``callback()`` when ``new_mission`` starts the next mission (a terminal state
-        -> ``idle``, core/mission_state.starts_new_mission): the roles start afresh."""
+        """``callback()`` when ``new_mission`` starts the next mission (terminal -> ``idle``)."""
         self.on_change(lambda old, new: mission_state.starts_new_mission(old, new) and callback())
 
     def set_local(self, new):
@@ -70,3 +64,23 @@ class MissionStateView(object):
             if old != new:
                 for callback in callbacks:
                     callback(old, new)
+
+
+class Role(object):
+    """A role: ``ROLE`` (its name), ``SCHEMA`` (its params), ``layer``, ``params``, ``log``, ``guard``."""
+
+    ROLE = SCHEMA = None
+
+    def __init__(self, layer):
+        self.layer, self.log, self.guard = layer, layer.logger(self.ROLE), layer.guard(self.ROLE)
+        self.params = layer.params(self.ROLE, self.SCHEMA) if self.SCHEMA is not None else None
+
+    def follow(self, diagnosis=None):
+        """``_on_state(old, new)`` and ``_new_mission()``, if defined, follow the mission;
+        ``_diagnose(stat)`` is the status ``diagnosis``."""
+        for name, register in (('_on_state', self.layer.mission.on_change),
+                               ('_new_mission', self.layer.mission.on_new_mission)):
+            if hasattr(self, name):
+                register(self.guard(getattr(self, name)))
+        if diagnosis:
+            self.layer.diagnostics.add(diagnosis, self._diagnose)

@@ -1,30 +1,33 @@
 """What the mission owner (ros/mission_owner.py) shows and keeps of its core Mission beside
-the state, as the default layer's roles do: the RViz paths (recorded_path, return_route,
-return_path), the latched heading correction, the return's progress file
-(core/progress_keeper.MissionProgress), its services' replies (go_home, cancel, new_mission;
-refused naming the state: core/mission_state.*_refusal) and its diagnostics' parts.
+the state: the RViz paths (recorded_path, return_route, return_path), the latched heading
+correction, the return's progress file, its services' replies and its diagnostics.
 """
 import os
 from array import array
 
 import rospy
+from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Path
 from std_srvs.srv import TriggerResponse
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state
+from blind_navigation.core.geometry import distance
+from blind_navigation.core.mission import RECORDING
+from blind_navigation.core.mission_files import mission_number
 from blind_navigation.core.progress_keeper import MissionProgress
 from blind_navigation.core.return_plan import plan_return
 from blind_navigation.msg import HeadingCorrection
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.heading_correction import correction_message
+from blind_navigation.ros.common import ros_home_file, set_pose
+from blind_navigation.ros.heading_correction import (CALIBRATION_FILE, calibration_status,
+                                                    correction_message, vo_status)
 from blind_navigation.ros.landmark_saving import path_message
-from blind_navigation.ros.return_paths import ReturnPaths
 
 
 def reply(log, request, what, refusal, done):
     """The Trigger response of the service ``what``: refused for ``refusal`` (WARN), else
-    acknowledged with ``done`` (INFO); the log names the caller. Every mission owner's."""
+    ``done`` (INFO); the log names the caller."""
     caller = request._connection_header.get('callerid', '?')
     if refusal is not None:
         log.warn('%s from %s %s', what, caller, refusal)
@@ -33,9 +36,37 @@ def reply(log, request, what, refusal, done):
     return TriggerResponse(success=True, message=done)
 
 
-def mission_summary(stat, current, reason, warnings=''):
-    """The mission status's level and line: ``aborted`` an ERROR, ``recovered`` (stopped away
-    from home: someone takes the robot) or a degraded mission a WARN."""
+def add_diagnostics(owner, settings):
+    """The ``owner``'s statuses: the mission's, the odometry's, the landmark file's and, when it
+    records, the recording's and the heading correction's."""
+    add, m = owner.layer.diagnostics.add, lambda: owner.mission
+    add('mission', lambda stat: mission_status(stat, owner))
+    add('odometry', lambda stat: odometry_status(stat, owner.layer.odometry, m().state,
+                                                 settings['limits'].odom_timeout))
+    add('landmark file', lambda stat: file_status(stat, owner.landmark_file, m().state))
+    if not owner.RECORDS:    # the paper layout's saver and heading_correction report the rest
+        return
+    add('recording', lambda stat: owner.store.status(stat, m().phase != RECORDING))
+    if not settings['heading_correction']:
+        return
+    heading = settings['standstill']
+    path = ros_home_file(CALIBRATION_FILE, heading.gyro_calibration_file)
+    add('heading correction: visual odometry', lambda stat: vo_status(
+        stat, m().phase != RECORDING, owner.vo_heard, owner.vo_since, heading.vo_timeout,
+        len(getattr(m().recording.fit, 'rows', ()))))
+    add('heading correction: gyro calibration',
+        lambda stat: calibration_status(stat, path, settings['scale_prior']))
+
+
+def mission_status(stat, owner):
+    """The mission's status: ``aborted`` an ERROR, ``recovered`` or a degraded mission a WARN."""
+    m, mission_id = owner.mission, owner.layer.mission_id      # cached: no master call (an outage)
+    stat.add('state', m.state)
+    stat.add('phase', m.phase)
+    stat.add('mission', mission_number(mission_id))     # in this launch
+    stat.add('mission id', mission_id)
+    stat.add('mission file', os.path.realpath(owner.landmark_file))
+    current, reason, warnings = m.state, m.reason, owner.warnings()
     if current == state.ABORTED:
         stat.summary(diagnostics.ERROR, 'aborted: %s' % reason)
     elif current == state.RECOVERED:
@@ -47,8 +78,7 @@ def mission_summary(stat, current, reason, warnings=''):
 
 
 def odometry_status(stat, odometry, current, timeout):
-    """The ``odometry`` feed's age (stale beyond ``timeout`` s: an error while the mission,
-    ``current``, turns or returns, else a warning) and its refused messages."""
+    """The feed's age (stale: an error while turning or returning, else a warning), its refusals."""
     level = diagnostics.ERROR if current in (state.ROTATING, state.RETURNING) else diagnostics.WARN
     diagnostics.age_status(stat, 'odometry', odometry.age(), timeout, level, level,
                            listening=odometry.listening())
@@ -56,8 +86,7 @@ def odometry_status(stat, odometry, current, timeout):
 
 
 def file_status(stat, landmark_file, current):
-    """The configured ``landmark_file``, the mission's file and its size (unreadable: an
-    error while the mission, ``current``, records, turns or returns)."""
+    """The landmark file, the mission's file and its size (unreadable: an error mid-mission)."""
     stat.add('file', landmark_file)
     try:
         real = os.path.realpath(landmark_file)
@@ -71,9 +100,44 @@ def file_status(stat, landmark_file, current):
                      'landmark file unreadable: %s' % error.strerror)
 
 
+class ReturnPaths(object):
+    """The return's latched paths: the route on ``return_route``, the poses driven on
+    ``return_path`` (one per ``spacing`` m)."""
+
+    def __init__(self, spacing):
+        self.spacing = spacing
+        self.path_pub = rospy.Publisher(names.RETURN_PATH, Path, queue_size=1, latch=True)
+        self.route_pub = rospy.Publisher(names.RETURN_ROUTE, Path, queue_size=1, latch=True)
+        self.path = Path()
+
+    def publish_route(self, route, frame_id):
+        """The core/route.Route the return will drive, in ``frame_id`` ('': odom)."""
+        poses = [value for index, (x, y) in enumerate(zip(route.x, route.y)) for value in (
+            x, y, route.direction(min(index, route.vertices - 2)) if route.vertices > 1 else 0.0)]
+        self.route_pub.publish(path_message(poses, rospy.Time.now(), frame_id or 'odom'))
+
+    def clear(self):
+        """A new mission: both paths empty."""
+        self.path = Path()
+        self.path.header.stamp, self.path.header.frame_id = rospy.Time.now(), 'odom'
+        self.path_pub.publish(self.path)
+        self.route_pub.publish(Path(header=self.path.header))
+
+    def driven(self, stamp, frame_id, odom):
+        """The robot is at ``odom`` (x, y, yaw) at ``stamp`` (s): a pose every ``spacing`` m."""
+        poses = self.path.poses
+        if poses and distance(poses[-1].pose.position.x, poses[-1].pose.position.y,
+                              odom.x, odom.y) < self.spacing:
+            return
+        self.path.header = rospy.Header(stamp=rospy.Time.from_sec(stamp), frame_id=frame_id)
+        poses.append(PoseStamped(header=self.path.header))
+        set_pose(poses[-1].pose, odom.x, odom.y, odom.yaw)
+        self.path_pub.publish(self.path)
+
+
 class MissionOutputs(object):
-    """The outputs of ``owner`` (a MissionOwner: its mission, layer, params, log, landmark
-    file and publish_status), brought up to date by :meth:`stepped` and :meth:`ending`."""
+    """The outputs of ``owner`` (a MissionOwner), brought up to date by :meth:`stepped` and
+    :meth:`ending`."""
 
     def __init__(self, owner):
         self.owner, self.odometry = owner, owner.layer.odometry
@@ -93,8 +157,7 @@ class MissionOutputs(object):
         self.correction = self.route = None
 
     def first_state(self):
-        """A return a previous run left: its core/resume.KeptReturn or None, the mission
-        aborted if it cannot continue (MissionProgress.first_state)."""
+        """A return a previous run left: its KeptReturn or None (the mission aborted if it cannot go on)."""
         return self.progress.first_state(self.owner.mission, self._position, self.owner.params)
 
     def _position(self):
@@ -119,8 +182,7 @@ class MissionOutputs(object):
         if self.owner.RECORDS and len(self.poses) > self.shown and (
                 self.recorded_pub.get_num_connections() or m.state != state.RECORDING):
             self.shown = len(self.poses)        # every pose once the recording is over
-            self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(),
-                                                   self.odometry.frame_id))
+            self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(), self.odometry.frame_id))
         if m.correction is not None and self.correction is None:
             self.correction = m.correction
             if m.config.heading_correction and self.owner.RECORDS:

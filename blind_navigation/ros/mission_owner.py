@@ -1,12 +1,9 @@
-"""The mission's owner in one process: core/mission.Mission stepped by one loop thread.
+"""The mission's owner: core/mission.Mission stepped by one loop thread (docs/DESIGN.md).
 
-Callbacks (odometry, visual odometry, vision, safety, takeover, resets, the clock) only
-put observations into an :class:`Inbox`; the loop steps the mission once per odometry
-state (or once a control period without one) and publishes its command, state, status
-and storage (paths, correction, progress, replies: ros/mission_outputs.py). The services ask the
-mission under its lock: blind_navigation.launch's one process (docs/DESIGN.md).
+Callbacks only put observations into an :class:`Inbox`; the loop steps the mission once per
+odometry state (or per control period) and publishes its command, state, status and storage;
+the services ask the mission under its lock. Also ``record_landmark`` and ``back_travel``.
 """
-import os
 import threading
 from types import SimpleNamespace
 
@@ -16,27 +13,24 @@ from std_srvs.srv import Trigger
 
 from blind_navigation import names
 from blind_navigation.core import mission_state as state, outcome
-from blind_navigation.core.geometry import yaw_from_quaternion
 from blind_navigation.core.mission import RECORDING, Inputs, Mission
+from blind_navigation.core.landmark_request import LandmarkRequest, hand_in, withdraw
 from blind_navigation.core.mission_files import mission_number, next_mission_id, open_mission_file
 from blind_navigation.core.role_params import (BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER,
                                                HEADING_CORRECTION, MISSION_OWNER, ROTATE_PI,
                                                SAMPLING_PUBLISHER)
-from blind_navigation.core.vision import wire_lost_reason
-from blind_navigation.msg import MissionStatus, PathSample, StorageUsage
-from blind_navigation.ros.battery import subscribe_battery
-from blind_navigation.ros.clock import LoopClock, describe
-from blind_navigation.ros.common import subscribe
-from blind_navigation.ros.docking import DockingClient
-from blind_navigation.ros.heading_correction import (calibration_file, calibration_status,
-                                                    scale_prior, vo_status)
-from blind_navigation.ros.landmark_saving import landmark_file
+from blind_navigation.msg import BackTravelAction, BackTravelResult, MissionStatus, PathSample, StorageUsage
+from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
+from blind_navigation.ros.clock import LoopClock, action_server, describe
+from blind_navigation.ros.common import ros_home_file, subscribe
+from blind_navigation.ros.docking import DockingClient, subscribe_battery
+from blind_navigation.ros.heading_correction import CALIBRATION_FILE, scale_prior
+from blind_navigation.ros.landmark_saving import LANDMARK_FILE
 from blind_navigation.ros.layer import MISSION_ID
-from blind_navigation.ros.mission_outputs import (MissionOutputs, file_status, mission_summary,
-                                                  odometry_status, reply)
+from blind_navigation.ros.mission_outputs import MissionOutputs, add_diagnostics, reply
 from blind_navigation.ros.mission_store import FileStore
 from blind_navigation.ros.motion import MotionOutput
-from blind_navigation.ros.owner_paper_names import PaperNames
+from blind_navigation.ros.odometry import visual_yaw
 from blind_navigation.ros import faults
 
 
@@ -49,7 +43,7 @@ class Inbox(object):
 
     def _clear(self):
         self.odoms, self.visual, self.events = [], [], {}
-        self.reset_at = 0           # the index of the first odometry state after an untrusted reset
+        self.reset_at = 0           # the first odometry state's index after an untrusted reset
 
     def put(self, **events):
         """Events by Inputs field name (the first of each kind until taken is kept)."""
@@ -71,8 +65,7 @@ class Inbox(object):
             self.visual.append((stamp, yaw))
 
     def take(self, timeout):
-        """(odometry states, visual frames, events, the index of the first state after a reset),
-        waiting at most ``timeout`` wall s for any."""
+        """(odometry states, visual frames, events, ``reset_at``), waiting at most ``timeout`` s."""
         with self._ready:
             if not self.odoms and not self.events:
                 self._ready.wait(timeout)
@@ -82,8 +75,7 @@ class Inbox(object):
 
 
 def owner_params(layer):
-    """(controller params, Mission settings, the configured landmark file) from the
-    roles' params in this process (``~<role>/name``, as blind_navigation.launch sets them)."""
+    """(params, Mission settings, landmark file, turn max_w) from the roles' params (``~<role>/``)."""
     server = layer.params('back_travel_server', BACK_TRAVEL_SERVER)
     client = layer.params('back_travel_client', BACK_TRAVEL_CLIENT)
     rotate = layer.params('rotate_pi', ROTATE_PI)
@@ -101,17 +93,17 @@ def owner_params(layer):
         straight_period=params.straight_period, curved_period=1.0 / sampling.curved_rate,
         deadband=sampling.deadband, event_sampling=sampling.event_sampling,
         heading_correction=correct, standstill=heading, mode=server.control,
-        scale_prior=scale_prior(calibration_file(heading.gyro_calibration_file),
+        scale_prior=scale_prior(ros_home_file(CALIBRATION_FILE, heading.gyro_calibration_file),
                                 layer.logger('heading_correction')) if correct else None,
         prune_loops=client.prune_loops, handover_timeout=server.handover_timeout,
         handover_follow=server.handover_follow, on_vision_back=client.on_vision_back,
         turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
         limits=client, battery_low=owner.battery_low, dock_at_home=bool(owner.dock_at_home))
-    return params, settings, landmark_file(client.landmark_file), rotate.max_w
+    return params, settings, ros_home_file(LANDMARK_FILE, client.landmark_file), rotate.max_w
 
 
 def _drivers(layer, p, turn_w, takeover):
-    """The owner's MotionOutputs by state (``turn_w`` None: none, the paper layout's nodes drive)."""
+    """The owner's MotionOutputs by state (``turn_w`` None: none)."""
     if turn_w is None:
         return {}
     return {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
@@ -120,8 +112,55 @@ def _drivers(layer, p, turn_w, takeover):
                                           layer.mission, layer.safety, takeover)}
 
 
+#: s (wall) a record_landmark request waits for its answer; why every BackTravel goal is rejected.
+ANSWER_WAIT = 2.0
+REJECTED = ("the one-process layer drives its return itself (one mission object); landmark goals "
+            "are served by paper.launch's back_travel_server (one_process:=false)")
+
+
+class PaperNames(object):
+    """The paper's names in one process: ``record_landmark`` (``recorder`` ``service``): a request
+    handed to the mission under ``owner``'s lock; ``back_travel``: every goal rejected."""
+
+    def __init__(self, owner):
+        self.owner, self.log = owner, owner.log
+        self.service = None
+        if owner.recorder == 'service':
+            self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
+                                         owner.guard(self._on_request))
+            self.log.info('serving %s: a request is one more landmark of the mission\'s recording',
+                          rospy.resolve_name(names.RECORD_LANDMARK))
+        # no periodic status: actionlib publishes it (latched) at start and at each rejection
+        self.action = action_server(names.BACK_TRAVEL, BackTravelAction, owner.guard, self._on_goal)
+
+    def _on_request(self, request):
+        """Hand the request in, wait for its answer: saved, label, or why not."""
+        done = threading.Event()
+        asked = LandmarkRequest(request.command, request.yaw, request.period,
+                                request.header.stamp.to_sec(), lambda _: done.set())
+        with self.owner.lock:
+            hand_in(self.owner.mission, asked)
+        if not done.wait(ANSWER_WAIT):
+            with self.owner.lock:
+                withdraw(self.owner.mission, asked, ANSWER_WAIT)
+        label, why_not = asked.answer
+        if label:
+            self.log.info('requested landmark %s saved (psi %.3f rad, T %.3f s)', label,
+                          request.yaw, request.period)
+        else:
+            self.log.warn_throttle(1.0, '%s: request %r not saved: %s',
+                                   rospy.resolve_name(names.RECORD_LANDMARK), request.command, why_not)
+        return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
+
+    def _on_goal(self, handle):
+        """Reject the goal naming why (:data:`REJECTED`)."""
+        self.log.warn('%s goal %s rejected: %s', rospy.resolve_name(names.BACK_TRAVEL),
+                      handle.get_goal_id().id, REJECTED)
+        handle.set_rejected(BackTravelResult(), REJECTED)
+
+
 class MissionOwner(object):
-    """Hosts one core Mission and its loop (module docstring); a role of ros/layer."""
+    """Hosts one core Mission and its loop (module docstring)."""
 
     ROLE = 'mission_owner'
     SCHEMA = MISSION_OWNER
@@ -135,19 +174,16 @@ class MissionOwner(object):
         self.lock = threading.RLock()       # the mission: the loop, the services, a fault
         self.stepped = threading.Condition(self.lock)   # the loop has stepped (go_home waits)
         self.inbox = Inbox()
-        self.lost = None                    # the odometry feed's lost frame last seen (a reset)
-        self.vo_heard = None                # rospy time of the last visual odometry
-        self.vo_since = rospy.get_time()    # ... of the mission's start (its vo_timeout counts)
+        self.lost = None                    # the feed's lost frame last seen (a reset)
+        self.vo_heard, self.vo_since = None, rospy.get_time()   # the last visual odometry; the start
         self.state_pub = rospy.Publisher(names.STATE, String, queue_size=10, latch=True)
         self.status_pub = rospy.Publisher(names.STATUS, MissionStatus, queue_size=10, latch=True)
-        # the recording begins once ``min_subscribers`` - 1 other nodes take the samples (a rig's test)
         self.storage_pub, self.sample_pub = (rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10),
                                              rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)) \
             if self.RECORDS else (None, None)
         self.store = self._open_store()
         self.mission = Mission(self.params, self.store, **settings)
-        self.announced = 0                  # transitions of the mission published
-        self.progress = None                # (state, goal index) of the status published
+        self.announced, self.progress = 0, None     # transitions published; (state, goal) in the status
         self.takeover = takeover = layer.takeover(self.params)
         self.drivers = _drivers(layer, self.params, turn_w, takeover)
         self.docking = DockingClient(self.inbox, takeover, self.log) if settings.get('dock_at_home') else None
@@ -159,8 +195,8 @@ class MissionOwner(object):
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
-        self.paper_names = PaperNames(self) if self.RECORDS else None   # record_landmark, back_travel
-        self._add_diagnostics(settings)
+        self.paper_names = PaperNames(self) if self.RECORDS else None
+        add_diagnostics(self, settings)
         rospy.on_shutdown(self._on_shutdown)
         with self.lock:     # the first state only: a restart's abort is never preceded by idle
             self.announced = len(self.mission.transitions) - 1
@@ -179,15 +215,15 @@ class MissionOwner(object):
             subscribe_battery(self.mission.config.battery_low, inbox, guard, self.log)
 
     def _on_odom(self, odom):
-        """A state; the feed's frame newly lost (an untrusted reset) comes in with it."""
+        """A state, with the feed's frame if newly lost (an untrusted reset)."""
         lost = self.layer.odometry.lost
         reset, self.lost = (lost if lost != self.lost else None), lost
         self.inbox.odom(odom, reset)
 
     def _on_visual(self, wire):
-        self.vo_heard = rospy.get_time()
-        if wire_lost_reason(wire) is None:
-            self.inbox.frame(wire.stamp, yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw))
+        self.vo_heard, yaw = rospy.get_time(), visual_yaw(wire)
+        if yaw is not None:
+            self.inbox.frame(wire.stamp, yaw)
 
     def _open_store(self):
         writer = open_mission_file(self.landmark_file, self.layer.current_mission_id(), metadata={
@@ -196,9 +232,8 @@ class MissionOwner(object):
         self.log.info('recording path landmarks into %s', writer.path)
         return FileStore(writer)
 
-    # --- the loop ------------------------------------------------------------------------------
     def run(self):
-        """Step the mission until shutdown (ros/layer.run_roles runs it in its own thread)."""
+        """Step the mission until shutdown."""
         clock = LoopClock(self.ROLE, self.log, then='a turn or a return ends aborted')
         period = 1.0 / self.params.control_rate
         while not rospy.is_shutdown():
@@ -263,7 +298,7 @@ class MissionOwner(object):
         return self.mission.state, getattr(self.mission.drive, 'index', None)
 
     def warnings(self):
-        """What is degraded though the mission goes on ('' if nothing)."""
+        """What is degraded though the mission goes on, or ''."""
         m = self.mission
         return '; '.join(w for w in (m.warning or self.store.warning(), self.store.space.warning,
                                      self.outputs.progress.keeper.warning,
@@ -286,8 +321,7 @@ class MissionOwner(object):
             self.publish_status()
 
     def _on_fault(self, reason):
-        """A fault of this process (the loop's own included: it has ended): ``aborted``
-        naming it, announced from the reporting thread; every output is zero for good."""
+        """A fault of this process (the loop's too): ``aborted`` naming it, from the reporting thread."""
         with self.lock:
             self._cancel(reason, faults.code_of(reason))
 
@@ -302,41 +336,8 @@ class MissionOwner(object):
             output.halt('node shutdown')
         self.store.close()
 
-    def _add_diagnostics(self, settings):
-        """The mission's statuses and, as the paper layout's roles name them, the odometry's,
-        the landmark file's and the heading correction's (ros/mission_outputs.py,
-        ros/heading_correction.py)."""
-        add, client = self.layer.diagnostics.add, settings['limits']
-        add('mission', self._diagnose)
-        add('odometry', lambda stat: odometry_status(stat, self.layer.odometry, self.mission.state,
-                                                     client.odom_timeout))
-        add('landmark file', lambda stat: file_status(stat, self.landmark_file, self.mission.state))
-        if not self.RECORDS:    # the paper layout's saver and heading_correction report the rest
-            return
-        add('recording', lambda stat: self.store.status(stat, self.mission.phase != RECORDING))
-        if not settings['heading_correction']:
-            return
-        heading = settings['standstill']
-        path = calibration_file(heading.gyro_calibration_file)
-        add('heading correction: visual odometry', lambda stat: vo_status(
-            stat, self.mission.phase != RECORDING, None if self.vo_heard is None else
-            rospy.get_time() - self.vo_heard, rospy.get_time() - self.vo_since, heading.vo_timeout,
-            len(getattr(self.mission.recording.fit, 'rows', ()))))
-        add('heading correction: gyro calibration',
-            lambda stat: calibration_status(stat, path, settings['scale_prior']))
-
-    def _diagnose(self, stat):
-        mission_id = self.layer.mission_id      # cached: no master call (an outage)
-        stat.add('state', self.mission.state)
-        stat.add('phase', self.mission.phase)
-        stat.add('mission', mission_number(mission_id))     # in this launch
-        stat.add('mission id', mission_id)
-        stat.add('mission file', os.path.realpath(self.landmark_file))
-        mission_summary(stat, self.mission.state, self.mission.reason, self.warnings())
-
-    # --- services ------------------------------------------------------------------------------
     def _on_go_home(self, request):
-        """Requested, then answered once the loop acted on it (at most ``server_timeout``)."""
+        """Answered once the loop acted on it (at most ``server_timeout``)."""
         with self.stepped:
             refusal = self.mission.go_home()
             if refusal is None:

@@ -1,6 +1,5 @@
-"""The mission's landmark file as core/mission's store, for the mission owner and the
-paper's savers: appends, gaps, the load at the loss and the write loss, a failed write
-logged and kept; its StorageUsage and diagnostics."""
+"""The mission's landmark file as core/mission's store (the owner's and the paper's savers'):
+appends, gaps, load, write loss; its StorageUsage and diagnostics."""
 import os
 
 import rospy
@@ -15,16 +14,14 @@ from blind_navigation.ros.layer import RoleLog
 
 
 class FileStore(object):
-    """The mission's landmark file as core/mission's store (append, load, loss); a failed
-    write is counted by the writer (lost) and kept in ``error``; ``space``: its free space."""
+    """The store of ``writer``'s file; ``error``: the last failed write; ``space``: its free space."""
 
     def __init__(self, writer):
         self.writer, self.error, self.log = writer, '', RoleLog(rospy.get_name())
         self.space = SpaceWatch(os.path.dirname(writer.path))
 
     def append(self, landmark, sample=None):
-        """The label of ``landmark`` (``sample``: the core/store.SampleMark it
-        came from), None: lost (logged; ``error`` says why)."""
+        """The label of ``landmark`` (``sample``: its SampleMark), None: lost (logged, ``error``)."""
         try:
             return self.writer.append(landmark, sample)
         except StorageError as error:
@@ -32,7 +29,7 @@ class FileStore(object):
             self.log.error('LANDMARK LOST: %s', error)
 
     def note_gap(self, reason):
-        """Note an odometry gap (``reason``): the next landmark's d counts from the new odometry."""
+        """Note an odometry gap: the next landmark's d counts from the new odometry."""
         try:
             gap = self.writer.note_gap(reason)
             self.log.error('odometry discontinuity: %s noted in %s; the next landmark counts from '
@@ -41,11 +38,16 @@ class FileStore(object):
             self.error = str(error)
             self.log.error('gap not noted: %s', error)
 
-    def load(self):
+    def finish(self):
+        """The file finished (a failure logged, kept in ``error`` unless one is)."""
         try:
             self.writer.finish()
         except StorageError as error:
             self.error = self.error or str(error)
+            self.log.error('%s', error)
+
+    def load(self):
+        self.finish()
         return load_landmarks(self.writer.path)
 
     def loss(self):
@@ -60,8 +62,7 @@ class FileStore(object):
         return damage_warning(loss, self.writer.path) if loss.count or self.error else ''
 
     def storage(self, now):
-        """(blind_navigation/StorageUsage, core/recorder storage_usage) of the file at ``now``
-        (rospy.Time), the free space checked (its warning logged when it appears)."""
+        """(StorageUsage, core/recorder storage_usage) at ``now`` (rospy.Time), the free space checked."""
         warning, appeared = self.space.update(now.to_sec(), self.writer.bytes, self.writer.count)
         if appeared:
             self.log.warn('%s', warning)

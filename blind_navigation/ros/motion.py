@@ -1,36 +1,32 @@
-"""What may move the robot: the Kobuki's safety events and the one velocity output.
-
-:class:`SafetyMonitor` halts every output of the process at once on a bumper, cliff or
-wheel drop. :class:`MotionOutput` publishes ``cmd_vel`` for one role only while it may
-move (core/mission_state.may_move), clamped; after ``halt`` every command is zero until
-``release`` (or, for a safety halt, :meth:`MotionOutput.contact_over`); zero for good after a
-fault; nothing at all during a takeover.
+"""What may move the robot: :class:`SafetyMonitor` halts every output of the process on a
+bumper, cliff or wheel drop; :class:`MotionOutput` publishes ``cmd_vel`` for one role only
+while it may move, clamped; zero after ``halt`` until ``release``, for good after a fault;
+nothing during an operator's takeover (:class:`TakeoverWatch`).
 """
 import threading
 
 import rospy
 from geometry_msgs.msg import Twist
+from std_msgs.msg import String
 
 from .. import names
 from ..core import mission_state
-from ..core.pause import CONTACT_DEFAULTS
+from ..core.pause import CONTACT_DEFAULTS, Takeover
 from ..core.safety import CONTACT, SafetyEvents, VelocityLimits
 from . import faults, kobuki_msgs_compat as kobuki
-from .common import subscribe_checked, twist
+from .common import subscribe, subscribe_checked, twist
 
-#: kind -> (message class, field naming the sensor)
-#: How a halt by a safety event begins (MotionOutput.halted)
+#: How a halt by a safety event begins; kind -> (message class, field naming the sensor)
 SAFETY_HALT = 'safety: '
 EVENT_TYPES = {'bumper': (kobuki.BumperEvent, 'bumper'), 'cliff': (kobuki.CliffEvent, 'sensor'),
                'wheel_drop': (kobuki.WheelDropEvent, 'wheel')}
+#: The layer's nodes that publish on its mux input, in either layout.
+LAYER_NODES = ('blind_navigation', 'back_travel_server', 'rotate_pi', 'calibrate_gyro')
 
 
 class SafetyMonitor(object):
-    """The Kobuki's safety events (names.SAFETY_EVENTS) for this process;
-    ``active`` lists the conditions active now; :meth:`on_trip` registers
-    ``callback(reason)``, called from the event's thread when a sensor becomes active;
-    ``contact_wait``: s after a bumper release in which a press is a bounce (the
-    back travel server sets its own)."""
+    """The Kobuki's safety events: ``active`` conditions; :meth:`on_trip` ``callback(reason)``
+    when a sensor becomes active; ``contact_wait``: s after a release in which a press bounces."""
 
     def __init__(self, guard=None):
         self.contact_wait = CONTACT_DEFAULTS['contact_wait']
@@ -64,7 +60,7 @@ class SafetyMonitor(object):
 
     @property
     def terminal(self):
-        """The active conditions other than a bumper contact (core/safety.is_contact)."""
+        """The active conditions other than a bumper contact."""
         with self._lock:
             return self._events.terminal
 
@@ -76,8 +72,7 @@ class SafetyMonitor(object):
 
 
 class MotionOutput(object):
-    """The velocity output of ``role`` (see module docstring); ``mission`` is the
-    process's ros/mission.MissionStateView (None: no mission, e.g. the calibration)."""
+    """The velocity output of ``role``; ``mission``: the MissionStateView (None: no mission)."""
 
     def __init__(self, role, max_v, max_w, mission=None, safety=None, takeover=None):
         if max_v < 0 or max_w <= 0:
@@ -88,8 +83,7 @@ class MotionOutput(object):
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
-        self.takeover = takeover    # ros/takeover.TakeoverWatch: silent while it is active
-        self.safety = safety        # the SafetyMonitor that halts it (contact_over asks it)
+        self.takeover, self.safety = takeover, safety   # silent during a takeover; halts it
         self._lock = threading.Lock()
         self._pub = rospy.Publisher(names.CMD_VEL, Twist, queue_size=1)
         if safety is not None:
@@ -101,7 +95,7 @@ class MotionOutput(object):
 
     @property
     def allowed(self):
-        """True when the mission state lets this role move."""
+        """The mission state lets this role move."""
         return mission_state.may_move(self.role, self.mission.state if self.mission else None)
 
     def _on_state(self, old, new):
@@ -133,8 +127,7 @@ class MotionOutput(object):
             self.halted = None
 
     def contact_over(self):
-        """Release a halt of a safety event once no safety condition is active (its owner
-        drives on: the mission has waited its contact_wait); any other halt stays."""
+        """Release a safety event's halt once no condition is active; any other halt stays."""
         with self._lock:
             if self.halted and self.halted.startswith(SAFETY_HALT) and self.safety is not None \
                     and not self.safety.active:
@@ -149,3 +142,56 @@ class MotionOutput(object):
             self._pub.publish(twist(v, w))
         except rospy.ROSException:
             pass  # publisher already closed at shutdown
+
+
+class TakeoverWatch(object):
+    """The operator's takeover, one watch per process (core/pause.Takeover; docs/safety.md,
+    "Takeover"): another node's command on the mux input, a ``takeover_inputs`` input active, or
+    a moving command on the mux output this process did not send (not while docking)."""
+
+    def __init__(self, params, guard):
+        self._takeover = Takeover(params)
+        self._lock = threading.Lock()
+        self._own = set(rospy.resolve_name(node) for node in LAYER_NODES) | {rospy.get_name()}
+        self._base = True           # the mux output is read (not while docking)
+        subscribe(names.CMD_VEL, Twist, guard(self._on_command), queue_size=10)
+        subscribe(names.CMD_VEL_MUX_ACTIVE, String, guard(self._on_mux), queue_size=10)
+        subscribe(names.MUX_OUTPUT, Twist, guard(self._on_output), queue_size=10)
+
+    def sent(self, v, w):
+        """This process publishes (v, w) on the mux input (ros/motion.MotionOutput)."""
+        with self._lock:
+            self._takeover.sent(v, w, rospy.get_time())
+
+    def watch_base(self, on):
+        """Read the mux output (``on``), or not: while docking the dock drive drives it."""
+        with self._lock:
+            self._base = bool(on)
+
+    def _on_output(self, msg):
+        with self._lock:
+            if not self._base:
+                return
+            self._takeover.at_base(msg.linear.x, msg.angular.z, rospy.get_time(),
+                                   rospy.resolve_name(names.MUX_OUTPUT))
+
+    def _on_command(self, msg):
+        caller = msg._connection_header.get('callerid', '?')
+        if caller not in self._own:
+            with self._lock:
+                self._takeover.command(caller, rospy.get_time())
+
+    def _on_mux(self, msg):
+        with self._lock:
+            self._takeover.mux_active(msg.data, rospy.get_time())
+
+    def active(self):
+        """Why an operator holds the robot now, or None."""
+        with self._lock:
+            return self._takeover.active(rospy.get_time())
+
+    def paused(self):
+        """s paused by takeovers so far."""
+        with self._lock:
+            self._takeover.active(rospy.get_time())
+            return self._takeover.paused(rospy.get_time())

@@ -1,10 +1,7 @@
-"""One odometry subscription per process, shared by the roles that need it.
-
-:class:`OdometryFeed` reads raw nav_msgs/Odometry bytes (core/odometry_wire.py) while a
-role holds it, behind the plausibility gate; carries resets across (docs/safety.md,
-"Odometry resets"); keeps a history (``state_at``); takes each message as it arrives; gives the corrected
-frame once the heading correction is set (docs/recording.md, "Saving"); shares a reset's
-frame, latched, with the other processes' feeds, which adopt it (docs/safety.md).
+"""One odometry subscription per process, shared by its roles: :class:`OdometryFeed` reads
+raw nav_msgs/Odometry while a role holds it, behind the plausibility gate; carries resets
+across, sharing their frame with the other processes (docs/safety.md, "Odometry resets");
+keeps a history (``state_at``); the corrected frame once set (docs/recording.md, "Saving").
 """
 import threading
 import time
@@ -20,66 +17,58 @@ from ..core.odometry_reset import Frame, ResetCarrier
 from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
+from ..core.vision import wire_lost_reason
 from . import subscription_watchdog
 from .common import set_pose, subscribe
 from .wiring import Expected
 
-#: No receive queue limit. rospy reads a subscription's socket in chunks of up to
-#: 64 KiB (about 90 odometry messages) and, with a queue size, keeps only the newest
-#: that many of each chunk: a receive thread that fell behind (a loaded host, sim time
-#: at 10x) lost up to 40 messages at once, a 0.8 s hole in the history state_at reads
-#: ticks from, and two recorders of one tick read odometry centimetres apart. Unlimited,
-#: every message of a chunk is used (tens of microseconds each); memory stays bounded
-#: by the chunk.
+#: No receive queue limit: with one, rospy keeps only the newest of each 64 KiB chunk read,
+#: and a receive thread that fell behind left holes in the history state_at reads.
 RECEIVE_QUEUE = None
 
 
 def ros_time():
-    """rospy.get_time(), without building a rospy.Time under wall time: this runs for
-    every odometry message (evaluation/cost.py measures what each costs)."""
+    """rospy.get_time(), without building a rospy.Time under wall time (once per message)."""
     return time.time() if is_wallclock() else rospy.get_time()
+
+
+def visual_yaw(wire):
+    """The yaw of a visual-odometry message (core/odometry_wire.WireOdometry), None if lost."""
+    return yaw_from_quaternion(wire.qx, wire.qy, wire.qz, wire.qw) if wire_lost_reason(wire) is None else None
 
 
 class OdometryFeed(object):
     """Shared odometry of ``topic`` (see module docstring)."""
 
     def __init__(self, topic, checked=True, history=10.0, guard=None, frame_topic=None):
-        self.topic = topic
-        self._on_message_guarded = guard(self._on_message) if guard else self._on_message
-        self.checked = checked
-        self.history = float(history)
+        guard = guard or (lambda fn: fn)
+        self.topic, self.checked, self.history = topic, checked, float(history)
+        self._on_message_guarded = guard(self._on_message)
         self.gate = OdometryGate() if checked else None
         self.carrier = ResetCarrier(self.gate) if checked else None
         self.expected = Expected.of(Odometry)
-        self._reanchor_listeners = []
+        self._reanchor_listeners, self._holders = [], set()
         self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
         self._lock = threading.Condition()
-        self._holders = set()
-        self._waiting = 0           # threads in state_at(wait=) or wait_fresh: notified per state
+        self._waiting = 0           # threads waiting for a state: notified per state
         self.carrier_lock = threading.Lock()   # held while a message is taken
-        self._subscriber = None
-        self._subscribed_at = None  # rospy time (s) the current subscription began
+        self._subscriber = self._subscribed_at = None     # and when (rospy time) it began
         self._states = OdometryHistory(self.history)   # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
-        self._listeners = ()        # f(state) for every accepted state
-        self._raw_listeners = ()    # f(wire) for every message
-        self._corrector = None
+        self._listeners = self._raw_listeners = ()     # f(state) per accepted state; f(wire) per message
+        self._corrector, self._new_subscription = None, False
         self.refused = 0            # messages not used (invalid or implausible)
-        self._new_subscription = False
         self._frame_pub = None      # a reset's frame shared with the other nodes' feeds
         if checked and frame_topic:
             self._frame_pub = rospy.Publisher(frame_topic, PoseStamped, queue_size=1, latch=True)
-            subscribe(frame_topic, PoseStamped, guard(self._on_frame) if guard else self._on_frame)
+            subscribe(frame_topic, PoseStamped, guard(self._on_frame))
 
-    # --- subscription --------------------------------------------------------------------------
     def acquire(self, holder):
         """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
         with self._lock:
             self._holders.add(holder)
             if self._subscriber is None:
-                # no receive queue limit (RECEIVE_QUEUE): a dropped message would be a hole
-                # in the history state_at reads the sampling ticks' odometry from
                 self._subscriber = subscribe(self.topic, rospy.AnyMsg, self._on_message_guarded,
                                              expected=self.expected, queue_size=RECEIVE_QUEUE,
                                              tcp_nodelay=True)
@@ -98,8 +87,7 @@ class OdometryFeed(object):
             subscription_watchdog.drop(subscriber)
 
     def add_listener(self, callback, raw=False):
-        """Call ``callback(state)`` for every accepted state, or with ``raw``
-        ``callback(wire)`` (core/odometry_wire.WireOdometry) for every message."""
+        """``callback(state)`` for every accepted state; ``raw``: ``callback(wire)`` for every message."""
         with self._lock:
             if raw:
                 self._raw_listeners += (callback,)
@@ -107,13 +95,11 @@ class OdometryFeed(object):
                 self._listeners += (callback,)
 
     def on_reanchor(self, callback):
-        """Call ``callback(reason, trusted)`` when the gate re-anchored on a discontinuity
-        (``trusted``: carried across in the old frame; else the frame is lost)."""
+        """``callback(reason, trusted)`` when the gate re-anchored (``trusted``: carried across)."""
         self._reanchor_listeners.append(callback)
 
     def _on_reset(self, reset):
-        """(receive thread) Log a re-anchor (core ResetEstimate), share a trusted one's
-        frame, tell the listeners."""
+        """Log a re-anchor (core ResetEstimate), share a trusted one's frame, tell the listeners."""
         trusted = reset.frame is not None
         (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
         if trusted and self._frame_pub is not None:
@@ -145,7 +131,6 @@ class OdometryFeed(object):
             self._listeners = tuple(c for c in self._listeners if c != callback)
             self._raw_listeners = tuple(c for c in self._raw_listeners if c != callback)
 
-    # --- input ---------------------------------------------------------------------------------
     def _on_message(self, msg):
         if self.expected.accepts(self.topic, msg._connection_header):
             with self.carrier_lock:     # a frame adopted meanwhile waits (_on_frame)
@@ -201,47 +186,43 @@ class OdometryFeed(object):
         rospy.logwarn_throttle(5.0, '%s: odometry on %s not used: %s'
                                % (rospy.get_name(), rospy.resolve_name(self.topic), reason))
 
-    # --- output --------------------------------------------------------------------------------
     def latest(self):
         """The newest accepted raw OdomState, or None."""
         with self._lock:
             return self._states.latest
 
     def state_at(self, stamp, wait=0.0):
-        """The newest accepted raw state stamped at or before ``stamp`` (the oldest
-        kept if all are newer), None if there is none. With ``wait`` (s, wall) it
-        first waits at most that long for a state stamped at or after ``stamp``."""
+        """The newest raw state stamped at or before ``stamp`` (else the oldest kept; None: none),
+        after waiting at most ``wait`` s (wall) for one stamped at or after it."""
         with self._lock:
             if wait > 0:
-                self._waiting += 1
-                try:
-                    self._lock.wait_for(lambda: self._newer_than(stamp), timeout=wait)
-                finally:
-                    self._waiting -= 1
+                self._wait_for(lambda: self._states.latest is not None and self._states.latest.stamp >= stamp,
+                               wait)
             return self._states.at(stamp)
 
-    def _newer_than(self, stamp):
-        latest = self._states.latest
-        return latest is not None and latest.stamp >= stamp
+    def _wait_for(self, predicate, timeout):
+        """(lock held) ``predicate()`` once true, or after ``timeout`` s (wall)."""
+        self._waiting += 1
+        try:
+            return self._lock.wait_for(predicate, timeout=timeout)
+        finally:
+            self._waiting -= 1
 
     def age(self):
-        """Seconds since the newest accepted state arrived, None before any; once the frame
-        is lost (:attr:`lost`), since the last state before."""
+        """s since the newest accepted state (the frame lost: the last before) arrived; None: none."""
         with self._lock:
             received = self._received
         return None if received is None else ros_time() - received
 
     def listening(self):
-        """Seconds since the current subscription began, None while not subscribed (an
-        idle role's feed subscribes only when its phase begins)."""
+        """s since the current subscription began, None while not subscribed."""
         with self._lock:
             since = self._subscribed_at if self._subscriber is not None else None
         return None if since is None else ros_time() - since
 
     def fresh(self, timeout):
-        """The newest state (in the corrected frame once a correction is set) if it
-        arrived within ``timeout`` s, stamped now; else None (always once the frame
-        is lost: :attr:`lost`)."""
+        """The newest state (corrected once set) stamped now, if it arrived within ``timeout`` s
+        and the frame is not lost; else None."""
         now = ros_time()
         with self._lock:
             if self.lost is not None or self._received is None or now - self._received > timeout:
@@ -252,11 +233,7 @@ class OdometryFeed(object):
     def wait_fresh(self, timeout, wait=0.0):
         """:meth:`fresh`, waiting at most ``wait`` s (wall) for a state to arrive; None after that."""
         with self._lock:
-            self._waiting += 1
-            try:
-                return self._lock.wait_for(lambda: self.fresh(timeout), timeout=wait)
-            finally:
-                self._waiting -= 1
+            return self._wait_for(lambda: self.fresh(timeout), wait)
 
     def describe_missing(self, timeout):
         """Why :meth:`fresh` returned None, for logs and results."""
@@ -267,11 +244,9 @@ class OdometryFeed(object):
             return 'no valid odometry received on %s' % topic
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
 
-    # --- the heading-corrected frame -------------------------------------------------------------
     def set_correction(self, correction, reference):
-        """From now on :meth:`fresh` is in the frame of ``correction`` (a GyroCorrection) equal to
-        the raw one at ``reference`` (where vision was lost); None: a new mission, the raw frame
-        as found (not lost)."""
+        """:meth:`fresh` in the frame of ``correction`` (a GyroCorrection), the raw one at
+        ``reference``; None: a new mission, the raw frame as found (not lost)."""
         with self._lock:
             self._corrector = None if correction is None else CorrectedOdometry.started(
                 correction, reference, self._states.latest)

@@ -1,25 +1,36 @@
 """The paper layout's mission owner (node back_travel_client): ros/mission_owner.MissionOwner
 over the same core/mission.Mission, its recording, standstill, pi turn and goals the other
-nodes' (core/mission_remote.Remote, RemoteReturn), through ros/paper_adapter.py.
-docs/DESIGN.md, "The paper's layout".
+nodes' (core/mission_remote.py), and its hand-shakes with them: the savers' ``storage``, the
+turn (``recording_end`` out, ``rotation_done`` in), the return's goals (:class:`RemoteGoals`),
+the heading correction and ``role_failure`` (docs/DESIGN.md, "The paper's layout").
 """
 import os
 from types import SimpleNamespace
 
+import actionlib
+import rospy
+from actionlib.action_client import CommState, get_name_of_constant
+from actionlib_msgs.msg import GoalStatus
+from std_msgs.msg import Bool, Empty, String
+
+from blind_navigation import names
 from blind_navigation.core import drive, mission_state as state, outcome
 from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.mission import TURN, TURNED
 from blind_navigation.core.mission_remote import Remote
-from blind_navigation.core.return_plan import damage_warning, plan_return, recording_problem
+from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, damage_warning, plan_return, recording_problem
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER
+from blind_navigation.core.route import SECTION_FIELDS
 from blind_navigation.core.safety import is_contact
 from blind_navigation.core.store import LandmarkFileError, load_landmarks
-from blind_navigation.ros.landmark_saving import landmark_file
+from blind_navigation.msg import (BackTravelAction, BackTravelGoal, HeadingCorrection, ReturnRoute,
+                                  RouteSection, StorageUsage)
+from blind_navigation.ros.common import ros_home_file, subscribe
+from blind_navigation.ros.landmark_saving import LANDMARK_FILE
+from blind_navigation.ros.layer import correction_from_message
 from blind_navigation.ros.mission_owner import MissionOwner
-from blind_navigation.ros.paper_adapter import (RemoteGoals, RemoteRecording, RemoteTurn,
-                                                subscribe_correction, subscribe_failures, write_loss)
-
+from blind_navigation.srv import SetReturnRoute
 
 def paper_params(layer):
     """(params, Mission settings, the landmark file, None: nothing driven here) of the client."""
@@ -30,20 +41,19 @@ def paper_params(layer):
                     prune_loops=client.prune_loops, on_vision_back=client.on_vision_back,
                     turn_tolerance=client.turn_tolerance, vision_back_grace=client.vision_back_grace,
                     limits=client, remote_goals=True, remote=Remote(client.heading_correction))
-    return params, settings, landmark_file(client.landmark_file), None
+    return params, settings, ros_home_file(LANDMARK_FILE, client.landmark_file), None
 
 
 class SaverFile(object):
-    """The saver's landmark file as core/mission's store, read only: load (the last good
-    one if it cannot be read now: :meth:`problem` asked first), the reported loss."""
+    """The saver's landmark file as core/mission's store, read only; ``losses``: the WriteLoss
+    reported per real path."""
 
     def __init__(self, path, losses, limits):
         self.path, self.losses, self.limits = path, losses, limits
         self.error, self.damage, self.space, self.loaded = '', '', SimpleNamespace(warning=''), None
 
     def problem(self, allow_empty=True):
-        """Why the file gives no way back (a core/outcome.Ending: unreadable, or
-        core/return_plan.recording_problem), or None; the file read kept for :meth:`load`."""
+        """Why the file gives no way back (a core/outcome.Ending), or None; the file read kept."""
         try:
             self.loaded = load_landmarks(os.path.realpath(self.path), limits=self.limits,
                                          allow_empty=allow_empty)
@@ -56,7 +66,7 @@ class SaverFile(object):
         return self.loaded
 
     def loss(self):
-        return self.losses(self.path)
+        return self.losses.get(os.path.realpath(self.path), NO_LOSS)
 
     def warning(self):
         return self.damage
@@ -77,19 +87,27 @@ class PaperOwner(MissionOwner):
         """A mission's file, the saver's; the goals' client (made once)."""
         self.turn_begun = self.connected = False
         self.remote_goals = getattr(self, 'remote_goals', None) or RemoteGoals(self.guard)
-        return SaverFile(self.landmark_file, lambda path: self.reports.loss_of(path),
-                         Limits(self.params.max_v, self.params.max_w))
+        self.losses = getattr(self, 'losses', {})     # real path of a landmark file -> its WriteLoss
+        return SaverFile(self.landmark_file, self.losses, Limits(self.params.max_v, self.params.max_w))
 
     def _subscribe(self):
         super(PaperOwner, self)._subscribe()
-        subscribe_failures(self.guard, self._on_fault)
-        self.reports = RemoteRecording(self.guard, self._on_storage)
-        self.remote_turn = RemoteTurn(self.guard, self._on_rotation_done)
+        guard = self.guard
+        subscribe(names.ROLE_FAILURE, String, guard(self._on_failure), queue_size=10)
+        subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=5)
+        self.end_pub = rospy.Publisher(names.RECORDING_END, Empty, queue_size=1, latch=True)
+        subscribe(names.ROTATION_DONE, Bool, guard(lambda msg: self._on_rotation_done(msg.data)), queue_size=1)
         if self.mission.config.heading_correction:
-            subscribe_correction(self.guard, self._on_correction)
+            subscribe(names.HEADING_CORRECTION, HeadingCorrection, guard(self._on_correction), queue_size=1)
 
-    # --- the other nodes ---------------------------------------------------------------------
+    def _on_failure(self, msg):
+        sender = msg._connection_header.get('callerid', '?')
+        if sender != rospy.get_name():          # this process's roles report at once
+            self._on_fault('%s (%s)' % (msg.data, sender))
+
     def _on_storage(self, msg):
+        if msg.lost:
+            self.losses[os.path.realpath(msg.file)] = write_loss(msg)
         with self.lock:
             self.mission.config.remote.reported(msg.distance)
             damage = damage_warning(write_loss(msg), msg.file) if msg.lost or msg.error else ''
@@ -98,10 +116,10 @@ class PaperOwner(MissionOwner):
                 self.publish_status()
         self.inbox.put()
 
-    def _on_correction(self, correction):
+    def _on_correction(self, msg):
         with self.lock:
             if self.mission.state == state.ROTATING:
-                self.mission.config.remote.measured = correction
+                self.mission.config.remote.measured = correction_from_message(msg)[0]
 
     def _on_rotation_done(self, ok):
         """rotate_pi's end of the turn: the mission's turn takes it (a failed one ends the
@@ -122,7 +140,6 @@ class PaperOwner(MissionOwner):
             else:
                 self.inbox.put(goal_result=result)
 
-    # --- the loop ----------------------------------------------------------------------------
     def _step(self, now, odom, visual, events):
         m = self.mission
         if m.state == state.RECORDING and (events.get('vision_lost') or 'go_home' in m.requests):
@@ -136,7 +153,7 @@ class PaperOwner(MissionOwner):
         remote = self.mission.config.remote
         if step.phase == TURN and not self.turn_begun:
             self.turn_begun = True
-            self.remote_turn.begin()
+            self.end_pub.publish(Empty())     # the sampling publisher's final sample, then the turn
             self.log.info('the pi turn begins: recording ended')
         if remote.refused:
             self.log.error('rotation_done true refused: %s', remote.refused)
@@ -146,8 +163,7 @@ class PaperOwner(MissionOwner):
         return step
 
     def _start_return(self):
-        """The turn done (or a return resumed): the landmarks as the saver finished them,
-        the route set on back_travel_server (its mode and home tolerance the mission's)."""
+        """The turn done (or a return resumed): the saver's landmarks, the route set on the server."""
         m, self.connected = self.mission, True
         if m.kept is None:
             problem = self.store.problem(allow_empty=False)
@@ -179,3 +195,67 @@ class PaperOwner(MissionOwner):
     def _on_shutdown(self):
         self.remote_goals.cancel()
         super(PaperOwner, self)._on_shutdown()
+
+
+def write_loss(msg):
+    """The core/return_plan.WriteLoss a StorageUsage report names."""
+    return WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn, msg.error)
+
+
+def route_message(route):
+    """The ReturnRoute message of a core/route.Route."""
+    return ReturnRoute(version=ReturnRoute.ROUTE_VERSION, x=route.x, y=route.y, speed=route.speed,
+                       corner=route.corner,
+                       sections=[RouteSection(*[getattr(s, f) for f in SECTION_FIELDS]) for s in route.sections])
+
+
+class RemoteGoals(object):
+    """The return's goals on back_travel_server, one at a time, each goal's callbacks bound to
+    it; the action client made at the first :meth:`connect`."""
+
+    def __init__(self, guard):
+        self.guard, self.client, self._handle = guard, None, None
+
+    def connect(self, route, landmarks, completed, frame_id, timeout):
+        """Wait for the server, then set the route, its goals' ``landmarks`` (return order) and
+        how many are ``completed``: (why not or None, the response)."""
+        if self.client is None:
+            self.client = actionlib.ActionClient(names.BACK_TRAVEL, BackTravelAction)
+        if not self.client.wait_for_server(rospy.Duration(timeout)):
+            return ('action server %s not available after %.0f s (is back_travel_server running?)'
+                    % (rospy.resolve_name(names.BACK_TRAVEL), timeout)), None
+        service = rospy.resolve_name(names.SET_RETURN_ROUTE)
+        try:
+            rospy.wait_for_service(names.SET_RETURN_ROUTE, timeout)
+            call = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
+            response = call(header=rospy.Header(stamp=rospy.Time.now(), frame_id=frame_id),
+                            route=route_message(route),
+                            landmarks=[value for lm in landmarks for value in lm.as_list()],
+                            completed=completed)
+        except (rospy.ROSException, rospy.ServiceException) as error:
+            return 'cannot set the return route on %s: %s' % (service, error), None
+        return None if response.ok else 'return route refused: %s' % response.message, response
+
+    def send(self, landmark, on_done):
+        """Send the goal of ``landmark``; ``on_done(core/drive.Outcome)`` once it ended."""
+        ended = []
+
+        def on_transition(handle):
+            if handle.get_comm_state() != CommState.DONE or ended:
+                return
+            ended.append(handle)
+            status, text, result = handle.get_goal_status(), handle.get_goal_status_text(), handle.get_result()
+            if status == GoalStatus.SUCCEEDED:
+                return on_done(drive.Outcome(drive.SUCCEEDED, ''))
+            name = get_name_of_constant(GoalStatus, status)
+            on_done(drive.Outcome(drive.FAILED, 'ended %s' % ('%s: %s' % (name, text) if text else name),
+                                  getattr(result, 'outcome', 0) or outcome.ROLE_FAILURE))
+
+        self._handle = self.client.send_goal(BackTravelGoal(*landmark.as_list()),
+                                             self.guard(on_transition))
+
+    def cancel(self):
+        """Ask the server to cancel the goal under way, if any."""
+        if self._handle is not None and self._handle.get_comm_state() != CommState.DONE:
+            self._handle.cancel()
+

@@ -1,9 +1,6 @@
-"""rotate_pi: after vision loss, turn the robot by pi on odometry yaw (paper 3.4).
-
-In ``rotating`` it waits for the heading correction, ``recording_end`` and the ``final``
-sample, then runs the mission's core/mission_drive.TurnDrive on ros/drive_node.DriveNode and
-publishes ``blind_navigation/rotation_done`` (true, or false on a failed turn). Restarted
-while the mission rotates, it reports false at once (docs/back_travel.md).
+"""rotate_pi (paper 3.4): in ``rotating``, after the heading correction, ``recording_end`` and
+the ``final`` sample, the mission's TurnDrive on a DriveNode; ``rotation_done`` true or false
+(false at once when restarted while rotating; docs/back_travel.md).
 """
 import math
 import types
@@ -23,18 +20,19 @@ from blind_navigation.msg import PathSample
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.drive_node import DriveNode
+from blind_navigation.ros.mission import Role
 from blind_navigation.ros.sampling_publisher import FINAL
 
 
-class RotatePi(object):
+class RotatePi(Role):
     """Turns by ``angle`` when vision is lost (module docstring)."""
 
     ROLE = mission_state.ROTATION_ROLE
     SCHEMA = ROTATE_PI
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.SCHEMA)
-        self.log = layer.logger(self.ROLE)
+        Role.__init__(self, layer)
+        p = self.params
         if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
             raise ValueError('~control_rate must be positive, ~recording_end_timeout and '
                              '~correction_margin not negative')
@@ -43,33 +41,24 @@ class RotatePi(object):
         # the mission's turn without its own checks: the client times and checks the turn
         self.config = types.SimpleNamespace(turn_tolerance=math.pi, standstill=p, limits=None,
                                             vision_back_grace=0.0)
-        self.layer = layer
-        self.driver = DriveNode(layer, self.ROLE, p, self.log, (0.0, p.max_w), layer.mission, False,
-                                lambda: 'turn')
+        self.driver = DriveNode(self, (0.0, p.max_w), layer.mission, False, lambda: 'turn')
         self.output, self.takeover = self.driver.output, self.driver.takeover
         self.correction = layer.heading_correction() if p.wait_for_heading_correction else None
         self.topic = rospy.resolve_name(names.HEADING_CORRECTION)
         self.trigger = self.final = self.turn_begins = False   # rotating; the final sample; recording_end
         self.waiting = self.paused = None   # the wait before the turn (_ready's since); takeovers then
         self.done_pub = rospy.Publisher(names.ROTATION_DONE, Bool, queue_size=1, latch=True)
-        guard = layer.guard(self.ROLE)
-        subscribe(names.SAMPLE, PathSample, guard(self._on_sample), queue_size=10)
-        subscribe(names.RECORDING_END, Empty, guard(self._on_recording_end), queue_size=1)
+        subscribe(names.SAMPLE, PathSample, self.guard(self._on_sample), queue_size=10)
+        subscribe(names.RECORDING_END, Empty, self.guard(self._on_recording_end), queue_size=1)
         self.status = 'waiting for vision loss'
-        layer.mission.on_change(guard(self._on_state))
-        layer.mission.on_new_mission(guard(self._new_mission))
-        layer.diagnostics.add('pi turn', self._diagnose)
+        self.follow('pi turn')
 
     def _diagnose(self, stat):
-        failed = self.status.startswith('failed')
-        stat.summary(diagnostics.ERROR if failed else diagnostics.OK, self.status)
+        stat.summary(diagnostics.ERROR if self.status.startswith('failed') else diagnostics.OK, self.status)
         if self.correction is not None:
             stat.add('heading correction', 'installed' if self.correction.received else 'awaited')
-        if self.layer.safety.active:
-            stat.add('safety', ', '.join(self.layer.safety.active))
-        stat.add('takeover', self.takeover.active() or 'none')
+        self.driver.diagnose(stat)
 
-    # --- events ----------------------------------------------------------------------------------
     def _on_sample(self, msg):
         if msg.command == FINAL:
             self.final = True
@@ -96,7 +85,6 @@ class RotatePi(object):
     def rotating(self):
         return self.layer.mission.state == mission_state.ROTATING
 
-    # --- the turn: one loop ----------------------------------------------------------------------
     def run(self):
         """Wait for the mission to rotate, turn, report (ros/layer.run_roles)."""
         for now, jump in self.driver.ticks(lambda: self.trigger or self.waiting is not None or
@@ -131,11 +119,8 @@ class RotatePi(object):
             self._finish(ended.ok)
 
     def _ready(self, now, jump, since):
-        """Before the turn (``since``: [when the mission rotated, when recording_end came, when the
-        turn could begin]): None while waiting, False if it cannot turn (the mission left rotating,
-        no heading correction within correction_timeout s, takeovers not counted; the ROS time
-        moved back), else the fresh odometry to turn from (after ``recording_end`` and the
-        recorder's final sample or ``recording_end_timeout``; within odom_grace)."""
+        """Before the turn (``since``: when the mission rotated, recording_end came, the turn could
+        begin): None while waiting, False if it cannot turn, else the fresh odometry to turn from."""
         p = self.params
         if jump or not self.rotating:
             return False
@@ -168,7 +153,7 @@ class RotatePi(object):
         self.log.info('turning by %.3f rad from yaw %.3f', self.driver.drive.rotation.angle, odom.yaw)
 
     def _finish(self, ok):
-        """The turn (or the wait for it) ended: zero, the odometry released, ``rotation_done``."""
+        """The turn (or its wait) ended: zero, the odometry released, ``rotation_done``."""
         self.output.halt('turn over')
         self.layer.odometry.release(self.ROLE)
         self.waiting = self.driver.drive = None

@@ -1,8 +1,6 @@
-"""The sampling publisher: the paper's publisher of sampling ticks (3.3.2, 3.4.1).
-
-The mission's own sampling (core/mission_record.MissionRecording, ticks only) stepped on
-each yaw (odometry, or ``pose2d``); each tick is a PathSample on ``blind_navigation/sample``,
-the last one ``final``; serves a restarted saver its missed samples (docs/recording.md).
+"""The sampling publisher (paper 3.3.2, 3.4.1): the mission's sampling (core/mission_record)
+stepped on each yaw; each tick a PathSample on ``sample``, the last ``final``; a restarted
+saver's missed samples served (docs/recording.md).
 """
 import math
 import threading
@@ -23,38 +21,36 @@ from blind_navigation.msg import PathSample, StorageUsage
 from blind_navigation.srv import RecordedSamples, RecordedSamplesResponse
 from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.mission import Role
 
-#: PathSample.command values: a regular tick, and the last one of a recording.
+#: PathSample.command values; the ticks' store (published, not kept).
 SAMPLE = 'sample'
 FINAL = 'final'
 COMMANDS = (SAMPLE, FINAL)
-#: The ticks' store: they are published, not kept.
 UNKEPT = SimpleNamespace(append=lambda tick: None, note_gap=lambda reason: None)
 
 
-class SamplingPublisher(object):
+class SamplingPublisher(Role):
     """Two-rate sampling publisher (module docstring)."""
 
     ROLE = 'sampling_publisher'
     SCHEMA = SAMPLING_PUBLISHER
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.SCHEMA)
-        self.log = layer.logger(self.ROLE)
+        Role.__init__(self, layer)
+        p, guard = self.params, self.guard
         self.config = SimpleNamespace(
             straight_period=period_of(p.straight_rate, '~straight_rate'), deadband=p.deadband,
             curved_period=period_of(p.curved_rate, '~curved_rate'),
             event_sampling=p.event_sampling, heading_correction=False)
         if p.event_sampling and p.yaw_source != 'odom':
             raise ValueError('~event_sampling needs ~yaw_source odom (the events come from odometry)')
-        self.layer = layer
         self._lock = threading.Lock()
         self._fresh()
         if self.rec.latency >= min(self.config.straight_period, self.config.curved_period):
             raise ValueError('~event_latency %.2f s must be shorter than the sampling periods'
                              % self.rec.latency)
         self.sample_pub = rospy.Publisher(names.SAMPLE, PathSample, queue_size=10)
-        guard = layer.guard(self.ROLE)
         self.samples_service = rospy.Service(names.RECORDED_SAMPLES, RecordedSamples,
                                              guard(self._recorded_samples))
         if p.yaw_source == 'pose2d':
@@ -65,21 +61,17 @@ class SamplingPublisher(object):
             layer.odometry.add_listener(guard(self._on_yaw))
             layer.odometry.acquire(self.ROLE)
             subscribe(names.STORAGE, StorageUsage, guard(self._on_storage), queue_size=10)
-        layer.mission.on_change(guard(self._on_state))
         subscribe(names.RECORDING_END, Empty, guard(lambda _msg: self.stop('the pi turn begins')),
                   queue_size=1)
-        layer.mission.on_new_mission(guard(self._new_mission))
-        layer.diagnostics.add('sampling', self._diagnose)
+        self.follow('sampling')
         self.log.info('waiting for a valid yaw on %s and %d subscriber(s) of %s', self.source,
                       p.min_subscribers, rospy.resolve_name(names.SAMPLE))
 
     def _fresh(self):
-        """Nothing recorded yet: the sampling and the counters start anew."""
         self.rec = MissionRecording(UNKEPT, self.config, Ticks())
         self.stopped = False
-        self.last = None            # the newest yaw state (OdomState; pose2d: x, y, v, w 0)
-        self.recording = 0.0        # the recording's id: when it started (s), 0 before
-        self.seq = 0                # the number of the last sample published
+        self.last = None            # the newest yaw state (pose2d: x, y, v, w 0)
+        self.recording, self.seq = 0.0, 0   # the recording's start (its id), the last sample's number
         self.samples = None         # SampleLog of the recording (yaw_source odom)
 
     def _diagnose(self, stat):
@@ -92,7 +84,6 @@ class SamplingPublisher(object):
         else:
             stat.summary(diagnostics.OK, 'sampling: %s segment' % self.rec.schedule.segment)
 
-    # -- inputs -------------------------------------------------------------
     def _on_pose2d(self, msg):
         if math.isfinite(msg.theta):
             self._on_yaw(OdomState(0.0, 0.0, msg.theta, 0.0, 0.0, rospy.get_time()))
@@ -100,8 +91,7 @@ class SamplingPublisher(object):
             self.log.warn_throttle(5.0, 'yaw from %s not used: theta is %r', self.source, msg.theta)
 
     def _on_storage(self, msg):
-        """A recorder saved up to sample ``msg.sample``: the log keeps only what a restart of
-        it could still ask for (core/sample_log.SampleLog.confirm)."""
+        """A recorder saved up to ``msg.sample``: the log keeps only what it could ask for."""
         with self._lock:
             if self.samples is not None and msg.sample and msg.recording == self.samples.recording:
                 self.samples.confirm(msg.file, msg.sample)
@@ -117,10 +107,8 @@ class SamplingPublisher(object):
             self.layer.odometry.acquire(self.ROLE)
         self.log.info('new mission: recording again')
 
-    # -- the sampling ---------------------------------------------------------
     def _on_yaw(self, state):
-        """Step the sampling on the yaw ``state``: the recording starts at the first one
-        while the mission records and the recorders listen; the ticks it takes are published."""
+        """Step the sampling (started once the mission records and the recorders listen)."""
         with self._lock:
             if self.stopped:
                 return
@@ -141,8 +129,7 @@ class SamplingPublisher(object):
                               self.rec.schedule.segment, self.rec.period)
 
     def stop(self, reason):
-        """End the recording, if started, with its last samples (the last one ``final``),
-        and stop until a new mission."""
+        """End the recording with its last samples (the last ``final``), until a new mission."""
         with self._lock:
             if self.stopped:
                 return
@@ -159,8 +146,7 @@ class SamplingPublisher(object):
             self.layer.odometry.release(self.ROLE)
 
     def _publish(self, ticks, final=False):
-        """Publish the ``ticks`` (state, yaw, period), with ``final`` the last as ``final``,
-        and log them (lock held)."""
+        """Publish and log the ``ticks`` (state, yaw, period); ``final``: the last (lock held)."""
         for index, (state, yaw, period) in enumerate(ticks):
             command = FINAL if final and index == len(ticks) - 1 else SAMPLE
             self.seq += 1
@@ -172,36 +158,29 @@ class SamplingPublisher(object):
             self.sample_pub.publish(msg)
 
     def _recorded_samples(self, request):
-        """The RecordedSamples service: the samples after ``request.after`` of this recording."""
+        """RecordedSamples: this recording's samples after ``request.after``."""
         with self._lock:
-            response = RecordedSamplesResponse(recording=self.recording)
+            response, logged = RecordedSamplesResponse(recording=self.recording), None
             if self.samples is None:
                 response.message = 'no samples logged (%s)' % (
                     'yaw_source is not odom' if self.params.yaw_source != 'odom' else 'not recording yet')
-                return response
-            if request.after and request.recording != self.recording:
+            elif request.after and request.recording != self.recording:
                 response.message = ('the caller follows recording %.3f, this is recording %.3f'
                                     % (request.recording, self.recording))
-                return response
-            logged = self.samples.since(request.after)
-            if logged is None:
-                response.message = 'sample %d is not kept (%d to %d are)' % (
+            else:
+                logged = self.samples.since(request.after)
+                response.message = '' if logged is not None else 'sample %d is not kept (%d to %d are)' % (
                     request.after, self.samples.first, self.samples.last)
+            if logged is None:
                 return response
-        add_logged(response, logged)
+        for entry in logged:
+            sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
+                                recording=response.recording, seq=entry.seq)
+            sample.header.stamp = rospy.Time.from_sec(entry.stamp)
+            response.samples.append(sample)
+            for name in ('x', 'y', 'v', 'w'):
+                getattr(response, name).append(getattr(entry, name))
         self.log.info('sent samples %d to %d of recording %.3f to a restarted recorder',
                       request.after, self.seq, self.recording)
         return response
 
-
-def add_logged(response, logged):
-    """Add the ``logged`` samples (core/sample_log entries) to a RecordedSamples ``response``."""
-    for entry in logged:
-        sample = PathSample(command=entry.command, yaw=entry.yaw, period=entry.period,
-                            recording=response.recording, seq=entry.seq)
-        sample.header.stamp = rospy.Time.from_sec(entry.stamp)
-        response.samples.append(sample)
-        response.x.append(entry.x)
-        response.y.append(entry.y)
-        response.v.append(entry.v)
-        response.w.append(entry.w)

@@ -1,10 +1,6 @@
-"""Heals rospy subscriptions that missed a publisher's registration.
-
-Each new subscription (:func:`watch`) is checked :data:`CHECK_AFTER` s (wall) later: one
-with fewer connections than the master lists publishers of its topic gets the master's
-list through the node's own slave API (``publisherUpdate``); an expected type
-(ros/wiring.Expected) is checked at the master too, once more when the subscription is
-dropped (:func:`drop`). Why: docs/DESIGN.md, "Threads".
+"""Heals rospy subscriptions that missed a publisher's registration (docs/DESIGN.md,
+"Threads"): each (:func:`watch`) checked :data:`CHECK_AFTER` s later, given the master's
+publishers (``publisherUpdate``) if it has fewer; an expected type checked at the master too.
 """
 import heapq
 import itertools
@@ -28,9 +24,8 @@ _thread = None
 
 
 def heal_once(master, node, subscribers):
-    """Give each of ``subscribers`` (rospy.Subscriber) with fewer connections than
-    the master lists publishers of its topic the master's list (``node``: this node's
-    slave API); returns the topics healed."""
+    """The master's publishers to each of ``subscribers`` with fewer connections (``node``: this
+    node's slave API); the topics healed."""
     publishers = dict((topic, nodes) for topic, nodes in master.getSystemState()[0])
     healed = []
     for subscriber in subscribers:
@@ -45,8 +40,7 @@ def heal_once(master, node, subscribers):
 
 
 def watch(subscriber, expected=None):
-    """Check ``subscriber`` (a rospy.Subscriber) at :data:`CHECK_AFTER` s from now
-    (its type too, with ``expected``); starts the watchdog thread at the first call."""
+    """Check ``subscriber`` (its type too, with ``expected``) at :data:`CHECK_AFTER` s from now."""
     with _lock:
         if expected is not None:
             _expected[subscriber] = expected
@@ -55,8 +49,7 @@ def watch(subscriber, expected=None):
 
 
 def drop(subscriber):
-    """Unregister ``subscriber``; its expected type, if any, is checked at the master once
-    more now: a wrong publisher that registered but has not yet delivered is still refused."""
+    """Unregister ``subscriber``; its expected type, if any, checked at the master once more."""
     topic = subscriber.resolved_name
     with _lock:
         expected = _expected.pop(subscriber, None)
@@ -67,7 +60,7 @@ def drop(subscriber):
 
 
 def _schedule(subscriber, topic, expected, delays):
-    """(under _lock) Check at ``delays`` s from now; starts the thread at the first call."""
+    """(under _lock) Check at ``delays`` s from now; the thread started at the first call."""
     global _thread
     now = time.monotonic()
     for delay in delays:
@@ -79,7 +72,7 @@ def _schedule(subscriber, topic, expected, delays):
 
 
 def _next_due():
-    """(thread) The subscriptions due now, after waiting for them; None at shutdown."""
+    """The subscriptions due, once due; None at shutdown."""
     with _lock:
         while not rospy.is_shutdown():
             wait = _due[0][0] - time.monotonic() if _due else None    # None: until watch()

@@ -1,9 +1,6 @@
-"""The vision monitor: notices vision loss by itself and publishes
-``blind_navigation/vision_lost``, through core/vision.py's debounced detectors.
-
-It watches the camera's ``camera_info`` (or the images, with ``dark``) and RTAB-Map's
-visual odometry and ``odom_info_lite``; per loss a latched message and ``~loss``; after
-one it detected, ``vision_back`` once every detector is healthy (docs/detection.md).
+"""The vision monitor: core/vision.py's debounced detectors on the camera (``camera_info``, or
+the images with ``dark``), RTAB-Map's visual odometry and ``odom_info_lite``; per loss a latched
+``vision_lost`` and ``~loss``; after one it detected, ``vision_back`` (docs/detection.md).
 """
 import threading
 
@@ -19,51 +16,43 @@ from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_m
 from blind_navigation.ros import diagnostics, subscription_watchdog
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.mission import Role
 from blind_navigation.ros.odometry import ros_time
 from blind_navigation.ros.wiring import Expected
 
-#: RTAB-Map's OdomInfo: rtabmap_msgs from 0.21 on, rtabmap_ros before (its MD5 sum changes
-#: between releases; the lost flag's place does not)
+#: RTAB-Map's OdomInfo (rtabmap_msgs from 0.21 on; any MD5 sum: the lost flag's place stays)
 ODOM_INFO = Expected(('rtabmap_msgs/OdomInfo', 'rtabmap_ros/OdomInfo'))
 IMAGE_BUFFER = 1 << 24  # a whole camera frame per read: no backlog of stale images
-#: s: the stall checks never come closer together than this (a stall about to fire)
-MIN_CHECK_WAIT = 0.01
-#: s between the periodic checks while vision is lost
-BACK_CHECK = 0.1
+#: s: the least wait between two stall checks; between the checks while vision is lost
+MIN_CHECK_WAIT, BACK_CHECK = 0.01, 0.1
 
 
-class VisionMonitor(object):
+class VisionMonitor(Role):
     """Debounced vision-loss detection (module docstring)."""
 
     ROLE = 'vision_monitor'
     SCHEMA = VISION_MONITOR
 
     def __init__(self, layer):
-        p = self.params = layer.params(self.ROLE, self.SCHEMA)
-        self.log = layer.logger(self.ROLE)
+        Role.__init__(self, layer)
+        p, guard = self.params, self.guard
         self.enabled = enabled = set(p.detectors)
-        self.layer = layer
         self.lock = threading.Lock()
-        self.done = False
+        self.done, self.warned = False, set()
         self.generation = 0   # the missions watched (new_mission watches anew)
-        self.lost = None      # the loss detected (core/vision.Loss), until vision is back
-        self.back = None      # its core/vision.VisionBack
-        self.warned = set()
+        self.lost = self.back = None    # the loss detected (core/vision.Loss) and its VisionBack
         self.started = None   # first stall check: sim time may not have arrived yet here
         self.last_camera = self.last_vo = None
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.back_pub = rospy.Publisher(names.VISION_BACK, String, queue_size=1)
-        guard = self.guard = layer.guard(self.ROLE)
         self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
         # kept across missions: a new subscription would get a latched vision_lost again
         self.manual_sub = subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))
         self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
         self.start_watching()
         VisionBack(self.monitor, p.vision_back_time)    # a bad vision_back_time fails now
-        layer.mission.on_change(guard(self.on_state))
-        layer.mission.on_new_mission(guard(self.new_mission))
-        layer.diagnostics.add('vision monitor', lambda stat: vision_status(self, stat))
+        self.follow('vision monitor')
         self.log.info('watching with detectors %s', ', '.join(sorted(enabled)))
 
     def start_watching(self):
@@ -87,8 +76,7 @@ class VisionMonitor(object):
         if self.watching_vo:
             self.layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
             self.layer.visual_odometry.acquire(self.ROLE)
-        # the wheel odometry's arrivals tell a host stall from a vision fault (one process:
-        # the recorder's subscription already; the paper's layout: one more)
+        # the wheel odometry's arrivals tell a host stall from a vision fault
         self.layer.odometry.add_listener(self.listeners['wheel'], raw=True)
         self.layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
@@ -98,7 +86,6 @@ class VisionMonitor(object):
         threading.Thread(target=guard(self.watch_stalls), args=(self.generation,),
                          name='vision_monitor_stalls', daemon=True).start()
 
-    # --- inputs ---------------------------------------------------------------------------------
     def on_camera_info(self, _msg):
         self.last_camera = rospy.get_time()
         self.feed(self.monitor.image, None)
@@ -124,8 +111,7 @@ class VisionMonitor(object):
             self.stop_camera_info()
 
     def stop_camera_info(self):
-        """Visual odometry arrives, its stall detector armed: it covers a camera stall from
-        now on, camera_info is no longer read (module docstring)."""
+        """Visual odometry arrives: its stall detector covers a camera stall, camera_info unread."""
         with self.lock:
             subscriber, self.camera_info_sub = self.camera_info_sub, None
             self.camera_info_until_vo = False
@@ -154,15 +140,14 @@ class VisionMonitor(object):
         if caller != rospy.get_name():
             self.feed(self.monitor.manual, caller)
 
-    def new_mission(self):
+    def _new_mission(self):
         with self.lock:
-            self.done, self.started = False, None
-            self.lost = self.back = None
+            self.done, self.started, self.lost, self.back = False, None, None, None
             self.generation += 1
         self.log.info('new mission: watching again')
         self.start_watching()
 
-    def on_state(self, _old, new):
+    def _on_state(self, _old, new):
         if new in mission_state.TERMINAL:
             with self.lock:
                 if self.done:
@@ -172,8 +157,8 @@ class VisionMonitor(object):
             self.stop_watching()
 
     def watch_stalls(self, generation):
-        """Check the stall detectors whenever one of them could fire next, and warn once
-        about a stream that never came; until the monitor stops watching this mission."""
+        """Check the stall detectors whenever one could fire next (and warn once about a stream
+        that never came), while this mission is watched."""
         clock = LoopClock('vision stall checks', self.log,
                           then='watching on (the detectors start again from the new time)')
         while not rospy.is_shutdown() and not self.done and self.generation == generation:
@@ -188,9 +173,8 @@ class VisionMonitor(object):
                 return
 
     def next_check(self, now):
-        """ROS time of the next stall check: the earliest moment an enabled stall detector
-        could fire (an unarmed one: if its first message came right now), or the
-        no-input warning."""
+        """ROS time of the next stall check: the earliest an enabled stall detector could fire,
+        or the no-input warning."""
         if self.lost is not None:
             return now + BACK_CHECK       # the streams' messages drive the checks meanwhile
         checks = []
@@ -214,9 +198,8 @@ class VisionMonitor(object):
                            'detectors are not armed; detection falls back to the camera '
                            'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
 
-    # --- output ---------------------------------------------------------------------------------
     def feed(self, method, *args):
-        """Run one core feed method at the current ROS time; act on a loss and on its end."""
+        """Run one core feed method now; act on a loss and on its end."""
         with self.lock:
             if self.done:
                 return
@@ -228,15 +211,12 @@ class VisionMonitor(object):
                 # vision back only after a loss seen here, not after one declared by hand
                 self.back = None if lost.detector == 'manual' else VisionBack(
                     self.monitor, self.params.vision_back_time)
-            elif lost is not None and self.back is not None and self.back.update(now):
-                self.lost = self.back = None
-                self.back_pub.publish(String(data='vision back after %.1f s (%s lost)'
-                                             % (now - self.params.vision_back_time - lost.since,
-                                                lost.detector)))
-                self.log.warn('VISION BACK after %.1f s: watching for the next loss',
-                              now - lost.since)
-                return
             else:
+                if lost is not None and self.back is not None and self.back.update(now):
+                    self.lost = self.back = None
+                    self.back_pub.publish(String(data='vision back after %.1f s (%s lost)' % (
+                        now - self.params.vision_back_time - lost.since, lost.detector)))
+                    self.log.warn('VISION BACK after %.1f s: watching for the next loss', now - lost.since)
                 return
         self.fire(lost)
 
@@ -264,23 +244,21 @@ class VisionMonitor(object):
             self.warned.add(key)
             self.log.warn('%s', text)
 
-
-def vision_status(monitor, stat):
-    """The vision monitor ``monitor``'s /diagnostics status."""
-    now = rospy.get_time()
-    camera = '-' if monitor.last_camera is None else '%.2f' % (now - monitor.last_camera)
-    if monitor.camera_topic is None and monitor.last_vo is not None:
-        camera = 'not read (the visual-odometry stall detector covers it)'
-    stat.add('camera age (s)', camera)
-    stat.add('visual odometry age (s)', '-' if monitor.last_vo is None else '%.2f' % (now - monitor.last_vo))
-    if monitor.done:
-        stat.summary(diagnostics.OK, 'not watching (the mission has ended)')
-    elif monitor.lost is not None:
-        stat.summary(diagnostics.WARN, 'vision lost (%s)%s' % (monitor.lost.detector, '' if monitor.back
-                     else '; declared by hand: not watching for its end'))
-    elif monitor.warned & {'no_camera', 'no_vo'}:
-        stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
-            sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
-                   for key in monitor.warned & {'no_camera', 'no_vo'})))
-    else:
-        stat.summary(diagnostics.OK, 'watching')
+    def _diagnose(self, stat):
+        now = rospy.get_time()
+        camera = '-' if self.last_camera is None else '%.2f' % (now - self.last_camera)
+        if self.camera_topic is None and self.last_vo is not None:
+            camera = 'not read (the visual-odometry stall detector covers it)'
+        stat.add('camera age (s)', camera)
+        stat.add('visual odometry age (s)', '-' if self.last_vo is None else '%.2f' % (now - self.last_vo))
+        if self.done:
+            stat.summary(diagnostics.OK, 'not watching (the mission has ended)')
+        elif self.lost is not None:
+            stat.summary(diagnostics.WARN, 'vision lost (%s)%s' % (self.lost.detector, '' if self.back
+                         else '; declared by hand: not watching for its end'))
+        elif self.warned & {'no_camera', 'no_vo'}:
+            stat.summary(diagnostics.WARN, 'watching without %s' % ' and '.join(
+                sorted({'no_camera': 'a camera', 'no_vo': 'visual odometry'}[key]
+                       for key in self.warned & {'no_camera', 'no_vo'})))
+        else:
+            stat.summary(diagnostics.OK, 'watching')

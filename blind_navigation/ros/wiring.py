@@ -1,9 +1,6 @@
-"""Refuses wrong wiring: a subscribed topic that carries another message type.
-
-:class:`Expected` is what a topic must carry, checked on each connection's first message
-(its header's type and md5sum) and at the master (ros/subscription_watchdog.py). A
-mismatch (:func:`refuse`): one FATAL line per topic, the connection's messages dropped, a
-fault declared (outputs zero for good, the mission ``aborted``; docs/safety.md, "Bad input").
+"""Refuses wrong wiring: :class:`Expected` is what a topic must carry, checked on each
+connection's first message and at the master; a mismatch (:func:`refuse`): one FATAL line,
+the messages dropped, a fault declared (docs/safety.md, "Bad input").
 """
 import rospy
 
@@ -29,8 +26,7 @@ class Expected(object):
         return ' or '.join(self.types)
 
     def mismatch(self, found_type, found_md5=None):
-        """None when ``found_type`` (and ``found_md5``, unless None or ``*``) is expected,
-        else what was found, for the fault's text."""
+        """None when ``found_type`` (and ``found_md5``, unless None or ``*``) is expected, else what."""
         if found_type not in self.types:
             return found_type or 'a message without a type'
         if self.md5sum and found_md5 not in (None, '*', self.md5sum):
@@ -39,8 +35,7 @@ class Expected(object):
         return None
 
     def accepts(self, topic, header):
-        """True if the connection ``header`` (a message's ``_connection_header``) carries
-        this type; else the wiring is refused (:func:`refuse`) and False."""
+        """True if the connection ``header`` carries this type; else refused and False."""
         if header is self._accepted:
             return True
         found = self.mismatch(header.get('type'), header.get('md5sum'))
@@ -52,8 +47,7 @@ class Expected(object):
 
 
 def refuse(topic, expected, found):
-    """``topic`` carries ``found``, not ``expected``: declared (every listener of
-    ros/faults.on_fault), then one FATAL line (per topic and process)."""
+    """``topic`` carries ``found``, not ``expected``: declared, then one FATAL line per topic."""
     topic = rospy.resolve_name(topic)
     fault = 'wrong wiring: %s carries %s, expected %s' % (topic, found, expected)
     if faults.declare(topic, fault, outcome.WIRING):    # once per topic: the outputs stopped, the owner told
@@ -62,8 +56,7 @@ def refuse(topic, expected, found):
 
 
 def check_types(topic_types, expected_by_topic):
-    """Refuse each topic of ``expected_by_topic`` (resolved name -> Expected) whose
-    type in ``topic_types`` (the master's [(topic, type)]) is another one."""
+    """Refuse each topic of ``expected_by_topic`` whose type in ``topic_types`` (the master's) differs."""
     types = dict(topic_types)
     for topic, expected in expected_by_topic.items():
         found = types.get(topic)

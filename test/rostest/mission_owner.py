@@ -14,7 +14,7 @@ from blind_navigation import names
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.route import build_route
 from blind_navigation.msg import BackTravelGoal
-from blind_navigation.ros.route_wire import route_message
+from blind_navigation.ros.paper_owner import route_message
 from blind_navigation.srv import SetReturnRoute
 
 #: A goal no server takes (|v| far beyond the Kobuki's): rejected as a bad goal while

@@ -48,7 +48,7 @@ from blind_navigation.core.plausibility import RouteBudget  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
 from blind_navigation.core.route import build_route  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
-from blind_navigation.ros.route_wire import route_message  # noqa: E402
+from blind_navigation.ros.paper_owner import route_message  # noqa: E402
 from blind_navigation.msg import BackTravelAction, BackTravelGoal  # noqa: E402
 from blind_navigation.srv import SetReturnRoute  # noqa: E402
 
@@ -62,7 +62,7 @@ FLOOD_RATE = 1000.0
 IDLE_GOAL = BackTravelGoal(v=0.5, w=0.0, d=1000.0, T=2000.0, psi=0.0)
 #: Finding 5b: what a second client sends during the return (a plausible landmark).
 STRANGER_GOAL = BackTravelGoal(v=0.15, w=0.0, d=0.6, T=4.0, psi=0.0)
-#: Why the one process rejects every back_travel goal (ros/owner_paper_names.REJECTED).
+#: Why the one process rejects every back_travel goal (ros/mission_owner.REJECTED).
 ONE_PROCESS_REJECTS = 'the one-process layer drives its return itself'
 #: s of sim time watched after a terminal state (longer than a standstill + pi turn
 #: where a turn could follow, finding 4a).
@@ -283,7 +283,7 @@ class TestA_OneProcessFaults(MissionCase):
     (4b); during the return: 3 s of /odom with twist 1e6 at 100 Hz (2) and a second
     client's goal (5b); after home: vision_lost and a goal again (4c); all along: a
     symlink planted at landmarks.progress.yaml.tmp (6d). The one process serves
-    back_travel only to reject every goal (ros/owner_paper_names.REJECTED)."""
+    back_travel only to reject every goal (ros/mission_owner.REJECTED)."""
 
     CHAIN = ONE_PROCESS
 
