@@ -8,6 +8,7 @@ state ``returning`` and, as back_travel_client does, sets the return's route
 (blind_navigation/set_return_route) before each test's goals, which must be the
 route's landmarks in order. Another node's goals are rejected, and so are the
 owner's once the mission has ended."""
+import math
 import subprocess
 import time
 import unittest
@@ -49,15 +50,21 @@ class BackTravelServerTest(unittest.TestCase):
         return feedback
 
     def test_distance_goal_covers_d_with_feedback(self):
-        x0 = self.base.x
+        wait_for(lambda: self.base.v == 0.0 and self.base.w == 0.0,
+                 'the base still after the earlier tests\' goals', TIMEOUT)
+        start = (self.base.x, self.base.y)      # heading: whatever earlier goals left
         feedback = self.drive((0.2, 0.0, 0.3, 2.0, 0.0))
         self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result')
         self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED)
         self.assertAlmostEqual(self.client.get_result().distance, 0.3, delta=0.02)
         self.assertGreaterEqual(len(feedback), 3, 'feedback at 5 Hz over 1.5 s')
-        rospy.sleep(0.5)  # handover timeout: the server stops the base after the last goal
-        self.assertEqual(self.base.commands[-1][1:], (0.0, 0.0))
-        self.assertAlmostEqual(self.base.x - x0, 0.3, delta=0.03)
+        # after the last goal's hand-over time the server stops the base
+        wait_for(lambda: self.base.commands[-1][1:] == (0.0, 0.0),
+                 lambda: 'a zero command after the last goal; last %r' % (self.base.commands[-1],),
+                 TIMEOUT)
+        wait_for(lambda: self.base.v == 0.0, 'the base stopped after the goal', TIMEOUT)
+        self.assertAlmostEqual(math.hypot(self.base.x - start[0], self.base.y - start[1]), 0.3,
+                               delta=0.03)
 
     def test_curved_goal_mirrors_the_turn(self):
         start = len(self.base.commands)
