@@ -25,14 +25,14 @@ def period_turn(previous, landmark):
 def _velocity_model(v_a, v_b, d, period):
     """Signed speed over the period as (v_a, v_b, bump): u(t) = v_a + (v_b - v_a) t
     + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends
-    do not reach (same sign as the motion; forward if the ends are both still)."""
-    if v_a * v_b < 0.0:
-        return v_a, v_b, 0.0
+    do not reach, in the direction of the motion: v_a's when the ends differ in
+    sign (a reversal ends the period), else theirs (forward if both are still)."""
     mean = (abs(v_a) + abs(v_b)) / 2.0
     missing = d / period - mean
     if missing <= 0.0:
         return v_a, v_b, 0.0
-    return v_a, v_b, math.copysign(missing, v_a + v_b if v_a + v_b != 0.0 else 1.0)
+    sign = v_a if v_a * v_b < 0.0 else v_a + v_b
+    return v_a, v_b, math.copysign(missing, sign if sign != 0.0 else 1.0)
 
 
 def _motion(a, b, d, turn):

@@ -1,6 +1,7 @@
 """Motion events (core/motion_events.py): an event when the robot starts or
 stops translating, reverses, or starts or stops turning, dated back to where the
-raw speed left the old state; none on steady motion or wheel-ripple noise."""
+raw speed left the old state (a reversal: where it reads the new direction); none
+on steady motion or wheel-ripple noise."""
 import math
 import random
 
@@ -35,11 +36,12 @@ def lagged(targets, tau=0.25):
     return out
 
 
-def test_a_reversal_is_dated_at_the_zero_crossing():
+def test_a_reversal_is_dated_at_the_first_state_reading_the_new_direction():
     series = lagged([(0.2, 0.0, 3.0), (-0.2, 0.0, 3.0)])
     found = events_of(series)
-    crossing = next(k for k, (v, _) in enumerate(series) if v < 0.005 and k > 10) * DT
-    assert any(abs(stamp - crossing) < 0.05 for stamp in found)
+    # just after the zero crossing: its sample tells the direction of the period it starts
+    crossed = next(k for k, (v, _) in enumerate(series) if v < -0.01) * DT
+    assert found[1:] == [pytest.approx(crossed)]
 
 
 def test_setting_off_stopping_and_turning_in_place_are_events():
