@@ -7,9 +7,14 @@ docs/back_travel.md, "The route", tells the model.
 import math
 
 from .geometry import wrap_angle
+from .motion_events import EVENT_DEFAULTS
 
 #: A modelled chord this many times longer or shorter than d is not trusted for its shape.
 SHAPE_TRUST = 3.0
+#: m/s; an end slower reads no direction: core/motion_events' still level (event_speed x
+#: event_hysteresis), below which its samples read a standing or stopping base; a reversal
+#: sample reads more, in the new direction.
+STILL_SPEED = EVENT_DEFAULTS['event_speed'] * EVENT_DEFAULTS['event_hysteresis']
 
 
 def period_turn(previous, landmark):
@@ -25,13 +30,17 @@ def period_turn(previous, landmark):
 def _velocity_model(v_a, v_b, d, period):
     """Signed speed over the period as (v_a, v_b, bump): u(t) = v_a + (v_b - v_a) t
     + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends
-    do not reach, in the direction of the motion: v_a's when the ends differ in
-    sign (a reversal ends the period), else theirs (forward if both are still)."""
+    do not reach, in the direction of the motion: when the ends differ in sign
+    v_a's (a reversal ends the period) unless v_a is below :data:`STILL_SPEED`
+    (then v_b's), else theirs (forward if both are still)."""
     mean = (abs(v_a) + abs(v_b)) / 2.0
     missing = d / period - mean
     if missing <= 0.0:
         return v_a, v_b, 0.0
-    sign = v_a if v_a * v_b < 0.0 else v_a + v_b
+    if v_a * v_b < 0.0:
+        sign = v_a if abs(v_a) >= STILL_SPEED else v_b
+    else:
+        sign = v_a + v_b
     return v_a, v_b, math.copysign(missing, sign if sign != 0.0 else 1.0)
 
 

@@ -10,6 +10,7 @@ from types import SimpleNamespace
 import pytest
 
 from blind_navigation.core.geometry import OdomState
+from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.mission_record import MissionRecording
 from blind_navigation.core.period_model import period_shape
 from blind_navigation.core.route import build_route
@@ -92,3 +93,14 @@ def test_longer_and_shorter_reversed_stretches_end_on_the_start(seconds):
     end = states[-1]
     route = build_route(recorded(states), (end.x, end.y))
     assert math.hypot(route.x[-1], route.y[-1]) < 0.01
+
+
+def test_a_period_from_standing_into_reversing_goes_its_ends_way():
+    # the start reads a standing base (+0.004 m/s, noise), the end reverses at 0.145 m/s
+    # and d / T exceeds the ends' mean: the speed made up goes backward the whole period
+    stood = Landmark(0.004, 0.0, 0.046, 1.0, 0.0)
+    backing = Landmark(-0.145, 0.0, 0.2, 1.0, 0.0)
+    direction, points, _, _ = period_shape(stood, backing, backing.d, 8)
+    assert math.cos(direction) < -0.99
+    xs = [0.0] + [x for x, _ in points]
+    assert all(later <= earlier + 1e-9 for earlier, later in zip(xs, xs[1:])), xs
