@@ -104,3 +104,25 @@ def test_a_period_from_standing_into_reversing_goes_its_ends_way():
     assert math.cos(direction) < -0.99
     xs = [0.0] + [x for x, _ in points]
     assert all(later <= earlier + 1e-9 for earlier, later in zip(xs, xs[1:])), xs
+
+
+def test_a_period_ended_by_a_reversal_goes_the_start_way_to_its_end():
+    # backing up 2 cm while turning in place at 1 rad/s (the kinematic base in a loop path's
+    # corner), the end the first state reading forward: the chord is the backward motion's,
+    # not a half-back, half-forward one turned a quarter away
+    turn, seconds = 1.0, 0.98
+    x = y = 0.0
+    for k in range(49):
+        heading = turn * (k + 0.5) * DT
+        x, y = x - 0.017 * DT * math.cos(heading), y - 0.017 * DT * math.sin(heading)
+    start = Landmark(-0.017, turn, 0.0, 1.0, 0.0)
+    end = Landmark(0.013, turn, math.hypot(x, y), seconds, turn * seconds)
+    direction = period_shape(start, end, end.d, 8)[0]
+    assert abs(math.remainder(direction - math.atan2(y, x), 2 * math.pi)) < 0.15   # linear to b.v: 0.64
+
+
+def test_a_one_step_period_goes_its_end_way():
+    # dense odometry (one 20 ms step): the end's v is the step's own speed
+    moving = Landmark(0.008, 0.0, 0.0, 1.0, 0.0)
+    step = Landmark(-0.012, 0.0, 0.012 * DT, DT, 0.0)
+    assert math.cos(period_shape(moving, step, step.d, 2)[0]) < -0.99
