@@ -25,7 +25,10 @@ class MissionRecording(object):
         self.recorder = recorder or PathRecorder()
         self.events = EventSampler() if config.event_sampling else None
         self.latency = self.events.latency if self.events else 0.0
-        self.history = OdometryHistory(max(2.0, 2.0 * self.latency))
+        # a tick is taken latency s late, with the events since the previous tick: a period
+        # and the latency back at least
+        self.history = OdometryHistory(max(config.straight_period, config.curved_period)
+                                       + max(2.0, 2.0 * self.latency))
         self.fit = GyroVisualFit() if config.heading_correction else None
         self.period = self.next_tick = self.last_tick = None
         self.landmarks = []         # as appended, recording order

@@ -1,7 +1,8 @@
 """Motion events: where an extra landmark makes the recorded path unambiguous.
 
 :class:`MotionEvents` reports when the robot's way of moving changes between ``still``,
-``forward`` and ``backward`` (debounced, dated back to where it began);
+``forward`` and ``backward`` (debounced, dated back to where it began; a reversal to the
+first odometry state reading the new direction);
 :class:`EventSampler` interleaves a landmark at each event with the periodic ticks,
 for the sampling publisher and the harness alike (docs/recording.md, "Motion events").
 """
@@ -18,6 +19,7 @@ EVENT_DEFAULTS = {
 }
 
 STILL, FORWARD, BACKWARD = 'still', 'forward', 'backward'
+_OPPOSITE = {FORWARD: BACKWARD, BACKWARD: FORWARD}
 
 
 class MotionEvents(object):
@@ -38,6 +40,7 @@ class MotionEvents(object):
         self.turning = False
         self._candidate = None      # (state, since)
         self._left_old = None       # stamp of the first raw sample of the current run off the old state
+        self._crossed = None        # ... and of its first raw sample in the opposite direction
 
     def _classify(self, speed, rate, state, turning):
         on, off = self.event_speed, self.event_speed * self.event_hysteresis
@@ -64,10 +67,13 @@ class MotionEvents(object):
             self._sum -= v
             self._sum_w -= w
         current = (self.state, self.turning)
-        if self._classify(odom_state.v, odom_state.w, *current) == current:
-            self._left_old = None
+        raw = self._classify(odom_state.v, odom_state.w, *current)
+        if raw == current:
+            self._left_old = self._crossed = None
         elif self._left_old is None:
             self._left_old = stamp
+        if self._crossed is None and raw[0] == _OPPOSITE.get(self.state):
+            self._crossed = stamp
         count = len(self._recent)
         new = self._classify(self._sum / count, self._sum_w / count, *current)
         if new == current:
@@ -76,8 +82,10 @@ class MotionEvents(object):
         if self._candidate is None or self._candidate[0] != new:
             self._candidate = (new, stamp)
         if stamp - self._candidate[1] >= self.event_debounce - 1e-9:
+            reversal = new[0] == _OPPOSITE.get(self.state) and self._crossed is not None
+            since = self._crossed if reversal else self._left_old
             (self.state, self.turning), self._candidate = new, None
-            since, self._left_old = self._left_old, None
+            self._left_old = self._crossed = None
             return since if since is not None else stamp
         return None
 

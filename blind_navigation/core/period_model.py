@@ -7,9 +7,20 @@ docs/back_travel.md, "The route", tells the model.
 import math
 
 from .geometry import wrap_angle
+from .motion_events import EVENT_DEFAULTS
 
 #: A modelled chord this many times longer or shorter than d is not trusted for its shape.
 SHAPE_TRUST = 3.0
+#: m/s; an end slower reads no direction: core/motion_events' still level (event_speed x
+#: event_hysteresis), below which its samples read a standing or stopping base; a reversal
+#: sample reads more, in the new direction.
+STILL_SPEED = EVENT_DEFAULTS['event_speed'] * EVENT_DEFAULTS['event_hysteresis']
+#: s; the odometry's step (kobuki_node, 50 Hz): a state's v is its speed over the step before it.
+ODOMETRY_STEP = 0.02
+#: m/s; an end no faster reads a reversal just past its crossing (a motion event's sample, the
+#: first state past event_speed): one ODOMETRY_STEP at up to 2 m/s^2 beyond event_speed (kobuki's
+#: limiter: 0.6; the kinematic fake's steps: up to 1.7).
+REVERSAL_READ = EVENT_DEFAULTS['event_speed'] + 2.0 * ODOMETRY_STEP
 
 
 def period_turn(previous, landmark):
@@ -25,14 +36,23 @@ def period_turn(previous, landmark):
 def _velocity_model(v_a, v_b, d, period):
     """Signed speed over the period as (v_a, v_b, bump): u(t) = v_a + (v_b - v_a) t
     + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends
-    do not reach (same sign as the motion; forward if the ends are both still)."""
+    do not reach, in the direction of the motion: theirs (forward if both are still);
+    when they differ in sign v_a's (then v_b taken as 0 if it reads a reversal just past
+    its crossing, :data:`STILL_SPEED` to :data:`REVERSAL_READ`: b read the new way over
+    its last odometry step only), unless v_a is below :data:`STILL_SPEED` or the period is one
+    :data:`ODOMETRY_STEP` (then v_b's)."""
+    sign = v_a + v_b
     if v_a * v_b < 0.0:
-        return v_a, v_b, 0.0
+        if abs(v_a) < STILL_SPEED or period <= 1.5 * ODOMETRY_STEP:
+            sign = v_b
+        else:
+            sign = v_a
+            v_b = 0.0 if STILL_SPEED <= abs(v_b) <= REVERSAL_READ else v_b
     mean = (abs(v_a) + abs(v_b)) / 2.0
     missing = d / period - mean
     if missing <= 0.0:
         return v_a, v_b, 0.0
-    return v_a, v_b, math.copysign(missing, v_a + v_b if v_a + v_b != 0.0 else 1.0)
+    return v_a, v_b, math.copysign(missing, sign if sign != 0.0 else 1.0)
 
 
 def _motion(a, b, d, turn):
