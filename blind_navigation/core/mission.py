@@ -54,10 +54,9 @@ Inputs.__doc__ = ('What the owner observed since the last step: ``odom`` (raw Od
 
 
 Step = collections.namedtuple('Step', 'command phase state stored goal dock')
-Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: recording, '
-                'standstill, turn, turned, goal, hand-over, final hold, settle, final approach, ended; '
-                '``state``; ``stored``: the landmarks stored this step; ``goal``: (index, landmark) '
-                'to send now (remote_goals), else None; ``dock``: send the docking goal now (core/docking).')
+Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``; ``state``; ``stored``: the '
+                'landmarks stored this step; ``goal``: (index, landmark) to send now (remote_goals), else '
+                'None; ``dock``: send the docking goal now (core/docking).')
 
 RECORDING, STANDSTILL, TURN, TURNED, ENDED = 'recording', 'standstill', 'turn', 'turned', 'ended'
 #: Why a mission starts ``returning`` (the default layer's reason too).

@@ -233,31 +233,25 @@ class Pauses(object):
         self.takeover, self.log = Takeover(params), PauseLog(params.contact_wait)
         self.paused_at = self.taken = None
 
-    def _decide(self, now, pressed, operator, position):
-        """This cycle: None (drive), 'taken' (publish nothing), PAUSE (publish zero) or
-        why the drive ends (a contact too many or too long; a bumper without contacts)."""
+    def cycle(self, now, pressed, operator, position, driven):
+        """This cycle of ``driven`` (told ``resumed(seconds)`` when a pause ended): False (drive on),
+        None (a takeover: publish nothing), ZERO (a contact) or the core/outcome.Ending (a contact
+        too many or too long, a bumper without contacts)."""
         if not (pressed or operator or self.paused_at is not None or self.log.takeovers or
                 self.log.contacts):
-            return None         # nothing ever paused this drive: nothing to track
+            return False        # nothing ever paused this drive: nothing to track
         if operator:
             self.takeover.command(operator, now)
         taken = self.takeover.active(now)
         self.log.update(now, taken, pressed, position)
         if taken:
-            self.taken = taken
-            return 'taken'
-        if self.contacts is None:
-            return 'bumper pressed' if pressed else None
-        decision = self.contacts.decide(bool(pressed), now,
-                                        sensors=pressed if isinstance(pressed, tuple) else ())
-        if decision == PAUSE:
-            return PAUSE
-        return '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision) if decision else None
-
-    def cycle(self, now, pressed, operator, position, driven):
-        """This cycle of ``driven`` (told ``resumed(seconds)`` when a pause ended): False (drive
-        on), None (a takeover: publish nothing), ZERO (a contact) or the core/outcome.Ending."""
-        pause = self._decide(now, pressed, operator, position)
+            self.taken, pause = taken, 'taken'
+        elif self.contacts is None:
+            pause = 'bumper pressed' if pressed else None
+        else:
+            pause = self.contacts.decide(bool(pressed), now, sensors=pressed if isinstance(pressed, tuple) else ())
+            if pause and pause != PAUSE:
+                pause = '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', pause)
         if pause in ('taken', PAUSE):
             self.paused_at = now if self.paused_at is None else self.paused_at
             return None if pause == 'taken' else ZERO

@@ -21,9 +21,8 @@ def with_defaults(params, defaults):
 
 
 def rotation_timeout(params, config):
-    """s from vision loss to the pi turn's end: the standstill's timeout (core/gyro_bias, the
-    mission ``config``'s standstill params) + rotation_margin (its limits, else ``params``) +
-    vision_back_grace."""
+    """s from vision loss to the pi turn's end: the standstill's timeout + rotation_margin (the
+    ``config``'s limits, else ``params``) + vision_back_grace."""
     margin = with_defaults(config.limits or params, LIMIT_DEFAULTS).rotation_margin
     return standstill_timeout(config.standstill) + margin + config.vision_back_grace
 

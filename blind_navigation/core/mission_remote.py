@@ -38,8 +38,7 @@ class Remote(object):
 
 
 class RemoteRecording(object):
-    """MissionRecording's part for a recording made elsewhere: where it began (``start``),
-    ``distance`` and ``reported`` (the saver's), ``lost`` (an untrusted reset)."""
+    """MissionRecording's part for a recording made elsewhere (``lost``: an untrusted reset)."""
     fit, requested = None, ()
 
     def __init__(self):

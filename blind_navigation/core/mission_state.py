@@ -59,9 +59,7 @@ def starts_new_mission(old, new):
 
 def may_move(role, state):
     """True when ``role`` may command motion in ``state`` (None: no mission, only the calibration)."""
-    if state is None:
-        return role == CALIBRATION_ROLE
-    return MOTION_OWNER.get(state) == role
+    return role == CALIBRATION_ROLE if state is None else MOTION_OWNER.get(state) == role
 
 
 def records(state):

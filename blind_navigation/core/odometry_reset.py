@@ -147,12 +147,9 @@ class ResetCarrier(object):
                             0.5 * (before.w + state.w), dt)
         off, off_yaw = math.hypot(state.x - x, state.y - y), abs(wrap_angle(state.yaw - yaw))
         mean_v, mean_w = 0.5 * abs(before.v + state.v), 0.5 * abs(before.w + state.w)
-        if (off <= p['reset_position_tolerance'] + (0.5 * abs(before.v - state.v)
-                                                     + p['reset_twist_margin'] * mean_v
-                                                     + p['reset_speed_noise']) * dt
-                and off_yaw <= p['reset_yaw_tolerance'] + (0.5 * abs(before.w - state.w)
-                                                           + p['reset_twist_margin'] * mean_w
-                                                           + p['reset_yaw_rate_noise']) * dt):
+        slack_v = (0.5 * abs(before.v - state.v) + p['reset_twist_margin'] * mean_v + p['reset_speed_noise']) * dt
+        slack_w = (0.5 * abs(before.w - state.w) + p['reset_twist_margin'] * mean_w + p['reset_yaw_rate_noise']) * dt
+        if off <= p['reset_position_tolerance'] + slack_v and off_yaw <= p['reset_yaw_tolerance'] + slack_w:
             return None
         return ResetEstimate(None, '%s at %.3f s: after %.3f s without odometry it is at (%.3f, '
                              '%.3f, %.3f), %.3f m and %.3f rad from where its twist says (a '

@@ -21,10 +21,9 @@ PAUSE = 'pause'
 SENT_MEMORY = 1.0
 
 
-def _positive(params, names):
-    for name in names:
-        if not float(getattr(params, name)) > 0:
-            raise ValueError('~%s must be positive, got %r' % (name, getattr(params, name)))
+def _positive(params, name):
+    if not float(getattr(params, name)) > 0:
+        raise ValueError('~%s must be positive, got %r' % (name, getattr(params, name)))
 
 
 class Contacts(object):
@@ -33,7 +32,7 @@ class Contacts(object):
     ``presses``: the contact under way's bumpers and presses (bounces included)."""
 
     def __init__(self, params):
-        _positive(params, ('contact_timeout',))
+        _positive(params, 'contact_timeout')
         self.wait, self.timeout = float(params.contact_wait), float(params.contact_timeout)
         self.max = int(params.max_contacts)
         if self.wait < 0 or self.max < 0:
@@ -41,10 +40,6 @@ class Contacts(object):
         self.count = self.presses = 0
         self.first = self.released_at = None    # of the contact under way: its first press, last release
         self.sensors = []
-
-    @property
-    def active(self):
-        return self.first is not None
 
     def decide(self, pressed, now, presses=None, sensors=()):
         """``pressed`` (since the last cycle) -> PAUSE, None (drive on) or the abort reason;
@@ -91,7 +86,7 @@ class Takeover(object):
     higher input active, holds it until ``takeover_wait`` s of silence."""
 
     def __init__(self, params):
-        _positive(params, ('takeover_wait',))
+        _positive(params, 'takeover_wait')
         if params.on_takeover not in POLICIES:
             raise ValueError('~on_takeover must be one of %s, got %r'
                              % (', '.join(POLICIES), params.on_takeover))
@@ -164,30 +159,24 @@ class PauseLog(object):
         self._taken_at = None       # the position [x, y] where the takeover under way began
 
     def update(self, now, taken, pressed, position):
-        """``taken`` (a takeover under way), ``pressed`` (a bumper is), ``position()``: [x, y]
-        or None; True when a pause started or ended."""
-        changed = False
+        """``taken`` (a takeover under way), ``pressed`` (a bumper is), ``position()``: [x, y] or None."""
         open_takeover = bool(self.takeovers) and self.takeovers[-1][1] is None
         if taken and not open_takeover:
             self.takeovers.append([now, None, None])
             self._taken_at = position()
-            changed = True
         elif not taken and open_takeover:
             here = position()
             moved = None if here is None or self._taken_at is None else math.hypot(
                 here[0] - self._taken_at[0], here[1] - self._taken_at[1])
             self.takeovers[-1][1:] = [now, moved]
-            changed = True
         last = self.contacts[-1] if self.contacts else None
         if pressed:
             if last is None or (last[1] is not None and now - last[1] >= self.wait):
                 self.contacts.append([now, None])
-                changed = True
             else:
                 last[1] = None
         elif last is not None and last[1] is None:
             last[1] = now
-        return changed
 
     def describe(self, now):
         """'' or e.g. '1 operator takeover (90.0 s, moved the robot 4.50 m); 2 bumper contacts (3.1 s)'."""
