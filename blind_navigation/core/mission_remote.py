@@ -50,19 +50,15 @@ class RemoteRecording(object):
     def begin(self, odom):
         self.start = (odom.x, odom.y)
 
-    def feed(self, odom, visual):
-        """The fit is heading_correction's."""
-
-    def step(self, odom, now):
+    def step(self, *_args):
+        """No landmarks here (the saver stores them), no fit (heading_correction's), no resuming
+        (the sampling publisher goes on by itself)."""
         return []
 
-    end = step
+    end = feed = resume = step
 
     def reset(self, odom, reason):
         self.lost = self.lost or reason
-
-    def resume(self):
-        """The sampling publisher goes on by itself."""
 
 
 class RemoteTurn(PiTurn):
