@@ -36,13 +36,9 @@ class BatteryWatch(object):
         self.low, self.reason, self.level = False, None, None
         self.ignored, self.problem = 0, None
 
-    @property
-    def enabled(self):
-        return self.threshold > 0
-
     def update(self, now, volts):
         """A reading ``volts`` (V; None: none came) at ``now`` (s): :attr:`reason` after it."""
-        if not self.enabled or volts is None:
+        if not self.threshold > 0 or volts is None:
             return self.reason
         problem = reading_problem(volts)
         if problem:

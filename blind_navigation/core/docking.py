@@ -6,13 +6,11 @@ import collections
 from . import mission_state, outcome
 
 DOCK = 'dock'               # the mission's phase while docking
-#: s the docking may take from the return's arrival: the Kobuki docks from a field about 2 m x 5 m
-#: at 0.05-0.1 m/s after a scan of up to a full turn at 0.66 rad/s (docs/safety.md, "Docking").
+#: s the docking may take from the return's arrival (docs/safety.md, "Docking").
 DOCK_TIMEOUT = 180.0
 
 DockingResult = collections.namedtuple('DockingResult', 'docked text')
-DockingResult.__doc__ = ('The auto-docking action\'s end: docked (it succeeded: on the charger) and '
-                         'its text (why it failed, or the action\'s own words).')
+DockingResult.__doc__ = 'The auto-docking action\'s end: docked (on the charger) and its text (why not).'
 
 
 class Docking(object):
@@ -23,9 +21,6 @@ class Docking(object):
         self.home_reason, self.started = home_reason, now
         self.timeout = DOCK_TIMEOUT if timeout is None else float(timeout)
         self.start = True          # the owner sends the docking goal (Step.dock) at this step
-
-    def where(self):
-        return 'the docking'
 
     def requested(self):
         """True once: the step that should send the docking goal."""

@@ -11,12 +11,10 @@ SUCCEEDED, CANCELLED, FAILED, TIMED_OUT = 'succeeded', 'cancelled', 'failed', 't
 SAFETY_STOP, ODOMETRY_LOST, PREEMPTED = 'safety stop', 'odometry lost', 'preempted'
 TAKEN_OVER = 'taken over'      # an operator took the robot (on_takeover abort)
 
-
 #: The core/outcome code of a kind, where the Outcome names none.
 KIND_CODES = {SUCCEEDED: outcome.NONE, CANCELLED: outcome.CANCELLED, FAILED: outcome.ROLE_FAILURE,
-              TIMED_OUT: outcome.TIMEOUT, SAFETY_STOP: outcome.SAFETY_EVENT,
-              ODOMETRY_LOST: outcome.ODOMETRY, PREEMPTED: outcome.CANCELLED,
-              TAKEN_OVER: outcome.TAKEOVER}
+              TIMED_OUT: outcome.TIMEOUT, SAFETY_STOP: outcome.SAFETY_EVENT, ODOMETRY_LOST: outcome.ODOMETRY,
+              PREEMPTED: outcome.CANCELLED, TAKEN_OVER: outcome.TAKEOVER}
 
 
 class Outcome(collections.namedtuple('Outcome', 'kind reason code', defaults=(outcome.NONE,))):

@@ -1,8 +1,7 @@
-"""The mission as one sequential object: record -> standstill -> pi turn -> return ->
-terminal, over core/mission_state, stepped by its owner's one loop
-(``step(now, inputs) -> Step``): what was observed since the last step in, what to
-publish out. No threads, no clock, no transport: the ROS layer and sim/harness.py
-both drive it. docs/DESIGN.md, "The default layer: one mission, one loop".
+"""The mission as one sequential object: record -> standstill -> pi turn -> return -> terminal,
+stepped by its owner's one loop (``step(now, inputs) -> Step``). No threads, no clock, no
+transport: the ROS layer and sim/harness.py both drive it (docs/DESIGN.md, "The default layer:
+one mission, one loop").
 """
 import collections
 import types
@@ -44,29 +43,20 @@ MISSION_DEFAULTS = {
 }
 
 
-class Inputs(collections.namedtuple('Inputs', 'odom visual vision_lost vision_back bumper operator '
-                                    'tripped reset time_back next_goal goal_result battery docking')):
-    """What the owner observed since the last step: ``odom`` (raw OdomState, None: none
-    arrived), ``visual`` [(stamp, yaw)], ``vision_lost``/``vision_back``, ``bumper``
-    (pressed: True or a tuple naming the bumpers), ``operator`` (who sent a foreign command), ``tripped`` (a cliff, a wheel drop:
-    what), ``reset`` (an untrusted odometry reset: why), ``time_back`` (the clock moved back:
-    how), ``next_goal`` (with await_goals), ``goal_result`` (remote_goals, remote: the
-    core/drive.Outcome of the goal sent, of the turn), ``battery`` (V: the battery's reading, None: none),
-    ``docking`` (dock_at_home: the core/docking.DockingResult of the docking goal sent)."""
-    __slots__ = ()
-
-    def __new__(cls, odom=None, visual=(), vision_lost=False, vision_back=False, bumper=False,
-                operator=None, tripped=None, reset=None, time_back=None, next_goal=False,
-                goal_result=None, battery=None, docking=None):
-        return super(Inputs, cls).__new__(cls, odom, visual, vision_lost, vision_back, bumper, operator, tripped,
-                                          reset, time_back, next_goal, goal_result, battery, docking)
+Inputs = collections.namedtuple(
+    'Inputs', 'odom visual vision_lost vision_back bumper operator tripped reset time_back next_goal '
+    'goal_result battery docking', defaults=(None, (), False, False, False, None, None, None, None, False,
+                                             None, None, None))
+Inputs.__doc__ = ('What the owner observed since the last step: ``odom`` (raw OdomState or None), '
+                  '``visual`` [(stamp, yaw)], ``bumper`` (True or the bumpers\' names), ``operator``, '
+                  '``tripped``, ``reset``, ``time_back``: who or why, ``goal_result``: the core/drive.Outcome '
+                  'of the goal (or turn) sent, ``battery`` (V), ``docking``: a core/docking.DockingResult.')
 
 
 Step = collections.namedtuple('Step', 'command phase state stored goal dock')
-Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``: recording, '
-                'standstill, turn, turned, goal, hand-over, final hold, settle, final approach, ended; '
-                '``state``; ``stored``: the landmarks stored this step; ``goal``: (index, landmark) '
-                'to send now (remote_goals), else None; ``dock``: send the docking goal now (core/docking).')
+Step.__doc__ = ('``command``: (v, w) to publish or None (nothing); ``phase``; ``state``; ``stored``: the '
+                'landmarks stored this step; ``goal``: (index, landmark) to send now (remote_goals), else '
+                'None; ``dock``: send the docking goal now (core/docking).')
 
 RECORDING, STANDSTILL, TURN, TURNED, ENDED = 'recording', 'standstill', 'turn', 'turned', 'ended'
 #: Why a mission starts ``returning`` (the default layer's reason too).
@@ -74,10 +64,9 @@ RESUMED = 'resume after a restart'
 
 
 class Mission(object):
-    """One mission (module docstring). ``params``: the controllers' (core/rotation, goal, route,
-    allowance, pause names); ``store``: ``append(landmark)``, ``load()`` -> core/store.LoadedPath,
-    ``loss()`` -> core/return_plan.WriteLoss, ``note_gap(reason)``; ``settings``:
-    :data:`MISSION_DEFAULTS`; ``kept``: a core/resume.KeptReturn to resume (``returning``)."""
+    """One mission. ``params``: the controllers' params; ``store``: core/store's ``append``,
+    ``load``, ``loss``, ``note_gap``; ``settings``: :data:`MISSION_DEFAULTS`; ``kept``: a
+    core/resume.KeptReturn to resume (``returning``)."""
 
     def __init__(self, params, store, kept=None, **settings):
         self.params, self.store = params, store
@@ -85,7 +74,12 @@ class Mission(object):
         self.machine = state.MissionState()
         self.transitions, self.now = [], None   # (now, old, new, reason) of every change
         self._new(store)
-        _resume(self, kept)
+        if kept is not None:
+            self.kept, self.phase, self.loaded, self.landmarks, self.anchor = (
+                kept, TURNED, kept.loaded, kept.landmarks, kept.anchor)
+            self.correction, self.reference = kept.correction, kept.reference
+            self.corrector = None if kept.correction is None else CorrectedOdometry.started(
+                kept.correction, kept.reference, snapshot=kept.frame)
         self._move(None, state.IDLE if kept is None else state.RETURNING, RESUMED if kept else '')
 
     def _new(self, store):
@@ -96,7 +90,6 @@ class Mission(object):
         self.drive, self.ending, self.kept, self.warning = None, None, None, ''  # warning: the return's
         self.pauses, self.requests, self.halt, self.vision_loss = Pauses(self.params), [], False, False
 
-    # --- requests (acted on at the next step) ------------------------------------------------
     state = property(lambda self: self.machine.state, doc='The mission state (core/mission_state).')
     reason = property(lambda self: self.machine.reason, doc='Why it is in that state.')
 
@@ -129,16 +122,19 @@ class Mission(object):
         self.landmarks, self.planned = settings.pop('landmarks', self.landmarks), settings.pop('planned', self.planned)
         self.config.__dict__.update(_known(settings))
 
-    # --- the loop ------------------------------------------------------------------------------
     def step(self, now, inputs=Inputs()):
         """One cycle at ``now`` (s, the owner's clock) with ``inputs``: the :class:`Step`."""
         stored, ended, self.now = [], self.phase == ENDED, now
         if inputs.odom is not None:
             self.raw = inputs.odom
             self.last = self.odom()
-        why = _interrupted(inputs, self.phase, self.state)
-        if why:
-            self._end(state.ABORTED, *why)
+        where = {STANDSTILL: 'the pi turn', TURN: 'the pi turn', DOCK: 'the docking'}.get(self.phase, 'the return')
+        lost = inputs.time_back or inputs.reset
+        if lost and self.state in (state.ROTATING, state.RETURNING):
+            self._end(state.ABORTED, outcome.CLOCK if inputs.time_back else outcome.ODOMETRY,
+                      frame_lost('%s during %s' % (lost, where)))
+        elif inputs.tripped and self.phase not in (RECORDING, ENDED):   # a safety stop after the recording
+            self._end(state.ABORTED, outcome.SAFETY_EVENT, '%s: safety stop: %s' % (where, inputs.tripped))
         command = self._step(now, inputs, stored)
         self.halt = self.halt and ended     # the step that ended the mission returned zero
         return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None),
@@ -191,7 +187,6 @@ class Mission(object):
         if self.machine.transition(old, new, reason):
             self.transitions.append((self.now, old, new, reason))
 
-    # --- phases --------------------------------------------------------------------------------
     def _record(self, now, inputs, stored):
         rec = self.recording
         if inputs.reset:
@@ -203,19 +198,28 @@ class Mission(object):
             stored.extend(rec.step(inputs.odom, now))
         if stored or rec.reported:
             self._move(state.IDLE, state.RECORDING)
-        why = _return_reason(now, inputs, self.recording.battery, self.requests)
+        low = self.recording.battery.update(now, inputs.battery)
+        why = 'vision lost' if inputs.vision_lost else low or (
+            'return requested (go_home)' if 'go_home' in self.requests else None)
         if why and self.state == state.RECORDING:
             self.requests = []
             return self._lose(now, stored, why, inputs.vision_lost)
         return None
 
     def _lose(self, now, stored, reason, vision):
-        """Vision lost (or go_home): the recording's last landmark, then the standstill."""
-        raw = self.raw
-        stored.extend(self.recording.end(raw, now))
-        ended = _no_turn(self.recording, self.store, raw, reason)
-        if ended:
-            return self._end(*ended)
+        """Vision lost (or go_home): the recording's last landmark, then the standstill (or the end)."""
+        raw, rec = self.raw, self.recording
+        stored.extend(rec.end(raw, now))
+        if rec.lost:
+            return self._end(state.ABORTED, outcome.ODOMETRY, '%s, but %s' % (reason, frame_lost(rec.lost)))
+        nothing = nothing_to_retrace(rec.distance, rec.start, (raw.x, raw.y),
+                                     BACK_TRAVEL_DEFAULTS['finish_tolerance'])
+        if nothing:
+            return self._end(state.HOME, outcome.NOTHING_TO_RETRACE, '%s: %s' % (reason, nothing))
+        loss = self.store.loss()
+        problem = recording_problem(self.store.load(), loss) if loss.count and not still_loss(loss) else None
+        if problem:
+            return self._end(state.ABORTED, problem.code, '%s, but %s' % (reason, problem.reason))
         self._move(state.RECORDING, state.ROTATING, reason)
         self.phase, self.vision_loss, self.reference, self.lost_at, self.turn_clock = \
             STANDSTILL, vision, raw, now, PausedClock(now)      # the turn's timeout, takeovers out
@@ -299,10 +303,16 @@ class Mission(object):
 
     def _vision_back(self, inputs):
         """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""
-        recovered = inputs.vision_back and self.vision_loss and state.vision_back_state(
-            self.state, True, self.config.on_vision_back) == state.RECOVERED
-        return recovered and self._end(state.RECOVERED, outcome.VISION_BACK, _recovered(
-            self.drive if self.state == state.RETURNING else None)) is ZERO
+        if not (inputs.vision_back and self.vision_loss and state.vision_back_state(
+                self.state, True, self.config.on_vision_back) == state.RECOVERED):
+            return False
+        if self.state != state.RETURNING or self.drive is None:
+            where, left = 'the pi turn', 'the whole path'
+        else:
+            left = sum(abs(landmark.d) for landmark in self.drive.remaining) - self.drive.travelled()
+            where, left = 'the return', '%.2f m' % max(left, 0.0)
+        return self._end(state.RECOVERED, outcome.VISION_BACK, 'vision back during %s: stopped '
+                         '(on_vision_back stop), %s left to home' % (where, left)) is ZERO
 
 
 def _plan(m):
@@ -320,62 +330,6 @@ def _plan(m):
     m.drive = RemoteReturn(goals, watch) if c.remote_goals else ReturnDrive(
         goals, c.mode, m.params, follower, c, m._feed, m.odom, watch)
     m.drive.index, m.drive.driven = done, kept.travelled if kept else 0.0
-
-
-def _resume(m, kept):
-    """Mission ``m`` set to drive the return ``kept`` (core/resume.KeptReturn, None: none) on."""
-    if kept is None:
-        return
-    m.kept, m.phase, m.loaded, m.landmarks, m.anchor, m.correction, m.reference = (
-        kept, TURNED, kept.loaded, kept.landmarks, kept.anchor, kept.correction, kept.reference)
-    m.corrector = None if kept.correction is None else CorrectedOdometry.started(
-        kept.correction, kept.reference, snapshot=kept.frame)
-
-
-def _recovered(returning):
-    """Why vision back ends the mission ``recovered`` (``returning``: the return's drive, or None)."""
-    left = None if returning is None else \
-        sum(abs(landmark.d) for landmark in returning.remaining) - returning.travelled()
-    return 'vision back during %s: stopped (on_vision_back stop), %s left to home' % (
-        'the pi turn' if returning is None else 'the return',
-        'the whole path' if left is None else '%.2f m' % max(left, 0.0))
-
-
-def _return_reason(now, inputs, battery, requests):
-    """Why the recording ends in a return at ``now``: vision lost, the battery low (core/battery.
-    BatteryWatch ``battery`` given ``inputs.battery``), go_home in ``requests``; else None."""
-    low = battery.update(now, inputs.battery)
-    if inputs.vision_lost:
-        return 'vision lost'
-    return low or ('return requested (go_home)' if 'go_home' in requests else None)
-
-
-def _no_turn(recording, store, raw, reason):
-    """(state, code, why) when the loss (``reason``) at ``raw`` ends the mission with no turn: an
-    untrusted odometry reset while recording (``aborted``), nothing to retrace (``home``), or landmarks
-    ``store`` lost beyond a standstill (``aborted``: core/return_plan.recording_problem); else None."""
-    if recording.lost:
-        return state.ABORTED, outcome.ODOMETRY, '%s, but %s' % (reason, frame_lost(recording.lost))
-    nothing = nothing_to_retrace(recording.distance, recording.start, (raw.x, raw.y),
-                                 BACK_TRAVEL_DEFAULTS['finish_tolerance'])
-    if nothing:
-        return state.HOME, outcome.NOTHING_TO_RETRACE, '%s: %s' % (reason, nothing)
-    loss = store.loss()
-    problem = recording_problem(store.load(), loss) if loss.count and not still_loss(loss) else None
-    return (state.ABORTED, problem.code, '%s, but %s' % (reason, problem.reason)) if problem else None
-
-
-def _interrupted(inputs, phase, current):
-    """(code, why) ``inputs`` end a mission in ``phase`` (state ``current``), or None: a reset
-    or the time moving back in the turn or the return, a safety stop once the recording is over."""
-    where = {STANDSTILL: 'the pi turn', TURN: 'the pi turn', DOCK: 'the docking'}.get(phase, 'the return')
-    lost = inputs.time_back or inputs.reset
-    if lost and current in (state.ROTATING, state.RETURNING):
-        return (outcome.CLOCK if inputs.time_back else outcome.ODOMETRY,
-                frame_lost('%s during %s' % (lost, where)))
-    if inputs.tripped and phase not in (RECORDING, ENDED):
-        return outcome.SAFETY_EVENT, '%s: safety stop: %s' % (where, inputs.tripped)
-    return None
 
 
 def _known(settings):

@@ -1,15 +1,13 @@
 """What the mission drives, stepped once per control cycle: the pi turn (TurnDrive), the
-return's goals one after another (ReturnDrive: core/goal.make_goal, each under a
-core/drive.DriveCycle; between goals HandoverBridge or CommandHold; after the last, the last
-command held ``handover_timeout`` s) or sent to a remote driver (RemoteReturn), the pauses of
-a drive (core/pause: Contacts, Takeover, PauseLog) and the home verdict. Used by core/mission.
+return's goals (ReturnDrive; RemoteReturn: sent to a remote driver), the pauses of a drive
+(core/pause) and the home verdict. Used by core/mission.
 """
 from . import mission_state, outcome
 from .allowance import ABORT, DRIVE, HOLD
 from .back_travel import home_check
 from .drive import DriveCycle
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
-from .mission_limits import rotation_timeout
+from .mission_limits import rotation_timeout, with_defaults
 from .pause import CONTACT_DEFAULTS, PAUSE, TAKEOVER_DEFAULTS, Contacts, PauseLog, Takeover
 from .rotation import Rotation, turn_problem
 
@@ -18,10 +16,9 @@ GOAL, HANDOVER, FINAL, DONE, FAILED = 'goal', 'hand-over', 'final hold', 'done',
 
 
 def home_verdict(odom, route, goals, mode, tolerance, warning=''):
-    """(state, core/outcome code, reason) once every goal is done and the robot stopped at
-    ``odom``: ``home`` within ``tolerance`` m of the ``route``'s end (closed_loop; None: the
-    paper's modes, every landmark replayed), else ``aborted`` (core/back_travel.home_check); a
-    ``home`` reason ends with the return's ``warning`` (core/return_plan.return_warning), if any."""
+    """(state, core/outcome code, reason) once every goal is done and the robot stopped at ``odom``:
+    ``home`` within ``tolerance`` m of the ``route``'s end (None: the paper's modes, not checked;
+    its reason ends with the return's ``warning``), else ``aborted``."""
     warning = '; ' + warning if warning else ''
     if route is None:
         return mission_state.HOME, outcome.HOME, 'travelled %d landmarks (%s mode: not checked)%s' % (
@@ -31,26 +28,32 @@ def home_verdict(odom, route, goals, mode, tolerance, warning=''):
         if home else (mission_state.ABORTED, outcome.NOT_HOME, text)
 
 
-def with_defaults(params, defaults):
-    """An object with ``defaults``' attributes, each ``params``' own where it has one."""
-    return type('Params', (), {name: getattr(params, name, value) for name, value in defaults.items()})
-
-
-class TurnDrive(object):
-    """The pi turn (core/rotation.Rotation) from ``odom`` on ``feed(cycle)`` (:class:`ReturnDrive`);
-    done once the robot really turned (core/rotation.turn_problem within the ``config``'s
-    turn_tolerance), failed past core/mission_limits.rotation_timeout on ``clock`` (since the loss)."""
+class PiTurn(object):
+    """A pi turn from ``odom`` on ``feed(cycle)`` (:class:`ReturnDrive`): failed past
+    core/mission_limits.rotation_timeout on ``clock`` (since the loss); checked by turn_problem."""
 
     def __init__(self, params, feed, odom, config, clock):
-        self.rotation, self.feed, self.tolerance = Rotation(params), feed, config.turn_tolerance
-        self.clock, self.timeout = clock, rotation_timeout(params, config)
-        self.cycle = DriveCycle(params, hold=self.rotation.hold)
-        self.rotation.start(odom)
-        self.start_yaw, self.yaw = odom.yaw, odom.yaw
+        self.feed, self.clock, self.tolerance = feed, clock, config.turn_tolerance
+        self.timeout = rotation_timeout(params, config)
+        self.start_yaw = self.yaw = odom.yaw
         self.phase, self.reason, self.code = 'turn', '', outcome.NONE
 
     def where(self):
         return 'the pi turn'
+
+    def _fail(self, code, reason):
+        self.phase, self.reason, self.code = FAILED, reason, code
+        return ZERO
+
+
+class TurnDrive(PiTurn):
+    """The pi turn driven here (core/rotation.Rotation): done once the robot really turned."""
+
+    def __init__(self, params, feed, odom, config, clock):
+        self.rotation = Rotation(params)
+        PiTurn.__init__(self, params, feed, odom, config, clock)
+        self.cycle = DriveCycle(params, hold=self.rotation.hold)
+        self.rotation.start(odom)
 
     def resumed(self, seconds):
         self.rotation.hold(seconds)
@@ -78,24 +81,16 @@ class TurnDrive(object):
         self.phase = DONE
         return ZERO
 
-    def _fail(self, code, reason):
-        self.phase, self.reason, self.code = FAILED, reason, code
-        return ZERO
-
 
 class ReturnDrive(object):
-    """The goals ``[(label, landmark)]`` (return order) driven one after another in
-    ``mode`` (``follower``: closed_loop's RouteFollower). ``feed(cycle)`` -> (decision,
-    odom, message) each cycle (a core/drive.DriveCycle per goal); ``latest()``: the odometry a
-    goal starts from; ``watch``: its core/mission_limits.ReturnWatch (the whole return's allowance,
-    the distance budget; a goal driven here is never silent: no backstop). With ``await_goals``
-    the next goal starts only when asked."""
+    """The goals ``[(label, landmark)]`` (return order) driven one after another in ``mode``
+    (``follower``: closed_loop's RouteFollower); ``feed(cycle)`` -> (decision, odom, message);
+    ``latest()``: the odometry a goal starts from; ``watch``: core/mission_limits.ReturnWatch."""
 
     def __init__(self, goals, mode, params, follower, config, feed, latest, watch):
         self.goals, self.mode, self.params, self.follower = goals, mode, params, follower
         self.watch, self.driven = watch, 0.0    # m the goals done drove
-        self.feed, self.latest = feed, latest
-        self.hold = CommandHold(config.handover_timeout)
+        self.feed, self.latest, self.hold = feed, latest, CommandHold(config.handover_timeout)
         self.timeout, self.follow = config.handover_timeout, config.handover_follow
         self.await_goals = config.await_goals
         self.command = ZERO         # in force: the last a goal (or the bridge) published
@@ -117,15 +112,17 @@ class ReturnDrive(object):
         return self.goal.travelled if self.goal is not None and self.phase == GOAL else 0.0
 
     def step(self, now, inputs):
-        """The command for this cycle (``inputs.next_goal``: the owner sends the next goal, with
-        ``await_goals``); :attr:`phase` says where the return is."""
+        """The command for this cycle (``inputs.next_goal``: the next goal, with ``await_goals``)."""
         next_goal = inputs.next_goal
         while True:
             if self.phase == HANDOVER:
                 if self.await_goals and not next_goal and self.goal is not None:
                     return self._hand_over(now)
-                next_goal = False
-                self._start_goal()
+                next_goal, self.phase = False, GOAL
+                self.goal = make_goal(self.mode, self.goals[self.index][1], self.params, self.follower,
+                                      self.index, self.since)
+                self.goal.start(self.latest())
+                self.cycle = DriveCycle(self.params, hold=self.goal.hold)
             if self.phase == FINAL:
                 if now - self.final_at < self.timeout - 1e-9:
                     return self.command
@@ -163,13 +160,6 @@ class ReturnDrive(object):
         self.phase, self.reason, self.code = FAILED, 'goal %d: %s' % (self.index + 1, reason), code
         return ZERO
 
-    def _start_goal(self):
-        self.phase = GOAL
-        self.goal = make_goal(self.mode, self.goals[self.index][1], self.params, self.follower,
-                              self.index, self.since)
-        self.goal.start(self.latest())
-        self.cycle = DriveCycle(self.params, hold=self.goal.hold)
-
     def _goal_done(self, now):
         self.index += 1
         self.driven += self.goal.travelled
@@ -184,8 +174,7 @@ class ReturnDrive(object):
         self.phase = HANDOVER
 
     def _hand_over(self, now):
-        """Between goals: the bridge drives on (stale odometry: zero), else the last command
-        holds while the CommandHold lets it."""
+        """Between goals: the bridge drives on (stale odometry: zero), else the last command holds."""
         if self.bridge is not None:
             decision, odom, _ = self.feed(self.cycle)
             expired = self.bridge.expired(now) or self.bridge.ended or decision == ABORT
@@ -199,41 +188,36 @@ class ReturnDrive(object):
 
 
 class RemoteReturn(object):
-    """The return's ``goals`` driven elsewhere (the paper layout: a BackTravel action goal
-    each): :attr:`send` is the goal to send this cycle, ``inputs.goal_result`` its
-    core/drive.Outcome; nothing is published here meanwhile; ``watch``: its
-    core/mission_limits.ReturnWatch (each goal's backstop, the whole return's allowance)."""
+    """The return's ``goals`` driven elsewhere (a BackTravel action goal each): :attr:`send` is the
+    goal to send this cycle, ``inputs.goal_result`` its core/drive.Outcome; ``watch``: ReturnWatch."""
 
-    def __init__(self, goals, watch=None):
+    def __init__(self, goals, watch):
         self.goals, self.index, self.phase, self.reason, self.code = goals, 0, GOAL, '', outcome.NONE
         self.send, self._sent, self.watch = None, None, watch
 
-    remaining = ReturnDrive.remaining
-    where = ReturnDrive.where
+    remaining, where, _fail = ReturnDrive.remaining, ReturnDrive.where, ReturnDrive._fail
     travelled = staticmethod(lambda: 0.0)
 
     def resumed(self, seconds):
         """Pauses are the remote driver's."""
 
     def step(self, now, inputs):
-        result, problem = inputs.goal_result, None
-        if self.watch is not None:      # a takeover, a bumper press count against no allowance
-            self.watch.update(now, bool(inputs.operator or inputs.bumper))
-            problem = self.watch.problem(now, 0.0) if self._sent is not None else None
+        result = inputs.goal_result
+        self.watch.update(now, bool(inputs.operator or inputs.bumper))    # paused: not counted
+        problem = self.watch.problem(now, 0.0) if self._sent is not None else None
         if problem and self.phase != DONE:
-            self.phase, self.reason, self.code = FAILED, 'goal %d: %s' % (self.index + 1, problem.reason), problem.code
+            self._fail(problem.code, problem.reason)
             return None
         if result is not None and self._sent == self.index:
             if not result.ok:
-                self.phase, self.reason = FAILED, 'goal %d: %s' % (self.index + 1, result.reason)
-                self.code = result.cause
+                self._fail(result.cause, result.reason)
                 return None
             self.index += 1
         if self.index == len(self.goals):
             self.phase = DONE
         self.send = None if self.phase == DONE or self._sent == self.index else \
             (self.index, self.goals[self.index][1])
-        if self.send is not None and self.watch is not None:
+        if self.send is not None:
             self.watch.goal(self.send[1], now)
         self._sent = self.index
         return None
@@ -246,60 +230,40 @@ class Pauses(object):
     def __init__(self, params, contacts=True):
         params = with_defaults(params, dict(CONTACT_DEFAULTS, **TAKEOVER_DEFAULTS))
         self.contacts = Contacts(params) if contacts else None
-        self.takeover = Takeover(params)
-        self.log = PauseLog(params.contact_wait)
-        self.paused_at = None
-        self.taken = None
+        self.takeover, self.log = Takeover(params), PauseLog(params.contact_wait)
+        self.paused_at = self.taken = None
 
-    def decide(self, now, pressed, operator, position):
-        """This cycle: None (drive), 'taken' (publish nothing), PAUSE (publish zero) or
-        why the drive ends (a contact too many or too long; a bumper without contacts)."""
+    def cycle(self, now, pressed, operator, position, driven):
+        """This cycle of ``driven`` (told ``resumed(seconds)`` when a pause ended): False (drive on),
+        None (a takeover: publish nothing), ZERO (a contact) or the core/outcome.Ending (a contact
+        too many or too long, a bumper without contacts)."""
         if not (pressed or operator or self.paused_at is not None or self.log.takeovers or
                 self.log.contacts):
-            return None         # nothing ever paused this drive: nothing to track
+            return False        # nothing ever paused this drive: nothing to track
         if operator:
             self.takeover.command(operator, now)
         taken = self.takeover.active(now)
         self.log.update(now, taken, pressed, position)
         if taken:
-            self.taken = taken
-            return self._paused(now, 'taken')
-        if self.contacts is None:
-            return 'bumper pressed' if pressed else None
-        decision = self.contacts.decide(bool(pressed), now,
-                                        sensors=pressed if isinstance(pressed, tuple) else ())
-        if decision == PAUSE:
-            return self._paused(now, PAUSE)
-        return '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', decision) if decision else None
-
-    def cycle(self, now, pressed, operator, position, driven):
-        """This cycle of ``driven`` (told ``resumed(seconds)`` when a pause ended): False (drive
-        on), None (a takeover: publish nothing), ZERO (a contact) or the core/outcome.Ending."""
-        pause = self.decide(now, pressed, operator, position)
+            self.taken, pause = taken, 'taken'
+        elif self.contacts is None:
+            pause = 'bumper pressed' if pressed else None
+        else:
+            pause = self.contacts.decide(bool(pressed), now, sensors=pressed if isinstance(pressed, tuple) else ())
+            if pause and pause != PAUSE:
+                pause = '%s: %s' % (', '.join(self.contacts.sensors) or 'bumper', pause)
         if pause in ('taken', PAUSE):
+            self.paused_at = now if self.paused_at is None else self.paused_at
             return None if pause == 'taken' else ZERO
         if pause:
             return outcome.Ending(outcome.CONTACTS, '%s: safety stop: %s' % (driven.where(), pause))
-        resumed = self.resume(now)
-        if resumed is not None:
-            seconds, taken = resumed
+        if self.paused_at is not None:      # a pause ended
+            seconds, taken = now - self.paused_at, self.taken
+            self.paused_at = self.taken = None
             if taken and self.takeover.policy == 'abort':
                 return outcome.Ending(outcome.TAKEOVER, '%s (on_takeover abort)' % taken)
             driven.resumed(seconds)
         return False
-
-    def _paused(self, now, how):
-        if self.paused_at is None:
-            self.paused_at = now
-        return how
-
-    def resume(self, now):
-        """(seconds paused, the takeover that ended or None) once a pause ended, else None."""
-        if self.paused_at is None:
-            return None
-        seconds, taken = now - self.paused_at, self.taken
-        self.paused_at = self.taken = None
-        return seconds, taken
 
     def describe(self, now):
         return self.log.describe(now)

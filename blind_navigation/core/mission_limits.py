@@ -1,7 +1,5 @@
-"""The mission's allowances beyond its drives' own, for the mission object and the
-default layer's client alike: the pi turn's from vision loss (:func:`rotation_timeout`),
-and a return's (:class:`ReturnWatch`: each goal's backstop, the whole return's time
-allowance, its distance budget); paused time (takeovers, bumper presses) not counted.
+"""The mission's allowances beyond its drives' own: the pi turn's from vision loss
+(:func:`rotation_timeout`) and a return's (:class:`ReturnWatch`); paused time not counted.
 """
 from .gyro_bias import standstill_timeout
 from .outcome import TIMEOUT, Ending
@@ -17,23 +15,20 @@ LIMIT_DEFAULTS = dict(
        for name in ('return_timeout_factor', 'return_timeout_margin', 'vision_back_grace')})
 
 
-def limit_params(params):
-    """An object with :data:`LIMIT_DEFAULTS`' names, ``params``' own where it has them."""
-    return type('Limits', (), {name: getattr(params, name, value)
-                               for name, value in LIMIT_DEFAULTS.items()})
+def with_defaults(params, defaults):
+    """An object with ``defaults``' attributes, each ``params``' own where it has one."""
+    return type('Params', (), {name: getattr(params, name, value) for name, value in defaults.items()})
 
 
 def rotation_timeout(params, config):
-    """s from vision loss to the pi turn's end: the standstill's timeout (core/gyro_bias, the
-    mission ``config``'s standstill params) + rotation_margin (its limits, else ``params``) +
-    vision_back_grace."""
-    return standstill_timeout(config.standstill) + limit_params(config.limits or params).rotation_margin \
-        + config.vision_back_grace
+    """s from vision loss to the pi turn's end: the standstill's timeout + rotation_margin (the
+    ``config``'s limits, else ``params``) + vision_back_grace."""
+    margin = with_defaults(config.limits or params, LIMIT_DEFAULTS).rotation_margin
+    return standstill_timeout(config.standstill) + margin + config.vision_back_grace
 
 
 class PausedClock(object):
-    """Seconds since ``start`` without the pauses :meth:`update` reports (from a pause's
-    first cycle to its last)."""
+    """Seconds since ``start`` without the pauses :meth:`update` reports."""
 
     def __init__(self, start):
         self.start, self.paused, self.paused_at = start, 0.0, None
@@ -56,14 +51,12 @@ class PausedClock(object):
 
 
 class ReturnWatch(object):
-    """The limits of one return from ``now`` over ``landmarks`` (all: the distance budget,
-    core/plausibility.RouteBudget), ``remaining`` of them to drive (the time allowance,
-    core/safety.return_allowance); ``params``: :data:`LIMIT_DEFAULTS`' names. :meth:`goal`
-    at each remote goal's start (its backstop), :meth:`heard` when its driver speaks,
-    :meth:`problem` each cycle."""
+    """The limits of one return from ``now`` over ``landmarks`` (all: the distance budget),
+    ``remaining`` of them to drive (the time allowance); ``params``: :data:`LIMIT_DEFAULTS`' names.
+    :meth:`goal` at each remote goal's start (its backstop), :meth:`problem` each cycle."""
 
     def __init__(self, landmarks, remaining, params, now):
-        self.p = limit_params(params)
+        self.p = with_defaults(params, LIMIT_DEFAULTS)
         self.allowance = return_allowance(remaining, self.p.return_timeout_factor,
                                           self.p.return_timeout_margin, self.p.slowest_v)
         self.clock = PausedClock(now)
@@ -76,10 +69,6 @@ class ReturnWatch(object):
                                + self.p.goal_timeout_margin)
         self.last_heard = now
 
-    def heard(self, now):
-        """The goal's driver spoke at ``now`` (a feedback, a transition)."""
-        self.last_heard = now if self.last_heard is None else max(self.last_heard, now)
-
     def update(self, now, paused):
         """This cycle: ``paused`` (a takeover, a bumper press) counts against no allowance."""
         if self.clock.update(now, paused):
@@ -91,9 +80,8 @@ class ReturnWatch(object):
         self.last_heard = None
 
     def problem(self, now, travelled):
-        """Why the return must stop at ``now`` having driven ``travelled`` m, or None: the
-        goal's backstop, the whole return's allowance, the distance budget (a core/outcome
-        Ending, code TIMEOUT)."""
+        """The Ending (TIMEOUT) at ``now`` having driven ``travelled`` m: the goal's backstop, the
+        whole return's allowance, the distance budget; else None."""
         self.last_heard = now if self.last_heard is None else self.last_heard
         if self.goal_allowance is not None and now > self.last_heard + self.goal_allowance:
             why = ('no result and no feedback for %.0f s (the goal\'s backstop: goal_timeout_factor x '

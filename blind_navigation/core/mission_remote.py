@@ -1,23 +1,19 @@
-"""The mission's recording, standstill and pi turn when other nodes do them (the paper's
-layout: sampling_publisher and the saver, heading_correction, rotate_pi): what
-core/mission.Mission asks of MissionRecording, Standstill and TurnDrive, fed by its owner
-through :class:`Remote` (``Mission(remote=Remote(...))``). docs/DESIGN.md, "The paper's layout".
+"""The mission's recording, standstill and pi turn when other nodes do them (the paper's layout),
+fed by its owner through :class:`Remote` (``Mission(remote=Remote(...))``). docs/DESIGN.md,
+"The paper's layout".
 """
 from . import outcome
 from .allowance import DRIVE
 from .battery import BatteryWatch
 from .drive import DriveCycle
 from .heading_correction import no_correction
-from .mission_drive import DONE, FAILED
-from .mission_limits import rotation_timeout
+from .mission_drive import DONE, PiTurn
 from .rotation import turn_problem
 
 
 class Remote(object):
-    """What the owner hears of the other nodes: :meth:`reported` (a saver stored landmarks,
-    ``distance`` m in all), ``measured`` (heading_correction's correction, None: not yet;
-    awaited if ``awaits_correction``); the turn's end comes as ``Inputs.goal_result``. Itself
-    the mission's standstill (``fit``: True while a correction is awaited, else None)."""
+    """What the owner hears of the other nodes: :meth:`reported` (the saver's distance), ``measured``
+    (heading_correction's correction, awaited if ``awaits_correction``). Itself the standstill."""
 
     def __init__(self, awaits_correction):
         self.fit = True if awaits_correction else None
@@ -42,8 +38,7 @@ class Remote(object):
 
 
 class RemoteRecording(object):
-    """MissionRecording's part for a recording made elsewhere: where it began (``start``),
-    ``distance`` and ``reported`` (the saver's), ``lost`` (an untrusted reset)."""
+    """MissionRecording's part for a recording made elsewhere (``lost``: an untrusted reset)."""
     fit, requested = None, ()
 
     def __init__(self):
@@ -55,35 +50,24 @@ class RemoteRecording(object):
     def begin(self, odom):
         self.start = (odom.x, odom.y)
 
-    def feed(self, odom, visual):
-        """The fit is heading_correction's."""
-
-    def step(self, odom, now):
+    def step(self, *_args):
+        """No landmarks here (the saver stores them), no fit (heading_correction's), no resuming
+        (the sampling publisher goes on by itself)."""
         return []
 
-    end = step
+    end = feed = resume = step
 
     def reset(self, odom, reason):
         self.lost = self.lost or reason
 
-    def resume(self):
-        """The sampling publisher goes on by itself."""
 
-
-class RemoteTurn(object):
-    """TurnDrive's part for rotate_pi's turn: done once ``Inputs.goal_result`` says it
-    ended well and the robot really turned (core/rotation.turn_problem; else refused, the
-    reason in ``remote.refused``); failed on a failed turn or past rotation_timeout."""
+class RemoteTurn(PiTurn):
+    """rotate_pi's turn: done once ``Inputs.goal_result`` says it ended well and the robot
+    really turned (else refused, the reason in ``remote.refused``)."""
 
     def __init__(self, remote, params, feed, odom, config, clock):
-        self.remote, self.feed, self.clock, self.tolerance = remote, feed, clock, config.turn_tolerance
-        self.timeout = rotation_timeout(params, config)
-        self.cycle = DriveCycle(params)
-        self.start_yaw = self.yaw = odom.yaw
-        self.phase, self.reason, self.code = 'turn', '', outcome.NONE
-
-    def where(self):
-        return 'the pi turn'
+        PiTurn.__init__(self, params, feed, odom, config, clock)
+        self.remote, self.cycle = remote, DriveCycle(params)
 
     def resumed(self, seconds):
         self.clock.resumed(seconds)
@@ -93,10 +77,10 @@ class RemoteTurn(object):
         self.yaw = odom.yaw if decision == DRIVE else self.yaw
         result = inputs.goal_result
         if self.clock.elapsed(now) > self.timeout:
-            self.phase, self.code, self.reason = FAILED, outcome.TIMEOUT, (
-                'no finished pi turn within %.0f s of vision loss (is rotate_pi running?)' % self.timeout)
+            self._fail(outcome.TIMEOUT, 'no finished pi turn within %.0f s of vision loss (is rotate_pi '
+                       'running?)' % self.timeout)
         elif result is not None and not result.ok:
-            self.phase, self.code, self.reason = FAILED, result.cause or outcome.TURN, result.reason
+            self._fail(result.cause or outcome.TURN, result.reason)
         elif result is not None:
             self.remote.refused = turn_problem(self.start_yaw, self.yaw, self.tolerance)
             self.phase = DONE if not self.remote.refused else self.phase

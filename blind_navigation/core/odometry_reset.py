@@ -45,8 +45,7 @@ class Frame(namedtuple('Frame', 'x y yaw')):
 IDENTITY = Frame(0.0, 0.0, 0.0)
 
 ResetEstimate = namedtuple('ResetEstimate', 'frame reason')
-ResetEstimate.__doc__ = ('frame: the Frame from the new odometry frame to the old one, None when '
-                         'untrusted; reason: what happened, for logs and gap entries.')
+ResetEstimate.__doc__ = 'frame: the Frame from the new odometry frame to the old (None: untrusted); reason.'
 
 
 def advance(x, y, yaw, v, w, dt):
@@ -59,13 +58,16 @@ def advance(x, y, yaw, v, w, dt):
             y - radius * (math.cos(end) - math.cos(yaw)), end)
 
 
-def _param(params, name):
+def _param(params, name=None):
+    """The param ``name``, or (None) all of RESET_DEFAULTS' by name."""
+    if name is None:
+        return {key: _param(params, key) for key in RESET_DEFAULTS}
     return nonnegative_param(params, name, RESET_DEFAULTS, 'odometry reset')
 
 
 def estimate_reset(before, chain, params=None):
     """The :class:`ResetEstimate` of a jump after ``before`` (old frame, or None) to ``chain``."""
-    p = {name: _param(params, name) for name in RESET_DEFAULTS}
+    p = _param(params)
     first, last = chain[0], chain[-1]
     where = 'at %.3f s (from (%.3f, %.3f, %.3f) to (%.3f, %.3f, %.3f))' % (
         first.stamp, before.x if before else math.nan, before.y if before else math.nan,
@@ -123,41 +125,31 @@ def _chain_problem(chain, p):
 
 
 Taken = namedtuple('Taken', 'states problem reset')
-Taken.__doc__ = ('states: the states to use, oldest first (a trusted re-anchor gives the whole '
-                 'chain in the old frame); problem: why the state was refused, or None; reset: '
-                 'the ResetEstimate of a re-anchor this state completed, or None.')
+Taken.__doc__ = ('states: the states to use, oldest first (a trusted re-anchor: its chain in the old '
+                 'frame); problem: why refused, or None; reset: a ResetEstimate this state completed, or None.')
 
 
 class ResetCarrier(object):
     """An OdometryGate whose re-anchors carry the old frame on (``frame``: raw -> the first frame)."""
 
     def __init__(self, gate, params=None):
-        self.gate = gate
-        self.params = params
-        self.frame = IDENTITY
+        self.gate, self.params, self.frame = gate, params, IDENTITY
         self.reset_stamp = None     # stamp (s) of the newest reset carried across, or None
-        gate.on_reanchor = self._notice
-
-    @staticmethod
-    def _notice(_reason):
-        """The gate re-anchors only with a callback; the estimate names the jump."""
+        gate.on_reanchor = lambda _reason: None     # the gate re-anchors only with a callback
 
     def _after_silence(self, before, state):
         """None, or the untrusted ResetEstimate of a state after a silence, off where its twists say."""
         if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
             return None
-        p = {name: _param(self.params, name) for name in RESET_DEFAULTS}
+        p = _param(self.params)
         dt = state.stamp - before.stamp
         x, y, yaw = advance(before.x, before.y, before.yaw, 0.5 * (before.v + state.v),
                             0.5 * (before.w + state.w), dt)
         off, off_yaw = math.hypot(state.x - x, state.y - y), abs(wrap_angle(state.yaw - yaw))
         mean_v, mean_w = 0.5 * abs(before.v + state.v), 0.5 * abs(before.w + state.w)
-        if (off <= p['reset_position_tolerance'] + (0.5 * abs(before.v - state.v)
-                                                     + p['reset_twist_margin'] * mean_v
-                                                     + p['reset_speed_noise']) * dt
-                and off_yaw <= p['reset_yaw_tolerance'] + (0.5 * abs(before.w - state.w)
-                                                           + p['reset_twist_margin'] * mean_w
-                                                           + p['reset_yaw_rate_noise']) * dt):
+        slack_v = (0.5 * abs(before.v - state.v) + p['reset_twist_margin'] * mean_v + p['reset_speed_noise']) * dt
+        slack_w = (0.5 * abs(before.w - state.w) + p['reset_twist_margin'] * mean_w + p['reset_yaw_rate_noise']) * dt
+        if off <= p['reset_position_tolerance'] + slack_v and off_yaw <= p['reset_yaw_tolerance'] + slack_w:
             return None
         return ResetEstimate(None, '%s at %.3f s: after %.3f s without odometry it is at (%.3f, '
                              '%.3f, %.3f), %.3f m and %.3f rad from where its twist says (a '

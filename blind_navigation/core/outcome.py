@@ -1,6 +1,5 @@
 """The mission's outcome code per cause of a terminal state (as MissionStatus's ``OUTCOME_*``),
-:data:`NONE` until it ends; :class:`Ending` carries code and reason (docs/safety.md,
-"Outcome codes")."""
+:data:`NONE` until it ends (docs/safety.md, "Outcome codes")."""
 import collections
 
 NONE = 0                # not terminal (idle, recording, rotating, returning)
@@ -34,9 +33,8 @@ NAMES = collections.OrderedDict(sorted(
     if name.isupper() and isinstance(value, int)))
 
 
-class Ending(collections.namedtuple('Ending', 'code reason')):
-    """Why a mission ends: ``code`` (a constant above) and ``reason`` (the sentence)."""
-    __slots__ = ()
+Ending = collections.namedtuple('Ending', 'code reason')
+Ending.__doc__ = 'Why a mission ends: ``code`` (a constant above) and ``reason`` (the sentence).'
 
 
 def describe(code):

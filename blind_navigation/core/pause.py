@@ -1,10 +1,5 @@
-"""Pauses of a return without ROS: bumper contacts and an operator's takeover.
-
-:class:`Contacts`: a press holds the robot until ``contact_wait`` s after its release;
-too many (``max_contacts``) or too long (``contact_timeout``) aborts. :class:`Takeover`:
-another publisher on the layer's mux input or a higher input active holds the layer
-until ``takeover_wait`` s of silence. Each cycle: :data:`PAUSE`, ``None`` or an abort
-reason; :class:`PauseLog` sums them up (docs/safety.md, "Contacts", "Takeover").
+"""Pauses of a return: bumper :class:`Contacts` and an operator's :class:`Takeover`, summed
+up by :class:`PauseLog` (docs/safety.md, "Contacts", "Takeover").
 """
 import collections
 import math
@@ -26,37 +21,29 @@ PAUSE = 'pause'
 SENT_MEMORY = 1.0
 
 
-def _positive(params, names):
-    for name in names:
-        if not float(getattr(params, name)) > 0:
-            raise ValueError('~%s must be positive, got %r' % (name, getattr(params, name)))
+def _positive(params, name):
+    if not float(getattr(params, name)) > 0:
+        raise ValueError('~%s must be positive, got %r' % (name, getattr(params, name)))
 
 
 class Contacts(object):
-    """Bumper contacts of one return (module docstring); ``params``: contact_wait,
-    max_contacts, contact_timeout. ``sensors``: the bumpers the contact under way
-    pressed (as given to :meth:`decide`); ``presses``: its presses, bounces included."""
+    """Bumper contacts of one return: a press holds the robot until ``contact_wait`` s after its
+    release; too many (``max_contacts``) or too long (``contact_timeout``) aborts. ``sensors``,
+    ``presses``: the contact under way's bumpers and presses (bounces included)."""
 
     def __init__(self, params):
-        _positive(params, ('contact_timeout',))
+        _positive(params, 'contact_timeout')
         self.wait, self.timeout = float(params.contact_wait), float(params.contact_timeout)
         self.max = int(params.max_contacts)
         if self.wait < 0 or self.max < 0:
             raise ValueError('~contact_wait and ~max_contacts must not be negative')
-        self.count = 0
+        self.count = self.presses = 0
         self.first = self.released_at = None    # of the contact under way: its first press, last release
-        self.presses = 0
         self.sensors = []
 
-    @property
-    def active(self):
-        return self.first is not None
-
     def decide(self, pressed, now, presses=None, sensors=()):
-        """This cycle: ``pressed`` (a bumper is, or was since the last cycle) ->
-        PAUSE, None (drive on) or the abort reason. ``presses``: the presses since
-        the last cycle (None: one if the last cycle was released); ``sensors``:
-        names of the bumpers pressed."""
+        """``pressed`` (since the last cycle) -> PAUSE, None (drive on) or the abort reason;
+        ``presses``: since the last cycle (None: one if the last cycle was released)."""
         if not pressed:
             return self._released(now)
         new = self.first is None
@@ -95,11 +82,11 @@ class Contacts(object):
 
 
 class Takeover(object):
-    """Whether an operator holds the robot (module docstring); ``params``:
-    takeover_wait, on_takeover, takeover_inputs."""
+    """Whether an operator holds the robot: another publisher on the layer's mux input, or a
+    higher input active, holds it until ``takeover_wait`` s of silence."""
 
     def __init__(self, params):
-        _positive(params, ('takeover_wait',))
+        _positive(params, 'takeover_wait')
         if params.on_takeover not in POLICIES:
             raise ValueError('~on_takeover must be one of %s, got %r'
                              % (', '.join(POLICIES), params.on_takeover))
@@ -123,9 +110,8 @@ class Takeover(object):
             self._sent.popleft()      # too old, or the clock moved back
 
     def at_base(self, v, w, now, output):
-        """The mux forwarded (v, w) to the base (on ``output``): a moving command the layer did
-        not send, while the layer drives and the output echoes its commands (no smoother
-        between), is an operator's, whether or not the layer hears the operator yet."""
+        """The mux forwarded (v, w) to the base (on ``output``): a moving command the layer did not
+        send, while the layer drives and the output echoes its commands, is an operator's."""
         self._forget(now)
         if any((v, w) == (sent_v, sent_w) for _, sent_v, sent_w in self._sent):
             self._echoed = now
@@ -163,10 +149,8 @@ class Takeover(object):
 
 
 class PauseLog(object):
-    """The pauses of one return as the mission's owner sees them, for its status and
-    final reason: operator takeovers (how many, how long, how far the robot was
-    moved meanwhile) and bumper contacts (how many, how long; presses less than
-    ``contact_wait`` s apart are one contact)."""
+    """The pauses of one return for the owner's status and final reason: takeovers (how many,
+    how long, how far moved) and contacts (presses less than ``contact_wait`` s apart are one)."""
 
     def __init__(self, contact_wait):
         self.wait = float(contact_wait)
@@ -175,35 +159,27 @@ class PauseLog(object):
         self._taken_at = None       # the position [x, y] where the takeover under way began
 
     def update(self, now, taken, pressed, position):
-        """This moment: ``taken`` (a takeover under way), ``pressed`` (a bumper is);
-        ``position()`` gives the odometry [x, y] or None (read only when a takeover
-        starts or ends). True when a pause started or ended."""
-        changed = False
+        """``taken`` (a takeover under way), ``pressed`` (a bumper is), ``position()``: [x, y] or None."""
         open_takeover = bool(self.takeovers) and self.takeovers[-1][1] is None
         if taken and not open_takeover:
             self.takeovers.append([now, None, None])
             self._taken_at = position()
-            changed = True
         elif not taken and open_takeover:
             here = position()
             moved = None if here is None or self._taken_at is None else math.hypot(
                 here[0] - self._taken_at[0], here[1] - self._taken_at[1])
             self.takeovers[-1][1:] = [now, moved]
-            changed = True
         last = self.contacts[-1] if self.contacts else None
         if pressed:
             if last is None or (last[1] is not None and now - last[1] >= self.wait):
                 self.contacts.append([now, None])
-                changed = True
             else:
                 last[1] = None
         elif last is not None and last[1] is None:
             last[1] = now
-        return changed
 
     def describe(self, now):
-        """'' or e.g. '1 operator takeover (90.0 s, moved the robot 4.50 m); 2 bumper
-        contacts (3.1 s)'."""
+        """'' or e.g. '1 operator takeover (90.0 s, moved the robot 4.50 m); 2 bumper contacts (3.1 s)'."""
         parts = []
         if self.takeovers:
             moved = [t[2] for t in self.takeovers if t[2] is not None]

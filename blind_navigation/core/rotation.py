@@ -1,10 +1,6 @@
-"""Closed-loop in-place rotation by pi on odometry yaw (paper 3.4).
-
-:class:`Rotation` commands ``w = sign(r) clamp(min(gain |r|, sqrt(2 decel |r|)), min_w, max_w)``
-of the remaining angle ``r``; done when settled (below ``settle_w``) within ``tolerance``,
-failed after ``time_allowance``. A turn that hunts (reversed twice: late commands) goes on
-in pulses of ``|r| / min_w`` s, each followed by twice the response delay it measured
-(docs/back_travel.md, "The sequence").
+"""Closed-loop in-place rotation by pi on odometry yaw (paper 3.4): :class:`Rotation` commands
+``w = sign(r) clamp(min(gain |r|, sqrt(2 decel |r|)), min_w, max_w)`` of the remaining angle
+``r``; a turn that hunts goes on in pulses (docs/back_travel.md, "The sequence").
 """
 import math
 
@@ -27,7 +23,6 @@ HUNTING = 2
 PULSE_WAIT = 0.2
 
 
-
 def turn_problem(start_yaw, yaw, tolerance):
     """Why a robot at ``yaw`` has not really turned by pi from ``start_yaw`` (within
     ``tolerance``, rad), or None; a missing ``yaw`` is a problem, a missing start is not."""
@@ -40,12 +35,10 @@ def turn_problem(start_yaw, yaw, tolerance):
         return 'the robot turned %.2f rad since vision loss, not pi' % turned
     return None
 
-class Rotation(object):
-    """Turn in place by ``angle`` (rad) using odometry yaw; see module docstring.
 
-    ``params`` is any object with the attributes of :data:`ROTATION_DEFAULTS`
-    (missing ones take the default).
-    """
+class Rotation(object):
+    """Turn in place by ``angle`` (rad) using odometry yaw; ``params``: :data:`ROTATION_DEFAULTS`'
+    names (missing ones take the default)."""
 
     def __init__(self, params=None):
         for name, default in ROTATION_DEFAULTS.items():
@@ -56,16 +49,7 @@ class Rotation(object):
         if self.tolerance <= 0 or self.time_allowance <= 0:
             raise ValueError('rotation: tolerance and time_allowance must be positive (%r, %r)'
                              % (self.tolerance, self.time_allowance))
-        self.turned = 0.0
-        self.done = False
-        self.failed = False
-        self._last_yaw = None
-        self._start_stamp = None
-        self._reset_response()
-
-    def _reset_response(self):
-        self._commanded_at = self.delay = None   # s: the first command's stamp, the base's delay
-        self._sign, self.reversals, self._pulse = 0.0, 0, None    # _pulse: (end, wait end, w)
+        self.turned, self.done, self.failed, self._start_stamp = 0.0, False, False, None
 
     @property
     def remaining(self):
@@ -74,11 +58,10 @@ class Rotation(object):
 
     def start(self, odom_state):
         """Begin the turn from the pose in ``odom_state``."""
-        self.turned = 0.0
-        self.done = self.failed = False
-        self._last_yaw = odom_state.yaw
-        self._start_stamp = odom_state.stamp
-        self._reset_response()
+        self.turned, self.done, self.failed = 0.0, False, False
+        self._last_yaw, self._start_stamp = odom_state.yaw, odom_state.stamp
+        self._commanded_at = self.delay = None   # s: the first command's stamp, the base's delay
+        self._sign, self.reversals, self._pulse = 0.0, 0, None    # _pulse: (end, wait end, w)
 
     def hold(self, seconds):
         """The turn was held (no odometry) for ``seconds``: they do not count against

@@ -1,9 +1,6 @@
-"""Safety rules of the return, without ROS.
-
-:func:`goal_limits` / :meth:`VelocityLimits.clamp` (never faster than the limits nor than
-the robot went over the landmark; ``v`` and ``w`` scaled together), :class:`SafetyEvents`
-(Kobuki bumper, cliff, wheel drop), :func:`expected_duration` / :func:`return_allowance`
-and :func:`landmarks_from_flat` (a SetReturnRoute request's landmarks, validated).
+"""Safety rules of the return: its velocity limits (:func:`goal_limits`), its time
+(:func:`return_allowance`), the Kobuki's :class:`SafetyEvents` and a SetReturnRoute
+request's landmarks (:func:`landmarks_from_flat`).
 """
 import math
 from collections import namedtuple
@@ -27,11 +24,8 @@ class VelocityLimits(namedtuple('VelocityLimits', 'max_v max_w')):
         limits (keeps the curvature w / v); non-finite input gives (0, 0)."""
         if not (math.isfinite(v) and math.isfinite(w)):
             return 0.0, 0.0
-        factor = 1.0
-        if abs(v) > self.max_v:
-            factor = min(factor, self.max_v / abs(v))
-        if abs(w) > self.max_w:
-            factor = min(factor, self.max_w / abs(w))
+        factor = min(1.0, self.max_v / abs(v) if abs(v) > self.max_v else 1.0,
+                     self.max_w / abs(w) if abs(w) > self.max_w else 1.0)
         return v * factor, w * factor
 
 
@@ -62,9 +56,6 @@ def return_allowance(landmarks, factor, margin, slowest_v=SAFETY_DEFAULTS['slowe
     the expected durations + ``margin``, s."""
     return factor * sum(expected_duration(lm, slowest_v) for lm in landmarks) + margin
 
-
-# --- Kobuki safety events ----------------------------------------------------
-
 #: kind -> (sensor names by index, the state value that means "stop", its word)
 EVENT_LAYOUT = {
     'bumper': (('left', 'center', 'right'), 1, 'pressed'),       # BumperEvent.PRESSED
@@ -81,9 +72,8 @@ def is_contact(reason):
 
 
 class SafetyEvents(object):
-    """Which Kobuki safety sensors are active (bumper pressed, cliff seen, wheel
-    dropped). :meth:`update` takes one event's fields and returns the reason to
-    stop when a sensor becomes active, else None."""
+    """Which Kobuki safety sensors are active: :meth:`update` takes one event's fields and
+    returns the reason to stop when a sensor becomes active, else None."""
 
     def __init__(self):
         self._active = {}       # (kind, index) -> reason
@@ -120,9 +110,6 @@ class SafetyEvents(object):
     def terminal(self):
         """Reasons of the active sensors other than the bumper (cliff, wheel drop)."""
         return [reason for reason in self.active if not is_contact(reason)]
-
-
-# --- route sent by the client ---------------------------------------------------
 
 def landmarks_from_flat(values):
     """Landmarks from a flat list of 5-value groups [v, w, d, T, psi, ...] (as

@@ -26,7 +26,7 @@ def first_low(trace):
 
 def test_off_never_low():
     watch = BatteryWatch(0.0)
-    assert not watch.enabled
+    assert watch.threshold == 0
     assert first_low(feed(watch, [11.0] * 100)) is None
 
 

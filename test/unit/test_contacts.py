@@ -84,7 +84,7 @@ def test_a_chatter_that_stops_before_contact_timeout_resumes_after_contact_wait(
     c = contacts(contact_timeout=10.0, contact_wait=2.0)
     decisions = drive(c, chatter(1.0, 9.0), 15.0)
     assert [t for t, d in decisions if d == PAUSE][-1] == pytest.approx(8.95 + 2.0, abs=CYCLE)
-    assert decisions[-1][1] is None and c.count == 1 and not c.active
+    assert decisions[-1][1] is None and c.count == 1 and c.first is None
 
 
 def test_a_press_released_before_contact_timeout_is_not_timed_during_its_wait():

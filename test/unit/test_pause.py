@@ -24,7 +24,7 @@ def test_a_press_holds_until_contact_wait_after_the_release():
     assert c.decide(False, 2.0) == PAUSE        # released at 2.0: wait until 4.0
     assert c.decide(False, 3.9) == PAUSE
     assert c.decide(False, 4.0) is None
-    assert c.count == 1 and not c.active
+    assert c.count == 1 and c.first is None
 
 
 def test_a_press_during_the_wait_is_the_same_contact_and_restarts_the_wait():
