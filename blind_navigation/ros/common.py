@@ -1,12 +1,11 @@
-"""Small rospy glue shared by every node (the layer's and the fake TurtleBot's): watched
-(and type-checked) subscriptions, Twist, poses, ROS_HOME."""
+"""Small rospy glue shared by every node: watched subscriptions, Twist, poses, ROS_HOME."""
 import os
 
 import rospkg
 import rospy
 from geometry_msgs.msg import Twist
 
-from . import subscription_watchdog, wiring
+from . import faults, subscription_watchdog
 from .faults import shutting_down  # noqa: F401 -- the roles' one import of it
 from ..core.geometry import quaternion_from_yaw
 
@@ -18,8 +17,8 @@ def subscribe(topic, data_class, callback, callback_args=None, expected=None, **
 
 
 def subscribe_checked(topic, data_class, callback, callback_args=None, **options):
-    """:func:`subscribe` of ``topic`` as ``data_class``, another type refused (ros/wiring.py)."""
-    expected = wiring.Expected.of(data_class)
+    """:func:`subscribe` of ``topic`` as ``data_class``, another type refused."""
+    expected = faults.Expected.of(data_class)
 
     def on_raw(raw, args=None):
         if expected.accepts(topic, raw._connection_header):

@@ -1,8 +1,5 @@
-"""The Kobuki's auto-docking and battery for the mission owner: :class:`DockingClient` sends
-``dock_drive_action`` when the mission's step asks, its end into the owner's Inbox; leaving
-``docking`` cancels it and stops the base (docs/safety.md, "Docking"). :func:`subscribe_battery`
-feeds the battery (V) to the Inbox (core/battery.py).
-"""
+"""The Kobuki's auto-docking and battery for the mission owner's Inbox: :class:`DockingClient`
+(docs/safety.md, "Docking") and :func:`subscribe_battery`."""
 import threading
 
 import actionlib
@@ -17,9 +14,6 @@ from ..core.battery import reading_problem
 from ..core.docking import DockingResult
 from . import kobuki_msgs_compat as kobuki
 from .common import subscribe_checked
-
-#: s between two warnings about ignored battery readings
-WARN_PERIOD = 10.0
 
 
 class DockingClient(object):
@@ -36,8 +30,8 @@ class DockingClient(object):
                  rospy.resolve_name(names.DOCK_DRIVE))
 
     def start(self):
-        """Send the docking goal; without the auto-docking server the mission hears why not
-        (its Inbox), at once (one look: a deadline already past; a zero timeout waits forever)."""
+        """Send the docking goal; without the server, why not into the Inbox at once (one look:
+        a deadline already past, as a zero timeout waits forever)."""
         now = rospy.get_rostime()
         if now.is_zero() or not self.client.wait_for_server(rospy.Duration(-now.secs, -now.nsecs)):
             self.inbox.put(docking=DockingResult(False, 'no auto-docking action server on %s' %
@@ -60,8 +54,7 @@ class DockingClient(object):
         self.inbox.put(docking=DockingResult(status == GoalStatus.SUCCEEDED, text))
 
     def state(self, new):
-        """The mission moved to ``new``: the base watched or not; a pending goal cancelled
-        (and the base stopped) once it leaves ``docking``."""
+        """The mission moved to ``new``: leaving ``docking`` cancels a pending goal."""
         self.takeover.watch_base(new != mission_state.DOCKING)
         if new != mission_state.DOCKING:
             self.cancel('the mission is %s' % new)
@@ -77,18 +70,17 @@ class DockingClient(object):
 
 
 def subscribe_battery(threshold, inbox, guard, log):
-    """With ``threshold`` (battery_low, V) > 0: each SensorState's battery (V) put into ``inbox``
-    as ``battery`` (another type refused); the subscriber, or None."""
+    """With ``threshold`` (battery_low, V) > 0: each SensorState's battery (V) put into ``inbox``."""
     if not threshold > 0:
-        return None
+        return
 
     def on_core(msg):
         volts = msg.battery / 10.0
         problem = reading_problem(volts)
         if problem:
-            rospy.logwarn_throttle(WARN_PERIOD, '%s: battery reading ignored: %s'
+            rospy.logwarn_throttle(10.0, '%s: battery reading ignored: %s'
                                    % (rospy.get_name(), problem))
         inbox.put(battery=volts)
     log.info('battery_low %.1f V: a battery below it on %s while recording starts the return',
              threshold, rospy.resolve_name(names.CORE_SENSORS))
-    return subscribe_checked(names.CORE_SENSORS, kobuki.SensorState, guard(on_core), queue_size=1)
+    subscribe_checked(names.CORE_SENSORS, kobuki.SensorState, guard(on_core), queue_size=1)

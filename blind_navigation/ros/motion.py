@@ -1,8 +1,6 @@
-"""What may move the robot: :class:`SafetyMonitor` halts every output of the process on a
-bumper, cliff or wheel drop; :class:`MotionOutput` publishes ``cmd_vel`` for one role only
-while it may move, clamped; zero after ``halt`` until ``release``, for good after a fault;
-nothing during an operator's takeover (:class:`TakeoverWatch`).
-"""
+"""What may move the robot: :class:`SafetyMonitor` (bumper, cliff, wheel drop),
+:class:`MotionOutput` (one role's ``cmd_vel``, clamped, while it may move) and
+:class:`TakeoverWatch` (the operator's takeover: nothing sent)."""
 import threading
 
 import rospy
@@ -25,8 +23,7 @@ LAYER_NODES = ('blind_navigation', 'back_travel_server', 'rotate_pi', 'calibrate
 
 
 class SafetyMonitor(object):
-    """The Kobuki's safety events: ``active`` conditions; :meth:`on_trip` ``callback(reason)``
-    when a sensor becomes active; ``contact_wait``: s after a release in which a press bounces."""
+    """The Kobuki's safety events (``active``); ``contact_wait``: s after a release a press bounces."""
 
     def __init__(self, guard=None):
         self.contact_wait = CONTACT_DEFAULTS['contact_wait']
@@ -64,12 +61,6 @@ class SafetyMonitor(object):
         with self._lock:
             return self._events.terminal
 
-    @property
-    def pressed(self):
-        """True while a bumper is pressed."""
-        with self._lock:
-            return len(self._events.active) > len(self._events.terminal)
-
 
 class MotionOutput(object):
     """The velocity output of ``role``; ``mission``: the MissionStateView (None: no mission)."""
@@ -93,11 +84,6 @@ class MotionOutput(object):
         faults.on_fault(self.halt)
         rospy.on_shutdown(lambda: self.halt('node shutdown'))
 
-    @property
-    def allowed(self):
-        """The mission state lets this role move."""
-        return mission_state.may_move(self.role, self.mission.state if self.mission else None)
-
     def _on_state(self, old, new):
         if mission_state.may_move(self.role, old) and not mission_state.may_move(self.role, new):
             self.halt('mission state %s' % new)
@@ -110,7 +96,8 @@ class MotionOutput(object):
 
     def publish(self, v, w):
         with self._lock:
-            moving = self.halted is None and self.allowed and not faults.faulty()
+            moving = self.halted is None and not faults.faulty() and mission_state.may_move(
+                self.role, self.mission.state if self.mission else None)
             self._send(*(self.limits.clamp(v, w) if moving else (0.0, 0.0)))
 
     def stop(self):
@@ -146,8 +133,7 @@ class MotionOutput(object):
 
 class TakeoverWatch(object):
     """The operator's takeover, one watch per process (core/pause.Takeover; docs/safety.md,
-    "Takeover"): another node's command on the mux input, a ``takeover_inputs`` input active, or
-    a moving command on the mux output this process did not send (not while docking)."""
+    "Takeover"): another node's command, a ``takeover_inputs`` input, a command not ours."""
 
     def __init__(self, params, guard):
         self._takeover = Takeover(params)
@@ -159,7 +145,7 @@ class TakeoverWatch(object):
         subscribe(names.MUX_OUTPUT, Twist, guard(self._on_output), queue_size=10)
 
     def sent(self, v, w):
-        """This process publishes (v, w) on the mux input (ros/motion.MotionOutput)."""
+        """This process publishes (v, w) on the mux input."""
         with self._lock:
             self._takeover.sent(v, w, rospy.get_time())
 

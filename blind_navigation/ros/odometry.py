@@ -1,8 +1,6 @@
-"""One odometry subscription per process, shared by its roles: :class:`OdometryFeed` reads
-raw nav_msgs/Odometry while a role holds it, behind the plausibility gate; carries resets
-across, sharing their frame with the other processes (docs/safety.md, "Odometry resets");
-keeps a history (``state_at``); the corrected frame once set (docs/recording.md, "Saving").
-"""
+"""One odometry subscription per process, shared by its roles (:class:`OdometryFeed`): raw
+nav_msgs/Odometry behind the plausibility gate, resets carried across and their frame shared
+(docs/safety.md, "Odometry resets"), a history, the corrected frame once set."""
 import threading
 import time
 
@@ -20,10 +18,9 @@ from ..core.recorder import OdometryHistory
 from ..core.vision import wire_lost_reason
 from . import subscription_watchdog
 from .common import set_pose, subscribe
-from .wiring import Expected
+from .faults import Expected
 
-#: No receive queue limit: with one, rospy keeps only the newest of each 64 KiB chunk read,
-#: and a receive thread that fell behind left holes in the history state_at reads.
+#: No receive queue limit: with one, a receive thread that fell behind leaves holes in the history.
 RECEIVE_QUEUE = None
 
 
@@ -38,7 +35,7 @@ def visual_yaw(wire):
 
 
 class OdometryFeed(object):
-    """Shared odometry of ``topic`` (see module docstring)."""
+    """Shared odometry of ``topic``."""
 
     def __init__(self, topic, checked=True, history=10.0, guard=None, frame_topic=None):
         guard = guard or (lambda fn: fn)
@@ -50,9 +47,8 @@ class OdometryFeed(object):
         self._reanchor_listeners, self._holders = [], set()
         self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
-        self._lock = threading.Condition()
+        self._lock, self.carrier_lock = threading.Condition(), threading.Lock()  # the state; a message
         self._waiting = 0           # threads waiting for a state: notified per state
-        self.carrier_lock = threading.Lock()   # held while a message is taken
         self._subscriber = self._subscribed_at = None     # and when (rospy time) it began
         self._states = OdometryHistory(self.history)   # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
@@ -65,7 +61,7 @@ class OdometryFeed(object):
             subscribe(frame_topic, PoseStamped, guard(self._on_frame))
 
     def acquire(self, holder):
-        """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
+        """``holder`` (any hashable) needs this odometry."""
         with self._lock:
             self._holders.add(holder)
             if self._subscriber is None:
@@ -99,7 +95,7 @@ class OdometryFeed(object):
         self._reanchor_listeners.append(callback)
 
     def _on_reset(self, reset):
-        """Log a re-anchor (core ResetEstimate), share a trusted one's frame, tell the listeners."""
+        """A re-anchor (core ResetEstimate): logged, a trusted one's frame shared."""
         trusted = reset.frame is not None
         (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
         if trusted and self._frame_pub is not None:
@@ -135,7 +131,6 @@ class OdometryFeed(object):
         if self.expected.accepts(self.topic, msg._connection_header):
             with self.carrier_lock:     # a frame adopted meanwhile waits (_on_frame)
                 self._take(msg._buff)
-        # else another type on this connection: refused (ros/wiring.py)
 
     def _take(self, buff):
         try:
@@ -187,13 +182,12 @@ class OdometryFeed(object):
                                % (rospy.get_name(), rospy.resolve_name(self.topic), reason))
 
     def latest(self):
-        """The newest accepted raw OdomState, or None."""
         with self._lock:
             return self._states.latest
 
     def state_at(self, stamp, wait=0.0):
-        """The newest raw state stamped at or before ``stamp`` (else the oldest kept; None: none),
-        after waiting at most ``wait`` s (wall) for one stamped at or after it."""
+        """The newest raw state stamped at or before ``stamp`` (else the oldest kept), waiting at
+        most ``wait`` s (wall) for one stamped at or after it."""
         with self._lock:
             if wait > 0:
                 self._wait_for(lambda: self._states.latest is not None and self._states.latest.stamp >= stamp,
@@ -201,7 +195,6 @@ class OdometryFeed(object):
             return self._states.at(stamp)
 
     def _wait_for(self, predicate, timeout):
-        """(lock held) ``predicate()`` once true, or after ``timeout`` s (wall)."""
         self._waiting += 1
         try:
             return self._lock.wait_for(predicate, timeout=timeout)
@@ -221,8 +214,7 @@ class OdometryFeed(object):
         return None if since is None else ros_time() - since
 
     def fresh(self, timeout):
-        """The newest state (corrected once set) stamped now, if it arrived within ``timeout`` s
-        and the frame is not lost; else None."""
+        """The newest state (corrected once set) stamped now if fresh within ``timeout`` s, else None."""
         now = ros_time()
         with self._lock:
             if self.lost is not None or self._received is None or now - self._received > timeout:
@@ -231,7 +223,7 @@ class OdometryFeed(object):
         return state._replace(stamp=now)
 
     def wait_fresh(self, timeout, wait=0.0):
-        """:meth:`fresh`, waiting at most ``wait`` s (wall) for a state to arrive; None after that."""
+        """:meth:`fresh`, waiting at most ``wait`` s (wall) for a state."""
         with self._lock:
             return self._wait_for(lambda: self.fresh(timeout), wait)
 
@@ -245,8 +237,7 @@ class OdometryFeed(object):
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
 
     def set_correction(self, correction, reference):
-        """:meth:`fresh` in the frame of ``correction`` (a GyroCorrection), the raw one at
-        ``reference``; None: a new mission, the raw frame as found (not lost)."""
+        """:meth:`fresh` in ``correction``'s frame (the raw one at ``reference``); None: the raw frame."""
         with self._lock:
             self._corrector = None if correction is None else CorrectedOdometry.started(
                 correction, reference, self._states.latest)

@@ -1,7 +1,5 @@
 """Heals rospy subscriptions that missed a publisher's registration (docs/DESIGN.md,
-"Threads"): each (:func:`watch`) checked :data:`CHECK_AFTER` s later, given the master's
-publishers (``publisherUpdate``) if it has fewer; an expected type checked at the master too.
-"""
+"Threads"), checking their types at the master too."""
 import heapq
 import itertools
 import threading
@@ -11,21 +9,20 @@ import xmlrpc.client
 import rosgraph
 import rospy
 
-from . import wiring
+from . import faults
 
 #: Wall seconds after a subscription at which it is checked.
 CHECK_AFTER = (1.0, 3.0, 10.0)
 
 _lock = threading.Condition()
-_due = []          # heap of (wall time, sequence, rospy.Subscriber, topic, ros/wiring.Expected or None)
-_expected = {}     # rospy.Subscriber -> ros/wiring.Expected, while subscribed
+_due = []          # heap of (wall time, sequence, rospy.Subscriber, topic, ros/faults.Expected or None)
+_expected = {}     # rospy.Subscriber -> ros/faults.Expected, while subscribed
 _sequence = itertools.count()
 _thread = None
 
 
 def heal_once(master, node, subscribers):
-    """The master's publishers to each of ``subscribers`` with fewer connections (``node``: this
-    node's slave API); the topics healed."""
+    """The master's publishers to each of ``subscribers`` with fewer connections; the topics healed."""
     publishers = dict((topic, nodes) for topic, nodes in master.getSystemState()[0])
     healed = []
     for subscriber in subscribers:
@@ -60,7 +57,7 @@ def drop(subscriber):
 
 
 def _schedule(subscriber, topic, expected, delays):
-    """(under _lock) Check at ``delays`` s from now; the thread started at the first call."""
+    """(under _lock) Check at ``delays`` s from now."""
     global _thread
     now = time.monotonic()
     for delay in delays:
@@ -88,15 +85,12 @@ def _next_due():
 def _run():
     master = rosgraph.Master(rospy.get_name())
     node = xmlrpc.client.ServerProxy(rospy.get_node_uri())
-    while True:
-        due = _next_due()
-        if due is None:
-            return
+    for due in iter(_next_due, None):
         try:
             healed = heal_once(master, node, [s for s, _, _ in due if s is not None])
             expected = dict((topic, e) for _, topic, e in due if e is not None and topic)
             if expected:
-                wiring.check_types(master.getTopicTypes(), expected)
+                faults.check_types(master.getTopicTypes(), expected)
         except Exception as error:      # master busy or gone: the next check tries again
             rospy.logdebug('subscription watchdog: %s', error)
             continue
