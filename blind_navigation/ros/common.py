@@ -3,7 +3,7 @@ import os
 
 import rospkg
 import rospy
-from geometry_msgs.msg import Twist
+from geometry_msgs.msg import Twist, Vector3
 
 from . import faults, subscription_watchdog
 from .faults import shutting_down  # noqa: F401 -- the roles' one import of it
@@ -30,10 +30,7 @@ def subscribe_checked(topic, data_class, callback, callback_args=None, **options
 
 def twist(v=0.0, w=0.0):
     """geometry_msgs/Twist with linear.x = v and angular.z = w."""
-    msg = Twist()
-    msg.linear.x = v
-    msg.angular.z = w
-    return msg
+    return Twist(linear=Vector3(x=v), angular=Vector3(z=w))
 
 
 def ros_home_file(relative, configured=''):

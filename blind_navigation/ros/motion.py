@@ -69,8 +69,7 @@ class MotionOutput(object):
         if max_v < 0 or max_w <= 0:
             raise ValueError('velocity limits: need max_v >= 0 and max_w > 0 (max_v %r, max_w %r)'
                              % (max_v, max_w))
-        self.role = role
-        self.mission = mission
+        self.role, self.mission = role, mission
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted

@@ -94,19 +94,6 @@ class OdometryFeed(object):
         """``callback(reason, trusted)`` when the gate re-anchored (``trusted``: carried across)."""
         self._reanchor_listeners.append(callback)
 
-    def _on_reset(self, reset):
-        """A re-anchor (core ResetEstimate): logged, a trusted one's frame shared."""
-        trusted = reset.frame is not None
-        (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
-        if trusted and self._frame_pub is not None:
-            msg = PoseStamped()
-            msg.header.stamp = rospy.Time.from_sec(self.carrier.reset_stamp)
-            msg.header.frame_id = self.frame_id
-            set_pose(msg.pose, *self.carrier.frame)
-            self._frame_pub.publish(msg)
-        for callback in list(self._reanchor_listeners):
-            callback(reset.reason, trusted)
-
     def _on_frame(self, msg):
         """Another node's feed carried a reset across: take its frame unless this one did."""
         q = msg.pose.orientation
@@ -173,8 +160,18 @@ class OdometryFeed(object):
         for state in taken.states:
             for listener in listeners:
                 listener(state)
-        if reset is not None:
-            self._on_reset(reset)
+        if reset is None:
+            return
+        trusted = reset.frame is not None      # a re-anchor: logged, a trusted one's frame shared
+        (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
+        if trusted and self._frame_pub is not None:
+            msg = PoseStamped()
+            msg.header.stamp = rospy.Time.from_sec(self.carrier.reset_stamp)
+            msg.header.frame_id = self.frame_id
+            set_pose(msg.pose, *self.carrier.frame)
+            self._frame_pub.publish(msg)
+        for callback in list(self._reanchor_listeners):
+            callback(reset.reason, trusted)
 
     def _refuse(self, reason):
         self.refused += 1

@@ -168,8 +168,14 @@ class VisionMonitor(Role):
             now = rospy.get_time()
             if now > 0.0:                 # zero: sim time has not started
                 self.started = now if self.started is None else self.started
-                if now - self.started >= self.params.no_input_warning:
-                    self.warn_missing_inputs(now - self.started)
+                waited = now - self.started
+                if waited >= self.params.no_input_warning and self.camera_topic and self.last_camera is None:
+                    self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
+                                   'not armed' % (rospy.resolve_name(self.camera_topic), waited))
+                if waited >= self.params.no_input_warning and self.watching_vo and self.last_vo is None:
+                    self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
+                                   'detectors are not armed; detection falls back to the camera '
+                                   'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
                 self.feed(self.monitor.check)
             try:
                 clock.sleep(max(self.next_check(now) - now, MIN_CHECK_WAIT))
@@ -189,15 +195,6 @@ class VisionMonitor(Role):
         elif now < self.started + self.params.no_input_warning:
             checks.append(self.started + self.params.no_input_warning)
         return min(checks) if checks else now + self.params.no_input_warning
-
-    def warn_missing_inputs(self, waited):
-        if self.camera_topic and self.last_camera is None:
-            self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
-                           'not armed' % (rospy.resolve_name(self.camera_topic), waited))
-        if self.watching_vo and self.last_vo is None:
-            self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
-                           'detectors are not armed; detection falls back to the camera '
-                           'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
 
     def feed(self, method, *args):
         """Run one core feed method now; act on a loss and on its end."""
