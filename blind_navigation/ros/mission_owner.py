@@ -20,13 +20,12 @@ from blind_navigation.msg import BackTravelAction, BackTravelResult, MissionStat
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 from blind_navigation.ros.clock import LoopClock, action_server, describe
 from blind_navigation.ros.common import ros_home_file, subscribe
-from blind_navigation.ros.docking import DockingClient, subscribe_battery
 from blind_navigation.ros.heading_correction import CALIBRATION_FILE, scale_prior
 from blind_navigation.ros.landmark_saving import LANDMARK_FILE
 from blind_navigation.ros.layer import MISSION_ID
 from blind_navigation.ros.mission_outputs import MissionOutputs, add_diagnostics, reply
 from blind_navigation.ros.mission_store import FileStore
-from blind_navigation.ros.motion import MotionOutput
+from blind_navigation.ros.motion import DockingClient, MotionOutput, subscribe_battery
 from blind_navigation.ros.odometry import visual_yaw
 from blind_navigation.ros import faults
 
