@@ -16,8 +16,7 @@ from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
 from ..core.vision import wire_lost_reason
-from . import subscription_watchdog
-from .common import set_pose, subscribe
+from .common import set_pose, subscribe, unsubscribe
 from .faults import Expected
 
 #: No receive queue limit: with one, a receive thread that fell behind leaves holes in the history.
@@ -80,7 +79,7 @@ class OdometryFeed(object):
                 self._subscriber = None
                 self.lost = None    # the next holder starts on the frame it finds
         if subscriber is not None:
-            subscription_watchdog.drop(subscriber)
+            unsubscribe(subscriber)
 
     def add_listener(self, callback, raw=False):
         """``callback(state)`` for every accepted state; ``raw``: ``callback(wire)`` for every message."""

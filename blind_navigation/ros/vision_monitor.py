@@ -11,9 +11,9 @@ from blind_navigation.core import mission_state
 from blind_navigation.core.role_params import VISION_MONITOR
 from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
                                           odom_info_lost, wire_lost_reason)
-from blind_navigation.ros import diagnostics, subscription_watchdog
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.clock import LoopClock
-from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.common import subscribe, unsubscribe
 from blind_navigation.ros.mission import Role
 from blind_navigation.ros.odometry import ros_time
 from blind_navigation.ros.faults import Expected
@@ -116,7 +116,7 @@ class VisionMonitor(Role):
             # the camera-stall detector is fed no more: it must not take the silence for a stall
             self.monitor.enabled = self.monitor.enabled - {'stall'}
             self.camera_topic = None
-        subscription_watchdog.drop(subscriber)
+        unsubscribe(subscriber)
         self.log.info('visual odometry arrives on %s: its stall detector watches for a camera '
                       'stall from now on; %s no longer read', rospy.resolve_name(names.VO_ODOM),
                       rospy.resolve_name(names.CAMERA_INFO))
@@ -153,7 +153,7 @@ class VisionMonitor(Role):
             with self.lock:
                 camera_info, self.camera_info_sub = self.camera_info_sub, None
             for subscriber in self.subscribers + ([camera_info] if camera_info else []):
-                subscription_watchdog.drop(subscriber)
+                unsubscribe(subscriber)
             if self.watching_vo:
                 self.layer.visual_odometry.remove_listener(self.on_vo_guarded)
                 self.layer.visual_odometry.release(self.ROLE)
