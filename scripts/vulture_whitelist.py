@@ -5,7 +5,6 @@ reports unused at 60 % confidence that are used where it cannot see."""
 _.sample_sub        # ros/landmark_saving.py: the sample subscriber
 _.manual_sub        # ros/vision_monitor.py: the manual vision_lost subscriber, kept across missions
 _.samples_service   # ros/sampling_publisher.py: the RecordedSamples service
-_.paper_names       # ros/mission_owner.py: record_landmark and back_travel (PaperNames)
 # OSError's own attribute (tracebacks and callers read it): core/files.py's errors
 _.filename
 # Not used yet: the mission state machine (issue 22 item 1) consults it when it lands,

@@ -1,7 +1,5 @@
-"""ROS time that moves back, and loops and timers that go on across it: :class:`LoopClock`
-sleeps as rospy does, but a jump back ends the sleep, warned and returned, never raised
-(docs/safety.md, "Time that moves back"); :func:`every`, a timer on it; :func:`action_server`.
-"""
+"""Loops and timers that go on across ROS time moving back (docs/safety.md, "Time that moves
+back"): :class:`LoopClock`, :func:`every`, :func:`action_server`."""
 import threading
 import time
 from types import SimpleNamespace
@@ -20,8 +18,7 @@ def describe(jump, before, now):
 
 
 class LoopClock(object):
-    """The ROS clock as the loop ``loop`` sees it; ``log``: a RoleLog or None; ``then``: what the
-    loop does after a jump (for the warning)."""
+    """The ROS clock as the loop ``loop`` sees it; ``then``: what it does after a jump (warned)."""
 
     def __init__(self, loop, log=None, then='going on'):
         self.loop, self.then = loop, then
@@ -36,7 +33,7 @@ class LoopClock(object):
         return self._look()[0]
 
     def _look(self):
-        """(now, s the time moved back since the last look: 0.0 if it did not)."""
+        """(now, s the time moved back since the last look)."""
         now = rospy.get_time()
         before, self._seen = self._seen, now
         if before is None or now >= before:
@@ -54,8 +51,7 @@ class LoopClock(object):
         return now, jump
 
     def sleep(self, seconds, rate=None):
-        """rospy.sleep(``seconds``) (or ``rate.sleep()``: the next tick a period from a jump), ended
-        by a jump back; s the time moved back since the last look."""
+        """rospy.sleep(``seconds``) or ``rate.sleep()``, ended by a jump back; s it moved back."""
         jump = self._look()[1]
         try:
             rate.sleep() if rate is not None else rospy.sleep(seconds)
@@ -71,8 +67,7 @@ class LoopClock(object):
 
 
 def every(period, callback, loop, log=None):
-    """``callback()`` every ``period`` s of ROS time in a daemon thread ``loop``, until shutdown
-    or the returned Event is set."""
+    """``callback()`` every ``period`` s of ROS time in a thread, until the returned Event is set."""
     stop = threading.Event()
 
     def run():
@@ -90,11 +85,9 @@ def every(period, callback, loop, log=None):
 
 def action_server(name, action, guard, on_goal, on_cancel=None, status_period=None, log=None):
     """A started actionlib.ActionServer (callbacks through ``guard``) without actionlib's status
-    timer (a rospy.Timer, ended by the time moving back): the status at each transition and,
-    with ``status_period`` (s), :func:`every` that long."""
+    timer (ended by the time moving back): the status at each transition, every ``status_period`` s."""
     callbacks = [guard(on_goal)] + ([guard(on_cancel)] if on_cancel is not None else [])
     server = actionlib.ActionServer(name, action, *callbacks, auto_start=False)
-    # read by start(), searched from the node's private namespace first: 0, no timer
     rospy.set_param('~actionlib_status_frequency', 0.0)
     server.start()
     if status_period is not None:

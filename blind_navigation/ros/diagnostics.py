@@ -1,19 +1,13 @@
-"""The layer's /diagnostics: one Updater per process; roles add statuses (:meth:`Diagnostics.add`;
-what blocks the return an ERROR, what degrades it a WARN), published every
-``~diagnostic_period`` s (read once) and at once by :meth:`Diagnostics.now`.
-"""
+"""The layer's /diagnostics: one Updater per process, its statuses added by the roles (what
+blocks the return an ERROR, what degrades it a WARN), every ``~diagnostic_period`` s."""
 import diagnostic_updater
 import rospy
 from diagnostic_msgs.msg import DiagnosticStatus
 
 from .clock import every
 
-#: s between two publications when ``~diagnostic_period`` is not set (diagnostic_updater's default)
-DEFAULT_PERIOD = 1.0
-
-OK = DiagnosticStatus.OK
-WARN = DiagnosticStatus.WARN
-ERROR = DiagnosticStatus.ERROR
+DEFAULT_PERIOD = 1.0    # s, diagnostic_updater's
+OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 
 
 class Diagnostics(object):
@@ -48,9 +42,8 @@ class Diagnostics(object):
 
 
 def age_status(stat, what, age, stale, level_when_stale, missing_level=ERROR, listening=None):
-    """``stat`` of a stream last heard ``age`` s ago (None: never): OK while fresh,
-    ``level_when_stale`` beyond ``stale`` s, ``missing_level`` if never heard; ``listening``
-    (s since subscribed, if known): nothing heard yet is OK for ``stale`` s."""
+    """``stat`` of a stream last heard ``age`` s ago (None: never); ``listening`` (s since
+    subscribed, if known): nothing heard yet is OK for ``stale`` s."""
     if listening is not None and listening <= stale and (age is None or age > listening):
         stat.summary(OK, 'waiting for the first %s (listening for %.2f s)' % (what, listening))
         return

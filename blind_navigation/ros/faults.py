@@ -1,7 +1,6 @@
-"""A role that fails ends the mission safely (docs/safety.md, "A role that fails"): the
-process's fault registry (:func:`declare`: every output zero for good, the owner aborts) and
-``layer.guard(role)(fn)``, the wrapper of every callback and thread target (:class:`Faults`).
-"""
+"""A role that fails or a topic wired wrong ends the mission safely (docs/safety.md, "A role that
+fails", "Bad input"): the process's fault registry (:func:`declare`), :class:`Faults`, whose guard
+wraps every callback, and :class:`Expected`, what a topic must carry (:func:`refuse`)."""
 import functools
 import threading
 import time
@@ -16,7 +15,7 @@ from . import diagnostics as diag
 #: s (wall) between two log lines of a failure repeating at one place
 REPEAT_LOG_PERIOD = 5.0
 
-# The process's fault registry: a refused topic (ros/wiring.py) or a failed role.
+# The process's fault registry: a refused topic (:func:`refuse`) or a failed role.
 _lock = threading.Lock()
 _faults = {}          # key (a resolved topic, a role and place) -> the fault's text
 _codes = {}           # the fault's text -> its core/outcome code
@@ -26,14 +25,12 @@ rospy.on_shutdown(_shutting_down.set)   # the first hook of the process: it impo
 
 
 def shutting_down():
-    """True once the node's shutdown is requested (before ``rospy.is_shutdown()``, true only
-    after every hook ran): a thread woken by a hook asks this."""
+    """True once the node's shutdown is requested (``rospy.is_shutdown()``: after every hook ran)."""
     return _shutting_down.is_set()
 
 
 def declare(key, fault, code=outcome.ROLE_FAILURE):
-    """A fault ``fault`` (its core/outcome ``code``) at ``key`` (e.g. a topic): once per key,
-    every :func:`on_fault` listener called; False if ``key`` had one."""
+    """A fault ``fault`` (its core/outcome ``code``) at ``key``, once per key (else False)."""
     with _lock:
         if key in _faults:
             return False
@@ -69,6 +66,61 @@ def faulty():
     return bool(_faults)
 
 
+class Expected(object):
+    """A topic must carry one of ``types`` (``pkg/Name``), with ``md5sum`` if given."""
+
+    def __init__(self, types, md5sum=None):
+        self.types = tuple(types)
+        self.md5sum = md5sum
+        self._accepted = None       # the last connection header accepted (identity)
+
+    @classmethod
+    def of(cls, data_class):
+        """The type and MD5 sum of a message class."""
+        return cls((data_class._type,), data_class._md5sum)
+
+    def __str__(self):
+        return ' or '.join(self.types)
+
+    def mismatch(self, found_type, found_md5=None):
+        """None when ``found_type`` (and ``found_md5``, unless None or ``*``) is expected, else what."""
+        if found_type not in self.types:
+            return found_type or 'a message without a type'
+        if self.md5sum and found_md5 not in (None, '*', self.md5sum):
+            return '%s with MD5 sum %s (another version: %s expected)' % (found_type, found_md5,
+                                                                           self.md5sum)
+        return None
+
+    def accepts(self, topic, header):
+        """True if the connection ``header`` carries this type; else refused and False."""
+        if header is self._accepted:
+            return True
+        found = self.mismatch(header.get('type'), header.get('md5sum'))
+        if found is None:
+            self._accepted = header
+            return True
+        refuse(topic, self, found)
+        return False
+
+
+def refuse(topic, expected, found):
+    """``topic`` carries ``found``, not ``expected``: declared, then one FATAL line per topic."""
+    topic = rospy.resolve_name(topic)
+    fault = 'wrong wiring: %s carries %s, expected %s' % (topic, found, expected)
+    if declare(topic, fault, outcome.WIRING):    # once per topic: the outputs stopped, the owner told
+        rospy.logfatal('%s: %s: refused, nothing moves (fix the remap and start the layer again)',
+                       rospy.get_name(), fault)
+
+
+def check_types(topic_types, expected_by_topic):
+    """Refuse each topic of ``expected_by_topic`` whose type in ``topic_types`` (the master's) differs."""
+    types = dict(topic_types)
+    for topic, expected in expected_by_topic.items():
+        found = types.get(topic)
+        if found is not None and expected.mismatch(found) is not None:
+            refuse(topic, expected, expected.mismatch(found))
+
+
 class Faults(object):
     """The failures of this process's roles, on ``diagnostics``."""
 
@@ -97,8 +149,7 @@ class Faults(object):
         return wrap
 
     def fail(self, role, error, place=''):
-        """``role`` failed with ``error`` (in its ``except`` block) at ``place``: declared, its
-        traceback logged once (repeats counted), diagnostics ERROR."""
+        """``role`` failed with ``error`` (in its ``except`` block) at ``place``: declared once."""
         reason = '%s failed: %s: %s' % (role, type(error).__name__, error)
         now = time.monotonic()
         with self._lock:

@@ -1,6 +1,5 @@
 """Kobuki's message types (kobuki_msgs) without a build dependency on kobuki_msgs: the
-installed package's classes, else identical ones (same names and MD5 sums) generated at import.
-"""
+installed package's classes, else identical ones (same names and MD5 sums) generated at import."""
 import genpy.dynamic
 from actionlib_msgs.msg import GoalID, GoalStatus
 from std_msgs.msg import Header
@@ -45,35 +44,20 @@ ACTION_DEFINITIONS = {
 _SEPARATOR = '\n' + '=' * 80 + '\n'
 
 
-def _own_text(cls):
-    return cls._full_text.split(_SEPARATOR)[0]
-
-
-def _generate(name, text):
-    """One message's class; a Header's definition appended where it has one."""
-    if 'Header header' in text:
-        text += _SEPARATOR + 'MSG: std_msgs/Header\n' + _own_text(Header)
-    return genpy.dynamic.generate_dynamic('kobuki_msgs/' + name, text)['kobuki_msgs/' + name]
-
-
-def _generate_action():
-    """The action's classes generated from one concatenated definition."""
-    names = list(ACTION_DEFINITIONS)
-    parts = [ACTION_DEFINITIONS[names[0]]]
-    parts += ['MSG: kobuki_msgs/%s\n%s' % (name, ACTION_DEFINITIONS[name]) for name in names[1:]]
-    parts += ['MSG: %s\n%s' % (cls._type, _own_text(cls)) for cls in (Header, GoalID, GoalStatus)]
-    classes = genpy.dynamic.generate_dynamic('kobuki_msgs/' + names[0], _SEPARATOR.join(parts))
-    return {name: classes['kobuki_msgs/' + name] for name in names}
-
-
 def _load():
+    """The classes, generated from one concatenated definition if kobuki_msgs has none."""
+    definitions = dict(ACTION_DEFINITIONS, **DEFINITIONS)     # the action first: the core type
     try:
         import kobuki_msgs.msg as real
-        return {name: getattr(real, name) for name in list(DEFINITIONS) + list(ACTION_DEFINITIONS)}
+        return {name: getattr(real, name) for name in definitions}
     except (ImportError, AttributeError):    # AttributeError: a kobuki_msgs without its classes
-        classes = {name: _generate(name, text) for name, text in DEFINITIONS.items()}
-        classes.update(_generate_action())
-        return classes
+        names = list(definitions)
+        parts = [definitions[names[0]]] + ['MSG: kobuki_msgs/%s\n%s' % (name, definitions[name])
+                                           for name in names[1:]]
+        parts += ['MSG: %s\n%s' % (cls._type, cls._full_text.split(_SEPARATOR)[0])
+                  for cls in (Header, GoalID, GoalStatus)]
+        classes = genpy.dynamic.generate_dynamic('kobuki_msgs/' + names[0], _SEPARATOR.join(parts))
+        return {name: classes['kobuki_msgs/' + name] for name in names}
 
 
 _CLASSES = _load()

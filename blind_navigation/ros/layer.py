@@ -1,7 +1,5 @@
-"""What the roles hosted in one process share (docs/DESIGN.md, "The paper's layout"):
-:class:`Layer` (params, logs, the odometry feeds, the mission state, safety, heading
-correction, takeover, diagnostics, guards); a role (ros/mission.Role) is built as ``Role(layer)``.
-"""
+"""What the roles hosted in one process share (:class:`Layer`: params, logs, odometry, the
+mission state, safety, heading correction, takeover, diagnostics, guards); ``Role(layer)``."""
 import threading
 
 import rospy
@@ -16,7 +14,6 @@ from std_msgs.msg import String
 from .common import subscribe
 from .diagnostics import Diagnostics
 from . import faults
-from .faults import Faults
 from .mission import MissionStateView
 from .motion import SafetyMonitor, TakeoverWatch
 from .odometry import OdometryFeed
@@ -55,12 +52,10 @@ class Layer(object):
         self.mission_owner = rospy.resolve_name(owner)
         self.mission_id = rospy.get_param(MISSION_ID, None)
         self.diagnostics = Diagnostics(rospy.get_namespace().strip('/'))
-        self.faults = Faults(self.diagnostics)
+        self.faults = faults.Faults(self.diagnostics)
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
         faults.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
-        # what the roles share fails like a role, under its own name
-        self.diagnostics.guard = self.guard('diagnostics')
-        # one process: one feed; the paper's layout: the nodes share a reset's frame
+        self.diagnostics.guard = self.guard('diagnostics')      # fails like a role
         self.odometry = OdometryFeed(names.ODOM, guard=self.guard('odometry feed'),
                                      frame_topic=None if compact else names.ODOMETRY_FRAME)
         self.visual_odometry = OdometryFeed(names.VO_ODOM, checked=False,
@@ -74,8 +69,7 @@ class Layer(object):
         self._correction_lock = threading.Lock()
 
     def params(self, role, schema):
-        """``role``'s params, typed by ``schema`` (ParamError names a bad one); ``~<role>/name``
-        when compact, but for the schema's shared ones."""
+        """``role``'s params, typed by ``schema``; ``~<role>/name`` when compact (not the shared ones)."""
         def prefix(name):
             return '~' if not self.compact or name in schema.shared else '~%s/' % role
         values = {p.name: rospy.get_param(prefix(p.name) + p.name) for p in schema.params
@@ -91,7 +85,7 @@ class Layer(object):
         return self.mission_id
 
     def guard(self, role):
-        """``guard(fn)``: ``fn`` whose exception fails ``role`` (ros/faults.py)."""
+        """``guard(fn)``: ``fn`` whose exception fails ``role``."""
         return self.faults.guard(role)
 
     def logger(self, role):
@@ -106,7 +100,7 @@ class Layer(object):
             return self._takeover
 
     def heading_correction(self):
-        """The process's CorrectionReceiver, made at the first call."""
+        """The process's CorrectionReceiver."""
         with self._correction_lock:
             if self._correction is None:
                 guard = self.guard('heading correction receiver')
@@ -125,8 +119,7 @@ def correction_from_message(msg):
 
 
 def start_roles(role_classes, compact=False):
-    """The roles of this process, built in order; a bad param or file (ValueError,
-    FileContentError, OSError) is logged fatal and exits 1."""
+    """The roles of this process, built in order; a bad param or file: logged fatal, exit 1."""
     layer, roles = Layer(compact), []
     for role_class in role_classes:
         try:
@@ -152,8 +145,7 @@ def run_node(name, role_class):
 
 
 class CorrectionReceiver(object):
-    """The mission's latched HeadingCorrection (the first since :meth:`forget`) installed
-    into ``odometry``: ``received``."""
+    """The mission's latched HeadingCorrection (the first since :meth:`forget`) set in ``odometry``."""
 
     def __init__(self, odometry, guard):
         self.odometry, self.received, self._lock = odometry, False, threading.Lock()

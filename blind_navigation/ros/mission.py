@@ -1,8 +1,5 @@
-"""The mission state as every role of a process sees it: :class:`MissionStateView` follows the
-owner's latched ``state`` (another node's refused), or :meth:`~MissionStateView.set_local` in
-the owner's process, and tells the roles of changes and of ``new_mission``; :class:`Role`,
-what every role of ros/layer has.
-"""
+"""The mission state as every role of a process sees it (:class:`MissionStateView`) and
+:class:`Role`, what every role of ros/layer has."""
 import threading
 
 import rospy
@@ -27,8 +24,7 @@ class MissionStateView(object):
                                      queue_size=10)
 
     def on_change(self, callback):
-        """``callback(old, new)`` on every change, from the thread that saw it, and at once
-        ``(None, state)`` if the state is known: a role learns the state it starts in."""
+        """``callback(old, new)`` on every change, and at once ``(None, state)`` if it is known."""
         with self._delivery:
             with self._lock:
                 self._callbacks.append(callback)
@@ -76,8 +72,7 @@ class Role(object):
         self.params = layer.params(self.ROLE, self.SCHEMA) if self.SCHEMA is not None else None
 
     def follow(self, diagnosis=None):
-        """``_on_state(old, new)`` and ``_new_mission()``, if defined, follow the mission;
-        ``_diagnose(stat)`` is the status ``diagnosis``."""
+        """``_on_state(old, new)``, ``_new_mission()`` follow the mission; ``_diagnose``: ``diagnosis``."""
         for name, register in (('_on_state', self.layer.mission.on_change),
                                ('_new_mission', self.layer.mission.on_new_mission)):
             if hasattr(self, name):

@@ -1,7 +1,5 @@
-"""What the mission owner (ros/mission_owner.py) shows and keeps of its core Mission beside
-the state: the RViz paths (recorded_path, return_route, return_path), the latched heading
-correction, the return's progress file, its services' replies and its diagnostics.
-"""
+"""What the mission owner shows and keeps beside the state: the RViz paths, the heading
+correction, the return's progress file, its services' replies and its diagnostics."""
 import os
 from array import array
 
@@ -26,8 +24,7 @@ from blind_navigation.ros.landmark_saving import path_message
 
 
 def reply(log, request, what, refusal, done):
-    """The Trigger response of the service ``what``: refused for ``refusal`` (WARN), else
-    ``done`` (INFO); the log names the caller."""
+    """The Trigger response of the service ``what``: refused for ``refusal``, else ``done``."""
     caller = request._connection_header.get('callerid', '?')
     if refusal is not None:
         log.warn('%s from %s %s', what, caller, refusal)
@@ -37,12 +34,17 @@ def reply(log, request, what, refusal, done):
 
 
 def add_diagnostics(owner, settings):
-    """The ``owner``'s statuses: the mission's, the odometry's, the landmark file's and, when it
-    records, the recording's and the heading correction's."""
-    add, m = owner.layer.diagnostics.add, lambda: owner.mission
+    """The ``owner``'s statuses (the recording's and the heading correction's when it records)."""
+    add, m, odometry = owner.layer.diagnostics.add, lambda: owner.mission, owner.layer.odometry
+
+    def odometry_status(stat):
+        """The feed's age (stale: an error while driving, else a warning), its refusals."""
+        level = diagnostics.ERROR if m().state in (state.ROTATING, state.RETURNING) else diagnostics.WARN
+        diagnostics.age_status(stat, 'odometry', odometry.age(), settings['limits'].odom_timeout,
+                               level, level, listening=odometry.listening())
+        stat.add('refused messages', odometry.refused)
     add('mission', lambda stat: mission_status(stat, owner))
-    add('odometry', lambda stat: odometry_status(stat, owner.layer.odometry, m().state,
-                                                 settings['limits'].odom_timeout))
+    add('odometry', odometry_status)
     add('landmark file', lambda stat: file_status(stat, owner.landmark_file, m().state))
     if not owner.RECORDS:    # the paper layout's saver and heading_correction report the rest
         return
@@ -61,11 +63,9 @@ def add_diagnostics(owner, settings):
 def mission_status(stat, owner):
     """The mission's status: ``aborted`` an ERROR, ``recovered`` or a degraded mission a WARN."""
     m, mission_id = owner.mission, owner.layer.mission_id      # cached: no master call (an outage)
-    stat.add('state', m.state)
-    stat.add('phase', m.phase)
-    stat.add('mission', mission_number(mission_id))     # in this launch
-    stat.add('mission id', mission_id)
-    stat.add('mission file', os.path.realpath(owner.landmark_file))
+    for key, value in (('state', m.state), ('phase', m.phase), ('mission', mission_number(mission_id)),
+                       ('mission id', mission_id), ('mission file', os.path.realpath(owner.landmark_file))):
+        stat.add(key, value)
     current, reason, warnings = m.state, m.reason, owner.warnings()
     if current == state.ABORTED:
         stat.summary(diagnostics.ERROR, 'aborted: %s' % reason)
@@ -75,14 +75,6 @@ def mission_status(stat, owner):
         stat.summary(diagnostics.WARN, '%s: %s' % (current, warnings))
     else:
         stat.summary(diagnostics.OK, '%s%s' % (current or '', ': ' + reason if reason else ''))
-
-
-def odometry_status(stat, odometry, current, timeout):
-    """The feed's age (stale: an error while turning or returning, else a warning), its refusals."""
-    level = diagnostics.ERROR if current in (state.ROTATING, state.RETURNING) else diagnostics.WARN
-    diagnostics.age_status(stat, 'odometry', odometry.age(), timeout, level, level,
-                           listening=odometry.listening())
-    stat.add('refused messages', odometry.refused)
 
 
 def file_status(stat, landmark_file, current):
@@ -100,48 +92,13 @@ def file_status(stat, landmark_file, current):
                      'landmark file unreadable: %s' % error.strerror)
 
 
-class ReturnPaths(object):
-    """The return's latched paths: the route on ``return_route``, the poses driven on
-    ``return_path`` (one per ``spacing`` m)."""
-
-    def __init__(self, spacing):
-        self.spacing = spacing
-        self.path_pub = rospy.Publisher(names.RETURN_PATH, Path, queue_size=1, latch=True)
-        self.route_pub = rospy.Publisher(names.RETURN_ROUTE, Path, queue_size=1, latch=True)
-        self.path = Path()
-
-    def publish_route(self, route, frame_id):
-        """The core/route.Route the return will drive, in ``frame_id`` ('': odom)."""
-        poses = [value for index, (x, y) in enumerate(zip(route.x, route.y)) for value in (
-            x, y, route.direction(min(index, route.vertices - 2)) if route.vertices > 1 else 0.0)]
-        self.route_pub.publish(path_message(poses, rospy.Time.now(), frame_id or 'odom'))
-
-    def clear(self):
-        """A new mission: both paths empty."""
-        self.path = Path()
-        self.path.header.stamp, self.path.header.frame_id = rospy.Time.now(), 'odom'
-        self.path_pub.publish(self.path)
-        self.route_pub.publish(Path(header=self.path.header))
-
-    def driven(self, stamp, frame_id, odom):
-        """The robot is at ``odom`` (x, y, yaw) at ``stamp`` (s): a pose every ``spacing`` m."""
-        poses = self.path.poses
-        if poses and distance(poses[-1].pose.position.x, poses[-1].pose.position.y,
-                              odom.x, odom.y) < self.spacing:
-            return
-        self.path.header = rospy.Header(stamp=rospy.Time.from_sec(stamp), frame_id=frame_id)
-        poses.append(PoseStamped(header=self.path.header))
-        set_pose(poses[-1].pose, odom.x, odom.y, odom.yaw)
-        self.path_pub.publish(self.path)
-
-
 class MissionOutputs(object):
-    """The outputs of ``owner`` (a MissionOwner), brought up to date by :meth:`stepped` and
-    :meth:`ending`."""
+    """The outputs of ``owner`` (a MissionOwner), brought up to date by :meth:`stepped`."""
 
     def __init__(self, owner):
         self.owner, self.odometry = owner, owner.layer.odometry
-        self.paths = ReturnPaths(owner.params.path_spacing)
+        self.path_pub = rospy.Publisher(names.RETURN_PATH, Path, queue_size=1, latch=True)
+        self.route_pub = rospy.Publisher(names.RETURN_ROUTE, Path, queue_size=1, latch=True)
         if owner.RECORDS:   # else the paper layout's saver and heading_correction publish them
             self.recorded_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
             self.correction_pub = rospy.Publisher(names.HEADING_CORRECTION, HeadingCorrection,
@@ -155,20 +112,24 @@ class MissionOutputs(object):
         self.poses = array('d')     # x, y, yaw of the recording's start and every landmark
         self.shown = 0              # of them published
         self.correction = self.route = None
+        self.path = Path()          # the return's poses driven, one per path_spacing m
 
     def first_state(self):
         """A return a previous run left: its KeptReturn or None (the mission aborted if it cannot go on)."""
-        return self.progress.first_state(self.owner.mission, self._position, self.owner.params)
+        params = self.owner.params
 
-    def _position(self):
-        odom = self.odometry.wait_fresh(self.owner.params.odom_timeout, self.owner.params.server_timeout)
-        return [odom.x, odom.y] if odom is not None else None
+        def position():
+            odom = self.odometry.wait_fresh(params.odom_timeout, params.server_timeout)
+            return [odom.x, odom.y] if odom is not None else None
+        return self.progress.first_state(self.owner.mission, position, params)
 
     def new_mission(self):
         """Both RViz paths emptied, the last return's progress forgotten."""
         self._fresh()
         self.progress.forget()
-        self.paths.clear()
+        self.path.header.stamp, self.path.header.frame_id = rospy.Time.now(), 'odom'
+        self.path_pub.publish(self.path)
+        self.route_pub.publish(Path(header=self.path.header))
         if self.owner.RECORDS:
             self.recorded_pub.publish(path_message(self.poses, rospy.Time.now(), self.odometry.frame_id))
 
@@ -189,12 +150,22 @@ class MissionOutputs(object):
                 self.correction_pub.publish(correction_message(m.correction, m.reference,
                                                                self.odometry.frame_id))
         if getattr(m.drive, 'goals', None) is not None and self.route is None:
-            self.route = m.route or plan_return(m.landmarks, m.anchor, self.owner.params, False)[0]
-            self.paths.publish_route(self.route, self.odometry.frame_id)
+            route = self.route = m.route or plan_return(m.landmarks, m.anchor, self.owner.params, False)[0]
+            poses = [value for index, (x, y) in enumerate(zip(route.x, route.y)) for value in (
+                x, y, route.direction(min(index, route.vertices - 2)) if route.vertices > 1 else 0.0)]
+            self.route_pub.publish(path_message(poses, rospy.Time.now(), self.odometry.frame_id or 'odom'))
         if m.state == state.RETURNING and m.last is not None:
-            self.paths.driven(m.raw.stamp, self.odometry.frame_id, m.last)
+            self._driven(m.raw.stamp, m.last)
         self.progress.update(m, self.route)
 
-    def ending(self, new, reason):
-        """The mission becomes ``new`` for ``reason`` (the owner's lock held)."""
-        self.progress.ending(new, reason)
+    def _driven(self, stamp, odom):
+        """The robot is at ``odom`` at ``stamp`` (s): a pose every ``path_spacing`` m."""
+        poses = self.path.poses
+        if poses and distance(poses[-1].pose.position.x, poses[-1].pose.position.y,
+                              odom.x, odom.y) < self.owner.params.path_spacing:
+            return
+        self.path.header = rospy.Header(stamp=rospy.Time.from_sec(stamp), frame_id=self.odometry.frame_id)
+        poses.append(PoseStamped(header=self.path.header))
+        set_pose(poses[-1].pose, odom.x, odom.y, odom.yaw)
+        self.path_pub.publish(self.path)
+

@@ -1,10 +1,7 @@
-"""The mission's owner: core/mission.Mission stepped by one loop thread (docs/DESIGN.md).
-
-Callbacks only put observations into an :class:`Inbox`; the loop steps the mission once per
-odometry state (or per control period) and publishes its command, state, status and storage;
-the services ask the mission under its lock. Also ``record_landmark`` and ``back_travel``.
-"""
+"""The mission's owner: core/mission.Mission stepped by one loop thread (docs/DESIGN.md) on what
+the callbacks put into an :class:`Inbox`; its services, ``record_landmark`` and ``back_travel``."""
 import threading
+from collections import ChainMap
 from types import SimpleNamespace
 
 import rospy
@@ -23,13 +20,12 @@ from blind_navigation.msg import BackTravelAction, BackTravelResult, MissionStat
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 from blind_navigation.ros.clock import LoopClock, action_server, describe
 from blind_navigation.ros.common import ros_home_file, subscribe
-from blind_navigation.ros.docking import DockingClient, subscribe_battery
 from blind_navigation.ros.heading_correction import CALIBRATION_FILE, scale_prior
 from blind_navigation.ros.landmark_saving import LANDMARK_FILE
 from blind_navigation.ros.layer import MISSION_ID
 from blind_navigation.ros.mission_outputs import MissionOutputs, add_diagnostics, reply
 from blind_navigation.ros.mission_store import FileStore
-from blind_navigation.ros.motion import MotionOutput
+from blind_navigation.ros.motion import DockingClient, MotionOutput, subscribe_battery
 from blind_navigation.ros.odometry import visual_yaw
 from blind_navigation.ros import faults
 
@@ -82,10 +78,8 @@ def owner_params(layer):
     sampling = layer.params('sampling_publisher', SAMPLING_PUBLISHER)
     heading = layer.params('heading_correction', HEADING_CORRECTION)
     owner = layer.params('mission_owner', MISSION_OWNER)
-    merged = rotate._asdict()
-    for role in (client, server):      # the server's drive limits and timeouts last
-        merged.update(role._asdict())
-    params = SimpleNamespace(**merged)
+    # the server's drive limits and timeouts first
+    params = SimpleNamespace(**ChainMap(server._asdict(), client._asdict(), rotate._asdict()))
     params.straight_period = 1.0 / sampling.straight_rate
     params.listeners = max(0, sampling.min_subscribers - 1)     # besides this process's recorder
     correct = bool(rospy.get_param('~correct_heading', True))
@@ -102,61 +96,10 @@ def owner_params(layer):
     return params, settings, ros_home_file(LANDMARK_FILE, client.landmark_file), rotate.max_w
 
 
-def _drivers(layer, p, turn_w, takeover):
-    """The owner's MotionOutputs by state (``turn_w`` None: none)."""
-    if turn_w is None:
-        return {}
-    return {state.ROTATING: MotionOutput(state.MOTION_OWNER[state.ROTATING], 0.0, turn_w,
-                                         layer.mission, layer.safety, takeover),
-            state.RETURNING: MotionOutput(state.MOTION_OWNER[state.RETURNING], p.max_v, p.max_w,
-                                          layer.mission, layer.safety, takeover)}
-
-
 #: s (wall) a record_landmark request waits for its answer; why every BackTravel goal is rejected.
 ANSWER_WAIT = 2.0
 REJECTED = ("the one-process layer drives its return itself (one mission object); landmark goals "
             "are served by paper.launch's back_travel_server (one_process:=false)")
-
-
-class PaperNames(object):
-    """The paper's names in one process: ``record_landmark`` (``recorder`` ``service``): a request
-    handed to the mission under ``owner``'s lock; ``back_travel``: every goal rejected."""
-
-    def __init__(self, owner):
-        self.owner, self.log = owner, owner.log
-        self.service = None
-        if owner.recorder == 'service':
-            self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
-                                         owner.guard(self._on_request))
-            self.log.info('serving %s: a request is one more landmark of the mission\'s recording',
-                          rospy.resolve_name(names.RECORD_LANDMARK))
-        # no periodic status: actionlib publishes it (latched) at start and at each rejection
-        self.action = action_server(names.BACK_TRAVEL, BackTravelAction, owner.guard, self._on_goal)
-
-    def _on_request(self, request):
-        """Hand the request in, wait for its answer: saved, label, or why not."""
-        done = threading.Event()
-        asked = LandmarkRequest(request.command, request.yaw, request.period,
-                                request.header.stamp.to_sec(), lambda _: done.set())
-        with self.owner.lock:
-            hand_in(self.owner.mission, asked)
-        if not done.wait(ANSWER_WAIT):
-            with self.owner.lock:
-                withdraw(self.owner.mission, asked, ANSWER_WAIT)
-        label, why_not = asked.answer
-        if label:
-            self.log.info('requested landmark %s saved (psi %.3f rad, T %.3f s)', label,
-                          request.yaw, request.period)
-        else:
-            self.log.warn_throttle(1.0, '%s: request %r not saved: %s',
-                                   rospy.resolve_name(names.RECORD_LANDMARK), request.command, why_not)
-        return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
-
-    def _on_goal(self, handle):
-        """Reject the goal naming why (:data:`REJECTED`)."""
-        self.log.warn('%s goal %s rejected: %s', rospy.resolve_name(names.BACK_TRAVEL),
-                      handle.get_goal_id().id, REJECTED)
-        handle.set_rejected(BackTravelResult(), REJECTED)
 
 
 class MissionOwner(object):
@@ -185,7 +128,10 @@ class MissionOwner(object):
         self.mission = Mission(self.params, self.store, **settings)
         self.announced, self.progress = 0, None     # transitions published; (state, goal) in the status
         self.takeover = takeover = layer.takeover(self.params)
-        self.drivers = _drivers(layer, self.params, turn_w, takeover)
+        self.drivers = {} if turn_w is None else {      # the MotionOutputs by state
+            new: MotionOutput(state.MOTION_OWNER[new], v, w, layer.mission, layer.safety, takeover)
+            for new, v, w in ((state.ROTATING, 0.0, turn_w),
+                              (state.RETURNING, self.params.max_v, self.params.max_w))}
         self.docking = DockingClient(self.inbox, takeover, self.log) if settings.get('dock_at_home') else None
         self.outputs = MissionOutputs(self)
         self._subscribe()
@@ -195,7 +141,14 @@ class MissionOwner(object):
         self.services = [rospy.Service(names.GO_HOME, Trigger, self.guard(self._on_go_home)),
                          rospy.Service(names.CANCEL, Trigger, self.guard(self._on_cancel)),
                          rospy.Service(names.NEW_MISSION, Trigger, self.guard(self._on_new_mission))]
-        self.paper_names = PaperNames(self) if self.RECORDS else None
+        if self.RECORDS and self.recorder == 'service':     # the paper's names, in one process
+            self.services.append(rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
+                                               self.guard(self._on_request)))
+            self.log.info('serving %s: a request is one more landmark of the mission\'s recording',
+                          rospy.resolve_name(names.RECORD_LANDMARK))
+        if self.RECORDS:    # every goal rejected; actionlib publishes the status at each
+            self.services.append(action_server(names.BACK_TRAVEL, BackTravelAction, self.guard,
+                                               self._on_goal))
         add_diagnostics(self, settings)
         rospy.on_shutdown(self._on_shutdown)
         with self.lock:     # the first state only: a restart's abort is never preceded by idle
@@ -260,7 +213,10 @@ class MissionOwner(object):
                         tripped=', '.join(terminal) if terminal else None, **events)
         step = self.mission.step(now, inputs)
         if step.stored:
-            self._publish_storage()
+            space = self.store.space.warning
+            self.storage_pub.publish(self.store.storage(rospy.Time.now())[0])
+            if self.store.space.warning != space:
+                self.publish_status()
         self.outputs.stepped(step.stored)
         self._announce()
         if step.dock:               # after the announcement: the takeover watch knows it docks
@@ -284,7 +240,7 @@ class MissionOwner(object):
             code = self.mission.machine.outcome if new in state.TERMINAL else outcome.NONE
             (self.log.error if new == state.ABORTED else self.log.info)(
                 'state %s -> %s%s', old, new, ': ' + outcome.phrase(code, reason) if reason else '')
-            self.outputs.ending(new, reason)
+            self.outputs.progress.ending(new, reason)
             self.layer.mission.set_local(new)
             if self.docking is not None:
                 self.docking.state(new)     # leaving docking: a pending goal cancelled
@@ -314,12 +270,6 @@ class MissionOwner(object):
         msg.header.stamp = rospy.Time.now()
         self.status_pub.publish(msg)
 
-    def _publish_storage(self):
-        before = self.store.space.warning
-        self.storage_pub.publish(self.store.storage(rospy.Time.now())[0])
-        if self.store.space.warning != before:
-            self.publish_status()
-
     def _on_fault(self, reason):
         """A fault of this process (the loop's too): ``aborted`` naming it, from the reporting thread."""
         with self.lock:
@@ -335,6 +285,30 @@ class MissionOwner(object):
         for output in self.drivers.values():
             output.halt('node shutdown')
         self.store.close()
+
+    def _on_request(self, request):
+        """``record_landmark``: hand the request in, wait for its answer."""
+        done = threading.Event()
+        asked = LandmarkRequest(request.command, request.yaw, request.period,
+                                request.header.stamp.to_sec(), lambda _: done.set())
+        with self.lock:
+            hand_in(self.mission, asked)
+        if not done.wait(ANSWER_WAIT):
+            with self.lock:
+                withdraw(self.mission, asked, ANSWER_WAIT)
+        label, why_not = asked.answer
+        if label:
+            self.log.info('requested landmark %s saved (psi %.3f rad, T %.3f s)', label,
+                          request.yaw, request.period)
+        else:
+            self.log.warn_throttle(1.0, '%s: request %r not saved: %s',
+                                   rospy.resolve_name(names.RECORD_LANDMARK), request.command, why_not)
+        return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
+
+    def _on_goal(self, handle):
+        self.log.warn('%s goal %s rejected: %s', rospy.resolve_name(names.BACK_TRAVEL),
+                      handle.get_goal_id().id, REJECTED)
+        handle.set_rejected(BackTravelResult(), REJECTED)
 
     def _on_go_home(self, request):
         """Answered once the loop acted on it (at most ``server_timeout``)."""

@@ -1,16 +1,20 @@
-"""What may move the robot: :class:`SafetyMonitor` halts every output of the process on a
-bumper, cliff or wheel drop; :class:`MotionOutput` publishes ``cmd_vel`` for one role only
-while it may move, clamped; zero after ``halt`` until ``release``, for good after a fault;
-nothing during an operator's takeover (:class:`TakeoverWatch`).
-"""
+"""What may move the robot: :class:`SafetyMonitor` (bumper, cliff, wheel drop),
+:class:`MotionOutput` (one role's ``cmd_vel``, clamped, while it may move),
+:class:`TakeoverWatch` (the operator's takeover: nothing sent) and the Kobuki's auto-docking
+and battery for the mission owner (:class:`DockingClient`, :func:`subscribe_battery`)."""
 import threading
 
+import actionlib
 import rospy
+from actionlib.action_client import get_name_of_constant
+from actionlib_msgs.msg import GoalStatus
 from geometry_msgs.msg import Twist
 from std_msgs.msg import String
 
 from .. import names
 from ..core import mission_state
+from ..core.battery import reading_problem
+from ..core.docking import DockingResult
 from ..core.pause import CONTACT_DEFAULTS, Takeover
 from ..core.safety import CONTACT, SafetyEvents, VelocityLimits
 from . import faults, kobuki_msgs_compat as kobuki
@@ -25,8 +29,7 @@ LAYER_NODES = ('blind_navigation', 'back_travel_server', 'rotate_pi', 'calibrate
 
 
 class SafetyMonitor(object):
-    """The Kobuki's safety events: ``active`` conditions; :meth:`on_trip` ``callback(reason)``
-    when a sensor becomes active; ``contact_wait``: s after a release in which a press bounces."""
+    """The Kobuki's safety events (``active``); ``contact_wait``: s after a release a press bounces."""
 
     def __init__(self, guard=None):
         self.contact_wait = CONTACT_DEFAULTS['contact_wait']
@@ -64,12 +67,6 @@ class SafetyMonitor(object):
         with self._lock:
             return self._events.terminal
 
-    @property
-    def pressed(self):
-        """True while a bumper is pressed."""
-        with self._lock:
-            return len(self._events.active) > len(self._events.terminal)
-
 
 class MotionOutput(object):
     """The velocity output of ``role``; ``mission``: the MissionStateView (None: no mission)."""
@@ -78,8 +75,7 @@ class MotionOutput(object):
         if max_v < 0 or max_w <= 0:
             raise ValueError('velocity limits: need max_v >= 0 and max_w > 0 (max_v %r, max_w %r)'
                              % (max_v, max_w))
-        self.role = role
-        self.mission = mission
+        self.role, self.mission = role, mission
         self.max_v, self.max_w = float(max_v), float(max_w)
         self.limits = VelocityLimits(self.max_v, self.max_w)
         self.halted = None          # why, while halted
@@ -93,11 +89,6 @@ class MotionOutput(object):
         faults.on_fault(self.halt)
         rospy.on_shutdown(lambda: self.halt('node shutdown'))
 
-    @property
-    def allowed(self):
-        """The mission state lets this role move."""
-        return mission_state.may_move(self.role, self.mission.state if self.mission else None)
-
     def _on_state(self, old, new):
         if mission_state.may_move(self.role, old) and not mission_state.may_move(self.role, new):
             self.halt('mission state %s' % new)
@@ -110,7 +101,8 @@ class MotionOutput(object):
 
     def publish(self, v, w):
         with self._lock:
-            moving = self.halted is None and self.allowed and not faults.faulty()
+            moving = self.halted is None and not faults.faulty() and mission_state.may_move(
+                self.role, self.mission.state if self.mission else None)
             self._send(*(self.limits.clamp(v, w) if moving else (0.0, 0.0)))
 
     def stop(self):
@@ -146,8 +138,7 @@ class MotionOutput(object):
 
 class TakeoverWatch(object):
     """The operator's takeover, one watch per process (core/pause.Takeover; docs/safety.md,
-    "Takeover"): another node's command on the mux input, a ``takeover_inputs`` input active, or
-    a moving command on the mux output this process did not send (not while docking)."""
+    "Takeover"): another node's command, a ``takeover_inputs`` input, a command not ours."""
 
     def __init__(self, params, guard):
         self._takeover = Takeover(params)
@@ -159,7 +150,7 @@ class TakeoverWatch(object):
         subscribe(names.MUX_OUTPUT, Twist, guard(self._on_output), queue_size=10)
 
     def sent(self, v, w):
-        """This process publishes (v, w) on the mux input (ros/motion.MotionOutput)."""
+        """This process publishes (v, w) on the mux input."""
         with self._lock:
             self._takeover.sent(v, w, rospy.get_time())
 
@@ -195,3 +186,73 @@ class TakeoverWatch(object):
         with self._lock:
             self._takeover.active(rospy.get_time())
             return self._takeover.paused(rospy.get_time())
+
+
+class DockingClient(object):
+    """The docking goal of one owner; ``inbox``: its Inbox; ``takeover``: its TakeoverWatch."""
+
+    def __init__(self, inbox, takeover, log):
+        self.inbox, self.takeover, self.log = inbox, takeover, log
+        # made at start-up: by the docking the server has long been found
+        self.client = actionlib.SimpleActionClient(names.DOCK_DRIVE, kobuki.AutoDockingAction)
+        self.velocity = rospy.Publisher(names.MUX_OUTPUT, Twist, queue_size=1)
+        self._lock = threading.Lock()
+        self._goal = 0              # the goal's number; 0: none pending
+        log.info('dock_at_home: once home, the mission docks with %s',
+                 rospy.resolve_name(names.DOCK_DRIVE))
+
+    def start(self):
+        """Send the docking goal; without the server, why not into the Inbox at once (one look:
+        a deadline already past, as a zero timeout waits forever)."""
+        now = rospy.get_rostime()
+        if now.is_zero() or not self.client.wait_for_server(rospy.Duration(-now.secs, -now.nsecs)):
+            self.inbox.put(docking=DockingResult(False, 'no auto-docking action server on %s' %
+                                                 rospy.resolve_name(names.DOCK_DRIVE)))
+            return
+        with self._lock:
+            self._goal += 1
+            goal = self._goal
+            self.client.send_goal(kobuki.AutoDockingGoal(), done_cb=lambda status, result:
+                                  self._done(goal, status, result))
+        self.log.info('docking: the auto-docking goal is sent')
+
+    def _done(self, goal, status, result):
+        with self._lock:
+            if goal != self._goal:
+                return
+            self._goal = 0
+        text = getattr(result, 'text', '') or 'the auto-docking goal ended %s' % get_name_of_constant(
+            GoalStatus, status)
+        self.inbox.put(docking=DockingResult(status == GoalStatus.SUCCEEDED, text))
+
+    def state(self, new):
+        """The mission moved to ``new``: leaving ``docking`` cancels a pending goal."""
+        self.takeover.watch_base(new != mission_state.DOCKING)
+        if new != mission_state.DOCKING:
+            self.cancel('the mission is %s' % new)
+
+    def cancel(self, why):
+        """Cancel a pending goal and stop the base (one zero velocity past the mux)."""
+        with self._lock:
+            pending, self._goal = self._goal, 0
+        if pending:
+            self.client.cancel_goal()
+            self.velocity.publish(Twist())
+            self.log.info('docking: the auto-docking goal is cancelled (%s)', why)
+
+
+def subscribe_battery(threshold, inbox, guard, log):
+    """With ``threshold`` (battery_low, V) > 0: each SensorState's battery (V) put into ``inbox``."""
+    if not threshold > 0:
+        return
+
+    def on_core(msg):
+        volts = msg.battery / 10.0
+        problem = reading_problem(volts)
+        if problem:
+            rospy.logwarn_throttle(10.0, '%s: battery reading ignored: %s'
+                                   % (rospy.get_name(), problem))
+        inbox.put(battery=volts)
+    log.info('battery_low %.1f V: a battery below it on %s while recording starts the return',
+             threshold, rospy.resolve_name(names.CORE_SENSORS))
+    subscribe_checked(names.CORE_SENSORS, kobuki.SensorState, guard(on_core), queue_size=1)

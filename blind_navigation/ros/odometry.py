@@ -1,8 +1,6 @@
-"""One odometry subscription per process, shared by its roles: :class:`OdometryFeed` reads
-raw nav_msgs/Odometry while a role holds it, behind the plausibility gate; carries resets
-across, sharing their frame with the other processes (docs/safety.md, "Odometry resets");
-keeps a history (``state_at``); the corrected frame once set (docs/recording.md, "Saving").
-"""
+"""One odometry subscription per process, shared by its roles (:class:`OdometryFeed`): raw
+nav_msgs/Odometry behind the plausibility gate, resets carried across and their frame shared
+(docs/safety.md, "Odometry resets"), a history, the corrected frame once set."""
 import threading
 import time
 
@@ -18,12 +16,10 @@ from ..core.odometry_wire import odom_state, read_odometry
 from ..core.plausibility import OdometryGate
 from ..core.recorder import OdometryHistory
 from ..core.vision import wire_lost_reason
-from . import subscription_watchdog
-from .common import set_pose, subscribe
-from .wiring import Expected
+from .common import set_pose, subscribe, unsubscribe
+from .faults import Expected
 
-#: No receive queue limit: with one, rospy keeps only the newest of each 64 KiB chunk read,
-#: and a receive thread that fell behind left holes in the history state_at reads.
+#: No receive queue limit: with one, a receive thread that fell behind leaves holes in the history.
 RECEIVE_QUEUE = None
 
 
@@ -38,7 +34,7 @@ def visual_yaw(wire):
 
 
 class OdometryFeed(object):
-    """Shared odometry of ``topic`` (see module docstring)."""
+    """Shared odometry of ``topic``."""
 
     def __init__(self, topic, checked=True, history=10.0, guard=None, frame_topic=None):
         guard = guard or (lambda fn: fn)
@@ -50,9 +46,8 @@ class OdometryFeed(object):
         self._reanchor_listeners, self._holders = [], set()
         self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
         self.frame_id = 'odom'
-        self._lock = threading.Condition()
+        self._lock, self.carrier_lock = threading.Condition(), threading.Lock()  # the state; a message
         self._waiting = 0           # threads waiting for a state: notified per state
-        self.carrier_lock = threading.Lock()   # held while a message is taken
         self._subscriber = self._subscribed_at = None     # and when (rospy time) it began
         self._states = OdometryHistory(self.history)   # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
@@ -65,7 +60,7 @@ class OdometryFeed(object):
             subscribe(frame_topic, PoseStamped, guard(self._on_frame))
 
     def acquire(self, holder):
-        """``holder`` (any hashable) needs this odometry: subscribe if nobody did."""
+        """``holder`` (any hashable) needs this odometry."""
         with self._lock:
             self._holders.add(holder)
             if self._subscriber is None:
@@ -84,7 +79,7 @@ class OdometryFeed(object):
                 self._subscriber = None
                 self.lost = None    # the next holder starts on the frame it finds
         if subscriber is not None:
-            subscription_watchdog.drop(subscriber)
+            unsubscribe(subscriber)
 
     def add_listener(self, callback, raw=False):
         """``callback(state)`` for every accepted state; ``raw``: ``callback(wire)`` for every message."""
@@ -97,19 +92,6 @@ class OdometryFeed(object):
     def on_reanchor(self, callback):
         """``callback(reason, trusted)`` when the gate re-anchored (``trusted``: carried across)."""
         self._reanchor_listeners.append(callback)
-
-    def _on_reset(self, reset):
-        """Log a re-anchor (core ResetEstimate), share a trusted one's frame, tell the listeners."""
-        trusted = reset.frame is not None
-        (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
-        if trusted and self._frame_pub is not None:
-            msg = PoseStamped()
-            msg.header.stamp = rospy.Time.from_sec(self.carrier.reset_stamp)
-            msg.header.frame_id = self.frame_id
-            set_pose(msg.pose, *self.carrier.frame)
-            self._frame_pub.publish(msg)
-        for callback in list(self._reanchor_listeners):
-            callback(reset.reason, trusted)
 
     def _on_frame(self, msg):
         """Another node's feed carried a reset across: take its frame unless this one did."""
@@ -135,7 +117,6 @@ class OdometryFeed(object):
         if self.expected.accepts(self.topic, msg._connection_header):
             with self.carrier_lock:     # a frame adopted meanwhile waits (_on_frame)
                 self._take(msg._buff)
-        # else another type on this connection: refused (ros/wiring.py)
 
     def _take(self, buff):
         try:
@@ -178,8 +159,18 @@ class OdometryFeed(object):
         for state in taken.states:
             for listener in listeners:
                 listener(state)
-        if reset is not None:
-            self._on_reset(reset)
+        if reset is None:
+            return
+        trusted = reset.frame is not None      # a re-anchor: logged, a trusted one's frame shared
+        (rospy.logwarn if trusted else rospy.logerr)('%s: %s', rospy.get_name(), reset.reason)
+        if trusted and self._frame_pub is not None:
+            msg = PoseStamped()
+            msg.header.stamp = rospy.Time.from_sec(self.carrier.reset_stamp)
+            msg.header.frame_id = self.frame_id
+            set_pose(msg.pose, *self.carrier.frame)
+            self._frame_pub.publish(msg)
+        for callback in list(self._reanchor_listeners):
+            callback(reset.reason, trusted)
 
     def _refuse(self, reason):
         self.refused += 1
@@ -187,13 +178,12 @@ class OdometryFeed(object):
                                % (rospy.get_name(), rospy.resolve_name(self.topic), reason))
 
     def latest(self):
-        """The newest accepted raw OdomState, or None."""
         with self._lock:
             return self._states.latest
 
     def state_at(self, stamp, wait=0.0):
-        """The newest raw state stamped at or before ``stamp`` (else the oldest kept; None: none),
-        after waiting at most ``wait`` s (wall) for one stamped at or after it."""
+        """The newest raw state stamped at or before ``stamp`` (else the oldest kept), waiting at
+        most ``wait`` s (wall) for one stamped at or after it."""
         with self._lock:
             if wait > 0:
                 self._wait_for(lambda: self._states.latest is not None and self._states.latest.stamp >= stamp,
@@ -201,7 +191,6 @@ class OdometryFeed(object):
             return self._states.at(stamp)
 
     def _wait_for(self, predicate, timeout):
-        """(lock held) ``predicate()`` once true, or after ``timeout`` s (wall)."""
         self._waiting += 1
         try:
             return self._lock.wait_for(predicate, timeout=timeout)
@@ -221,8 +210,7 @@ class OdometryFeed(object):
         return None if since is None else ros_time() - since
 
     def fresh(self, timeout):
-        """The newest state (corrected once set) stamped now, if it arrived within ``timeout`` s
-        and the frame is not lost; else None."""
+        """The newest state (corrected once set) stamped now if fresh within ``timeout`` s, else None."""
         now = ros_time()
         with self._lock:
             if self.lost is not None or self._received is None or now - self._received > timeout:
@@ -231,7 +219,7 @@ class OdometryFeed(object):
         return state._replace(stamp=now)
 
     def wait_fresh(self, timeout, wait=0.0):
-        """:meth:`fresh`, waiting at most ``wait`` s (wall) for a state to arrive; None after that."""
+        """:meth:`fresh`, waiting at most ``wait`` s (wall) for a state."""
         with self._lock:
             return self._wait_for(lambda: self.fresh(timeout), wait)
 
@@ -245,8 +233,7 @@ class OdometryFeed(object):
         return 'odometry on %s is older than %.2f s' % (topic, timeout)
 
     def set_correction(self, correction, reference):
-        """:meth:`fresh` in the frame of ``correction`` (a GyroCorrection), the raw one at
-        ``reference``; None: a new mission, the raw frame as found (not lost)."""
+        """:meth:`fresh` in ``correction``'s frame (the raw one at ``reference``); None: the raw frame."""
         with self._lock:
             self._corrector = None if correction is None else CorrectedOdometry.started(
                 correction, reference, self._states.latest)

@@ -1,7 +1,5 @@
-"""The vision monitor: core/vision.py's debounced detectors on the camera (``camera_info``, or
-the images with ``dark``), RTAB-Map's visual odometry and ``odom_info_lite``; per loss a latched
-``vision_lost`` and ``~loss``; after one it detected, ``vision_back`` (docs/detection.md).
-"""
+"""The vision monitor: core/vision.py's debounced detectors on the camera, RTAB-Map's visual
+odometry and ``odom_info_lite``; ``vision_lost``, ``~loss``, ``vision_back`` (docs/detection.md)."""
 import threading
 
 import rospy
@@ -13,12 +11,12 @@ from blind_navigation.core import mission_state
 from blind_navigation.core.role_params import VISION_MONITOR
 from blind_navigation.core.vision import (VisionBack, VisionLossMonitor, image_mean_intensity,
                                           odom_info_lost, wire_lost_reason)
-from blind_navigation.ros import diagnostics, subscription_watchdog
+from blind_navigation.ros import diagnostics
 from blind_navigation.ros.clock import LoopClock
-from blind_navigation.ros.common import subscribe
+from blind_navigation.ros.common import subscribe, unsubscribe
 from blind_navigation.ros.mission import Role
 from blind_navigation.ros.odometry import ros_time
-from blind_navigation.ros.wiring import Expected
+from blind_navigation.ros.faults import Expected
 
 #: RTAB-Map's OdomInfo (rtabmap_msgs from 0.21 on; any MD5 sum: the lost flag's place stays)
 ODOM_INFO = Expected(('rtabmap_msgs/OdomInfo', 'rtabmap_ros/OdomInfo'))
@@ -28,7 +26,7 @@ MIN_CHECK_WAIT, BACK_CHECK = 0.01, 0.1
 
 
 class VisionMonitor(Role):
-    """Debounced vision-loss detection (module docstring)."""
+    """Debounced vision-loss detection."""
 
     ROLE = 'vision_monitor'
     SCHEMA = VISION_MONITOR
@@ -46,10 +44,10 @@ class VisionMonitor(Role):
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.back_pub = rospy.Publisher(names.VISION_BACK, String, queue_size=1)
-        self.listeners = {'vo': guard(self.on_vo), 'wheel': guard(self.on_wheel_odometry)}
+        self.on_vo_guarded, self.on_wheel_guarded = guard(self.on_vo), guard(self.on_wheel_odometry)
         # kept across missions: a new subscription would get a latched vision_lost again
         self.manual_sub = subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))
-        self.camera_info_sub = None   # read until visual odometry arrives (module docstring)
+        self.camera_info_sub = None   # read until visual odometry arrives
         self.start_watching()
         VisionBack(self.monitor, p.vision_back_time)    # a bad vision_back_time fails now
         self.follow('vision monitor')
@@ -74,10 +72,10 @@ class VisionMonitor(Role):
         self.camera_info_until_vo = self.camera_info_sub is not None and 'vo_stall' in enabled
         self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
         if self.watching_vo:
-            self.layer.visual_odometry.add_listener(self.listeners['vo'], raw=True)
+            self.layer.visual_odometry.add_listener(self.on_vo_guarded, raw=True)
             self.layer.visual_odometry.acquire(self.ROLE)
         # the wheel odometry's arrivals tell a host stall from a vision fault
-        self.layer.odometry.add_listener(self.listeners['wheel'], raw=True)
+        self.layer.odometry.add_listener(self.on_wheel_guarded, raw=True)
         self.layer.odometry.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg,
@@ -107,11 +105,9 @@ class VisionMonitor(Role):
     def on_vo(self, wire):
         self.last_vo = rospy.get_time()
         self.feed(self.monitor.vo_odometry, wire_lost_reason(wire))
-        if self.camera_info_until_vo:
-            self.stop_camera_info()
-
-    def stop_camera_info(self):
-        """Visual odometry arrives: its stall detector covers a camera stall, camera_info unread."""
+        if not self.camera_info_until_vo:
+            return
+        # its stall detector covers a camera stall from now on: camera_info unread
         with self.lock:
             subscriber, self.camera_info_sub = self.camera_info_sub, None
             self.camera_info_until_vo = False
@@ -120,14 +116,14 @@ class VisionMonitor(Role):
             # the camera-stall detector is fed no more: it must not take the silence for a stall
             self.monitor.enabled = self.monitor.enabled - {'stall'}
             self.camera_topic = None
-        subscription_watchdog.drop(subscriber)
+        unsubscribe(subscriber)
         self.log.info('visual odometry arrives on %s: its stall detector watches for a camera '
                       'stall from now on; %s no longer read', rospy.resolve_name(names.VO_ODOM),
                       rospy.resolve_name(names.CAMERA_INFO))
 
     def on_odom_info(self, msg):
         if not ODOM_INFO.accepts(names.VO_ODOM_INFO, msg._connection_header):
-            return      # refused (ros/wiring.py)
+            return      # refused
         try:
             lost = odom_info_lost(msg._buff)
         except ValueError as error:
@@ -154,18 +150,32 @@ class VisionMonitor(Role):
                     return
                 self.done = True
             self.log.info('mission %s: no longer watching', new)
-            self.stop_watching()
+            with self.lock:
+                camera_info, self.camera_info_sub = self.camera_info_sub, None
+            for subscriber in self.subscribers + ([camera_info] if camera_info else []):
+                unsubscribe(subscriber)
+            if self.watching_vo:
+                self.layer.visual_odometry.remove_listener(self.on_vo_guarded)
+                self.layer.visual_odometry.release(self.ROLE)
+            self.layer.odometry.remove_listener(self.on_wheel_guarded)
+            self.layer.odometry.release(self.ROLE)
 
     def watch_stalls(self, generation):
-        """Check the stall detectors whenever one could fire next (and warn once about a stream
-        that never came), while this mission is watched."""
+        """Check the stall detectors whenever one could fire next, while this mission is watched."""
         clock = LoopClock('vision stall checks', self.log,
                           then='watching on (the detectors start again from the new time)')
         while not rospy.is_shutdown() and not self.done and self.generation == generation:
             now = rospy.get_time()
             if now > 0.0:                 # zero: sim time has not started
                 self.started = now if self.started is None else self.started
-                self.warn_missing_inputs(now - self.started)
+                waited = now - self.started
+                if waited >= self.params.no_input_warning and self.camera_topic and self.last_camera is None:
+                    self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
+                                   'not armed' % (rospy.resolve_name(self.camera_topic), waited))
+                if waited >= self.params.no_input_warning and self.watching_vo and self.last_vo is None:
+                    self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
+                                   'detectors are not armed; detection falls back to the camera '
+                                   'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
                 self.feed(self.monitor.check)
             try:
                 clock.sleep(max(self.next_check(now) - now, MIN_CHECK_WAIT))
@@ -173,8 +183,7 @@ class VisionMonitor(Role):
                 return
 
     def next_check(self, now):
-        """ROS time of the next stall check: the earliest an enabled stall detector could fire,
-        or the no-input warning."""
+        """ROS time of the next stall check (or of the no-input warning)."""
         if self.lost is not None:
             return now + BACK_CHECK       # the streams' messages drive the checks meanwhile
         checks = []
@@ -186,17 +195,6 @@ class VisionMonitor(Role):
         elif now < self.started + self.params.no_input_warning:
             checks.append(self.started + self.params.no_input_warning)
         return min(checks) if checks else now + self.params.no_input_warning
-
-    def warn_missing_inputs(self, waited):
-        if waited < self.params.no_input_warning:
-            return
-        if self.camera_topic and self.last_camera is None:
-            self.warn_once('no_camera', 'nothing on %s after %.1f s: the camera detectors are '
-                           'not armed' % (rospy.resolve_name(self.camera_topic), waited))
-        if self.watching_vo and self.last_vo is None:
-            self.warn_once('no_vo', 'no visual odometry on %s after %.1f s: the visual-odometry '
-                           'detectors are not armed; detection falls back to the camera '
-                           'detectors' % (rospy.resolve_name(names.VO_ODOM), waited))
 
     def feed(self, method, *args):
         """Run one core feed method now; act on a loss and on its end."""
@@ -218,26 +216,12 @@ class VisionMonitor(Role):
                         now - self.params.vision_back_time - lost.since, lost.detector)))
                     self.log.warn('VISION BACK after %.1f s: watching for the next loss', now - lost.since)
                 return
-        self.fire(lost)
-
-    def fire(self, loss):
         self.log.warn('VISION LOST, detector %s: %s (%.2f s after the failure began)',
-                      loss.detector, loss.reason, loss.t - loss.since)
-        if loss.detector != 'manual':
+                      lost.detector, lost.reason, lost.t - lost.since)
+        if lost.detector != 'manual':
             self.lost_pub.publish(Empty())
-        self.loss_pub.publish(String(data='%s: %s' % (loss.detector, loss.reason)))
+        self.loss_pub.publish(String(data='%s: %s' % (lost.detector, lost.reason)))
         self.layer.diagnostics.now()
-
-    def stop_watching(self):
-        with self.lock:
-            camera_info, self.camera_info_sub = self.camera_info_sub, None
-        for subscriber in self.subscribers + ([camera_info] if camera_info else []):
-            subscription_watchdog.drop(subscriber)
-        if self.watching_vo:
-            self.layer.visual_odometry.remove_listener(self.listeners['vo'])
-            self.layer.visual_odometry.release(self.ROLE)
-        self.layer.odometry.remove_listener(self.listeners['wheel'])
-        self.layer.odometry.release(self.ROLE)
 
     def warn_once(self, key, text):
         if key not in self.warned:

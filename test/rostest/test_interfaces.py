@@ -7,7 +7,7 @@ recording at the odometry of the request's stamp (its T and psi; d the path from
 previous landmark), refuses bad requests, ``final`` and requests outside the recording
 (naming the state), saving nothing; ``back_travel`` rejects every goal naming why (no
 status published without a goal changing), and nothing drives. The owner's docking client
-(ros/docking.py) sends its goal at once, or says at once that no server is there."""
+(ros/motion.py) sends its goal at once, or says at once that no server is there."""
 import math
 import re
 import threading
@@ -28,7 +28,7 @@ from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import (BackTravelAction, BackTravelFeedback, BackTravelGoal,
                                   BackTravelResult, PathSample)
 from blind_navigation.ros import kobuki_msgs_compat as kobuki
-from blind_navigation.ros.docking import DockingClient
+from blind_navigation.ros.motion import DockingClient
 from blind_navigation.ros.mission_owner import Inbox
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
 
@@ -150,7 +150,7 @@ class InterfacesTest(unittest.TestCase):
         self.assertEqual(moving, [], 'the rejected goal drove the robot')
 
     def test_the_docking_client_sends_its_goal_without_waiting_for_the_server(self):
-        """ros/docking.DockingClient: without the auto-docking server, start() has put why
+        """ros/motion.DockingClient: without the auto-docking server, start() has put why
         into the owner's inbox when it returns; with one (found meanwhile), the goal is sent
         and its end comes in."""
         inbox = Inbox()

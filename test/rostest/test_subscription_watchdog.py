@@ -1,4 +1,4 @@
-"""Test case of interfaces.test (test_interfaces.py runs it): ros/subscription_watchdog.py reconnects a subscription to a publisher
+"""Test case of interfaces.test (test_interfaces.py runs it): ros/common.py's watchdog reconnects a subscription to a publisher
 the master lists but the node has no connection to (what a missed publisherUpdate
 leaves), and reports nothing while every publisher is connected. The product uses
 rospy's public API only; this test drops the connection through rospy's topic
@@ -15,7 +15,7 @@ from rospy.impl.registration import get_topic_manager
 from std_msgs.msg import String
 
 import waiting
-from blind_navigation.ros import subscription_watchdog
+from blind_navigation.ros.common import heal_once
 
 TOPIC = '/watchdog_test'
 
@@ -45,7 +45,7 @@ class SubscriptionWatchdogTest(unittest.TestCase):
         return len(self.received) - count
 
     def test_a_lost_connection_is_found_and_healed(self):
-        self.assertEqual(subscription_watchdog.heal_once(self.master, self.node, [self.subscriber]), [],
+        self.assertEqual(heal_once(self.master, self.node, [self.subscriber]), [],
                          'a connected publisher was reported missing')
         impl = get_topic_manager().get_subscriber_impl(TOPIC)
         for connection in list(impl.connections):       # what a missed registration leaves
@@ -53,7 +53,7 @@ class SubscriptionWatchdogTest(unittest.TestCase):
             connection.close()
         self.assertEqual(self.messages_within(0.5), 0, 'messages still arrive after the drop')
         self.assertEqual(self.subscriber.get_num_connections(), 0)
-        healed = subscription_watchdog.heal_once(self.master, self.node, [self.subscriber])
+        healed = heal_once(self.master, self.node, [self.subscriber])
         self.assertEqual(healed, [TOPIC])
         waiting.wait_for(lambda: self.messages_within(0.5) > 0, 'messages again after healing',
                          timeout=10.0)

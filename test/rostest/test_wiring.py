@@ -29,7 +29,7 @@ ODOM = '/wiring_test/odom_is_twist'
 BUMPER = NS + '/mobile_base/events/bumper'
 ODOM_INFO = NS + '/rtabmap/odom_info_lite'
 #: s (wall) after the wrong publishers appeared by which every check ran: the subscription
-#: watchdog's last master check is 10 s after a subscription (ros/subscription_watchdog.py)
+#: watchdog's last master check is 10 s after a subscription (ros/common.py)
 SETTLE = 12.0
 
 

@@ -11,7 +11,7 @@ import pytest
 rospy = pytest.importorskip('rospy')
 
 from blind_navigation.core import outcome  # noqa: E402
-from blind_navigation.ros import diagnostics, faults, wiring  # noqa: E402
+from blind_navigation.ros import diagnostics, faults  # noqa: E402
 from blind_navigation.ros.motion import MotionOutput  # noqa: E402
 
 
@@ -173,7 +173,7 @@ def test_a_fault_carries_its_outcome_code_to_the_owner():
     this process never declared) ROLE_FAILURE."""
     rig = Rig()
     rig.faults.guard('rotate_pi')(pruning)()
-    wiring.refuse('/odom', 'nav_msgs/Odometry', 'std_msgs/String')
+    faults.refuse('/odom', 'nav_msgs/Odometry', 'std_msgs/String')
     failed, refused = rig.reported
     assert refused.startswith('wrong wiring: /odom carries std_msgs/String')
     assert (faults.code_of(failed), faults.code_of(refused)) == (outcome.ROLE_FAILURE, outcome.WIRING)

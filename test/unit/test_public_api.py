@@ -132,5 +132,5 @@ def test_the_circle_check_finds_the_circle_the_product_had():
 
 def test_the_graph_reads_the_product():
     graph = import_graph({relative: read(relative) for relative in product_files()})
-    assert 'blind_navigation.ros.wiring' in graph['blind_navigation.ros.common']
+    assert 'blind_navigation.ros.faults' in graph['blind_navigation.ros.common']
     assert os.path.isdir(PACKAGE)

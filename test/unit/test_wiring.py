@@ -1,4 +1,4 @@
-"""ros/wiring.py without a master: the one type comparison, the connection-header
+"""ros/faults.py's wiring checks without a master: the one type comparison, the connection-header
 check (accepted once per connection, refused with one FATAL line per topic, every
 fault listener told), the master's topic types; ros/kobuki_msgs_compat with a
 kobuki_msgs on the path that has no generated classes."""
@@ -10,7 +10,7 @@ import pytest
 import rospy
 from nav_msgs.msg import Odometry
 
-from blind_navigation.ros import faults as registry, kobuki_msgs_compat, wiring
+from blind_navigation.ros import faults as registry, kobuki_msgs_compat
 from blind_navigation.ros.vision_monitor import ODOM_INFO
 
 ODOMETRY = 'nav_msgs/Odometry'
@@ -31,7 +31,7 @@ def header(msg_type, md5sum):
 
 
 def test_the_type_and_its_md5_sum_must_match():
-    expected = wiring.Expected.of(Odometry)
+    expected = registry.Expected.of(Odometry)
     assert expected.mismatch(ODOMETRY, Odometry._md5sum) is None
     assert expected.mismatch(ODOMETRY) is None               # the master knows no MD5 sum
     assert expected.mismatch('geometry_msgs/Twist', 'x') == 'geometry_msgs/Twist'
@@ -48,7 +48,7 @@ def test_odom_info_of_either_rtabmap_package_any_version():
 def test_a_wrong_connection_is_refused_with_one_fatal_line_per_topic(fatal):
     faults = []
     registry.on_fault(faults.append)
-    expected = wiring.Expected.of(Odometry)
+    expected = registry.Expected.of(Odometry)
     right = header(ODOMETRY, Odometry._md5sum)
     assert expected.accepts('/odom', right) and expected.accepts('/odom', right)
     assert fatal == [] and not registry.faulty() and faults == []
@@ -65,12 +65,12 @@ def test_a_wrong_connection_is_refused_with_one_fatal_line_per_topic(fatal):
 
 
 def test_the_masters_topic_types(fatal):
-    expected = {'/odom': wiring.Expected.of(Odometry), '/rtabmap/odom_info_lite': ODOM_INFO}
-    wiring.check_types([['/odom', ODOMETRY], ['/rtabmap/odom_info_lite', 'rtabmap_msgs/OdomInfo'],
+    expected = {'/odom': registry.Expected.of(Odometry), '/rtabmap/odom_info_lite': ODOM_INFO}
+    registry.check_types([['/odom', ODOMETRY], ['/rtabmap/odom_info_lite', 'rtabmap_msgs/OdomInfo'],
                         ['/other', 'std_msgs/String']], expected)
     assert fatal == []
-    wiring.check_types([['/odom', ODOMETRY], ['/rtabmap/odom_info_lite', 'std_msgs/String']], expected)
-    wiring.check_types([['/rtabmap/odom_info_lite', 'std_msgs/String']], expected)
+    registry.check_types([['/odom', ODOMETRY], ['/rtabmap/odom_info_lite', 'std_msgs/String']], expected)
+    registry.check_types([['/rtabmap/odom_info_lite', 'std_msgs/String']], expected)
     assert len(fatal) == 1 and 'rtabmap_msgs/OdomInfo or rtabmap_ros/OdomInfo' in fatal[0]
 
 
@@ -96,7 +96,7 @@ def test_a_failing_listener_does_not_keep_the_others_from_hearing(fatal, monkeyp
         raise RuntimeError('broken listener')
     registry.on_fault(broken)
     registry.on_fault(heard.append)
-    wiring.refuse('/mobile_base/events/cliff', wiring.Expected(('kobuki_msgs/CliffEvent',)), 'std_msgs/String')
+    registry.refuse('/mobile_base/events/cliff', registry.Expected(('kobuki_msgs/CliffEvent',)), 'std_msgs/String')
     assert len(fatal) == 1 and len(heard) == 1
     assert errors and 'RuntimeError: broken listener' in errors[0]
 
@@ -107,7 +107,7 @@ def test_sensor_state_is_kobuki_msgs_own_and_another_type_is_refused(fatal):
     state = kobuki_msgs_compat.SensorState
     assert (state._type, state._md5sum) == ('kobuki_msgs/SensorState', '430a4bfd78449c8740bfef32b26613a6')
     assert state().DOCKING_CHARGING == 6 and state(battery=161).battery == 161
-    expected = wiring.Expected.of(state)
+    expected = registry.Expected.of(state)
     assert expected.accepts('mobile_base/sensors/core', header(state._type, state._md5sum))
     assert not expected.accepts('mobile_base/sensors/core', header('geometry_msgs/Twist', '*'))
     assert len(fatal) == 1 and 'expected kobuki_msgs/SensorState' in fatal[0]
