@@ -7,6 +7,7 @@ import types
 
 import actionlib
 import rospy
+from actionlib_msgs.msg import GoalID
 
 from blind_navigation import names
 from blind_navigation.core import drive, mission_state
@@ -64,6 +65,9 @@ class BackTravelServer(Role):
         rospy.Service(names.SET_RETURN_ROUTE, SetReturnRoute, self.guard(self._on_set_route))
         self.server = action_server(names.BACK_TRAVEL, BackTravelAction, self.guard, self._on_goal,
                                     self._on_cancel, 1.0 / p.status_frequency, self.log)
+        # actionlib passes a cancel of every goal to the goals it finds; between two there is none
+        rospy.Subscriber(names.BACK_TRAVEL + '/cancel', GoalID, self.guard(self._on_cancel_every),
+                         queue_size=10)
         self.log.info('serving %s in %s mode on %s', rospy.resolve_name(names.BACK_TRAVEL),
                       p.control, rospy.resolve_name(names.CMD_VEL))
 
@@ -164,6 +168,21 @@ class BackTravelServer(Role):
             bridging = self.drive is not None and self.drive.phase == HANDOVER and self.drive.bridge is not None
         if ours or bridging:            # between goals too: the follower drives on meanwhile
             self.output.halt('cancel')  # at once, not at the next control cycle
+
+    def _on_cancel_every(self, msg):
+        """A cancel of every goal (empty id) with no goal held ends the return under way: the
+        hand-over's command stops and the route's later goals end cancelled."""
+        with self._lock:
+            d = self.drive
+            between = (not msg.id and self.active is None and self.pending is None and d is not None
+                       and self.ended is None and d.index < len(self.landmarks))
+            if between:
+                self.ended = drive.Outcome(drive.CANCELLED, 'cancelled between goals %d and %d'
+                                           % (d.index, d.index + 1))
+        if between:
+            self.output.halt('cancel')
+            self.log.warn('every goal cancelled between goals %d and %d: the return stops',
+                          d.index, d.index + 1)
 
     def _on_state(self, _old, new):
         if new == mission_state.RETURNING:

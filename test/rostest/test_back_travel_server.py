@@ -16,7 +16,8 @@ import unittest
 import actionlib
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalStatus
+from actionlib_msgs.msg import GoalID, GoalStatus
+from rosgraph_msgs.msg import Log
 
 from blind_navigation.msg import BackTravelAction, BackTravelActionResult, BackTravelGoal
 
@@ -37,6 +38,9 @@ class BackTravelServerTest(unittest.TestCase):
         assert cls.client.wait_for_server(rospy.Duration(TIMEOUT)), 'server did not come up'
         cls.owner = MissionOwner('/back_travel_server')
         cls.owner.publish('returning')
+        cls.server_log = []
+        rospy.Subscriber('/rosout', Log, lambda msg: cls.server_log.append(msg.msg)
+                         if msg.name == '/back_travel_server' else None, queue_size=100)
 
     def drive(self, *goals):
         """Set the route of ``goals`` (landmark tuples) from where the base is, send the
@@ -73,6 +77,29 @@ class BackTravelServerTest(unittest.TestCase):
         moving = [c for c in self.base.commands[start:] if c[1] != 0.0]
         self.assertTrue(moving, 'no command published')
         self.assertTrue(all(c[1:] == (0.1, -0.3) for c in moving), moving[:3])
+
+    def test_cancel_of_every_goal_between_goals_ends_the_return(self):
+        # as `rostopic pub .../cancel actionlib_msgs/GoalID {}` after a goal's end, before the
+        # next goal: actionlib finds no goal to pass it to; the server ends the return itself
+        wait_for(lambda: self.base.v == 0.0, 'the base still after the earlier tests\' goals', TIMEOUT)
+        goal = (0.2, 0.0, 0.2, 1.0, 0.0)
+        self.drive(goal, goal)
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result of goal 1')
+        self.assertEqual(self.client.get_state(), GoalStatus.SUCCEEDED)
+        cancel = rospy.Publisher('/blind_navigation/back_travel/cancel', GoalID, queue_size=1)
+        wait_for(lambda: cancel.get_num_connections() >= 1, 'the server subscribing the cancel', TIMEOUT)
+        cancel.publish(GoalID())
+        wait_for(lambda: any('every goal cancelled between goals 1 and 2' in m for m in self.server_log),
+                 lambda: 'the server ending the return between goals; its log %r' % self.server_log[-5:],
+                 TIMEOUT)
+        wait_for(lambda: self.base.v == 0.0, 'the base stopped after the cancel', TIMEOUT)
+        after = len(self.base.commands)
+        self.send(*goal)
+        self.assertTrue(self.client.wait_for_result(rospy.Duration(TIMEOUT)), 'no result of goal 2')
+        self.assertIn(self.client.get_state(), (GoalStatus.PREEMPTED, GoalStatus.RECALLED),
+                      self.client.get_goal_status_text())
+        self.assertFalse([c for c in self.base.commands[after:] if c[1:] != (0.0, 0.0)],
+                         'goal 2 moved the base after every goal was cancelled')
 
     def test_cancel_publishes_zero_at_once(self):
         # a long goal (5 s at 0.2 m/s; d must be within what the base covers in T)
