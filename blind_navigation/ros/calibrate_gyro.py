@@ -36,7 +36,6 @@ class CalibrateGyro(Role):
         self._lock = threading.Lock()
         self._vo_valid = False
         self.driver = DriveNode(self, (0.0, self.spin.max_w), None, False, lambda: 'spin')
-        self.output = self.driver.output
         self.odom.add_listener(self.guard(self._on_odom))
         layer.visual_odometry.add_listener(self.guard(self._on_vo), raw=True)
         self.odom.acquire(self.ROLE)
@@ -68,7 +67,7 @@ class CalibrateGyro(Role):
         except (OSError, rospy.ROSInterruptException) as error:
             reason = '%s: %s' % (type(error).__name__, error)
         finally:
-            self.output.halt('calibration over')
+            self.driver.output.halt('calibration over')
         if reason:
             self.log.error('gyro calibration FAILED, %s left untouched: %s', self.path, reason)
             return False
@@ -80,16 +79,15 @@ class CalibrateGyro(Role):
         p = self.params
         deadline = time.monotonic() + p.start_timeout
         # the clock too: under use_sim_time odometry may come before the first /clock
-        while rospy.Time.now().is_zero() or not self._vo_valid:
-            if rospy.is_shutdown() or time.monotonic() > deadline:
-                if not self._vo_valid:
-                    return ('no valid visual odometry on %s within %.0f s: the calibration needs '
-                            "RTAB-Map's visual odometry running and tracking (see the README, "
-                            'TurtleBot2 + RTAB-Map); not spinning'
-                            % (rospy.resolve_name(names.VO_ODOM), p.start_timeout))
-                return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
+        while (rospy.Time.now().is_zero() or not self._vo_valid) and not rospy.is_shutdown() \
+                and time.monotonic() <= deadline:
             time.sleep(0.05)
-        if self.odom.wait_fresh(p.odom_timeout, max(0.0, deadline - time.monotonic())) is None:
+        if not self._vo_valid:
+            return ('no valid visual odometry on %s within %.0f s: the calibration needs '
+                    "RTAB-Map's visual odometry running and tracking (see the README, "
+                    'TurtleBot2 + RTAB-Map); not spinning' % (rospy.resolve_name(names.VO_ODOM), p.start_timeout))
+        if rospy.Time.now().is_zero() or self.odom.wait_fresh(
+                p.odom_timeout, max(0.0, deadline - time.monotonic())) is None:
             return 'no odometry before starting: %s' % self.odom.describe_missing(p.odom_timeout)
         self.log.info('spinning %.1f turns each way at %.2f rad/s against %s', self.spin.turns,
                       self.spin.max_w, rospy.resolve_name(names.VO_ODOM))

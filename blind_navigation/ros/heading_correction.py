@@ -122,7 +122,13 @@ class HeadingCorrectionRole(Role):
 
     def _on_state(self, old, new):
         if old == mission_state.ROTATING and new == mission_state.RECORDING:
-            self._resume_recording()
+            with self._lock:    # vision back before the pi turn: the standstill dropped, the fit goes on
+                resumed = self.result is None and self.lost
+                if resumed:
+                    self.lost, self.standstill = False, None
+            if resumed:
+                self.layer.visual_odometry.acquire(self.ROLE)
+                self.log.info('vision back before the pi turn: standstill dropped, calibrating on')
         if new != mission_state.ROTATING:
             if new in mission_state.TERMINAL:
                 self._stop_listening()
@@ -143,15 +149,6 @@ class HeadingCorrectionRole(Role):
                       'known to %.3f rad over the recording, %.0f-%.0f s of still odometry)',
                       self.params.heading_budget, self.params.standstill_min,
                       self.params.standstill_time)
-
-    def _resume_recording(self):
-        """Vision back before the pi turn: the standstill is dropped, the fit goes on."""
-        with self._lock:
-            if self.result is not None or not self.lost:
-                return
-            self.lost, self.standstill = False, None
-        self.layer.visual_odometry.acquire(self.ROLE)
-        self.log.info('vision back before the pi turn: standstill dropped, calibrating on')
 
     def _stand(self, raw):
         """The standstill from ``raw``, where the corrected frame starts (lock held)."""

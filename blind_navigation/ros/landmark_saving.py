@@ -174,13 +174,13 @@ class LandmarkSaving(Role):
 
     def _catch_up(self):
         """Save the samples this file misses, asked of the publisher (lock held); True: restored."""
-        mark, name = self.writer.sample, rospy.resolve_name(names.RECORDED_SAMPLES)
+        mark = self.writer.sample
         if mark is None and self.writer.count:
             problem = '%s does not say which sample its last landmark came from' % self.writer.path
         else:
             try:
-                rospy.wait_for_service(name, self.params.catch_up_timeout)
-                answer = rospy.ServiceProxy(name, RecordedSamples)(
+                rospy.wait_for_service(names.RECORDED_SAMPLES, self.params.catch_up_timeout)
+                answer = rospy.ServiceProxy(names.RECORDED_SAMPLES, RecordedSamples)(
                     recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
                 problem = answer_problem(answer, mark)
             except (rospy.ROSException, rospy.ServiceException) as error:

@@ -19,7 +19,7 @@ from blind_navigation.core.heading_correction import correct_landmarks
 from blind_navigation.core.landmark import Limits
 from blind_navigation.core.mission import TURN, TURNED
 from blind_navigation.core.mission_remote import Remote
-from blind_navigation.core.return_plan import NO_LOSS, WriteLoss, damage_warning, plan_return, recording_problem
+from blind_navigation.core.return_plan import NO_LOSS, damage_warning, plan_return, recording_problem, write_loss
 from blind_navigation.core.role_params import BACK_TRAVEL_CLIENT, BACK_TRAVEL_SERVER
 from blind_navigation.core.route import SECTION_FIELDS
 from blind_navigation.core.safety import is_contact
@@ -106,11 +106,12 @@ class PaperOwner(MissionOwner):
             self._on_fault('%s (%s)' % (msg.data, sender))
 
     def _on_storage(self, msg):
+        loss = write_loss(msg, msg.error)     # a StorageUsage names what its writer lost
         if msg.lost:
-            self.losses[os.path.realpath(msg.file)] = write_loss(msg)
+            self.losses[os.path.realpath(msg.file)] = loss
         with self.lock:
             self.mission.config.remote.reported(msg.distance)
-            damage = damage_warning(write_loss(msg), msg.file) if msg.lost or msg.error else ''
+            damage = damage_warning(loss, msg.file) if msg.lost or msg.error else ''
             if (damage, msg.space_warning) != (self.store.damage, self.store.space.warning):
                 self.store.damage, self.store.space.warning = damage, msg.space_warning
                 self.publish_status()
@@ -197,11 +198,6 @@ class PaperOwner(MissionOwner):
         super(PaperOwner, self)._on_shutdown()
 
 
-def write_loss(msg):
-    """The core/return_plan.WriteLoss a StorageUsage report names."""
-    return WriteLoss(msg.lost, msg.lost_distance, msg.lost_turn, msg.error)
-
-
 def route_message(route):
     """The ReturnRoute message of a core/route.Route."""
     return ReturnRoute(version=ReturnRoute.ROUTE_VERSION, x=route.x, y=route.y, speed=route.speed,
@@ -224,7 +220,6 @@ class RemoteGoals(object):
         if not self.client.wait_for_server(rospy.Duration(timeout)):
             return ('action server %s not available after %.0f s (is back_travel_server running?)'
                     % (rospy.resolve_name(names.BACK_TRAVEL), timeout)), None
-        service = rospy.resolve_name(names.SET_RETURN_ROUTE)
         try:
             rospy.wait_for_service(names.SET_RETURN_ROUTE, timeout)
             call = rospy.ServiceProxy(names.SET_RETURN_ROUTE, SetReturnRoute)
@@ -233,7 +228,7 @@ class RemoteGoals(object):
                             landmarks=[value for lm in landmarks for value in lm.as_list()],
                             completed=completed)
         except (rospy.ROSException, rospy.ServiceException) as error:
-            return 'cannot set the return route on %s: %s' % (service, error), None
+            return 'cannot set the return route on %s: %s' % (rospy.resolve_name(names.SET_RETURN_ROUTE), error), None
         return None if response.ok else 'return route refused: %s' % response.message, response
 
     def send(self, landmark, on_done):

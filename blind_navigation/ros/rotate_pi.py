@@ -106,7 +106,10 @@ class RotatePi(Role):
             if ready is False:
                 self._finish(False)
             elif ready is not None:
-                self._start(now, ready)
+                self.waiting, self.driver.now = None, now
+                turn = TurnDrive(self.params, self.driver.feed, ready, self.config, PausedClock(now))
+                self.driver.start(turn)
+                self.log.info('turning by %.3f rad from yaw %.3f', turn.rotation.angle, ready.yaw)
             return
         ended = self.driver.step(now, jump, inactive=None if self.rotating else 'the mission left rotating')
         if ended is not None:
@@ -145,12 +148,6 @@ class RotatePi(Role):
         if odom is None:
             self.log.error('cannot turn: %s', self.layer.odometry.describe_missing(p.odom_timeout))
         return odom or False
-
-    def _start(self, now, odom):
-        self.waiting = None
-        self.driver.now = now
-        self.driver.start(TurnDrive(self.params, self.driver.feed, odom, self.config, PausedClock(now)))
-        self.log.info('turning by %.3f rad from yaw %.3f', self.driver.drive.rotation.angle, odom.yaw)
 
     def _finish(self, ok):
         """The turn (or its wait) ended: zero, the odometry released, ``rotation_done``."""
