@@ -37,12 +37,12 @@ def turn_problem(start_yaw, yaw, tolerance):
 
 
 class Rotation(object):
-    """Turn in place by ``angle`` (rad) using odometry yaw; ``params``: :data:`ROTATION_DEFAULTS`'
-    names (missing ones take the default)."""
+    """Turn in place by ``angle`` (rad) using odometry yaw; ``params``, ``overrides``:
+    :data:`ROTATION_DEFAULTS`' names (missing ones take the default)."""
 
-    def __init__(self, params=None):
+    def __init__(self, params=None, **overrides):
         for name, default in ROTATION_DEFAULTS.items():
-            setattr(self, name, float(getattr(params, name, default)))
+            setattr(self, name, float(overrides.get(name, getattr(params, name, default))))
         if self.max_w <= 0 or self.min_w < 0 or self.min_w > self.max_w:
             raise ValueError('rotation: need 0 <= min_w <= max_w and max_w > 0 (min_w %r, max_w %r)'
                              % (self.min_w, self.max_w))
