@@ -4,7 +4,7 @@ import math
 
 from . import outcome
 from .geometry import distance
-from .safety import SAFETY_DEFAULTS
+from .safety import SAFETY_DEFAULTS, expected_duration
 
 MODES = ('time', 'distance', 'closed_loop')
 
@@ -178,7 +178,7 @@ class DistanceController(_Controller):
         self.min_d = _param(params, 'min_d')
 
     def expected_duration(self):
-        return max(self.landmark.T, self.landmark.d / max(abs(self.landmark.v), self.min_v))
+        return expected_duration(self.landmark, self.min_v)
 
     def command(self, odom_state):
         if self.travelled >= self.landmark.d or self.landmark.d < self.min_d:

@@ -196,8 +196,8 @@ class RouteFollower(Odometer):
         route, corner = self.route, self.route.corners[self._piece]
         tx, ty, _ = route.point_at(min(route.s[corner] + self.aim_distance,
                                        route.s[self._piece_end()]), corner)
-        aim = route.direction(corner) if distance(odom.x, odom.y, tx, ty) < 0.5 * self.aim_distance \
-            else math.atan2(ty - odom.y, tx - odom.x)
+        near = distance(odom.x, odom.y, tx, ty) < 0.5 * self.aim_distance
+        aim = route.direction(corner) if near else math.atan2(ty - odom.y, tx - odom.x)
         angle = wrap_angle(aim - odom.yaw)
         self.watch.new_heading_goal()
         if abs(angle) <= self.align_tolerance:
