@@ -37,8 +37,8 @@ class DriveCycle(object):
     None: stale odometry ends the drive at once; ``hold(seconds)``: told each hold's length."""
 
     def __init__(self, grace_params=None, odom_timeout=None, hold=None):
-        self.grace = OdomGrace(grace_params) if grace_params is not None else None
-        self.odom_timeout, self.hold = odom_timeout, hold or (lambda seconds: None)
+        self.grace = OdomGrace(grace_params, hold) if grace_params is not None else None
+        self.odom_timeout = odom_timeout
 
     def decide(self, now, odom_stamp):
         """``(decision, message)``: an Outcome to end, HOLD (publish zero this cycle)
@@ -46,12 +46,7 @@ class DriveCycle(object):
         if self.grace is None:
             stale = odom_stamp is None or now - odom_stamp > self.odom_timeout
             return (Outcome(ODOMETRY_LOST, 'odometry stale'), None) if stale else (None, None)
-        held = len(self.grace.holds)
         decision, message = self.grace.check(now, odom_stamp)
         if decision == ABORT:
             return Outcome(ODOMETRY_LOST, message), message
-        if decision == HOLD:
-            return HOLD, message
-        if len(self.grace.holds) > held:
-            self.hold(self.grace.holds[-1][1])   # held time is not driving time
-        return None, message
+        return (HOLD if decision == HOLD else None), message
