@@ -22,7 +22,7 @@ PRUNE_DEFAULTS = {
 
 def drift_param(params, name, defaults=PRUNE_DEFAULTS):
     """``params.name`` (or the default), checked to be a finite number >= 0."""
-    value = getattr(params, name, defaults[name]) if params is not None else defaults[name]
+    value = getattr(params, name, defaults[name])
     try:
         value = float(value)
     except (TypeError, ValueError):
@@ -210,16 +210,11 @@ class PruneResult(namedtuple('PruneResult', 'route cuts refused params examined'
         return lines
 
 
-def prune_params(params=None):
-    values = {name: drift_param(params, name, PRUNE_DEFAULTS) for name in PRUNE_DEFAULTS}
-    if not values['prune_radius'] > 0:
-        raise ValueError('prune_radius must be > 0, got %r' % values['prune_radius'])
-    return values
-
-
 def prune_route(route, landmarks, correction=None, params=None):
     """:class:`PruneResult` of ``route`` built from ``landmarks`` in the frame of ``correction``."""
-    values = prune_params(params)
+    values = {name: drift_param(params, name) for name in PRUNE_DEFAULTS}
+    if not values['prune_radius'] > 0:
+        raise ValueError('prune_radius must be > 0, got %r' % values['prune_radius'])
     drift = LoopDrift(route, landmarks, correction, params)
     radius, sigmas, min_loop = values['prune_radius'], values['prune_sigmas'], values['prune_min_loop']
     near, scanned = _neighbours(route, radius, min_loop)

@@ -10,7 +10,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from blind_navigation.core.pruning import PRUNE_DEFAULTS, LoopDrift, prune_params, prune_route
+from blind_navigation.core.pruning import PRUNE_DEFAULTS, LoopDrift, prune_route
 from blind_navigation.core.route import Route, build_route
 
 from unicycle import follow_route, record
@@ -179,12 +179,12 @@ def test_the_correction_s_uncertainty_is_used_where_it_corrected():
 
 
 def test_bad_params_and_inputs_are_named():
-    with pytest.raises(ValueError, match='prune_radius'):
-        prune_params(SimpleNamespace(prune_radius=0.0))
-    with pytest.raises(ValueError, match='wheel_error_per_m'):
-        prune_params(SimpleNamespace(wheel_error_per_m=-0.01))
     landmarks, end = record(FIGURE_EIGHT, events=True)
     route = build_route(landmarks, (end.x, end.y))
+    with pytest.raises(ValueError, match='prune_radius'):
+        prune_route(route, landmarks, params=SimpleNamespace(prune_radius=0.0))
+    with pytest.raises(ValueError, match='wheel_error_per_m'):
+        prune_route(route, landmarks, params=SimpleNamespace(wheel_error_per_m=-0.01))
     with pytest.raises(ValueError, match='landmarks for a route of'):
         prune_route(route, landmarks[1:])
 
