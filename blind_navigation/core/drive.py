@@ -1,7 +1,6 @@
 """How a drive ends (typed :class:`Outcome`) and each cycle's odometry check of a drive
-(:class:`DriveCycle`: fresh, held within the grace, or lost). Used by core/mission_drive's
-drives and ros/drive_node.DriveNode (docs/back_travel.md, "The drive loop").
-"""
+(:class:`DriveCycle`: fresh, held within the grace, or lost); docs/back_travel.md, "The drive
+loop"."""
 import collections
 
 from . import outcome
@@ -22,9 +21,7 @@ class Outcome(collections.namedtuple('Outcome', 'kind reason code', defaults=(ou
     does not say it, the core/outcome ``code`` of the cause."""
     __slots__ = ()
 
-    @property
-    def ok(self):
-        return self.kind == SUCCEEDED
+    ok = property(lambda self: self.kind == SUCCEEDED)
 
     @property
     def cause(self):

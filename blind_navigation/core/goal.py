@@ -69,8 +69,7 @@ class HandoverBridge(object):
     def __init__(self, follower, timeout, now):
         if not timeout > 0:
             raise ValueError('handover_follow must be > 0 s, got %r' % (timeout,))
-        self.follower = follower
-        self.started, self.deadline = now, now + float(timeout)
+        self.follower, self.deadline = follower, now + float(timeout)
 
     def expired(self, now):
         return now >= self.deadline

@@ -4,6 +4,7 @@ prune_radius`` (:class:`LoopDrift`: the odometry drift over a loop); docs/prunin
 import bisect
 import math
 from collections import namedtuple
+from itertools import accumulate
 
 from .period_model import period_turn
 from .route import ROUTE_DEFAULTS, Route, Section, corner_turn
@@ -132,13 +133,9 @@ def _std(correction, name, prior):
 def vertex_passes(route, landmarks):
     """Per route vertex: (recording time s, unwrapped heading rad) reaching and leaving it."""
     n = len(landmarks)
-    times, headings = [], []
-    elapsed = heading = 0.0
-    for k, landmark in enumerate(landmarks):
-        elapsed += landmark.T
-        heading = landmark.psi if k == 0 else heading + period_turn(landmarks[k - 1], landmark)
-        times.append(elapsed)
-        headings.append(heading)
+    turns = [period_turn(a, b) for a, b in zip(landmarks, landmarks[1:])]
+    times = list(accumulate(landmark.T for landmark in landmarks))
+    headings = list(accumulate([landmark.psi for landmark in landmarks[:1]] + turns))
     start_heading = headings[0] - landmarks[0].w * landmarks[0].T if n else 0.0
     arrive, leave = [None] * route.vertices, [None] * route.vertices
 

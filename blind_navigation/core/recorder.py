@@ -84,9 +84,7 @@ class OdometryHistory(object):
         """Forget every state (the odometry after a discontinuity is another frame)."""
         self._states.clear()
 
-    @property
-    def latest(self):
-        return self._states[-1] if self._states else None
+    latest = property(lambda self: self._states[-1] if self._states else None)
 
     def at(self, stamp):
         """The latest state stamped at or before ``stamp`` (all newer: the oldest; empty: None)."""
@@ -115,9 +113,7 @@ class PathRecorder(object):
         self.count = 0
         self.total_distance = 0.0
 
-    @property
-    def started(self):
-        return self._previous is not None
+    started = property(lambda self: self._previous is not None)
 
     def start(self, odom_state):
         """Record the start position (once; later calls are ignored)."""
