@@ -17,8 +17,7 @@ ALLOWANCE_DEFAULTS = {
 
 def allowance_param(params, name):
     """``params.name`` (or the default), checked to be a number > 0."""
-    value = float(getattr(params, name, ALLOWANCE_DEFAULTS[name]) if params is not None
-                  else ALLOWANCE_DEFAULTS[name])
+    value = float(getattr(params, name, ALLOWANCE_DEFAULTS[name]))
     if not value > 0:
         raise ValueError('%s must be > 0, got %r' % (name, value))
     return value

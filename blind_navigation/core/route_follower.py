@@ -137,12 +137,10 @@ class RouteFollower(Odometer):
         forward; nearer the last target than that, it cut a curl: the nearest segment up to it."""
         route, last = self.route, self._piece_end() - 1
         segment = max(self._segment, self.route.corners[self._piece])
-        while True:
+        t, gap = _project(route, segment, x, y)
+        while t >= 1.0 and segment < last:
+            segment += 1
             t, gap = _project(route, segment, x, y)
-            if t >= 1.0 and segment < last:
-                segment += 1
-                continue
-            break
         if self._target is not None and distance(x, y, self._target[0], self._target[1]) ** 2 < gap:
             for later in range(segment + 1, min(self._target[2], last) + 1):
                 t_later, gap_later = _project(route, later, x, y)
