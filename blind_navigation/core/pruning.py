@@ -44,8 +44,6 @@ class Drift(namedtuple('Drift', 'bias_x bias_y scale_x scale_y noise wheel')):
 
 NO_DRIFT = Drift(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
-LoopEstimate = namedtuple('LoopEstimate', 'length duration gap drift')   # m, s, m, Drift
-
 
 class LoopDrift(object):
     """The drift model of ``route`` over ``landmarks`` corrected by ``correction`` (or None)."""
@@ -96,7 +94,7 @@ class LoopDrift(object):
         return self._prefix[name][w] - self._prefix[name][u]
 
     def loop(self, u, w):
-        """:class:`LoopEstimate` of the loop from vertex ``w`` back to ``u < w``."""
+        """(duration s, :class:`Drift`) of the loop from vertex ``w`` back to ``u < w``."""
         if not 0 <= u < w < self.route.vertices:
             raise ValueError('loop drift: need 0 <= later %d < earlier %d < %d vertices'
                              % (u, w, self.route.vertices))
@@ -111,10 +109,8 @@ class LoopDrift(object):
         f = self._between('f', u, w) - stood[3]
         ux, uy = route.x[u] - self._origin[0], route.y[u] - self._origin[1]
         noise = max(0.0, c * (ux * ux + uy * uy) - 2.0 * (ux * dx + uy * dy) + f)
-        length = route.s[w] - route.s[u]
-        drift = Drift(bias[0], bias[1], scale[0], scale[1], noise, self.wheel_error * length)
-        return LoopEstimate(length, self.arrive[u][0] - t_ref,
-                            math.hypot(route.x[u] - route.x[w], route.y[u] - route.y[w]), drift)
+        wheel = self.wheel_error * (route.s[w] - route.s[u])
+        return self.arrive[u][0] - t_ref, Drift(bias[0], bias[1], scale[0], scale[1], noise, wheel)
 
     def sigma(self, drift):
         """Standard deviation (m) of the true offset between the passes for ``drift``."""
@@ -220,13 +216,13 @@ def prune_route(route, landmarks, correction=None, params=None):
     def candidate(u, landing, before):
         index, share = landing
         start = index + 1 if share > 0 else index       # the loop taken to the segment's far end
-        loop = drift.loop(u, start)
-        total = before.plus(loop.drift)
+        duration, loop_drift = drift.loop(u, start)
+        total = before.plus(loop_drift)
         x, y = _point(route, index, share)
         along = route.s[index] + share * (route.s[start] - route.s[index])
         gap = math.hypot(x - route.x[u], y - route.y[u])
-        cut = Cut(u, index, share, (route.x[u], route.y[u]), (x, y), gap, along - route.s[u], loop.duration,
-                  drift.sigma(loop.drift), drift.sigma(total), total, drift.leave[start][0])
+        cut = Cut(u, index, share, (route.x[u], route.y[u]), (x, y), gap, along - route.s[u], duration,
+                  drift.sigma(loop_drift), drift.sigma(total), total, drift.leave[start][0])
         return cut, gap + sigmas * cut.sigma_total <= radius
 
     u, last, carried = 0, route.vertices - 1, NO_DRIFT
