@@ -56,10 +56,6 @@ def _param(params, name, defaults=BACK_TRAVEL_DEFAULTS):
     return float(getattr(params, name, defaults[name]))
 
 
-def _clamp(value, limit):
-    return max(-limit, min(limit, value))
-
-
 def replay_command(landmark, straight_period):
     """The paper's command for ``landmark``: ``(v, 0)`` straight, ``(v, -w)`` curved."""
     if landmark.T >= straight_period - 1e-6:
@@ -148,7 +144,7 @@ class _Controller(Odometer):
         v, w = self.command(odom_state)
         if self.done:
             return 0.0, 0.0
-        return _clamp(v, self.max_v), _clamp(w, self.max_w)
+        return max(-self.max_v, min(self.max_v, v)), max(-self.max_w, min(self.max_w, w))
 
     def command(self, odom_state):
         raise NotImplementedError
