@@ -17,8 +17,7 @@ ALLOWANCE_DEFAULTS = {
 
 def allowance_param(params, name):
     """``params.name`` (or the default), checked to be a number > 0."""
-    value = float(getattr(params, name, ALLOWANCE_DEFAULTS[name]) if params is not None
-                  else ALLOWANCE_DEFAULTS[name])
+    value = float(getattr(params, name, ALLOWANCE_DEFAULTS[name]))
     if not value > 0:
         raise ValueError('%s must be > 0, got %r' % (name, value))
     return value
@@ -68,11 +67,12 @@ DRIVE, HOLD, ABORT = 'drive', 'hold', 'abort'
 
 
 class OdomGrace(object):
-    """Drive, hold (zero velocity) or abort from the odometry's age."""
+    """Drive, hold (zero velocity) or abort from the odometry's age; ``hold(seconds)``: told
+    each finished hold's length."""
 
-    def __init__(self, params=None):
+    def __init__(self, params=None, hold=None):
         self.odom_timeout, self.odom_grace = (allowance_param(params, name) for name in ('odom_timeout', 'odom_grace'))
-        self.holding_since, self.holds = None, []    # holds: (start, length) of every finished hold
+        self.holding_since, self.hold = None, hold or (lambda seconds: None)
 
     def check(self, now, odom_stamp):
         """``(decision, message)`` at ``now`` for odometry stamped ``odom_stamp`` (None: none);
@@ -82,8 +82,8 @@ class OdomGrace(object):
             if self.holding_since is None:
                 return DRIVE, None
             length = now - self.holding_since
-            self.holds.append((self.holding_since, length))
             self.holding_since = None
+            self.hold(length)       # held time is not driving time
             return DRIVE, 'odometry back after a %.2f s hold' % length
         if self.holding_since is None:
             self.holding_since = now

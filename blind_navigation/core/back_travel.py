@@ -4,7 +4,7 @@ import math
 
 from . import outcome
 from .geometry import distance
-from .safety import SAFETY_DEFAULTS
+from .safety import SAFETY_DEFAULTS, expected_duration
 
 MODES = ('time', 'distance', 'closed_loop')
 
@@ -56,10 +56,6 @@ def _param(params, name, defaults=BACK_TRAVEL_DEFAULTS):
     return float(getattr(params, name, defaults[name]))
 
 
-def _clamp(value, limit):
-    return max(-limit, min(limit, value))
-
-
 def replay_command(landmark, straight_period):
     """The paper's command for ``landmark``: ``(v, 0)`` straight, ``(v, -w)`` curved."""
     if landmark.T >= straight_period - 1e-6:
@@ -94,19 +90,20 @@ class Odometer(object):
 
 
 class _Controller(Odometer):
+    """A paper-mode goal: one landmark replayed within its time allowance."""
 
     def __init__(self, landmark, params):
         self.landmark = landmark
         self.max_v, self.max_w = _param(params, 'max_v'), _param(params, 'max_w')
         self.straight_period = _param(params, 'straight_period')
-        self.allowance = (_param(params, 'timeout_factor') * self.expected_duration(params)
+        self.allowance = (_param(params, 'timeout_factor') * self.expected_duration()
                           + _param(params, 'timeout_margin'))
         self.paused_move = _param(params, 'paused_move')
         self.travelled, self.done, self.failed, self.reason = 0.0, False, False, ''
         self.code = outcome.NONE    # core/outcome's cause once failed
         self.started = self._last = None
 
-    def expected_duration(self, params):
+    def expected_duration(self):
         return self.landmark.T
 
     def moved_while_paused(self, metres):
@@ -123,6 +120,16 @@ class _Controller(Odometer):
     def start(self, odom_state):
         self.started, self._last, self.travelled = odom_state.stamp, odom_state, 0.0
         self.done = self.failed = False
+        self.reason = ''
+
+    def hold(self, seconds):
+        """The goal's clock skips the ``seconds`` held."""
+        if self.started is not None:
+            self.started += seconds
+
+    def resumed(self, seconds):
+        self.hold(seconds)
+        self.pause_ended()
 
     def step(self, odom_state):
         if self.started is None:
@@ -131,11 +138,13 @@ class _Controller(Odometer):
             return 0.0, 0.0
         if self.elapsed(odom_state) > self.allowance:
             self.failed, self.code = True, outcome.TIMEOUT
+            self.reason = 'time allowance %.1f s exceeded after %.3f m of %.3f m' % (
+                self.allowance, self.travelled, self.landmark.d)
             return 0.0, 0.0
         v, w = self.command(odom_state)
         if self.done:
             return 0.0, 0.0
-        return _clamp(v, self.max_v), _clamp(w, self.max_w)
+        return max(-self.max_v, min(self.max_v, v)), max(-self.max_w, min(self.max_w, w))
 
     def command(self, odom_state):
         raise NotImplementedError
@@ -164,22 +173,10 @@ class DistanceController(_Controller):
         self.v_command = math.copysign(max(abs(v), self.min_v), v)
         self.min_d = _param(params, 'min_d')
 
-    def expected_duration(self, params):
-        return max(self.landmark.T, self.landmark.d / max(abs(self.landmark.v), self.min_v))
+    def expected_duration(self):
+        return expected_duration(self.landmark, self.min_v)
 
     def command(self, odom_state):
         if self.travelled >= self.landmark.d or self.landmark.d < self.min_d:
             self.done = True
         return self.v_command, self.w_command
-
-
-def make_controller(mode, landmark, params=None):
-    """The paper-mode controller of one landmark (``time`` or ``distance``)."""
-    if mode == 'time':
-        return TimeController(landmark, params)
-    if mode == 'distance':
-        return DistanceController(landmark, params)
-    if mode == 'closed_loop':
-        raise ValueError('closed_loop goals are sections of one RouteFollower (core/goal.make_goal), '
-                         'not a per-landmark controller')
-    raise ValueError('unknown back-travel mode %r (expected one of %s)' % (mode, ', '.join(MODES)))

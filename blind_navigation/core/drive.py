@@ -1,7 +1,6 @@
 """How a drive ends (typed :class:`Outcome`) and each cycle's odometry check of a drive
-(:class:`DriveCycle`: fresh, held within the grace, or lost). Used by core/mission_drive's
-drives and ros/drive_node.DriveNode (docs/back_travel.md, "The drive loop").
-"""
+(:class:`DriveCycle`: fresh, held within the grace, or lost); docs/back_travel.md, "The drive
+loop"."""
 import collections
 
 from . import outcome
@@ -22,9 +21,7 @@ class Outcome(collections.namedtuple('Outcome', 'kind reason code', defaults=(ou
     does not say it, the core/outcome ``code`` of the cause."""
     __slots__ = ()
 
-    @property
-    def ok(self):
-        return self.kind == SUCCEEDED
+    ok = property(lambda self: self.kind == SUCCEEDED)
 
     @property
     def cause(self):
@@ -37,8 +34,8 @@ class DriveCycle(object):
     None: stale odometry ends the drive at once; ``hold(seconds)``: told each hold's length."""
 
     def __init__(self, grace_params=None, odom_timeout=None, hold=None):
-        self.grace = OdomGrace(grace_params) if grace_params is not None else None
-        self.odom_timeout, self.hold = odom_timeout, hold or (lambda seconds: None)
+        self.grace = OdomGrace(grace_params, hold) if grace_params is not None else None
+        self.odom_timeout = odom_timeout
 
     def decide(self, now, odom_stamp):
         """``(decision, message)``: an Outcome to end, HOLD (publish zero this cycle)
@@ -46,12 +43,7 @@ class DriveCycle(object):
         if self.grace is None:
             stale = odom_stamp is None or now - odom_stamp > self.odom_timeout
             return (Outcome(ODOMETRY_LOST, 'odometry stale'), None) if stale else (None, None)
-        held = len(self.grace.holds)
         decision, message = self.grace.check(now, odom_stamp)
         if decision == ABORT:
             return Outcome(ODOMETRY_LOST, message), message
-        if decision == HOLD:
-            return HOLD, message
-        if len(self.grace.holds) > held:
-            self.hold(self.grace.holds[-1][1])   # held time is not driving time
-        return None, message
+        return (HOLD if decision == HOLD else None), message

@@ -25,14 +25,6 @@ def _param(params, name):
     return back_travel_param(params, name, APPROACH_DEFAULTS if name in APPROACH_DEFAULTS else BACK_TRAVEL_DEFAULTS)
 
 
-def past_end(route, odom):
-    """m the robot at ``odom`` is past ``route``'s end along its last segment (negative: short)."""
-    if route is None or route.vertices < 2:
-        return 0.0
-    heading = route.direction(route.vertices - 2)
-    return (odom.x - route.x[-1]) * math.cos(heading) + (odom.y - route.y[-1]) * math.sin(heading)
-
-
 class FinalApproach(object):
     """Reverses from ``odom`` to ``end`` (x, y) at ``approach_v`` by pure pursuit seen from the
     tail, until the end is no longer behind, the time is up or the robot is ``route_max_offset`` off."""
@@ -50,8 +42,14 @@ class FinalApproach(object):
 
     @classmethod
     def planned(cls, route, odom, params, now):
-        """The approach if ``odom`` stopped past the ``route``'s end, near it; else None."""
-        if past_end(route, odom) <= _param(params, 'approach_tolerance'):
+        """The approach if ``odom`` stopped past the ``route``'s end (along its last segment), near
+        it; else None."""
+        if route.vertices < 2:
+            return None
+        heading = route.direction(route.vertices - 2)
+        past = ((odom.x - route.x[-1]) * math.cos(heading)
+                + (odom.y - route.y[-1]) * math.sin(heading))
+        if past <= _param(params, 'approach_tolerance'):
             return None
         approach = cls((route.x[-1], route.y[-1]), odom, params, now)
         behind, alpha = approach.bearing(odom)

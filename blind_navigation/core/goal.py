@@ -1,6 +1,6 @@
 """One goal of the back travel (one landmark), whatever the mode (:func:`make_goal`); between
 goals :class:`CommandHold` (paper modes) or :class:`HandoverBridge` (closed_loop)."""
-from .back_travel import make_controller
+from .back_travel import MODES, DistanceController, TimeController
 
 #: s closed_loop's follower goes on driving between two goals (:class:`HandoverBridge`).
 HANDOVER_FOLLOW = 1.0
@@ -40,42 +40,6 @@ class SectionGoal(object):
         return (0.0, 0.0) if self.done or self.failed else command
 
 
-class ControllerGoal(object):
-    """A paper-mode goal: its own core/back_travel controller."""
-
-    def __init__(self, controller):
-        self.controller = controller
-
-    done = property(lambda self: self.controller.done)
-    failed = property(lambda self: self.controller.failed)
-    code = property(lambda self: self.controller.code)
-    travelled = property(lambda self: self.controller.travelled)
-
-    @property
-    def reason(self):
-        if not self.controller.failed:
-            return ''
-        if self.controller.reason:
-            return self.controller.reason
-        return 'time allowance %.1f s exceeded after %.3f m of %.3f m' % (
-            self.controller.allowance, self.controller.travelled, self.controller.landmark.d)
-
-    def start(self, odom_state):
-        self.controller.start(odom_state)
-
-    def hold(self, seconds):
-        """The controller's clock skips the ``seconds`` held."""
-        if self.controller.started is not None:
-            self.controller.started += seconds
-
-    def resumed(self, seconds):
-        self.hold(seconds)
-        self.controller.pause_ended()
-
-    def step(self, odom_state):
-        return self.controller.step(odom_state)
-
-
 class CommandHold(object):
     """Between two goals the last published command holds for ``handover_timeout`` s, then
     zero; only a goal that publishes renews it (docs/back_travel.md, "Roles")."""
@@ -105,8 +69,7 @@ class HandoverBridge(object):
     def __init__(self, follower, timeout, now):
         if not timeout > 0:
             raise ValueError('handover_follow must be > 0 s, got %r' % (timeout,))
-        self.follower = follower
-        self.started, self.deadline = now, now + float(timeout)
+        self.follower, self.deadline = follower, now + float(timeout)
 
     def expired(self, now):
         return now >= self.deadline
@@ -129,4 +92,8 @@ def make_goal(mode, landmark, params=None, follower=None, index=None, since=None
         if follower is None or index is None:
             raise ValueError('a closed_loop goal needs the return route follower and its index')
         return SectionGoal(follower, index, since)
-    return ControllerGoal(make_controller(mode, landmark, params))
+    if mode == 'time':
+        return TimeController(landmark, params)
+    if mode == 'distance':
+        return DistanceController(landmark, params)
+    raise ValueError('unknown back-travel mode %r (expected one of %s)' % (mode, ', '.join(MODES)))

@@ -1,20 +1,15 @@
-"""Motion events: where an extra landmark makes the recorded path unambiguous.
-
-:class:`MotionEvents` reports when the robot's way of moving changes between ``still``,
-``forward`` and ``backward`` (debounced, dated back to where it began; a reversal to the
-first odometry state reading the new direction);
-:class:`EventSampler` interleaves a landmark at each event with the periodic ticks,
-for the sampling publisher and the harness alike (docs/recording.md, "Motion events").
-"""
+"""Motion events, where an extra landmark makes the recorded path unambiguous (docs/recording.md,
+"Motion events"): :class:`MotionEvents` reports when the robot starts or stops moving, reverses
+or turns; :class:`EventSampler` interleaves a landmark at each event with the periodic ticks."""
 from collections import deque
 
-#: Defaults (a sampling publisher would expose them as ~params).
+#: The motion events' constants (core/role_params: fixed).
 EVENT_DEFAULTS = {
     'event_speed': 0.01,       # m/s; averaged |v| above this: translating
     'event_hysteresis': 0.5,   # below event_speed x this: not translating any more
     'event_window': 0.2,       # s of odometry averaged
     'event_debounce': 0.1,     # s a new state must hold before it is an event
-    'event_turn_rate': 0.15,   # rad/s; averaged |w| crossing this is an event too (0: off)
+    'event_turn_rate': 0.15,   # rad/s; averaged |w| crossing this is an event too
     'event_latency': 0.5,      # s periodic ticks wait, so that an event dated back comes first
 }
 
@@ -25,18 +20,12 @@ _OPPOSITE = {FORWARD: BACKWARD, BACKWARD: FORWARD}
 class MotionEvents(object):
     """Feed every odometry state to :meth:`update`; it returns an event's stamp."""
 
-    def __init__(self, params=None):
-        for name, default in EVENT_DEFAULTS.items():
-            value = float(getattr(params, name, default) if params is not None else default)
-            if not value >= 0 or (not value > 0 and name != 'event_turn_rate'):
-                raise ValueError('%s must be > 0, got %r' % (name, value))
+    def __init__(self):
+        for name, value in EVENT_DEFAULTS.items():
             setattr(self, name, value)
-        if self.event_hysteresis > 1.0:
-            raise ValueError('event_hysteresis must be in (0, 1], got %r' % self.event_hysteresis)
         self.state = STILL
         self._recent = deque()
-        self._sum = 0.0
-        self._sum_w = 0.0
+        self._sum = self._sum_w = 0.0
         self.turning = False
         self._candidate = None      # (state, since)
         self._left_old = None       # stamp of the first raw sample of the current run off the old state
@@ -50,14 +39,12 @@ class MotionEvents(object):
             moving = BACKWARD if speed < -on else FORWARD if speed > off else STILL
         else:
             moving = FORWARD if speed > on else BACKWARD if speed < -off else STILL
-        if not self.event_turn_rate:
-            return moving, False
         limit = self.event_turn_rate * (self.event_hysteresis if turning else 1.0)
         return moving, abs(rate) > limit
 
     def update(self, odom_state):
-        """Add one OdomState; returns the stamp of a motion event just confirmed
-        (dated back as the module docstring says), else None."""
+        """Add one OdomState; the stamp of a motion event just confirmed, else None (dated back
+        to where the raw speed left the old state; a reversal: its first state the new way)."""
         stamp = odom_state.stamp
         self._recent.append((stamp, odom_state.v, odom_state.w))
         self._sum += odom_state.v
@@ -91,16 +78,13 @@ class MotionEvents(object):
 
 
 class EventSampler(object):
-    """The motion-event samples of one recording, in time order with the periodic
-    ticks (module docstring). Feed every odometry state to :meth:`odometry`;
-    before taking the periodic tick stamped ``t`` (``latency`` s after it), take
-    the samples :meth:`before` gives, then the tick itself with the period
-    :meth:`tick` gives. Stamps going back (the clock restarted) start the events
-    again from there; a tick is never given a negative period."""
+    """The motion-event samples of one recording, in time order with the periodic ticks: feed
+    every odometry state to :meth:`odometry`; before the tick stamped ``t`` (``latency`` s after
+    it) take :meth:`before`'s samples, then the tick with :meth:`tick`'s period (never negative).
+    A clock going back restarts the events."""
 
-    def __init__(self, params=None):
-        self._params = params
-        self.events = MotionEvents(params)
+    def __init__(self):
+        self.events = MotionEvents()
         self.latency = self.events.event_latency
         self.pending = []          # event stamps not taken yet
         self.last = None           # stamp of the last sample taken (event or tick)
@@ -114,17 +98,15 @@ class EventSampler(object):
     def odometry(self, state):
         """One odometry state (every one, in order)."""
         if self._fed is not None and state.stamp < self._fed:   # the clock went back
-            self.events, self.pending = MotionEvents(self._params), []
+            self.events, self.pending = MotionEvents(), []
         self._fed = state.stamp
         event = self.events.update(state)
         if event is not None:
             self.pending.append(event)
 
     def before(self, stamp, state_at):
-        """[(state, period)]: the event samples to take before a sample at ``stamp``,
-        oldest first; ``state_at(t)`` gives the odometry state at ``t`` (the
-        latest stamped no later than it). Each period is the time since the
-        previous sample."""
+        """[(state, s since the previous sample)]: the event samples before one at ``stamp``,
+        oldest first; ``state_at(t)``: the odometry state at ``t`` (the latest no later)."""
         taken = []
         while self.pending and self.pending[0] < stamp - 1e-9:
             state = state_at(self.pending.pop(0) + 1e-9)

@@ -1,6 +1,5 @@
 """Pauses of a return: bumper :class:`Contacts` and an operator's :class:`Takeover`, summed
-up by :class:`PauseLog` (docs/safety.md, "Contacts", "Takeover").
-"""
+up by :class:`PauseLog` (docs/safety.md, "Contacts", "Takeover")."""
 import collections
 import math
 

@@ -1,9 +1,6 @@
-"""The model of one recording period, from landmark ``a`` to the next, ``b``
-(``b.T`` s): the speed and heading over the period from all five variables at
-both ends (:func:`period_shape`), scaled to the recorded ``d``, and the turn
-(:func:`period_turn`). core/route.py chains the periods into the route;
-docs/back_travel.md, "The route", tells the model.
-"""
+"""The model of one recording period, from landmark ``a`` to the next, ``b``: the speed and
+heading over ``b.T`` s from all five variables at both ends, scaled to the recorded ``d``
+(:func:`period_shape`), and the turn (:func:`period_turn`); docs/back_travel.md, "The route"."""
 import math
 
 from .geometry import wrap_angle
@@ -11,23 +8,18 @@ from .motion_events import EVENT_DEFAULTS
 
 #: A modelled chord this many times longer or shorter than d is not trusted for its shape.
 SHAPE_TRUST = 3.0
-#: m/s; an end slower reads no direction: core/motion_events' still level (event_speed x
-#: event_hysteresis), below which its samples read a standing or stopping base; a reversal
-#: sample reads more, in the new direction.
+#: m/s; an end slower reads no direction: core/motion_events' still level.
 STILL_SPEED = EVENT_DEFAULTS['event_speed'] * EVENT_DEFAULTS['event_hysteresis']
 #: s; the odometry's step (kobuki_node, 50 Hz): a state's v is its speed over the step before it.
 ODOMETRY_STEP = 0.02
-#: m/s; an end no faster reads a reversal just past its crossing (a motion event's sample, the
-#: first state past event_speed): one ODOMETRY_STEP at up to 2 m/s^2 beyond event_speed (kobuki's
-#: limiter: 0.6; the kinematic fake's steps: up to 1.7).
+#: m/s; an end no faster reads a reversal just past its crossing (one ODOMETRY_STEP at up to
+#: 2 m/s^2 beyond event_speed: a motion event's sample).
 REVERSAL_READ = EVENT_DEFAULTS['event_speed'] + 2.0 * ODOMETRY_STEP
 
 
 def period_turn(previous, landmark):
-    """Heading change (rad) from landmark ``previous`` to the next one,
-    ``landmark``, over its period: the branch of wrap(psi - psi_previous) + 2 pi m
-    nearest what the mean of the two recorded turn rates gives (a turn faster
-    than pi per period is not unwrapped the short way)."""
+    """Heading change (rad) from landmark ``previous`` to ``landmark``: the branch of
+    wrap(psi - psi_previous) + 2 pi m nearest what the mean of the two turn rates gives."""
     change = wrap_angle(landmark.psi - previous.psi)
     expected = (previous.w + landmark.w) / 2.0 * landmark.T
     return change + 2.0 * math.pi * round((expected - change) / (2.0 * math.pi))
@@ -35,12 +27,8 @@ def period_turn(previous, landmark):
 
 def _velocity_model(v_a, v_b, d, period):
     """Signed speed over the period as (v_a, v_b, bump): u(t) = v_a + (v_b - v_a) t
-    + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends
-    do not reach, in the direction of the motion: theirs (forward if both are still);
-    when they differ in sign v_a's (then v_b taken as 0 if it reads a reversal just past
-    its crossing, :data:`STILL_SPEED` to :data:`REVERSAL_READ`: b read the new way over
-    its last odometry step only), unless v_a is below :data:`STILL_SPEED` or the period is one
-    :data:`ODOMETRY_STEP` (then v_b's)."""
+    + bump 6 t (1 - t), t in [0, 1]; the bump makes up a mean speed d / T the ends do
+    not reach, in the direction of the motion (docs/back_travel.md, "The route")."""
     sign = v_a + v_b
     if v_a * v_b < 0.0:
         if abs(v_a) < STILL_SPEED or period <= 1.5 * ODOMETRY_STEP:
@@ -55,20 +43,6 @@ def _velocity_model(v_a, v_b, d, period):
     return v_a, v_b, math.copysign(missing, sign if sign != 0.0 else 1.0)
 
 
-def _motion(a, b, d, turn):
-    """The modelled motion of the period: ``state(t)`` -> (signed speed, heading),
-    t in [0, 1] (module docstring)."""
-    period = b.T
-    v_a, v_b, bump = _velocity_model(a.v, b.v, d, period)
-
-    def state(t):
-        t2, t3 = t * t, t * t * t
-        heading = (a.psi + period * a.w * (t3 - 2.0 * t2 + t) + turn * (3.0 * t2 - 2.0 * t3)
-                   + period * b.w * (t3 - t2))
-        return v_a + (v_b - v_a) * t + bump * 6.0 * t * (1.0 - t), heading
-    return state
-
-
 def period_shape(a, b, d, subdivisions):
     """Modelled motion from landmark state ``a`` to ``b`` (``b.T`` s): the chord
     direction (rad), intermediate points as offsets from the period's start
@@ -76,15 +50,18 @@ def period_shape(a, b, d, subdivisions):
     modelled speed at each point (start, intermediate..., end) and the turn."""
     period = b.T
     turn = period_turn(a, b)
-    state = _motion(a, b, d, turn)
+    v_a, v_b, bump = _velocity_model(a.v, b.v, d, period)
     steps = max(2, subdivisions)
     grid = [k / float(steps) for k in range(steps + 1)]
 
     def velocity(t):
-        speed, heading = state(t)
+        t2, t3 = t * t, t * t * t
+        heading = (a.psi + period * a.w * (t3 - 2.0 * t2 + t) + turn * (3.0 * t2 - 2.0 * t3)
+                   + period * b.w * (t3 - t2))
+        speed = v_a + (v_b - v_a) * t + bump * 6.0 * t * (1.0 - t)
         return speed * math.cos(heading), speed * math.sin(heading), speed, heading
 
-    points, speeds = [], [abs(state(0.0)[0])]
+    points, speeds = [], [abs(velocity(0.0)[2])]
     x = y = 0.0
     heading_sum_x = heading_sum_y = 0.0
     previous = velocity(0.0)

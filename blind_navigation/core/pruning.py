@@ -4,6 +4,7 @@ prune_radius`` (:class:`LoopDrift`: the odometry drift over a loop); docs/prunin
 import bisect
 import math
 from collections import namedtuple
+from itertools import accumulate
 
 from .period_model import period_turn
 from .route import ROUTE_DEFAULTS, Route, Section, corner_turn
@@ -22,7 +23,7 @@ PRUNE_DEFAULTS = {
 
 def drift_param(params, name, defaults=PRUNE_DEFAULTS):
     """``params.name`` (or the default), checked to be a finite number >= 0."""
-    value = getattr(params, name, defaults[name]) if params is not None else defaults[name]
+    value = getattr(params, name, defaults[name])
     try:
         value = float(value)
     except (TypeError, ValueError):
@@ -42,8 +43,6 @@ class Drift(namedtuple('Drift', 'bias_x bias_y scale_x scale_y noise wheel')):
 
 
 NO_DRIFT = Drift(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-
-LoopEstimate = namedtuple('LoopEstimate', 'length duration gap drift')   # m, s, m, Drift
 
 
 class LoopDrift(object):
@@ -95,7 +94,7 @@ class LoopDrift(object):
         return self._prefix[name][w] - self._prefix[name][u]
 
     def loop(self, u, w):
-        """:class:`LoopEstimate` of the loop from vertex ``w`` back to ``u < w``."""
+        """(duration s, :class:`Drift`) of the loop from vertex ``w`` back to ``u < w``."""
         if not 0 <= u < w < self.route.vertices:
             raise ValueError('loop drift: need 0 <= later %d < earlier %d < %d vertices'
                              % (u, w, self.route.vertices))
@@ -110,10 +109,8 @@ class LoopDrift(object):
         f = self._between('f', u, w) - stood[3]
         ux, uy = route.x[u] - self._origin[0], route.y[u] - self._origin[1]
         noise = max(0.0, c * (ux * ux + uy * uy) - 2.0 * (ux * dx + uy * dy) + f)
-        length = route.s[w] - route.s[u]
-        drift = Drift(bias[0], bias[1], scale[0], scale[1], noise, self.wheel_error * length)
-        return LoopEstimate(length, self.arrive[u][0] - t_ref,
-                            math.hypot(route.x[u] - route.x[w], route.y[u] - route.y[w]), drift)
+        wheel = self.wheel_error * (route.s[w] - route.s[u])
+        return self.arrive[u][0] - t_ref, Drift(bias[0], bias[1], scale[0], scale[1], noise, wheel)
 
     def sigma(self, drift):
         """Standard deviation (m) of the true offset between the passes for ``drift``."""
@@ -132,13 +129,9 @@ def _std(correction, name, prior):
 def vertex_passes(route, landmarks):
     """Per route vertex: (recording time s, unwrapped heading rad) reaching and leaving it."""
     n = len(landmarks)
-    times, headings = [], []
-    elapsed = heading = 0.0
-    for k, landmark in enumerate(landmarks):
-        elapsed += landmark.T
-        heading = landmark.psi if k == 0 else heading + period_turn(landmarks[k - 1], landmark)
-        times.append(elapsed)
-        headings.append(heading)
+    turns = [period_turn(a, b) for a, b in zip(landmarks, landmarks[1:])]
+    times = list(accumulate(landmark.T for landmark in landmarks))
+    headings = list(accumulate([landmark.psi for landmark in landmarks[:1]] + turns))
     start_heading = headings[0] - landmarks[0].w * landmarks[0].T if n else 0.0
     arrive, leave = [None] * route.vertices, [None] * route.vertices
 
@@ -210,16 +203,11 @@ class PruneResult(namedtuple('PruneResult', 'route cuts refused params examined'
         return lines
 
 
-def prune_params(params=None):
-    values = {name: drift_param(params, name, PRUNE_DEFAULTS) for name in PRUNE_DEFAULTS}
-    if not values['prune_radius'] > 0:
-        raise ValueError('prune_radius must be > 0, got %r' % values['prune_radius'])
-    return values
-
-
 def prune_route(route, landmarks, correction=None, params=None):
     """:class:`PruneResult` of ``route`` built from ``landmarks`` in the frame of ``correction``."""
-    values = prune_params(params)
+    values = {name: drift_param(params, name) for name in PRUNE_DEFAULTS}
+    if not values['prune_radius'] > 0:
+        raise ValueError('prune_radius must be > 0, got %r' % values['prune_radius'])
     drift = LoopDrift(route, landmarks, correction, params)
     radius, sigmas, min_loop = values['prune_radius'], values['prune_sigmas'], values['prune_min_loop']
     near, scanned = _neighbours(route, radius, min_loop)
@@ -228,13 +216,13 @@ def prune_route(route, landmarks, correction=None, params=None):
     def candidate(u, landing, before):
         index, share = landing
         start = index + 1 if share > 0 else index       # the loop taken to the segment's far end
-        loop = drift.loop(u, start)
-        total = before.plus(loop.drift)
+        duration, loop_drift = drift.loop(u, start)
+        total = before.plus(loop_drift)
         x, y = _point(route, index, share)
         along = route.s[index] + share * (route.s[start] - route.s[index])
         gap = math.hypot(x - route.x[u], y - route.y[u])
-        cut = Cut(u, index, share, (route.x[u], route.y[u]), (x, y), gap, along - route.s[u], loop.duration,
-                  drift.sigma(loop.drift), drift.sigma(total), total, drift.leave[start][0])
+        cut = Cut(u, index, share, (route.x[u], route.y[u]), (x, y), gap, along - route.s[u], duration,
+                  drift.sigma(loop_drift), drift.sigma(total), total, drift.leave[start][0])
         return cut, gap + sigmas * cut.sigma_total <= radius
 
     u, last, carried = 0, route.vertices - 1, NO_DRIFT

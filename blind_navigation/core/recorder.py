@@ -26,22 +26,6 @@ def storage_usage(landmarks, size_bytes, total_distance):
     return PathStorage(int(landmarks), int(size_bytes), float(total_distance), per_metre)
 
 
-def recording_rate(recorded_bytes, seconds):
-    """Bytes per minute written: measured after RATE_WINDOW s, ASSUMED_BYTES_PER_MINUTE before."""
-    if seconds < RATE_WINDOW or recorded_bytes <= 0:
-        return ASSUMED_BYTES_PER_MINUTE
-    return recorded_bytes * 60.0 / seconds
-
-
-def space_warning(free_bytes, rate, where, minutes=LOW_SPACE_MINUTES):
-    """'' if ``free_bytes`` on ``where`` hold ``minutes`` of recording at ``rate``, else the warning."""
-    if rate <= 0 or free_bytes >= minutes * rate:
-        return ''
-    return ('LOW SPACE: %d bytes free on %s hold %.1f min of recording at %.0f bytes/min (less '
-            'than %g min): free space or end the mission' % (free_bytes, where, free_bytes / rate,
-                                                            rate, minutes))
-
-
 def free_bytes(directory):
     """Bytes an unprivileged writer may still use on ``directory``'s file system (None: unknown)."""
     try:
@@ -52,7 +36,8 @@ def free_bytes(directory):
 
 
 class SpaceWatch(object):
-    """The low-space warning of one recording into ``directory`` (``free``: :func:`free_bytes`)."""
+    """The low-space warning of one recording into ``directory`` (``free``: :func:`free_bytes`)
+    at its rate: bytes per minute measured after RATE_WINDOW s, ASSUMED_BYTES_PER_MINUTE before."""
 
     def __init__(self, directory, free=free_bytes):
         self.directory = directory
@@ -65,9 +50,14 @@ class SpaceWatch(object):
         if self._start is None and landmarks:
             self._start = (now, size)
         start, start_size = self._start or (now, size)
-        free = self.free(self.directory)
-        rate = recording_rate(size - start_size, now - start)
-        warning = space_warning(free, rate, self.directory) if free is not None else ''
+        written, free = size - start_size, self.free(self.directory)
+        rate = written * 60.0 / (now - start) if now - start >= RATE_WINDOW and written > 0 \
+            else ASSUMED_BYTES_PER_MINUTE
+        warning = ''
+        if free is not None and free < LOW_SPACE_MINUTES * rate:
+            warning = ('LOW SPACE: %d bytes free on %s hold %.1f min of recording at %.0f bytes/min '
+                       '(less than %g min): free space or end the mission'
+                       % (free, self.directory, free / rate, rate, LOW_SPACE_MINUTES))
         appeared = bool(warning) and not self.warning
         self.warning = warning
         return warning, appeared
@@ -94,9 +84,7 @@ class OdometryHistory(object):
         """Forget every state (the odometry after a discontinuity is another frame)."""
         self._states.clear()
 
-    @property
-    def latest(self):
-        return self._states[-1] if self._states else None
+    latest = property(lambda self: self._states[-1] if self._states else None)
 
     def at(self, stamp):
         """The latest state stamped at or before ``stamp`` (all newer: the oldest; empty: None)."""
@@ -125,9 +113,7 @@ class PathRecorder(object):
         self.count = 0
         self.total_distance = 0.0
 
-    @property
-    def started(self):
-        return self._previous is not None
+    started = property(lambda self: self._previous is not None)
 
     def start(self, odom_state):
         """Record the start position (once; later calls are ignored)."""

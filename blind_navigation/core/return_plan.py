@@ -52,14 +52,6 @@ def frame_lost(lost):
     return '%s: the way back is unknown; not travelling back' % lost
 
 
-def gaps_warning(loaded):
-    """The mission's warning for a recording with gaps, or ''."""
-    if not loaded.gaps:
-        return ''
-    return 'the recording has %d gap(s) (%d landmark(s) lost): the return bridges them' % (
-        len(loaded.gaps), loaded.missing)
-
-
 def damage_warning(loss, path):
     """The mission's warning while landmarks (``loss``) could not be written to ``path``."""
     return ('RECORDING DAMAGED: %d landmark(s) (%.3f m, %.2f rad of the path) could not be '
@@ -67,13 +59,16 @@ def damage_warning(loss, path):
 
 
 def return_warning(loaded, loss=None):
-    """The mission's warning for a return over ``loaded`` after ``loss`` (or None)."""
-    parts = [gaps_warning(loaded)]
+    """The mission's warning (or '') for a return over ``loaded``'s gaps after ``loss`` (or None)."""
+    parts = []
+    if loaded.gaps:
+        parts.append('the recording has %d gap(s) (%d landmark(s) lost): the return bridges them'
+                     % (len(loaded.gaps), loaded.missing))
     if loss is not None and loss.count:
         parts.append('%d landmark(s) could not be written (%s) while the robot stood still '
                      '(%.3f m, %.2f rad): the return bridges them' % (loss.count, loss.error,
                                                                       loss.distance, loss.turn))
-    return '; '.join(part for part in parts if part)
+    return '; '.join(parts)
 
 
 def return_goals(labels, landmarks):

@@ -1,7 +1,6 @@
 """Closed-loop in-place rotation by pi on odometry yaw (paper 3.4): :class:`Rotation` commands
 ``w = sign(r) clamp(min(gain |r|, sqrt(2 decel |r|)), min_w, max_w)`` of the remaining angle
-``r``; a turn that hunts goes on in pulses (docs/back_travel.md, "The sequence").
-"""
+``r``; a turn that hunts goes on in pulses (docs/back_travel.md, "The sequence")."""
 import math
 
 from .geometry import wrap_angle
@@ -37,12 +36,12 @@ def turn_problem(start_yaw, yaw, tolerance):
 
 
 class Rotation(object):
-    """Turn in place by ``angle`` (rad) using odometry yaw; ``params``: :data:`ROTATION_DEFAULTS`'
-    names (missing ones take the default)."""
+    """Turn in place by ``angle`` (rad) using odometry yaw; ``params``, ``overrides``:
+    :data:`ROTATION_DEFAULTS`' names (missing ones take the default)."""
 
-    def __init__(self, params=None):
+    def __init__(self, params=None, **overrides):
         for name, default in ROTATION_DEFAULTS.items():
-            setattr(self, name, float(getattr(params, name, default)))
+            setattr(self, name, float(overrides.get(name, getattr(params, name, default))))
         if self.max_w <= 0 or self.min_w < 0 or self.min_w > self.max_w:
             raise ValueError('rotation: need 0 <= min_w <= max_w and max_w > 0 (min_w %r, max_w %r)'
                              % (self.min_w, self.max_w))
@@ -51,10 +50,7 @@ class Rotation(object):
                              % (self.tolerance, self.time_allowance))
         self.turned, self.done, self.failed, self._start_stamp = 0.0, False, False, None
 
-    @property
-    def remaining(self):
-        """Angle still to turn, rad (signed)."""
-        return self.angle - self.turned
+    remaining = property(lambda self: self.angle - self.turned)     # rad still to turn (signed)
 
     def start(self, odom_state):
         """Begin the turn from the pose in ``odom_state``."""

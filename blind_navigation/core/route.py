@@ -1,6 +1,8 @@
 """The whole return route, built at once from the recorded landmarks (closed-loop return):
 ``build_route(landmarks, anchor)`` -> :class:`Route` (docs/back_travel.md, "The route")."""
+import bisect
 import math
+from collections import namedtuple
 from itertools import accumulate
 
 from .geometry import wrap_angle
@@ -30,18 +32,19 @@ def _param(params, name):
     return nonnegative_param(params, name, ROUTE_DEFAULTS, 'route')
 
 
-class Section(object):
+def route_lists(route):
+    """{field: [float, ...]} (:data:`ROUTE_FIELDS`) of a Route or a ReturnRoute message."""
+    data = {'x': list(route.x), 'y': list(route.y), 'speed': list(route.speed),
+            'corner': [1.0 if c else 0.0 for c in route.corner]}
+    for field in SECTION_FIELDS:
+        data['section_' + field] = [float(getattr(s, field)) for s in route.sections]
+    return data
+
+
+class Section(namedtuple('Section', SECTION_FIELDS)):
     """One goal of the return (one landmark): its end mark, recorded rates, nominal time, turn."""
 
-    __slots__ = SECTION_FIELDS
-
-    def __init__(self, end_vertex, end_phase, speed, turn_rate, nominal_time, turn):
-        self.end_vertex, self.end_phase = int(end_vertex), float(end_phase)
-        self.speed, self.turn_rate = float(speed), float(turn_rate)
-        self.nominal_time, self.turn = float(nominal_time), float(turn)
-
-    def __repr__(self):
-        return 'Section(%s)' % ', '.join('%s=%r' % (f, getattr(self, f)) for f in SECTION_FIELDS)
+    __slots__ = ()
 
 
 class Route(object):
@@ -80,14 +83,7 @@ class Route(object):
 
     def piece_of(self, vertex):
         """Index of the piece (between two corners) that starts at or contains ``vertex``."""
-        low, high = 0, len(self.corners) - 1
-        while high - low > 1:
-            middle = (low + high) // 2
-            if self.corners[middle] <= vertex:
-                low = middle
-            else:
-                high = middle
-        return low
+        return max(0, min(bisect.bisect_right(self.corners, vertex), len(self.corners) - 1) - 1)
 
     def direction(self, segment):
         """Heading (rad) of the segment from vertex ``segment`` to the next."""
@@ -117,8 +113,7 @@ class Route(object):
         length = self.s[segment + 1] - self.s[segment]
         return 0.0 if length <= 0 else max(0.0, min(1.0, (s - self.s[segment]) / length))
 
-    def to_lists(self):
-        return route_lists(self)
+    to_lists = route_lists
 
     @classmethod
     def from_lists(cls, data):
@@ -137,7 +132,8 @@ class Route(object):
         for value in data['section_end_vertex']:
             if value != int(value):
                 raise ValueError('route field section_end_vertex must hold whole numbers, got %r' % value)
-        sections = [Section(*values) for values in zip(*(data['section_' + f] for f in SECTION_FIELDS))]
+        sections = [Section(int(end), *values)
+                    for end, *values in zip(*(data['section_' + f] for f in SECTION_FIELDS))]
         return cls(data['x'], data['y'], data['speed'], [v != 0.0 for v in data['corner']], sections)
 
 
@@ -167,13 +163,6 @@ def build_route(landmarks, anchor, params=None):
                 or landmark.d < 0 or landmark.T <= 0:
             raise ValueError('landmark %d is not a valid landmark: %r' % (index + 1, landmark))
     return _assemble((ax, ay), landmarks, _chain((ax, ay), landmarks, params), params)
-
-
-def landmark_positions(landmarks, anchor, params=None):
-    """[(x, y)] * (n + 1): the recording's start and each landmark's place, as the route has them."""
-    landmarks = list(landmarks)
-    chain = _chain(tuple(float(c) for c in anchor), landmarks, params)
-    return [chain[-1][3] if chain else tuple(anchor)] + [link[0] for link in reversed(chain)]
 
 
 def _chain(anchor, landmarks, params):
@@ -231,16 +220,11 @@ def _assemble(anchor, landmarks, chain, params):
             if chain[index][3] != final:
                 break
             end_vertex[index] = len(xs) - 1
-    corner = _corners(xs, ys, _param(params, 'corner_angle'))
-    sections = _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params)
-    return Route(xs, ys, speeds, corner, sections)
-
-
-def _corners(xs, ys, corner_angle):
-    """Corner flags: both ends and every vertex turning by more than ``corner_angle``."""
+    corner_angle = _param(params, 'corner_angle')
     corner = [abs(corner_turn(xs, ys, i)) > corner_angle for i in range(len(xs))]
     corner[0] = corner[-1] = True
-    return corner
+    sections = _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params)
+    return Route(xs, ys, speeds, corner, sections)
 
 
 def corner_turn(xs, ys, vertex):
@@ -292,12 +276,3 @@ def _sections(landmarks, chain, start_vertex, end_vertex, xs, ys, corner, params
                                 max(abs(landmark.w), abs(turn) / landmark.T),
                                 expected_duration(landmark, slowest_v), owned[i]))
     return sections
-
-
-def route_lists(route):
-    """{field: [float, ...]} (:data:`ROUTE_FIELDS`) of a Route or a ReturnRoute message."""
-    data = {'x': list(route.x), 'y': list(route.y), 'speed': list(route.speed),
-            'corner': [1.0 if c else 0.0 for c in route.corner]}
-    for field in SECTION_FIELDS:
-        data['section_' + field] = [float(getattr(s, field)) for s in route.sections]
-    return data

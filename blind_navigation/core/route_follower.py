@@ -1,7 +1,6 @@
 """The closed-loop return: :class:`RouteFollower` drives the whole route back to the start,
 pure pursuit between corners, a turn in place at each (docs/back_travel.md, "The route follower")."""
 import math
-from types import SimpleNamespace
 
 from . import outcome
 from .allowance import ProgressWatch
@@ -47,11 +46,7 @@ class RouteFollower(Odometer):
         self._turn_angle = self._section_started = 0.0
 
     started = property(lambda self: self._last is not None)
-
-    @property
-    def progress(self):
-        """(m along the route, phase of the turn at the corner there)."""
-        return self._mark
+    progress = property(lambda self: self._mark)   # (m along the route, phase of its corner's turn)
 
     def section_finished(self, index):
         return self.done or self._mark >= self.route.section_end(index)
@@ -142,12 +137,10 @@ class RouteFollower(Odometer):
         forward; nearer the last target than that, it cut a curl: the nearest segment up to it."""
         route, last = self.route, self._piece_end() - 1
         segment = max(self._segment, self.route.corners[self._piece])
-        while True:
+        t, gap = _project(route, segment, x, y)
+        while t >= 1.0 and segment < last:
+            segment += 1
             t, gap = _project(route, segment, x, y)
-            if t >= 1.0 and segment < last:
-                segment += 1
-                continue
-            break
         if self._target is not None and distance(x, y, self._target[0], self._target[1]) ** 2 < gap:
             for later in range(segment + 1, min(self._target[2], last) + 1):
                 t_later, gap_later = _project(route, later, x, y)
@@ -196,28 +189,22 @@ class RouteFollower(Odometer):
             self._start_turn(odom)
         return 0.0, 0.0
 
-    def _aim_heading(self, odom):
-        route = self.route
-        corner = route.corners[self._piece]
-        end = route.s[self._piece_end()]
-        tx, ty, _ = route.point_at(min(route.s[corner] + self.aim_distance, end), corner)
-        if distance(odom.x, odom.y, tx, ty) < 0.5 * self.aim_distance:
-            return route.direction(corner)
-        return math.atan2(ty - odom.y, tx - odom.x)
-
     def _start_turn(self, odom):
-        angle = wrap_angle(self._aim_heading(odom) - odom.yaw)
+        """Face the route point ``aim_distance`` ahead of the corner (its direction, that near)."""
+        route, corner = self.route, self.route.corners[self._piece]
+        tx, ty, _ = route.point_at(min(route.s[corner] + self.aim_distance,
+                                       route.s[self._piece_end()]), corner)
+        near = distance(odom.x, odom.y, tx, ty) < 0.5 * self.aim_distance
+        aim = route.direction(corner) if near else math.atan2(ty - odom.y, tx - odom.x)
+        angle = wrap_angle(aim - odom.yaw)
         self.watch.new_heading_goal()
-        corner = self.route.s[self.route.corners[self._piece]]
         if abs(angle) <= self.align_tolerance:
-            self._advance((corner, 1.0))
+            self._advance((route.s[corner], 1.0))
             self.mode, self._rotation = DRIVING, None
             return
-        limit = self._limit()
-        turn = dict((name, _param(self.params, name, ROTATION_DEFAULTS)) for name in ROTATION_DEFAULTS)
-        turn.update(angle=angle, max_w=limit.max_w, min_w=min(turn['min_w'], limit.max_w),
-                    time_allowance=float('inf'))
-        self._rotation = Rotation(SimpleNamespace(**turn))
+        max_w = self._limit().max_w
+        self._rotation = Rotation(self.params, angle=angle, max_w=max_w, time_allowance=math.inf,
+                                  min_w=min(_param(self.params, 'min_w', ROTATION_DEFAULTS), max_w))
         self._rotation.start(odom)
         self._turn_angle, self.mode = angle, TURNING
 

@@ -1,7 +1,5 @@
 """Safety rules of the return: its velocity limits (:func:`goal_limits`), its time
-(:func:`return_allowance`), the Kobuki's :class:`SafetyEvents` and a SetReturnRoute
-request's landmarks (:func:`landmarks_from_flat`).
-"""
+(:func:`return_allowance`), the Kobuki's :class:`SafetyEvents`, a SetReturnRoute's landmarks."""
 import math
 from collections import namedtuple
 
@@ -20,8 +18,7 @@ class VelocityLimits(namedtuple('VelocityLimits', 'max_v max_w')):
     __slots__ = ()
 
     def clamp(self, v, w):
-        """``(v, w)`` scaled down by one common factor so that both are within the
-        limits (keeps the curvature w / v); non-finite input gives (0, 0)."""
+        """``(v, w)`` scaled by one factor (the curvature kept) into the limits; non-finite: 0."""
         if not (math.isfinite(v) and math.isfinite(w)):
             return 0.0, 0.0
         factor = min(1.0, self.max_v / abs(v) if abs(v) > self.max_v else 1.0,
@@ -30,14 +27,13 @@ class VelocityLimits(namedtuple('VelocityLimits', 'max_v max_w')):
 
 
 def recorded_speed(landmark):
-    """How fast the robot went over ``landmark``: the larger of its end speed |v|
-    and its mean speed d / T, m/s."""
+    """How fast the robot went over ``landmark``, m/s: the larger of its end |v| and mean d / T."""
     return max(abs(landmark.v), landmark.d / landmark.T)
 
 
 def goal_limits(landmark, max_v, max_w, correction_w=SAFETY_DEFAULTS['correction_w']):
-    """Limits for driving ``landmark`` back: the configured ``max_v``/``max_w``,
-    and never faster than recorded (:func:`recorded_speed`; |w| + ``correction_w``)."""
+    """Limits for driving ``landmark`` back: ``max_v``/``max_w``, never faster than recorded
+    (:func:`recorded_speed`; |w| + ``correction_w``)."""
     if max_v < 0 or max_w < 0 or correction_w < 0:
         raise ValueError('limits must not be negative: max_v %r, max_w %r, correction_w %r'
                          % (max_v, max_w, correction_w))
@@ -46,14 +42,12 @@ def goal_limits(landmark, max_v, max_w, correction_w=SAFETY_DEFAULTS['correction
 
 
 def expected_duration(landmark, slowest_v=SAFETY_DEFAULTS['slowest_v']):
-    """Time a goal should take: its period T, or d at its recorded speed (at least
-    ``slowest_v``) if that is longer, s."""
+    """s a goal should take: its period T, or d at its recorded |v| (>= ``slowest_v``) if longer."""
     return max(landmark.T, landmark.d / max(abs(landmark.v), slowest_v))
 
 
 def return_allowance(landmarks, factor, margin, slowest_v=SAFETY_DEFAULTS['slowest_v']):
-    """Time allowed for a whole return over ``landmarks``: ``factor`` x the sum of
-    the expected durations + ``margin``, s."""
+    """s allowed for a whole return: ``factor`` x the expected durations + ``margin``."""
     return factor * sum(expected_duration(lm, slowest_v) for lm in landmarks) + margin
 
 #: kind -> (sensor names by index, the state value that means "stop", its word)
@@ -72,8 +66,8 @@ def is_contact(reason):
 
 
 class SafetyEvents(object):
-    """Which Kobuki safety sensors are active: :meth:`update` takes one event's fields and
-    returns the reason to stop when a sensor becomes active, else None."""
+    """Which Kobuki safety sensors are active; :meth:`update` (one event's fields): the reason to
+    stop when a sensor becomes active, else None."""
 
     def __init__(self):
         self._active = {}       # (kind, index) -> reason
@@ -95,8 +89,8 @@ class SafetyEvents(object):
         return reason
 
     def continues(self, kind, now, window):
-        """True when an event of ``kind`` at ``now`` continues one under way: a sensor
-        of that kind is active, or one was released less than ``window`` s before."""
+        """True when an event of ``kind`` at ``now`` continues one under way: one of its sensors
+        is active, or was released less than ``window`` s before."""
         released = self._released.get(kind)
         return any(active == kind for active, _ in self._active) or (
             released is not None and 0.0 <= now - released < window)
@@ -112,8 +106,7 @@ class SafetyEvents(object):
         return [reason for reason in self.active if not is_contact(reason)]
 
 def landmarks_from_flat(values):
-    """Landmarks from a flat list of 5-value groups [v, w, d, T, psi, ...] (as
-    sent in a SetReturnRoute request); ValueError naming the bad one."""
+    """Landmarks of a SetReturnRoute's flat [v, w, d, T, psi, ...]; ValueError naming a bad one."""
     if len(values) % 5:
         raise ValueError('completed landmarks: %d numbers is not a multiple of 5' % len(values))
     landmarks = []

@@ -1,11 +1,11 @@
 """How well the landmarks describe the path: the path rebuilt from a recording's
-landmarks (core/route.landmark_positions, the points the closed-loop return's
-route runs through) against the ground truth and against the odometry it sampled, for the
-paper's adaptive two-rate sampling and for uniform sampling at the same sample
-count (one period = recording time / adaptive sample count)."""
+landmarks (:func:`rebuild_path`, the points the closed-loop return's route runs
+through, from core/route's chain) against the ground truth and against the odometry
+it sampled, for the paper's adaptive two-rate sampling and for uniform sampling at
+the same sample count (one period = recording time / adaptive sample count)."""
 import numpy
 
-from ..core.route import landmark_positions
+from ..core.route import _chain
 from ..sim.mission import load_mission
 from .forward import harness_settings, record_forward
 
@@ -13,7 +13,9 @@ from .forward import harness_settings, record_forward
 def rebuild_path(landmarks, anchor):
     """Landmark positions rebuilt from the landmarks, anchored at ``anchor`` (where
     recording stopped), in forward order: [(x, y)], start first."""
-    return landmark_positions(landmarks, anchor)
+    landmarks = list(landmarks)
+    chain = _chain(tuple(float(c) for c in anchor), landmarks, None)
+    return [chain[-1][3] if chain else tuple(anchor)] + [link[0] for link in reversed(chain)]
 
 
 def tick_times(landmarks):

@@ -9,7 +9,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from blind_navigation.core.back_travel import make_controller, replay_command
+from blind_navigation.core.back_travel import replay_command
 from blind_navigation.core.route_follower import RouteFollower, section_limits
 from blind_navigation.core.geometry import OdomState, distance
 from blind_navigation.core.goal import make_goal
@@ -47,7 +47,7 @@ def turn_around(end):
 
 def go_home(landmarks, end, mode, params=None):
     robot = turn_around(end)
-    run_controllers(robot, [make_controller(mode, lm, params) for lm in reversed(landmarks)])
+    run_controllers(robot, [make_goal(mode, lm, params) for lm in reversed(landmarks)])
     return robot
 
 
@@ -237,13 +237,13 @@ def test_time_mode_ends_after_T_and_distance_mode_after_d():
     landmark = Landmark(0.1, 0.0, 0.15, 2.0, 0.0)
     for mode, expected in (('time', 0.2), ('distance', 0.15)):
         robot = Unicycle()
-        controller, = run_controllers(robot, [make_controller(mode, landmark)])
+        controller, = run_controllers(robot, [make_goal(mode, landmark)])
         assert controller.travelled == pytest.approx(expected, abs=0.1 * DT + 1e-9)
 
 
 def test_commands_are_clamped_and_allowance_fails_a_stalled_goal():
     params = SimpleNamespace(max_v=0.05, max_w=0.1, timeout_factor=1.0, timeout_margin=1.0)
-    controller = make_controller('distance', Landmark(0.3, 0.5, 1.0, 1.0, 0.0), params)
+    controller = make_goal('distance', Landmark(0.3, 0.5, 1.0, 1.0, 0.0), params)
     controller.start(OdomState(0, 0, 0, 0, 0, 0.0))
     assert controller.step(OdomState(0, 0, 0, 0, 0, 0.1)) == (0.05, -0.1)
     # The robot never moves: after T*factor + margin the goal fails and commands stop.
@@ -253,9 +253,9 @@ def test_commands_are_clamped_and_allowance_fails_a_stalled_goal():
 
 def test_unknown_mode_is_refused_and_closed_loop_needs_the_follower():
     with pytest.raises(ValueError, match='unknown back-travel mode'):
-        make_controller('teleport', Landmark(0.1, 0, 0.1, 1, 0), None)
-    with pytest.raises(ValueError, match='RouteFollower'):
-        make_controller('closed_loop', Landmark(0.1, 0, 0.1, 1, 0), None)
+        make_goal('teleport', Landmark(0.1, 0, 0.1, 1, 0), None)
+    with pytest.raises(ValueError, match='needs the return route follower'):
+        make_goal('closed_loop', Landmark(0.1, 0, 0.1, 1, 0), None)
 
 
 @pytest.mark.parametrize('start_yaw', [0.0, 2.5, -3.0])

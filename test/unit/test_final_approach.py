@@ -10,8 +10,8 @@ import pytest
 from blind_navigation.core import outcome
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.allowance import ABORT, HOLD
-from blind_navigation.core.final_approach import (APPROACH, APPROACH_DEFAULTS, FinalApproach, ReturnEnding,
-                                                  past_end)
+from blind_navigation.core.final_approach import (APPROACH, APPROACH_DEFAULTS, FinalApproach,
+                                                  ReturnEnding)
 from blind_navigation.core.mission_drive import ZERO
 from blind_navigation.core.mission_state import ABORTED
 from blind_navigation.core.geometry import OdomState
@@ -24,6 +24,12 @@ FAST_STRAIGHT = Script([(0.0, 0.0, 1.0), (0.4, 0.0, 6.0)], name='fast_straight')
 #: kinematic base, 0.14 m on MuJoCo); a stop commanded reaches the robot this late
 LAG = 0.5
 TOLERANCE = APPROACH_DEFAULTS['approach_tolerance']
+
+
+def past_end(route, odom):
+    """m the robot at ``odom`` is past ``route``'s end along its last segment (negative: short)."""
+    heading = route.direction(route.vertices - 2)
+    return (odom.x - route.x[-1]) * math.cos(heading) + (odom.y - route.y[-1]) * math.sin(heading)
 
 
 def _play(approach=True, lag=LAG, events=(), mission=FAST_STRAIGHT, **settings):

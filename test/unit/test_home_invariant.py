@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from blind_navigation.core import outcome
-from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS, make_controller
+from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.geometry import OdomState, Pose2D, distance
 from blind_navigation.core.goal import make_goal
 from blind_navigation.core.landmark import Landmark
@@ -102,7 +102,7 @@ def test_a_replay_moved_while_paused_fails_and_does_not_count_the_move():
 
 
 def test_a_replay_not_moved_while_paused_goes_on():
-    controller = make_controller('time', Landmark(0.2, 0.0, 0.4, 2.0, 0.0))
+    controller = make_goal('time', Landmark(0.2, 0.0, 0.4, 2.0, 0.0))
     controller.start(OdomState(0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
     controller.pause_ended()
     controller.step(OdomState(0.001, 0.0, 0.0, 0.0, 0.0, 1.0))

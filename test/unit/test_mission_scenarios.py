@@ -146,14 +146,17 @@ def _return_time_at(played, metres):
 
 @pytest.fixture
 def holds(monkeypatch):
-    """Every odometry hold (start, length) of the run, from each drive cycle's OdomGrace."""
-    graces, init = [], OdomGrace.__init__
+    """Every finished odometry hold (start, length) of the run, from each drive cycle's OdomGrace."""
+    found, check = [], OdomGrace.check
 
-    def kept(grace, *args, **kwargs):
-        init(grace, *args, **kwargs)
-        graces.append(grace)
-    monkeypatch.setattr(OdomGrace, '__init__', kept)
-    return lambda: sorted(hold for grace in graces for hold in grace.holds)
+    def checked(grace, now, odom_stamp):
+        since = grace.holding_since
+        decision = check(grace, now, odom_stamp)
+        if since is not None and grace.holding_since is None:
+            found.append((since, now - since))
+        return decision
+    monkeypatch.setattr(OdomGrace, 'check', checked)
+    return lambda: sorted(found)
 
 
 def _held(played, holds, state):

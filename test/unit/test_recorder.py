@@ -10,7 +10,7 @@ import pytest
 from blind_navigation.core.geometry import OdomState, distance, wrap_angle
 from blind_navigation.core.recorder import (ASSUMED_BYTES_PER_MINUTE, LOW_SPACE_MINUTES, RATE_WINDOW,
                                            OdometryHistory, PathRecorder, SpaceWatch, free_bytes,
-                                           recording_rate, space_warning, storage_usage)
+                                           storage_usage)
 from blind_navigation.core.segment import SamplingSchedule
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
@@ -174,18 +174,24 @@ def test_odometry_history_reads_the_state_at_a_stamp():
 # --- the low-space warning ---------------------------------------------------------------
 
 def test_the_rate_is_assumed_until_the_recording_measured_it():
-    assert recording_rate(0, 0.0) == recording_rate(5000, RATE_WINDOW - 1) == ASSUMED_BYTES_PER_MINUTE
-    assert recording_rate(2100, RATE_WINDOW) == pytest.approx(2100.0)
-    assert recording_rate(4200, 2 * RATE_WINDOW) == pytest.approx(2100.0)
+    watch = SpaceWatch('/d', free=lambda directory: 1000)
+    assumed = 'at %.0f bytes/min' % ASSUMED_BYTES_PER_MINUTE
+    assert assumed in watch.update(0.0, 100, 1)[0]                    # from the first landmark
+    assert assumed in watch.update(RATE_WINDOW - 1, 5100, 2)[0]       # not measured yet
+    assert 'at 2100 bytes/min' in watch.update(RATE_WINDOW, 2200, 3)[0]
+    assert 'at 2100 bytes/min' in watch.update(2 * RATE_WINDOW, 4300, 4)[0]
 
 
 def test_space_warning_says_how_many_minutes_the_free_space_holds():
-    rate = 2000.0
-    assert space_warning(LOW_SPACE_MINUTES * rate, rate, '/d') == ''
-    warning = space_warning(5000, rate, '/d')
-    assert warning.startswith('LOW SPACE: 5000 bytes free on /d hold 2.5 min of recording at '
-                              '2000 bytes/min (less than 10 min)')
-    assert space_warning(0, rate, '/d').startswith('LOW SPACE: 0 bytes free')
+    free = [LOW_SPACE_MINUTES * ASSUMED_BYTES_PER_MINUTE]
+    watch = SpaceWatch('/d', free=lambda directory: free[0])
+    assert watch.update(0.0, 0, 0) == ('', False)
+    free[0] = 2400
+    warning, appeared = watch.update(1.0, 0, 0)
+    assert appeared and warning.startswith('LOW SPACE: 2400 bytes free on /d hold 0.5 min of '
+                                           'recording at 4800 bytes/min (less than 10 min)')
+    free[0] = 0
+    assert watch.update(2.0, 0, 0)[0].startswith('LOW SPACE: 0 bytes free')
 
 
 def test_space_watch_warns_early_and_once_then_measures():

@@ -12,9 +12,8 @@ from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.odometry_reset import UNTRUSTED
 from blind_navigation.core.pruning import prune_route
 from blind_navigation.core.return_plan import (NO_LOSS, STILL_LOSS_DISTANCE, STILL_LOSS_TURN,
-                                               WriteLoss, gaps_warning, plan_return,
-                                               recording_problem, return_goals, return_warning,
-                                               still_loss)
+                                               WriteLoss, plan_return, recording_problem,
+                                               return_goals, return_warning, still_loss)
 from blind_navigation.core.route import build_route
 from blind_navigation.core.store import load_landmarks
 
@@ -32,7 +31,7 @@ def recorded(tmp_path):
 
 def test_a_clean_recording_has_no_problem_and_no_warning(recorded):
     assert recording_problem(recorded([1, 2, 3])) is None
-    assert gaps_warning(recorded([1, 2, 3])) == ''
+    assert return_warning(recorded([1, 2, 3])) == ''
 
 
 def test_a_loss_taken_standing_still_is_bridged_anywhere(recorded):
@@ -69,7 +68,8 @@ def test_no_loss_and_a_resumed_return_are_not_judged_by_losses(recorded):
     holes = recorded([1, 2, 5, 6])
     assert recording_problem(holes, NO_LOSS) is None
     assert recording_problem(holes, None) is None     # a resumed return: judged before it started
-    assert return_warning(holes, NO_LOSS) == gaps_warning(holes)
+    assert return_warning(holes, NO_LOSS) == return_warning(holes) == (
+        'the recording has 1 gap(s) (2 landmark(s) lost): the return bridges them')
     assert return_warning(recorded([1, 2]), None) == ''
 
 
