@@ -1,9 +1,5 @@
-"""Every topic, service and action name of the layer, in one place.
-
-The names are relative, so the layer (and the fake TurtleBot) follow a robot's
-namespace (``<group ns="robot1">``) and remap as in any ROS package; in the root
-namespace they are INTERFACE.md's. Only ``/clock`` is global.
-"""
+"""Every topic, service and action name of the layer, relative (a robot's namespace, remaps):
+in the root namespace INTERFACE.md's; only ``/clock`` is global."""
 
 # --- the robot's topics the layer reads or drives (TurtleBot2 / Kobuki / RTAB-Map names)
 #: nav_msgs/Odometry, wheel(+gyro) odometry: the source that survives vision loss
@@ -22,8 +18,7 @@ CAMERA = 'camera/rgb/image_rect_color'
 CAMERA_INFO = 'camera/rgb/camera_info'
 #: nav_msgs/Odometry of RTAB-Map's visual odometry (heading correction, detection)
 VO_ODOM = 'rtabmap/odom'
-#: RTAB-Map's OdomInfo without words, keypoints and local map (detection: its ``lost`` flag;
-#: the full ``odom_info`` makes rgbd_odometry serialise those for every frame)
+#: RTAB-Map's OdomInfo without words, keypoints and local map (docs/detection.md)
 VO_ODOM_INFO = 'rtabmap/odom_info_lite'
 #: Kobuki's safety events (kobuki_msgs/BumperEvent, CliffEvent, WheelDropEvent)
 SAFETY_EVENTS = {'bumper': 'mobile_base/events/bumper',
@@ -76,9 +71,7 @@ SET_RETURN_ROUTE = 'blind_navigation/set_return_route'
 ROLE_FAILURE = 'blind_navigation/role_failure'
 #: blind_navigation/HeadingCorrection, latched: the gyro correction of the return
 HEADING_CORRECTION = 'blind_navigation/heading_correction'
-#: geometry_msgs/PoseStamped, latched, paper layout only: the frame (pose = the transform
-#: from the odometry's frame to the layer's, stamp = the reset's) a node carried an
-#: odometry reset across with, for the nodes not listening then (ros/odometry.py)
+#: geometry_msgs/PoseStamped, latched, paper layout only: a carried reset's frame (docs/safety.md)
 ODOMETRY_FRAME = 'blind_navigation/odometry_frame'
 
 # --- the fake TurtleBot's evaluation names (sim/ and evaluation/ only, INTERFACE.md)

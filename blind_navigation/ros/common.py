@@ -42,15 +42,6 @@ def heal_once(master, node, subscribers):
     return healed
 
 
-def watch(subscriber, expected=None):
-    """Check ``subscriber`` (its type too, with ``expected``) at :data:`CHECK_AFTER` s from now."""
-    with _lock:
-        if expected is not None:
-            _expected[subscriber] = expected
-        _schedule(subscriber, subscriber.resolved_name, expected, CHECK_AFTER)
-    return subscriber
-
-
 def unsubscribe(subscriber):
     """Unregister ``subscriber``; its expected type, if any, checked at the master once more."""
     topic = subscriber.resolved_name
@@ -78,7 +69,7 @@ def _next_due():
     """The subscriptions due, once due; None at shutdown."""
     with _lock:
         while not rospy.is_shutdown():
-            wait = _due[0][0] - time.monotonic() if _due else None    # None: until watch()
+            wait = _due[0][0] - time.monotonic() if _due else None    # None: until subscribe()
             if wait is not None and wait <= 0:
                 due = []
                 while _due and _due[0][0] <= time.monotonic():
@@ -106,8 +97,13 @@ def _run():
 
 
 def subscribe(topic, data_class, callback, callback_args=None, expected=None, **options):
-    """``rospy.Subscriber`` checked by the watchdog (its type too, with ``expected``)."""
-    return watch(rospy.Subscriber(topic, data_class, callback, callback_args, **options), expected)
+    """``rospy.Subscriber`` checked at :data:`CHECK_AFTER` s (its type too, with ``expected``)."""
+    subscriber = rospy.Subscriber(topic, data_class, callback, callback_args, **options)
+    with _lock:
+        if expected is not None:
+            _expected[subscriber] = expected
+        _schedule(subscriber, subscriber.resolved_name, expected, CHECK_AFTER)
+    return subscriber
 
 
 def subscribe_checked(topic, data_class, callback, callback_args=None, **options):

@@ -53,6 +53,7 @@ class Layer(object):
         self.mission_id = rospy.get_param(MISSION_ID, None)
         self.diagnostics = Diagnostics(rospy.get_namespace().strip('/'))
         self.faults = faults.Faults(self.diagnostics)
+        self.guard = self.faults.guard      # guard(role)(fn): fn whose exception fails role
         failure_pub = rospy.Publisher(names.ROLE_FAILURE, String, queue_size=5, latch=True)
         faults.on_fault(lambda fault: failure_pub.publish(String(data=fault)))  # other processes
         self.diagnostics.guard = self.guard('diagnostics')      # fails like a role
@@ -83,10 +84,6 @@ class Layer(object):
         """The mission id, read again (``new_mission`` sets it before the roles see ``idle``)."""
         self.mission_id = rospy.get_param(MISSION_ID, self.mission_id)
         return self.mission_id
-
-    def guard(self, role):
-        """``guard(fn)``: ``fn`` whose exception fails ``role``."""
-        return self.faults.guard(role)
 
     def logger(self, role):
         """A RoleLog naming the node (and the role when compact)."""

@@ -13,52 +13,41 @@ from .common import subscribe
 class MissionStateView(object):
     """The mission state (None before any) of the owner node ``owner``."""
 
-    def __init__(self, owner, guard=None):
+    def __init__(self, owner, guard):
         self.owner = rospy.resolve_name(owner)
         self.state = None
-        self._lock = threading.Lock()
         self._delivery = threading.RLock()      # one change delivered at a time, in order
         self._callbacks = []
-        self._subscriber = subscribe(names.STATE, String,
-                                     guard(self._on_state) if guard else self._on_state,
-                                     queue_size=10)
+        self._subscriber = subscribe(names.STATE, String, guard(self._on_state), queue_size=10)
 
     def on_change(self, callback):
         """``callback(old, new)`` on every change, and at once ``(None, state)`` if it is known."""
         with self._delivery:
-            with self._lock:
-                self._callbacks.append(callback)
-                current = self.state
-            if current is not None:
-                callback(None, current)
+            self._callbacks.append(callback)
+            if self.state is not None:
+                callback(None, self.state)
 
     def on_new_mission(self, callback):
         """``callback()`` when ``new_mission`` starts the next mission (terminal -> ``idle``)."""
         self.on_change(lambda old, new: mission_state.starts_new_mission(old, new) and callback())
-
-    def set_local(self, new):
-        """The owner, hosted in this process, moved the mission to ``new``."""
-        self._change(new)
 
     def _on_state(self, msg):
         sender = msg._connection_header.get('callerid', '?')
         if sender != self.owner and sender != rospy.get_name():
             rospy.logwarn_throttle(5.0, '%s: mission state %r from %s refused: only %s owns the '
                                    'mission state' % (rospy.get_name(), msg.data, sender, self.owner))
-            return
-        if msg.data not in mission_state.ALL:
+        elif msg.data not in mission_state.ALL:
             rospy.logwarn_throttle(5.0, '%s: unknown mission state %r from %s refused'
                                    % (rospy.get_name(), msg.data, sender))
-            return
-        self._change(msg.data)
+        else:
+            self.set_local(msg.data)
 
-    def _change(self, new):
+    def set_local(self, new):
+        """The mission moved to ``new`` (the owner, hosted in this process, calls it directly)."""
         with self._delivery:
-            with self._lock:
-                old, self.state = self.state, new
-                callbacks = list(self._callbacks)
+            old, self.state = self.state, new
             if old != new:
-                for callback in callbacks:
+                for callback in list(self._callbacks):
                     callback(old, new)
 
 

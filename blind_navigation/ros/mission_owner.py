@@ -263,12 +263,11 @@ class MissionOwner(object):
     def publish_status(self):
         m, self.progress, warnings = self.mission, self._progress(), self.warnings()
         goals = getattr(m.drive, 'goals', None)
-        msg = MissionStatus(state=m.state or '', reason=m.reason or '', warnings=warnings,
-                            landmarks=len(m.landmarks or ()) if goals is None else len(goals),
-                            completed=getattr(m.drive, 'index', 0) if goals is not None else 0,
-                            outcome=m.machine.outcome)
-        msg.header.stamp = rospy.Time.now()
-        self.status_pub.publish(msg)
+        self.status_pub.publish(MissionStatus(
+            header=rospy.Header(stamp=rospy.Time.now()), state=m.state or '', reason=m.reason or '',
+            warnings=warnings, landmarks=len(m.landmarks or ()) if goals is None else len(goals),
+            completed=getattr(m.drive, 'index', 0) if goals is not None else 0,
+            outcome=m.machine.outcome))
 
     def _on_fault(self, reason):
         """A fault of this process (the loop's too): ``aborted`` naming it, from the reporting thread."""

@@ -13,7 +13,7 @@ from blind_navigation.ros import mission
 @pytest.fixture
 def view(monkeypatch):
     monkeypatch.setattr(mission, 'subscribe', lambda *args, **kwargs: None)
-    return mission.MissionStateView('/owner')
+    return mission.MissionStateView('/owner', guard=lambda fn: fn)
 
 
 def test_a_role_registered_after_the_state_came_learns_it_at_once(view):
