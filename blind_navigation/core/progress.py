@@ -110,16 +110,6 @@ def heading_record(correction, reference, frame=None):
             'frame': frame}
 
 
-def kept_route(progress):
-    if progress.route is None:
-        raise ValueError('no route kept')
-    return Route.from_lists(progress.route['route'])
-
-
-def kept_heading(progress):
-    return progress.route['heading'] if progress.route is not None else None
-
-
 def plain_correction(plain):
     """(GyroCorrection, OdomState, snapshot) of a :func:`heading_record`; ValueError if unreadable."""
     try:

@@ -11,8 +11,8 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, ReturnProgress,
-                                            file_digest, kept_heading, kept_route, load_progress,
-                                            progress_path, route_record, save_progress)
+                                            file_digest, load_progress, progress_path, route_record,
+                                            save_progress)
 from blind_navigation.core.route import build_route
 from blind_navigation.core.progress_keeper import ProgressKeeper
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
@@ -47,8 +47,8 @@ def test_life_of_a_return(mission):
     assert progress.status == state.ROTATING and progress.landmark_file == os.path.realpath(link)
     assert progress.anchor == [1.0, 2.0] and progress.digest == '' and progress.started == NOW
     progress = progress.start(digest, 3, NOW + 1, route=route_record(ROUTE, {'yaw': 0.5}))
-    assert progress.status == state.RETURNING and kept_heading(progress) == {'yaw': 0.5}
-    assert kept_route(progress).to_lists() == ROUTE.to_lists()
+    assert progress.status == state.RETURNING and progress.route['heading'] == {'yaw': 0.5}
+    assert progress.route['route'] == ROUTE.to_lists()
     progress = progress.goal_done(1, NOW + 2, position=[0.9, 2.0], travelled=0.1)
     progress = progress.goal_done(3, NOW + 3)
     assert (progress.completed, progress.position, progress.travelled) == (3, [0.9, 2.0], 0.1)
@@ -202,7 +202,7 @@ def test_resume_from_file(mission, tmp_path):
     save_progress(path, returning(link, digest))
     decision = resume_from_file(path, NOW, [0.5, 2.0], mission='m1')
     assert decision.action == RESUME and decision.progress.completed == 4
-    assert kept_route(decision.progress).to_lists() == ROUTE.to_lists()
+    assert decision.progress.route['route'] == ROUTE.to_lists()
     # the progress says 12 landmarks, the (unchanged) file holds 10: refused by count
     save_progress(path, returning(link, digest)._replace(landmarks=12))
     decision = resume_from_file(path, NOW, [0.5, 2.0])
