@@ -76,12 +76,9 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
                     name, abs(value), unit, limit, unit, 100.0 * self.speed_margin)
         return None
 
-    def max_distance(self, period):
-        return self.max_v * (period * (1.0 + self.speed_margin) + self.time_slack)
-
     def distance_problem(self, d, period):
         """None if ``d`` (m) fits what the base can cover in ``period`` (s), else why not."""
-        longest = self.max_distance(period)
+        longest = self.max_v * (period * (1.0 + self.speed_margin) + self.time_slack)
         if d > longest:
             return ('d = %g m is farther than the base can go in T = %g s (at most %g m: '
                     '%g m/s x (T x %g + %g s))' % (d, period, longest, self.max_v,
@@ -90,18 +87,11 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
 
 
 class OdometryGate(object):
-    """Refuses odometry no Kobuki can produce: :meth:`check` each state in arrival order.
-
-    Rules, in order: every field finite; ``|v|``, ``|w|`` within the limits; against the
-    last accepted state (the reference) the stamp not going back, the position step within
-    ``top_v dt + position_jitter`` (the top speed, not the twist: a fused twist may lag its
-    pose) and the yaw step within ``top_w dt + yaw_jitter``. A refused state never becomes
-    the reference, so garbage interleaved with the real stream is refused message by
-    message; a state continuing the refused stream is refused too. With ``on_reanchor``
-    only, a self-consistent refused chain with advancing stamps spanning ``reanchor_time``
-    becomes the reference (a reset; docs/safety.md, "Odometry resets"); a chain with a gap
-    over ``reanchor_time`` is forgotten; without it the gate never re-anchors.
-    """
+    """Refuses odometry no Kobuki can produce: :meth:`check` each state in arrival order
+    (finite, the twist within the limits, the step from the last accepted state within
+    ``top dt + jitter``). A refused state never becomes the reference; with ``on_reanchor``
+    a self-consistent refused chain spanning ``reanchor_time`` does (docs/safety.md,
+    "Odometry resets")."""
 
     def __init__(self, params=None, on_reanchor=None):
         self.limits = Limits.from_params(params)

@@ -35,9 +35,7 @@ _HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
 
 
 class ProgressError(FileContentError):
-    def __init__(self, path, field, reason):
-        super(ProgressError, self).__init__(path, field, reason)
-        self.field = field
+    """A return progress that cannot be trusted (``part``: the field, or None)."""
 
 
 def _is_number(value):
