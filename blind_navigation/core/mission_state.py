@@ -67,18 +67,9 @@ def records(state):
     return state in (None, IDLE, RECORDING, ROTATING)
 
 
-#: ``on_vision_back`` policies: go on home (the paper's), or stop ``recovered``.
+#: ``on_vision_back`` policies in the turn or the return: go on home (the paper's), or stop
+#: ``recovered`` (core/mission); before the turn vision back resumes the recording.
 ON_VISION_BACK = ('home', 'stop')
-
-
-def vision_back_state(state, turn_begun, policy):
-    """The state vision back moves ``state`` to (None: no change): ``recording`` before the pi
-    turn (a brief loss), ``recovered`` during the turn or the return with policy ``stop``."""
-    if state == ROTATING and not turn_begun:
-        return RECORDING
-    if state in (ROTATING, RETURNING) and policy == 'stop':
-        return RECOVERED
-    return None
 
 
 class IllegalTransition(ValueError):
