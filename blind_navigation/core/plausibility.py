@@ -9,8 +9,6 @@ from .geometry import wrap_angle
 #: Kobuki's velocity limits (kobuki_node): 0.7 m/s, pi rad/s.
 KOBUKI_MAX_V = 0.7
 KOBUKI_MAX_W = math.pi
-#: kobuki_driver's acceleration limiter: m/s^2, rad/s^2 speeding up and slowing down.
-KOBUKI_ACCEL_LIMITS = {'v_up': 0.5, 'v_down': 0.6, 'w_up': 3.5, 'w_down': 4.2}
 
 PLAUSIBILITY_DEFAULTS = {
     'max_v': KOBUKI_MAX_V,        # m/s
