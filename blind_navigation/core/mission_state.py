@@ -84,17 +84,12 @@ def check_transition(old, new):
 
 class MissionState(object):
     """The mission's state, its reason and its core/outcome code, changed only by
-    :meth:`transition` and :meth:`abort` (atomic: check and set under one lock)."""
+    :meth:`transition` and :meth:`abort` (atomic: check and set under one lock, the class's,
+    so that a copy shares it: sim/harness.py tries several returns from one state)."""
+    _lock = threading.Lock()
 
     def __init__(self):
-        self._lock = threading.Lock()
         self.state, self.reason, self.outcome = None, '', 0
-
-    def __deepcopy__(self, _memo):
-        """A copy with its own lock (sim/harness.py tries several returns from one state)."""
-        copied = MissionState()
-        copied.state, copied.reason, copied.outcome = self.state, self.reason, self.outcome
-        return copied
 
     def transition(self, expected, new, reason='', outcome=0):
         """Move ``expected -> new`` if the state is ``expected``: True if it moved (False: an event
