@@ -215,7 +215,7 @@ class VisionLossMonitor(object):
         return self._fired(self.dark.update(t, why))
 
     def vo_odometry(self, t, lost_reason):
-        """A VO odometry message at ``t`` (``lost_reason``: vo_lost_reason's)."""
+        """A VO odometry message at ``t`` (``lost_reason``: wire_lost_reason's)."""
         self._clock(t)
         self.vo_stall.seen(t)
         return self._fired(self.vo_lost.update(t, lost_reason))
