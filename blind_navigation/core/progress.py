@@ -80,7 +80,8 @@ def _plain(value, depth=0):
 
 
 def _route(value):
-    """A route record (:func:`route_record`) or None, as stored; ValueError naming what is wrong."""
+    """A route record ({'route': Route.to_lists(), 'heading': plain or None}) or None, as
+    stored; ValueError naming what is wrong."""
     if value is None:
         return None
     if not isinstance(value, dict) or set(value) != set(ROUTE_RECORD):
@@ -92,11 +93,6 @@ def _route(value):
     if heading is not None and not isinstance(heading, dict):
         raise ValueError('route heading must be a map or null, got %s' % type(heading).__name__)
     return {'route': _plain(value['route']), 'heading': _plain(heading)}
-
-
-def route_record(route, heading=None):
-    """The progress's ``route`` field: the Route and the plain heading correction or None."""
-    return {'route': route.to_lists(), 'heading': heading}
 
 
 def heading_record(correction, reference, frame=None):
@@ -217,13 +213,6 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         if position is not None:
             changes['position'] = as_point(position)
         return self._replace(**changes).checked()
-
-    @classmethod
-    def aborted(cls, reason, now, landmark_file='', mission=None):
-        """A finished record to replace an untrusted progress file."""
-        return cls(landmark_file=landmark_file, digest='', landmarks=0, anchor=None, frame_id='',
-                   completed=0, position=None, status=state.ABORTED, updated=float(now),
-                   reason=str(reason), mission=mission).checked()
 
     unfinished = property(lambda self: self.status in UNFINISHED)
 

@@ -108,7 +108,9 @@ def settle_abort(path, decision, now):
         while os.path.lexists(aside):
             aside, n = '%s.bad-%s-%d' % (path, stamp, n), n + 1
         os.rename(path, aside)
-    save_progress(path, ReturnProgress.aborted(decision.reason, now))
+    save_progress(path, ReturnProgress(
+        landmark_file='', digest='', landmarks=0, anchor=None, frame_id='', completed=0,
+        position=None, status=state.ABORTED, updated=float(now), reason=str(decision.reason)))
     return aside
 
 

@@ -11,8 +11,7 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, ReturnProgress,
-                                            file_digest, load_progress, progress_path, route_record,
-                                            save_progress)
+                                            file_digest, load_progress, progress_path, save_progress)
 from blind_navigation.core.route import build_route
 from blind_navigation.core.progress_keeper import ProgressKeeper
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
@@ -33,6 +32,11 @@ def mission(tmp_path):
 
 
 ROUTE = build_route([Landmark(0.1, 0.0, 0.2, 2.0, 0.0)] * 10, (1.0, 2.0))
+
+
+def route_record(route, heading=None):
+    """The progress's ``route`` field, as core/progress_keeper writes it."""
+    return {'route': route.to_lists(), 'heading': heading}
 
 
 def returning(link, digest, completed=4):
