@@ -174,15 +174,13 @@ class OdometryGate(object):
 
 
 class RouteBudget(object):
-    """How far the whole return may drive: ``route_length_factor`` x the longer of the
-    landmarks' ``max(d, |v| T)`` sum and ``route_length`` + ``route_length_margin``."""
+    """How far the whole return may drive: ``route_length_factor`` x the landmarks'
+    ``max(d, |v| T)`` sum + ``route_length_margin``."""
 
-    def __init__(self, landmarks, params=None, route_length=0.0):
+    def __init__(self, landmarks, params=None):
         self.factor = _param(params, 'route_length_factor')
         self.margin = _param(params, 'route_length_margin')
-        if not (math.isfinite(route_length) and route_length >= 0.0):
-            raise ValueError('route_length must be a finite length >= 0 m, got %r' % (route_length,))
-        self.length = max(sum(max(lm.d, abs(lm.v) * lm.T) for lm in landmarks), route_length)
+        self.length = max(sum(max(lm.d, abs(lm.v) * lm.T) for lm in landmarks), 0.0)
         self.limit = self.factor * self.length + self.margin
 
     def problem(self, travelled):

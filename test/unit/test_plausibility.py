@@ -212,10 +212,6 @@ def test_route_budget():
     assert 'not a finite' in budget.problem(float('nan'))
     assert RouteBudget(path, {'route_length_factor': 1.0, 'route_length_margin': 0.0}).problem(
         0.96) is not None
-    assert RouteBudget(path, route_length=2.0).limit == pytest.approx(1.5 * 2.0 + 1.0)
-    assert RouteBudget(path, route_length=0.5).length == pytest.approx(0.95)
-    with pytest.raises(ValueError, match='route_length'):
-        RouteBudget(path, route_length=float('nan'))
 
 
 def test_a_lone_glitch_before_a_dropout_does_not_hold_the_stream():
