@@ -169,24 +169,20 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
 
     @classmethod
     def begin(cls, landmark_file, anchor, frame_id, now, mission=None):
-        """Vision was lost: a return over ``landmark_file`` begins with the pi turn; ``anchor``
-        [x, y] or None (then :meth:`start` needs one)."""
+        """Vision was lost at ``anchor`` [x, y]: a return over ``landmark_file`` begins with
+        the pi turn."""
         anchor = as_point(anchor)
         return cls(landmark_file=os.path.realpath(os.path.expanduser(landmark_file)), digest='',
                    landmarks=0, anchor=anchor, frame_id=str(frame_id or ''), completed=0,
                    position=anchor, status=state.ROTATING, updated=float(now), reason='',
                    mission=mission, started=float(now)).checked()
 
-    def start(self, digest, landmarks, now, route=None, anchor=None):
+    def start(self, digest, landmarks, now, route=None):
         """The robot starts back over ``landmarks`` landmarks of a file with sha256 ``digest``."""
         if self.status != state.ROTATING:
             raise ValueError('a return starts after the pi turn (status rotating), not in %s'
                              % self.status)
-        anchor = as_point(anchor) if anchor is not None else self.anchor
-        if anchor is None:
-            raise ValueError('the return has no anchor (no odometry at vision loss): give one')
-        return self._replace(digest=digest, landmarks=landmarks, anchor=anchor,
-                             position=self.position or anchor, status=state.RETURNING,
+        return self._replace(digest=digest, landmarks=landmarks, status=state.RETURNING,
                              updated=float(now), route=_route(route)).checked()
 
     def goal_done(self, completed, now, position=None, travelled=None):

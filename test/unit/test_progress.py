@@ -64,16 +64,16 @@ def test_life_of_a_return(mission):
 
 def test_misuse_of_the_life_is_refused(mission):
     link, _, digest = mission
-    rotating = ReturnProgress.begin(link, None, 'odom', NOW)
-    with pytest.raises(ValueError, match='no anchor'):
-        rotating.start(digest, 3, NOW)
+    with pytest.raises(ProgressError, match='needs its anchor'):
+        ReturnProgress.begin(link, None, 'odom', NOW).start(digest, 3, NOW)
+    rotating = ReturnProgress.begin(link, [0.0, 0.0], 'odom', NOW)
     with pytest.raises(ValueError, match='while returning'):
         rotating.goal_done(1, NOW)
     with pytest.raises(ProgressError, match='digest'):
-        rotating.start('not a digest', 3, NOW, anchor=[0.0, 0.0])
+        rotating.start('not a digest', 3, NOW)
     with pytest.raises(ValueError, match='finite point|point must be'):
         ReturnProgress.begin(link, [float('nan'), 0.0], 'odom', NOW)
-    progress = rotating.start(digest, 3, NOW, anchor=[0.0, 0.0])
+    progress = rotating.start(digest, 3, NOW)
     with pytest.raises(ValueError, match='from 0 up to 3'):
         progress.goal_done(4, NOW)
     with pytest.raises(ValueError, match='rotating'):
