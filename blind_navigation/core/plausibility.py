@@ -58,10 +58,6 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
 
     __slots__ = ()
 
-    @classmethod
-    def from_params(cls, params=None):
-        return cls(*(_param(params, name) for name in cls._fields))
-
     top_v = property(lambda self: self.max_v * (1.0 + self.speed_margin))
     top_w = property(lambda self: self.max_w * (1.0 + self.speed_margin))
 
@@ -92,7 +88,7 @@ class OdometryGate(object):
     "Odometry resets")."""
 
     def __init__(self, params=None, on_reanchor=None):
-        self.limits = Limits.from_params(params)
+        self.limits = Limits(*(_param(params, name) for name in Limits._fields))
         self.position_jitter = _param(params, 'position_jitter')
         self.yaw_jitter = _param(params, 'yaw_jitter')
         self.reanchor_time = _param(params, 'reanchor_time')
