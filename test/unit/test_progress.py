@@ -11,7 +11,8 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, ReturnProgress,
-                                            file_digest, load_progress, progress_path, save_progress)
+                                            file_digest, load_progress, progress_path,
+                                            save_progress)
 from blind_navigation.core.route import build_route
 from blind_navigation.core.progress_keeper import ProgressKeeper
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
