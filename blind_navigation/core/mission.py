@@ -303,8 +303,8 @@ class Mission(object):
 
     def _vision_back(self, inputs):
         """Vision back in the turn or the return: ``recovered`` with on_vision_back stop."""
-        if not (inputs.vision_back and self.vision_loss and state.vision_back_state(
-                self.state, True, self.config.on_vision_back) == state.RECOVERED):
+        if not (inputs.vision_back and self.vision_loss and self.config.on_vision_back == 'stop'
+                and self.state in (state.ROTATING, state.RETURNING)):
             return False
         if self.state != state.RETURNING or self.drive is None:
             where, left = 'the pi turn', 'the whole path'

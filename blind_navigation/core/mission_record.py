@@ -25,8 +25,7 @@ class MissionRecording(object):
         self.recorder = recorder or PathRecorder()
         self.events = EventSampler() if config.event_sampling else None
         self.latency = self.events.latency if self.events else 0.0
-        # a tick is taken latency s late, with the events since the previous tick: a period
-        # and the latency back at least
+        # a tick looks back a period and the events' latency at least
         self.history = OdometryHistory(max(config.straight_period, config.curved_period)
                                        + max(2.0, 2.0 * self.latency))
         self.fit = GyroVisualFit() if config.heading_correction else None
@@ -68,8 +67,7 @@ class MissionRecording(object):
             self.events.odometry(odom)
         self._take_requested(odom, now, self.next_tick, taken)
         if now >= self.next_tick + self.latency - 1e-9:
-            # with event sampling the tick is taken latency s late, from the odometry at its
-            # stamp (as the saver reads it), so events dated back before it come first
+            # with event sampling: latency s late, the odometry at the tick's stamp
             state = self.history.at(self.next_tick + 1e-9) if self.latency else odom
             self._take_events(state.stamp, taken)
             period = self.events.tick(state.stamp, self.period) if self.events else self.period
@@ -90,10 +88,8 @@ class MissionRecording(object):
         return taken
 
     def reset(self, odom, reason):
-        """An untrusted odometry reset (``reason``) at ``odom`` (the new frame): the store
-        notes a gap naming it (``note_gap``), the next landmark's d counts from ``odom``; the
-        states kept for the ticks and events are of the old frame: dropped. The way back
-        is lost (``lost``: why)."""
+        """An untrusted odometry reset (``reason``) at ``odom`` (the new frame): a gap in the
+        store, d counts from ``odom``, the old frame's states dropped; the way back is lost."""
         self.lost = self.lost or reason
         self._refuse_requested('an odometry reset (%s) came before it was taken' % reason)
         if self.started:
@@ -102,8 +98,7 @@ class MissionRecording(object):
             self.history.clear()
 
     def _clock_back(self, now):
-        """The odometry's clock moved back to ``now`` (a restarted simulator): the schedule
-        counts from it (the next tick a period on); the states kept are of the old time."""
+        """The odometry's clock moved back to ``now`` (a restarted simulator): start over."""
         self.next_tick, self.last_tick = now + self.period, now
         self.history.clear()
         self._refuse_requested('the clock moved back before it was taken')
@@ -126,10 +121,8 @@ class MissionRecording(object):
         return self.store.append(landmark)
 
     def _take_requested(self, odom, now, before, taken):
-        """Take the requests stamped before ``before`` whose state is known at ``odom``
-        (``now``, after the events' latency), in time order: the events before each, then
-        its landmark at the odometry at its stamp, never older than the last landmark's
-        (psi and T the request's); answer each."""
+        """Take (and answer) the requests stamped before ``before`` whose state is known at
+        ``odom`` (``now``), in time order, each after the events before it."""
         for request in self.requested:
             if request.stamp is None:       # unstamped: this state
                 request.stamp = odom.stamp

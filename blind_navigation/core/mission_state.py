@@ -67,18 +67,9 @@ def records(state):
     return state in (None, IDLE, RECORDING, ROTATING)
 
 
-#: ``on_vision_back`` policies: go on home (the paper's), or stop ``recovered``.
+#: ``on_vision_back`` policies in the turn or the return: go on home (the paper's), or stop
+#: ``recovered`` (core/mission); before the turn vision back resumes the recording.
 ON_VISION_BACK = ('home', 'stop')
-
-
-def vision_back_state(state, turn_begun, policy):
-    """The state vision back moves ``state`` to (None: no change): ``recording`` before the pi
-    turn (a brief loss), ``recovered`` during the turn or the return with policy ``stop``."""
-    if state == ROTATING and not turn_begun:
-        return RECORDING
-    if state in (ROTATING, RETURNING) and policy == 'stop':
-        return RECOVERED
-    return None
 
 
 class IllegalTransition(ValueError):
@@ -93,17 +84,12 @@ def check_transition(old, new):
 
 class MissionState(object):
     """The mission's state, its reason and its core/outcome code, changed only by
-    :meth:`transition` and :meth:`abort` (atomic: check and set under one lock)."""
+    :meth:`transition` and :meth:`abort` (atomic: check and set under one lock, the class's,
+    so that a copy shares it: sim/harness.py tries several returns from one state)."""
+    _lock = threading.Lock()
 
     def __init__(self):
-        self._lock = threading.Lock()
         self.state, self.reason, self.outcome = None, '', 0
-
-    def __deepcopy__(self, _memo):
-        """A copy with its own lock (sim/harness.py tries several returns from one state)."""
-        copied = MissionState()
-        copied.state, copied.reason, copied.outcome = self.state, self.reason, self.outcome
-        return copied
 
     def transition(self, expected, new, reason='', outcome=0):
         """Move ``expected -> new`` if the state is ``expected``: True if it moved (False: an event

@@ -58,16 +58,15 @@ def advance(x, y, yaw, v, w, dt):
             y - radius * (math.cos(end) - math.cos(yaw)), end)
 
 
-def _param(params, name=None):
-    """The param ``name``, or (None) all of RESET_DEFAULTS' by name."""
-    if name is None:
-        return {key: _param(params, key) for key in RESET_DEFAULTS}
-    return nonnegative_param(params, name, RESET_DEFAULTS, 'odometry reset')
+def _params(params):
+    """RESET_DEFAULTS' params by name, each ``params``' own where it has one."""
+    return {key: nonnegative_param(params, key, RESET_DEFAULTS, 'odometry reset')
+            for key in RESET_DEFAULTS}
 
 
 def estimate_reset(before, chain, params=None):
     """The :class:`ResetEstimate` of a jump after ``before`` (old frame, or None) to ``chain``."""
-    p = _param(params)
+    p = _params(params)
     first, last = chain[0], chain[-1]
     where = 'at %.3f s (from (%.3f, %.3f, %.3f) to (%.3f, %.3f, %.3f))' % (
         first.stamp, before.x if before else math.nan, before.y if before else math.nan,
@@ -139,9 +138,9 @@ class ResetCarrier(object):
 
     def _after_silence(self, before, state):
         """None, or the untrusted ResetEstimate of a state after a silence, off where its twists say."""
-        if before is None or state.stamp - before.stamp <= _param(self.params, 'reset_max_gap'):
+        p = _params(self.params)
+        if before is None or state.stamp - before.stamp <= p['reset_max_gap']:
             return None
-        p = _param(self.params)
         dt = state.stamp - before.stamp
         x, y, yaw = advance(before.x, before.y, before.yaw, 0.5 * (before.v + state.v),
                             0.5 * (before.w + state.w), dt)

@@ -9,8 +9,6 @@ from .geometry import wrap_angle
 #: Kobuki's velocity limits (kobuki_node): 0.7 m/s, pi rad/s.
 KOBUKI_MAX_V = 0.7
 KOBUKI_MAX_W = math.pi
-#: kobuki_driver's acceleration limiter: m/s^2, rad/s^2 speeding up and slowing down.
-KOBUKI_ACCEL_LIMITS = {'v_up': 0.5, 'v_down': 0.6, 'w_up': 3.5, 'w_down': 4.2}
 
 PLAUSIBILITY_DEFAULTS = {
     'max_v': KOBUKI_MAX_V,        # m/s
@@ -60,10 +58,6 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
 
     __slots__ = ()
 
-    @classmethod
-    def from_params(cls, params=None):
-        return cls(*(_param(params, name) for name in cls._fields))
-
     top_v = property(lambda self: self.max_v * (1.0 + self.speed_margin))
     top_w = property(lambda self: self.max_w * (1.0 + self.speed_margin))
 
@@ -76,12 +70,9 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
                     name, abs(value), unit, limit, unit, 100.0 * self.speed_margin)
         return None
 
-    def max_distance(self, period):
-        return self.max_v * (period * (1.0 + self.speed_margin) + self.time_slack)
-
     def distance_problem(self, d, period):
         """None if ``d`` (m) fits what the base can cover in ``period`` (s), else why not."""
-        longest = self.max_distance(period)
+        longest = self.max_v * (period * (1.0 + self.speed_margin) + self.time_slack)
         if d > longest:
             return ('d = %g m is farther than the base can go in T = %g s (at most %g m: '
                     '%g m/s x (T x %g + %g s))' % (d, period, longest, self.max_v,
@@ -90,21 +81,14 @@ class Limits(namedtuple('Limits', 'max_v max_w speed_margin time_slack', default
 
 
 class OdometryGate(object):
-    """Refuses odometry no Kobuki can produce: :meth:`check` each state in arrival order.
-
-    Rules, in order: every field finite; ``|v|``, ``|w|`` within the limits; against the
-    last accepted state (the reference) the stamp not going back, the position step within
-    ``top_v dt + position_jitter`` (the top speed, not the twist: a fused twist may lag its
-    pose) and the yaw step within ``top_w dt + yaw_jitter``. A refused state never becomes
-    the reference, so garbage interleaved with the real stream is refused message by
-    message; a state continuing the refused stream is refused too. With ``on_reanchor``
-    only, a self-consistent refused chain with advancing stamps spanning ``reanchor_time``
-    becomes the reference (a reset; docs/safety.md, "Odometry resets"); a chain with a gap
-    over ``reanchor_time`` is forgotten; without it the gate never re-anchors.
-    """
+    """Refuses odometry no Kobuki can produce: :meth:`check` each state in arrival order
+    (finite, the twist within the limits, the step from the last accepted state within
+    ``top dt + jitter``). A refused state never becomes the reference; with ``on_reanchor``
+    a self-consistent refused chain spanning ``reanchor_time`` does (docs/safety.md,
+    "Odometry resets")."""
 
     def __init__(self, params=None, on_reanchor=None):
-        self.limits = Limits.from_params(params)
+        self.limits = Limits(*(_param(params, name) for name in Limits._fields))
         self.position_jitter = _param(params, 'position_jitter')
         self.yaw_jitter = _param(params, 'yaw_jitter')
         self.reanchor_time = _param(params, 'reanchor_time')
@@ -186,15 +170,13 @@ class OdometryGate(object):
 
 
 class RouteBudget(object):
-    """How far the whole return may drive: ``route_length_factor`` x the longer of the
-    landmarks' ``max(d, |v| T)`` sum and ``route_length`` + ``route_length_margin``."""
+    """How far the whole return may drive: ``route_length_factor`` x the landmarks'
+    ``max(d, |v| T)`` sum + ``route_length_margin``."""
 
-    def __init__(self, landmarks, params=None, route_length=0.0):
+    def __init__(self, landmarks, params=None):
         self.factor = _param(params, 'route_length_factor')
         self.margin = _param(params, 'route_length_margin')
-        if not (math.isfinite(route_length) and route_length >= 0.0):
-            raise ValueError('route_length must be a finite length >= 0 m, got %r' % (route_length,))
-        self.length = max(sum(max(lm.d, abs(lm.v) * lm.T) for lm in landmarks), route_length)
+        self.length = max(sum(max(lm.d, abs(lm.v) * lm.T) for lm in landmarks), 0.0)
         self.limit = self.factor * self.length + self.margin
 
     def problem(self, travelled):

@@ -35,9 +35,7 @@ _HEX_DIGEST = re.compile(r'^[0-9a-f]{64}$')
 
 
 class ProgressError(FileContentError):
-    def __init__(self, path, field, reason):
-        super(ProgressError, self).__init__(path, field, reason)
-        self.field = field
+    """A return progress that cannot be trusted (``part``: the field, or None)."""
 
 
 def _is_number(value):
@@ -82,7 +80,8 @@ def _plain(value, depth=0):
 
 
 def _route(value):
-    """A route record (:func:`route_record`) or None, as stored; ValueError naming what is wrong."""
+    """A route record ({'route': Route.to_lists(), 'heading': plain or None}) or None, as
+    stored; ValueError naming what is wrong."""
     if value is None:
         return None
     if not isinstance(value, dict) or set(value) != set(ROUTE_RECORD):
@@ -96,11 +95,6 @@ def _route(value):
     return {'route': _plain(value['route']), 'heading': _plain(heading)}
 
 
-def route_record(route, heading=None):
-    """The progress's ``route`` field: the Route and the plain heading correction or None."""
-    return {'route': route.to_lists(), 'heading': heading}
-
-
 def heading_record(correction, reference, frame=None):
     """The plain form of a GyroCorrection (infinite std as None), the raw OdomState where its
     frame starts and the feed's frame snapshot or None."""
@@ -108,16 +102,6 @@ def heading_record(correction, reference, frame=None):
                            for v in correction],
             'reference': [reference.x, reference.y, reference.yaw, reference.stamp],
             'frame': frame}
-
-
-def kept_route(progress):
-    if progress.route is None:
-        raise ValueError('no route kept')
-    return Route.from_lists(progress.route['route'])
-
-
-def kept_heading(progress):
-    return progress.route['heading'] if progress.route is not None else None
 
 
 def plain_correction(plain):
@@ -185,24 +169,20 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
 
     @classmethod
     def begin(cls, landmark_file, anchor, frame_id, now, mission=None):
-        """Vision was lost: a return over ``landmark_file`` begins with the pi turn; ``anchor``
-        [x, y] or None (then :meth:`start` needs one)."""
+        """Vision was lost at ``anchor`` [x, y]: a return over ``landmark_file`` begins with
+        the pi turn."""
         anchor = as_point(anchor)
         return cls(landmark_file=os.path.realpath(os.path.expanduser(landmark_file)), digest='',
                    landmarks=0, anchor=anchor, frame_id=str(frame_id or ''), completed=0,
                    position=anchor, status=state.ROTATING, updated=float(now), reason='',
                    mission=mission, started=float(now)).checked()
 
-    def start(self, digest, landmarks, now, route=None, anchor=None):
+    def start(self, digest, landmarks, now, route=None):
         """The robot starts back over ``landmarks`` landmarks of a file with sha256 ``digest``."""
         if self.status != state.ROTATING:
             raise ValueError('a return starts after the pi turn (status rotating), not in %s'
                              % self.status)
-        anchor = as_point(anchor) if anchor is not None else self.anchor
-        if anchor is None:
-            raise ValueError('the return has no anchor (no odometry at vision loss): give one')
-        return self._replace(digest=digest, landmarks=landmarks, anchor=anchor,
-                             position=self.position or anchor, status=state.RETURNING,
+        return self._replace(digest=digest, landmarks=landmarks, status=state.RETURNING,
                              updated=float(now), route=_route(route)).checked()
 
     def goal_done(self, completed, now, position=None, travelled=None):
@@ -229,13 +209,6 @@ class ReturnProgress(namedtuple('ReturnProgress', FIELDS, defaults=(None, '', No
         if position is not None:
             changes['position'] = as_point(position)
         return self._replace(**changes).checked()
-
-    @classmethod
-    def aborted(cls, reason, now, landmark_file='', mission=None):
-        """A finished record to replace an untrusted progress file."""
-        return cls(landmark_file=landmark_file, digest='', landmarks=0, anchor=None, frame_id='',
-                   completed=0, position=None, status=state.ABORTED, updated=float(now),
-                   reason=str(reason), mission=mission).checked()
 
     unfinished = property(lambda self: self.status in UNFINISHED)
 

@@ -7,7 +7,7 @@ from . import mission_state as state, outcome
 from .geometry import distance
 from .landmark import Limits
 from .progress import (ProgressError, ReturnProgress, file_digest, heading_record, progress_path,
-                       route_record, save_progress)
+                       save_progress)
 from .resume import ABORT, IGNORE, kept_return, resume_from_file, settle_abort
 
 
@@ -64,8 +64,8 @@ class MissionProgress(object):
     def _route_data(self):
         m = self.mission
         frame = m.corrector.snapshot() if m.corrector is not None else None
-        return route_record(self.route, heading_record(m.correction, m.reference, frame)
-                            if m.config.heading_correction else None)
+        return {'route': self.route.to_lists(), 'heading': heading_record(
+            m.correction, m.reference, frame) if m.config.heading_correction else None}
 
     def first_state(self, mission, position, params):
         """The core/resume.KeptReturn of a return a previous run left, or None (``mission``

@@ -2,7 +2,6 @@
 (:func:`resume_from_file`: RESUME, IGNORE or ABORT; docs/safety.md, "Faults"), recording an
 abort (:func:`settle_abort`) and what a resumed return continues from (:func:`kept_return`)."""
 import datetime
-import enum
 import math
 import os
 from collections import namedtuple
@@ -11,18 +10,13 @@ from . import mission_state as state
 from .heading_correction import CorrectedOdometry, correct_landmarks
 from .plausibility import Limits
 from .progress import (PROGRESS_DEFAULTS, ProgressError, ReturnProgress, as_point, file_digest,
-                       kept_heading, kept_route, load_progress, plain_correction, save_progress)
+                       load_progress, plain_correction, save_progress)
 from .return_plan import recording_problem
+from .route import Route
 from .store import LandmarkFileError, load_landmarks
 
 
-class Action(enum.Enum):
-    RESUME = 'resume'
-    IGNORE = 'ignore'
-    ABORT = 'abort'
-
-
-RESUME, IGNORE, ABORT = Action.RESUME, Action.IGNORE, Action.ABORT
+RESUME, IGNORE, ABORT = 'resume', 'ignore', 'abort'
 ResumeDecision = namedtuple('ResumeDecision', 'action reason progress')
 
 
@@ -32,20 +26,12 @@ def resume_decision(progress, now, digest, position, mission=None,
     """A ResumeDecision for ``progress``: finished or another mission's, IGNORE; too old,
     mid-turn, the file (sha256 ``digest``, None: gone; ``landmark_count``) changed or the
     robot (``position``) away, ABORT; else RESUME."""
-    action, why = resume_check(progress, now, digest, resume_timeout, mission)
-    if action == RESUME and landmark_count is not None and landmark_count != progress.landmarks:
-        action, why = ABORT, ('%s: landmarks: the return was over %d landmarks, the file holds '
-                              '%d' % (progress.landmark_file, progress.landmarks, landmark_count))
-    if action == RESUME:
-        problem = position_check(progress, position, resume_max_offset)
-        if problem:
-            action, why = ABORT, 'cannot resume the return of %s: %s' % (progress.landmark_file,
-                                                                         problem)
-    return ResumeDecision(action, why, progress)
+    return ResumeDecision(*_verdict(progress, now, digest, position, mission, resume_timeout,
+                                    resume_max_offset, landmark_count), progress)
 
 
-def resume_check(progress, now, digest, resume_timeout, mission=None):
-    """``(action, reason)``: :func:`resume_decision` but where the robot is."""
+def _verdict(progress, now, digest, position, mission, resume_timeout, resume_max_offset, count):
+    """``(action, reason)`` of :func:`resume_decision`."""
     if not progress.unfinished:
         return IGNORE, 'the last return (%s) ended %s' % (progress.landmark_file, progress.status)
     if mission is not None and progress.mission is not None and mission != progress.mission:
@@ -66,23 +52,23 @@ def resume_check(progress, now, digest, resume_timeout, mission=None):
         return ABORT, 'landmark file %s changed since the return started' % progress.landmark_file
     if progress.anchor is None or progress.position is None:
         return ABORT, 'the unfinished return has no anchor/position to resume from'
-    return RESUME, 'resuming the return of %s after %d of %d landmarks' % (
-        progress.landmark_file, progress.completed, progress.landmarks)
-
-
-def position_check(progress, position, resume_max_offset):
-    """None if ``position`` is within ``resume_max_offset`` m of where ``progress`` stopped."""
+    if count is not None and count != progress.landmarks:
+        return ABORT, ('%s: landmarks: the return was over %d landmarks, the file holds %d'
+                       % (progress.landmark_file, progress.landmarks, count))
+    cannot = 'cannot resume the return of %s: ' % progress.landmark_file
     if position is None:
-        return 'no odometry to check where the robot is'
+        return ABORT, cannot + 'no odometry to check where the robot is'
     try:
         x, y = as_point(position)
     except (TypeError, ValueError) as error:
-        return 'the robot\'s position is unusable: %s' % error
+        return ABORT, cannot + 'the robot\'s position is unusable: %s' % error
     offset = math.hypot(x - progress.position[0], y - progress.position[1])
     if offset > resume_max_offset:
-        return ('the robot is %.2f m from where the return stopped (resume_max_offset %.2f m): '
-                'odometry reset or robot moved' % (offset, resume_max_offset))
-    return None
+        return ABORT, cannot + ('the robot is %.2f m from where the return stopped '
+                                '(resume_max_offset %.2f m): odometry reset or robot moved'
+                                % (offset, resume_max_offset))
+    return RESUME, 'resuming the return of %s after %d of %d landmarks' % (
+        progress.landmark_file, progress.completed, progress.landmarks)
 
 
 def resume_from_file(path, now, position, mission=None,
@@ -122,7 +108,9 @@ def settle_abort(path, decision, now):
         while os.path.lexists(aside):
             aside, n = '%s.bad-%s-%d' % (path, stamp, n), n + 1
         os.rename(path, aside)
-    save_progress(path, ReturnProgress.aborted(decision.reason, now))
+    save_progress(path, ReturnProgress(
+        landmark_file='', digest='', landmarks=0, anchor=None, frame_id='', completed=0,
+        position=None, status=state.ABORTED, updated=float(now), reason=str(decision.reason)))
     return aside
 
 
@@ -143,17 +131,19 @@ def kept_return(progress, path, limits=Limits()):
     if digest != progress.digest or len(loaded.landmarks) != progress.landmarks:
         return None, 'landmark file %s changed since the return started' % progress.landmark_file
     try:
-        route = kept_route(progress)
+        if progress.route is None:
+            raise ValueError('no route kept')
+        route = Route.from_lists(progress.route['route'])
     except ValueError as error:
         return None, 'cannot resume: the route in %s: %s' % (path, error)
     problem = getattr(recording_problem(loaded, None), 'reason', None)
     if problem:
         return None, problem
     correction = reference = frame = None
-    landmarks = loaded.landmarks
-    if kept_heading(progress) is not None:
+    landmarks, heading = loaded.landmarks, progress.route['heading']
+    if heading is not None:
         try:
-            correction, reference, frame = plain_correction(kept_heading(progress))
+            correction, reference, frame = plain_correction(heading)
             CorrectedOdometry.started(correction, reference, snapshot=frame)
         except ValueError as error:
             return None, 'cannot resume: %s' % error

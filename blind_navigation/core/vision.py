@@ -141,23 +141,19 @@ def image_mean_intensity(encoding, height, width, step, data, is_bigendian=False
     return mean / 257.0 if depth == 2 else mean
 
 
-def vo_lost_reason(position, orientation, pose_cov_diag, twist_cov_diag):
-    """Why an RTAB-Map odometry message means lost (non-finite, null quaternion, covariance), or None."""
-    values = tuple(position) + tuple(orientation)
+def wire_lost_reason(wire):
+    """Why a visual-odometry message (core/odometry_wire.WireOdometry) means lost (non-finite,
+    null quaternion, covariance), or None."""
+    orientation = (wire.qx, wire.qy, wire.qz, wire.qw)
+    values = (wire.x, wire.y) + orientation
     if not all(math.isfinite(v) for v in values):
         return 'VO pose not finite %r' % (values,)
     if sum(q * q for q in orientation) < 1e-12:
         return 'VO null quaternion'
-    worst = max(tuple(pose_cov_diag) + tuple(twist_cov_diag))
+    worst = max(tuple(wire.pose_covariance) + tuple(wire.twist_covariance))
     if not worst < LOST_COVARIANCE:  # also catches NaN
         return 'VO covariance %g >= %g' % (worst, LOST_COVARIANCE)
     return None
-
-
-def wire_lost_reason(wire):
-    """:func:`vo_lost_reason` of a visual-odometry message read by core/odometry_wire."""
-    return vo_lost_reason((wire.x, wire.y), (wire.qx, wire.qy, wire.qz, wire.qw),
-                          wire.pose_covariance, wire.twist_covariance)
 
 
 _HEADER = struct.Struct('<III')  # std_msgs/Header: seq, stamp.secs, stamp.nsecs; then frame_id
@@ -219,7 +215,7 @@ class VisionLossMonitor(object):
         return self._fired(self.dark.update(t, why))
 
     def vo_odometry(self, t, lost_reason):
-        """A VO odometry message at ``t`` (``lost_reason``: vo_lost_reason's)."""
+        """A VO odometry message at ``t`` (``lost_reason``: wire_lost_reason's)."""
         self._clock(t)
         self.vo_stall.seen(t)
         return self._fired(self.vo_lost.update(t, lost_reason))

@@ -25,7 +25,6 @@ import random
 from collections import deque
 
 from ..core.geometry import OdomState, Pose2D, wrap_angle
-from ..core.plausibility import KOBUKI_ACCEL_LIMITS
 from .config_dir import config_dir, load_named
 
 WHEEL_RADIUS = 0.035          # m
@@ -36,7 +35,8 @@ MAX_W = math.pi               # rad/s
 CMD_TIMEOUT = 0.6             # s, kobuki_node's cmd_vel_timeout
 TIMEOUT_CHECK_PERIOD = 0.1    # s, the timeout is checked at 10 Hz
 SENSOR_PERIOD = 0.02          # s, Kobuki core sensor stream at 50 Hz
-ACCEL_LIMITS = KOBUKI_ACCEL_LIMITS
+#: kobuki_driver's acceleration limiter: m/s^2, rad/s^2 speeding up and slowing down.
+ACCEL_LIMITS = {'v_up': 0.5, 'v_down': 0.6, 'w_up': 3.5, 'w_down': 4.2}
 #: kobuki_node's odometry pose covariance (row-major 6x6 indices -> value)
 ODOM_POSE_COVARIANCE = {0: 0.1, 7: 0.1, 14: 1e10, 21: 1e10, 28: 1e10, 35: 0.05}
 

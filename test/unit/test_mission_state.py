@@ -142,20 +142,12 @@ def test_cancel_aborts_every_unfinished_state_and_refuses_an_ended_one():
         assert ms.cancel_refusal(ended).startswith('refused: the mission is %s ' % ended)
 
 
-def test_vision_back_before_the_turn_resumes_the_recording_whatever_the_policy():
-    for policy in ms.ON_VISION_BACK:
-        assert ms.vision_back_state(ms.ROTATING, False, policy) == ms.RECORDING
-        ms.check_transition(ms.ROTATING, ms.RECORDING)
-
-
-def test_vision_back_in_the_turn_or_the_return_follows_the_policy():
+def test_vision_back_moves_are_in_the_table():
+    """Before the turn back to recording (a brief loss); in the turn or the return, with
+    on_vision_back stop, recovered (the policies: test_mission_harness*)."""
+    ms.check_transition(ms.ROTATING, ms.RECORDING)
     for current in (ms.ROTATING, ms.RETURNING):
-        turn_begun = True
-        assert ms.vision_back_state(current, turn_begun, 'home') is None
-        assert ms.vision_back_state(current, turn_begun, 'stop') == ms.RECOVERED
         ms.check_transition(current, ms.RECOVERED)
-    for current in (ms.IDLE, ms.RECORDING, ms.HOME, ms.ABORTED, ms.RECOVERED):
-        assert ms.vision_back_state(current, True, 'stop') is None
 
 
 def test_recovered_is_terminal_and_nobody_moves_in_it():

@@ -11,8 +11,8 @@ from blind_navigation.core import mission_state as state
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark
 from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, ReturnProgress,
-                                            file_digest, kept_heading, kept_route, load_progress,
-                                            progress_path, route_record, save_progress)
+                                            file_digest, load_progress, progress_path,
+                                            save_progress)
 from blind_navigation.core.route import build_route
 from blind_navigation.core.progress_keeper import ProgressKeeper
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
@@ -35,6 +35,11 @@ def mission(tmp_path):
 ROUTE = build_route([Landmark(0.1, 0.0, 0.2, 2.0, 0.0)] * 10, (1.0, 2.0))
 
 
+def route_record(route, heading=None):
+    """The progress's ``route`` field, as core/progress_keeper writes it."""
+    return {'route': route.to_lists(), 'heading': heading}
+
+
 def returning(link, digest, completed=4):
     progress = ReturnProgress.begin(link, [1.0, 2.0], 'odom', NOW - 100.0, mission='m1')
     progress = progress.start(digest, 10, NOW - 90.0, route=route_record(ROUTE))
@@ -47,8 +52,8 @@ def test_life_of_a_return(mission):
     assert progress.status == state.ROTATING and progress.landmark_file == os.path.realpath(link)
     assert progress.anchor == [1.0, 2.0] and progress.digest == '' and progress.started == NOW
     progress = progress.start(digest, 3, NOW + 1, route=route_record(ROUTE, {'yaw': 0.5}))
-    assert progress.status == state.RETURNING and kept_heading(progress) == {'yaw': 0.5}
-    assert kept_route(progress).to_lists() == ROUTE.to_lists()
+    assert progress.status == state.RETURNING and progress.route['heading'] == {'yaw': 0.5}
+    assert progress.route['route'] == ROUTE.to_lists()
     progress = progress.goal_done(1, NOW + 2, position=[0.9, 2.0], travelled=0.1)
     progress = progress.goal_done(3, NOW + 3)
     assert (progress.completed, progress.position, progress.travelled) == (3, [0.9, 2.0], 0.1)
@@ -60,16 +65,16 @@ def test_life_of_a_return(mission):
 
 def test_misuse_of_the_life_is_refused(mission):
     link, _, digest = mission
-    rotating = ReturnProgress.begin(link, None, 'odom', NOW)
-    with pytest.raises(ValueError, match='no anchor'):
-        rotating.start(digest, 3, NOW)
+    with pytest.raises(ProgressError, match='needs its anchor'):
+        ReturnProgress.begin(link, None, 'odom', NOW).start(digest, 3, NOW)
+    rotating = ReturnProgress.begin(link, [0.0, 0.0], 'odom', NOW)
     with pytest.raises(ValueError, match='while returning'):
         rotating.goal_done(1, NOW)
     with pytest.raises(ProgressError, match='digest'):
-        rotating.start('not a digest', 3, NOW, anchor=[0.0, 0.0])
+        rotating.start('not a digest', 3, NOW)
     with pytest.raises(ValueError, match='finite point|point must be'):
         ReturnProgress.begin(link, [float('nan'), 0.0], 'odom', NOW)
-    progress = rotating.start(digest, 3, NOW, anchor=[0.0, 0.0])
+    progress = rotating.start(digest, 3, NOW)
     with pytest.raises(ValueError, match='from 0 up to 3'):
         progress.goal_done(4, NOW)
     with pytest.raises(ValueError, match='rotating'):
@@ -202,7 +207,7 @@ def test_resume_from_file(mission, tmp_path):
     save_progress(path, returning(link, digest))
     decision = resume_from_file(path, NOW, [0.5, 2.0], mission='m1')
     assert decision.action == RESUME and decision.progress.completed == 4
-    assert kept_route(decision.progress).to_lists() == ROUTE.to_lists()
+    assert decision.progress.route['route'] == ROUTE.to_lists()
     # the progress says 12 landmarks, the (unchanged) file holds 10: refused by count
     save_progress(path, returning(link, digest)._replace(landmarks=12))
     decision = resume_from_file(path, NOW, [0.5, 2.0])

@@ -9,7 +9,6 @@ import pytest
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
 from blind_navigation.core.geometry import OdomState, Pose2D, distance
 from blind_navigation.core.goal import make_goal
-from blind_navigation.core.plausibility import KOBUKI_ACCEL_LIMITS
 from blind_navigation.core.route import build_route
 from blind_navigation.core.route_follower import RouteFollower
 from blind_navigation.sim.kobuki import ACCEL_LIMITS, SimulatedKobuki
@@ -56,8 +55,7 @@ def _drive(profile):
 
 
 def test_the_follower_knows_the_kobukis_limits():
-    assert ACCEL_LIMITS is KOBUKI_ACCEL_LIMITS
-    assert BACK_TRAVEL_DEFAULTS['brake_decel'] <= KOBUKI_ACCEL_LIMITS['v_down']
+    assert BACK_TRAVEL_DEFAULTS['brake_decel'] <= ACCEL_LIMITS['v_down']
 
 
 @pytest.mark.parametrize('name', sorted(PATHS))
@@ -72,4 +70,4 @@ def test_braking_on_a_straight_is_within_the_limiter():
     # the base then follows the command: no coast the follower did not plan
     commands = _drive(PATHS['straight'])[3]
     slowing = [a[1] - b[1] for a, b in zip(commands, commands[1:]) if a[0] == b[0] == 'driving']
-    assert 0.0 < max(slowing) <= KOBUKI_ACCEL_LIMITS['v_down'] * DT + 1e-9
+    assert 0.0 < max(slowing) <= ACCEL_LIMITS['v_down'] * DT + 1e-9

@@ -4,12 +4,19 @@ import struct
 import numpy
 import pytest
 
+from blind_navigation.core.odometry_wire import WireOdometry
 from blind_navigation.core.vision import (DETECTORS, Debounce, VisionBack, VisionLossMonitor,
-                                          image_mean_intensity, odom_info_lost, vo_lost_reason)
+                                          image_mean_intensity, odom_info_lost, wire_lost_reason)
 
 DT = 0.05  # 20 Hz messages
 GOOD_VO = ((1.0, 2.0, 0.0), (0.0, 0.0, 0.38, 0.92), [0.01] * 6, [0.01] * 6)
 LOST_VO = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0), [9999.0] * 6, [9999.0] * 6)
+
+
+def vo_lost_reason(position, orientation, pose_covariance, twist_covariance):
+    """core/vision.wire_lost_reason of a VO message with these fields (the wire has no z)."""
+    return wire_lost_reason(WireOdometry(0.0, 'odom', position[0], position[1], *orientation,
+                                         pose_covariance, 0.0, 0.0, twist_covariance))
 
 
 def times(start, end, dt=DT):
