@@ -69,7 +69,8 @@ class SpinCalibration(object):
         """Command ``(v, w)`` for this cycle, given the latest OdomState."""
         if self.done or self.failed:
             return 0.0, 0.0
-        if self._leg < 0 or self._leg_finished(odom):
+        if self._leg < 0 or (self._rotation.done if self._rotation is not None else
+                             odom.stamp - self._leg_started >= self._legs[self._leg][1] - 1e-9):
             self._leg += 1
             if self._leg == len(self._legs):
                 self.done = True
@@ -88,12 +89,6 @@ class SpinCalibration(object):
             self.failed = 'turn of %.1f rad not finished within %.0f s (turned %.2f rad)' % (
                 self._rotation.angle, self._rotation.time_allowance, self._rotation.turned)
         return command
-
-    def _leg_finished(self, odom):
-        kind, amount = self._legs[self._leg]
-        if kind == 'pause':
-            return odom.stamp - self._leg_started >= amount - 1e-9
-        return self._rotation.done
 
     def result(self):
         """The :class:`GyroCalibration`; CalibrationError if not determined."""
