@@ -52,8 +52,7 @@ class SpinCalibration(object):
         self.max_scale = float(getattr(params, 'max_scale', CORRECTION_DEFAULTS['max_scale']))
         angle = 2.0 * math.pi * self.turns
         self._allowance = 2.0 * angle / self.max_w + 20.0
-        self._legs = [('pause', self.pause), ('turn', angle), ('pause', self.pause),
-                      ('turn', -angle), ('pause', self.pause)]
+        self._legs = [None, angle, None, -angle, None]     # None: stand still ``pause`` s; rad to turn
         self._leg, self._leg_started, self._rotation = -1, None, None
         self.done, self.failed = False, ''
 
@@ -62,24 +61,22 @@ class SpinCalibration(object):
         """What the routine is doing, for logs."""
         if self.done or self.failed:
             return 'finished' if self.done else 'failed'
-        kind, amount = self._legs[max(self._leg, 0)]
-        return 'turning %+.1f rad' % amount if kind == 'turn' else 'standing still'
+        angle = self._legs[max(self._leg, 0)]
+        return 'standing still' if angle is None else 'turning %+.1f rad' % angle
 
     def step(self, odom):
         """Command ``(v, w)`` for this cycle, given the latest OdomState."""
         if self.done or self.failed:
             return 0.0, 0.0
         if self._leg < 0 or (self._rotation.done if self._rotation is not None else
-                             odom.stamp - self._leg_started >= self._legs[self._leg][1] - 1e-9):
+                             odom.stamp - self._leg_started >= self.pause - 1e-9):
             self._leg += 1
             if self._leg == len(self._legs):
                 self.done = True
                 return 0.0, 0.0
-            self._leg_started = odom.stamp
-            kind, amount = self._legs[self._leg]
-            self._rotation = None
-            if kind == 'turn':
-                self._rotation = Rotation(SimpleNamespace(angle=amount, max_w=self.max_w,
+            self._leg_started, angle, self._rotation = odom.stamp, self._legs[self._leg], None
+            if angle is not None:
+                self._rotation = Rotation(SimpleNamespace(angle=angle, max_w=self.max_w,
                                                           time_allowance=self._allowance))
                 self._rotation.start(odom)
         if self._rotation is None:
