@@ -107,7 +107,7 @@ class SpinCalibration(object):
         return calibration
 
 
-def save_calibration(path, calibration, turns, when=None):
+def save_calibration(path, calibration, turns):
     """Write ``calibration`` to ``path`` atomically."""
     path = os.path.abspath(os.path.expanduser(path))
     os.makedirs(os.path.dirname(path), exist_ok=True)
@@ -115,12 +115,11 @@ def save_calibration(path, calibration, turns, when=None):
               'gyro_scale_error_std': float(calibration.scale_std),
               'gyro_bias': float(calibration.bias), 'gyro_bias_std': float(calibration.bias_std),
               'windows': int(calibration.windows), 'turns': float(turns),
-              'calibrated': (when or datetime.datetime.now()).isoformat(timespec='seconds')}
+              'calibrated': datetime.datetime.now().isoformat(timespec='seconds')}
     text = '# blind_navigation gyro calibration (roslaunch blind_navigation calibrate_gyro.launch)\n'
     text += ''.join('%s: %s\n' % (key, yaml.safe_dump(values[key], default_flow_style=True)
                                   .strip().replace('\n...', '')) for key in FILE_KEYS)
     write_atomically(path, text)
-    return path
 
 
 def load_calibration(path):

@@ -90,8 +90,7 @@ class HeadingCorrectionRole(Role):
         self.layer.visual_odometry.acquire(self.ROLE)
 
     def _on_vo(self, wire):
-        self._vo_last = rospy.get_time()
-        yaw = visual_yaw(wire)
+        self._vo_last, yaw = rospy.get_time(), visual_yaw(wire)
         with self._lock:
             if not self.lost:
                 self.fit.add_visual(wire.stamp, yaw)
