@@ -5,7 +5,8 @@ import math
 from collections import namedtuple
 
 from .geometry import OdomState, wrap_angle
-from .gyro_bias import fuse_bias
+from .gyro_bias import BiasEstimate, fuse_bias
+from .gyro_fit import robust_fit
 from .period_model import period_turn
 
 CORRECTION_DEFAULTS = {
@@ -54,8 +55,18 @@ def calibrated_scale(prior, notes):
 
 
 def visual_bias(fit, scale_prior=None):
-    """(BiasEstimate, windows) of ``fit``, the scale held at the calibrated one (none: fitted along)."""
-    return fit.visual_bias(None if scale_prior is None else calibrated_scale(scale_prior, [])[0])
+    """(BiasEstimate or None, windows used) of ``fit`` (a GyroVisualFit), the scale held at the
+    calibrated one (none: fitted along, held at 0 if that is singular)."""
+    rows = list(fit.rows)
+    if len(rows) < fit.min_windows:
+        return None, len(rows)
+    fixed = None if scale_prior is None else calibrated_scale(scale_prior, [])[0]
+    found = robust_fit(rows, True, fit.outlier_k) if fixed is None else None
+    if found is None:
+        scale = fixed or 0.0
+        found = robust_fit([(g - scale * v, v, dt) for g, v, dt in rows], False, fit.outlier_k)
+    bias, _, std, _, used = found
+    return BiasEstimate(bias, std, 'visual odometry'), used
 
 
 def estimate_correction(fit, standstill=None, scale_prior=None):
@@ -63,7 +74,7 @@ def estimate_correction(fit, standstill=None, scale_prior=None):
     bias beyond ``max_bias``, nor a visual-odometry one alone within ``significance`` stds."""
     notes = []
     scale, scale_std = calibrated_scale(scale_prior, notes)
-    visual, used = fit.visual_bias(None if scale_prior is None else scale)
+    visual, used = visual_bias(fit, scale_prior)
     if visual is None:
         notes.append('only %d windows with valid visual odometry (need %d)'
                      % (used, int(fit.min_windows)))
