@@ -7,12 +7,9 @@ from collections import namedtuple
 from .geometry import wrap_angle
 
 STANDSTILL_DEFAULTS = {
-    'standstill_time': 120.0,    # s, the longest standstill (0: none); bias std = gyro noise /
-                                 # sqrt(samples): 0.003 rad/s at 50 Hz -> 3.9e-5 rad/s after 120 s
-    'heading_budget': 0.005,     # rad: the standstill ends as soon as the bias is known so well
-                                 # that its std x the recording's duration is within this
-    'standstill_min': 5.0,       # s, the shortest: the gyro's noise, hence the std, is measured
-                                 # on the standstill itself, which needs a few hundred samples
+    'standstill_time': 120.0,    # s, the longest standstill (0: none): bias std 3.9e-5 rad/s at 50 Hz
+    'heading_budget': 0.005,     # rad: it ends once bias std x the recording's duration is within this
+    'standstill_min': 5.0,       # s, the shortest: the gyro's noise is measured on a few hundred samples
     'still_speed': 0.002,        # m/s, wheel speed below which the robot counts as still
     'still_rate': 0.03,          # rad/s, gyro rate below which it counts as not turning
     'still_settle': 0.5,         # s skipped at the start of each still spell
@@ -94,7 +91,5 @@ def standstill_complete(visual, standstill, recording_time, params=None):
 def standstill_timeout(params=None):
     """s after vision loss the standstill ends anyway (None: 2 x ``standstill_time`` + 5)."""
     timeout = getattr(params, 'standstill_timeout', None)
-    if timeout is None:
-        return 2.0 * float(getattr(params, 'standstill_time',
-                                   STANDSTILL_DEFAULTS['standstill_time'])) + 5.0
-    return float(timeout)
+    return float(timeout) if timeout is not None else 2.0 * float(
+        getattr(params, 'standstill_time', STANDSTILL_DEFAULTS['standstill_time'])) + 5.0

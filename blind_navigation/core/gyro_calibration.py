@@ -52,8 +52,7 @@ class SpinCalibration(object):
         self.max_scale = float(getattr(params, 'max_scale', CORRECTION_DEFAULTS['max_scale']))
         angle = 2.0 * math.pi * self.turns
         self._allowance = 2.0 * angle / self.max_w + 20.0
-        self._legs = [('pause', self.pause), ('turn', angle), ('pause', self.pause),
-                      ('turn', -angle), ('pause', self.pause)]
+        self._legs = [None, angle, None, -angle, None]     # None: stand still ``pause`` s; rad to turn
         self._leg, self._leg_started, self._rotation = -1, None, None
         self.done, self.failed = False, ''
 
@@ -62,23 +61,22 @@ class SpinCalibration(object):
         """What the routine is doing, for logs."""
         if self.done or self.failed:
             return 'finished' if self.done else 'failed'
-        kind, amount = self._legs[max(self._leg, 0)]
-        return 'turning %+.1f rad' % amount if kind == 'turn' else 'standing still'
+        angle = self._legs[max(self._leg, 0)]
+        return 'standing still' if angle is None else 'turning %+.1f rad' % angle
 
     def step(self, odom):
         """Command ``(v, w)`` for this cycle, given the latest OdomState."""
         if self.done or self.failed:
             return 0.0, 0.0
-        if self._leg < 0 or self._leg_finished(odom):
+        if self._leg < 0 or (self._rotation.done if self._rotation is not None else
+                             odom.stamp - self._leg_started >= self.pause - 1e-9):
             self._leg += 1
             if self._leg == len(self._legs):
                 self.done = True
                 return 0.0, 0.0
-            self._leg_started = odom.stamp
-            kind, amount = self._legs[self._leg]
-            self._rotation = None
-            if kind == 'turn':
-                self._rotation = Rotation(SimpleNamespace(angle=amount, max_w=self.max_w,
+            self._leg_started, angle, self._rotation = odom.stamp, self._legs[self._leg], None
+            if angle is not None:
+                self._rotation = Rotation(SimpleNamespace(angle=angle, max_w=self.max_w,
                                                           time_allowance=self._allowance))
                 self._rotation.start(odom)
         if self._rotation is None:
@@ -88,12 +86,6 @@ class SpinCalibration(object):
             self.failed = 'turn of %.1f rad not finished within %.0f s (turned %.2f rad)' % (
                 self._rotation.angle, self._rotation.time_allowance, self._rotation.turned)
         return command
-
-    def _leg_finished(self, odom):
-        kind, amount = self._legs[self._leg]
-        if kind == 'pause':
-            return odom.stamp - self._leg_started >= amount - 1e-9
-        return self._rotation.done
 
     def result(self):
         """The :class:`GyroCalibration`; CalibrationError if not determined."""
@@ -115,7 +107,7 @@ class SpinCalibration(object):
         return calibration
 
 
-def save_calibration(path, calibration, turns, when=None):
+def save_calibration(path, calibration, turns):
     """Write ``calibration`` to ``path`` atomically."""
     path = os.path.abspath(os.path.expanduser(path))
     os.makedirs(os.path.dirname(path), exist_ok=True)
@@ -123,12 +115,11 @@ def save_calibration(path, calibration, turns, when=None):
               'gyro_scale_error_std': float(calibration.scale_std),
               'gyro_bias': float(calibration.bias), 'gyro_bias_std': float(calibration.bias_std),
               'windows': int(calibration.windows), 'turns': float(turns),
-              'calibrated': (when or datetime.datetime.now()).isoformat(timespec='seconds')}
+              'calibrated': datetime.datetime.now().isoformat(timespec='seconds')}
     text = '# blind_navigation gyro calibration (roslaunch blind_navigation calibrate_gyro.launch)\n'
     text += ''.join('%s: %s\n' % (key, yaml.safe_dump(values[key], default_flow_style=True)
                                   .strip().replace('\n...', '')) for key in FILE_KEYS)
     write_atomically(path, text)
-    return path
 
 
 def load_calibration(path):

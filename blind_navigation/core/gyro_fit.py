@@ -6,7 +6,6 @@ from array import array
 from collections import deque
 
 from .geometry import wrap_angle
-from .gyro_bias import BiasEstimate
 
 GYRO_FIT_DEFAULTS = {
     'window': 2.0,               # s, length of one yaw-increment window
@@ -120,18 +119,6 @@ class GyroVisualFit(object):
     def recording_time(self, until):
         """s from the first odometry fed (when the recording began) to ``until``; 0 before any."""
         return 0.0 if self._first_stamp is None else until - self._first_stamp
-
-    def visual_bias(self, fixed_scale=None):
-        """(BiasEstimate or None, windows used), the scale held at ``fixed_scale`` (None: fitted)."""
-        rows = list(self.rows)
-        if len(rows) < self.min_windows:
-            return None, len(rows)
-        fit = robust_fit(rows, True, self.outlier_k) if fixed_scale is None else None
-        if fit is None:
-            scale = fixed_scale or 0.0
-            fit = robust_fit([(g - scale * v, v, dt) for g, v, dt in rows], False, self.outlier_k)
-        bias, _, std, _, used = fit
-        return BiasEstimate(bias, std, 'visual odometry'), used
 
 
 def _fit(rows, with_scale):

@@ -5,16 +5,15 @@ import math
 from collections import namedtuple
 
 from .geometry import OdomState, wrap_angle
-from .gyro_bias import fuse_bias
+from .gyro_bias import BiasEstimate, fuse_bias
+from .gyro_fit import robust_fit
 from .period_model import period_turn
 
 CORRECTION_DEFAULTS = {
     'max_bias': 0.01,            # rad/s, a larger bias estimate is rejected (Kobuki gyro: ~6e-4)
     'max_scale': 0.05,           # a larger |scale error| estimate is rejected
-    'significance': math.sqrt(2.0),  # without a standstill, the (visual-odometry) bias is used
-                                     # only if |estimate| > this many standard errors
-    'scale_significance': 3.0,   # the calibrated scale is used only if beyond this many standard
-                                 # errors (core/gyro_calibration.py)
+    'significance': math.sqrt(2.0),  # a visual-odometry bias alone is used beyond this many stds
+    'scale_significance': 3.0,   # the calibrated scale is used beyond this many stds
 }
 
 
@@ -23,10 +22,6 @@ class GyroCorrection(namedtuple('GyroCorrection',
     """Gyro ``bias``, ``scale``, their stds, ``windows``, ``status``, the ``reason`` for a term left out."""
 
     __slots__ = ()
-
-    @property
-    def applied(self):
-        return self.status != 'none'
 
     def increment(self, raw_increment, dt):
         """True yaw increment for a raw (gyro) one over ``dt`` seconds."""
@@ -47,56 +42,58 @@ def no_correction(reason, windows=0):
     return GyroCorrection(0.0, 0.0, float('inf'), float('inf'), windows, 'none', reason)
 
 
-def _param(params, name):
-    return float(getattr(params, name, CORRECTION_DEFAULTS[name]))
-
-
-def calibrated_scale(prior, params=None, notes=None):
-    """(scale, std) of the calibrated ``prior`` when significant, else (0, inf) and a note."""
-    notes = [] if notes is None else notes
+def calibrated_scale(prior, notes):
+    """(scale, std) of the calibrated ``prior`` when significant, else (0, inf) and a note in ``notes``."""
     if prior is None:
         notes.append('no gyro calibration: scale not corrected (calibrate_gyro.launch)')
         return 0.0, float('inf')
-    if abs(prior.scale) <= _param(params, 'scale_significance') * prior.scale_std:
+    if abs(prior.scale) <= CORRECTION_DEFAULTS['scale_significance'] * prior.scale_std:
         notes.append('calibrated scale %+.4f not significant (std %.4f)'
                      % (prior.scale, prior.scale_std))
         return 0.0, float('inf')
     return prior.scale, prior.scale_std
 
 
-def visual_bias(fit, scale_prior=None, params=None):
-    """(BiasEstimate, windows) of ``fit``, the scale held at the calibrated one (none: fitted along)."""
-    fixed = None if scale_prior is None else calibrated_scale(scale_prior, params)[0]
-    return fit.visual_bias(fixed)
+def visual_bias(fit, scale_prior=None):
+    """(BiasEstimate or None, windows used) of ``fit`` (a GyroVisualFit), the scale held at the
+    calibrated one (none: fitted along, held at 0 if that is singular)."""
+    rows = list(fit.rows)
+    if len(rows) < fit.min_windows:
+        return None, len(rows)
+    fixed = None if scale_prior is None else calibrated_scale(scale_prior, [])[0]
+    found = robust_fit(rows, True, fit.outlier_k) if fixed is None else None
+    if found is None:
+        scale = fixed or 0.0
+        found = robust_fit([(g - scale * v, v, dt) for g, v, dt in rows], False, fit.outlier_k)
+    bias, _, std, _, used = found
+    return BiasEstimate(bias, std, 'visual odometry'), used
 
 
-def estimate_correction(fit, standstill=None, scale_prior=None, params=None):
-    """The :class:`GyroCorrection` that ``fit``, the ``standstill`` and ``scale_prior`` support."""
+def estimate_correction(fit, standstill=None, scale_prior=None):
+    """The :class:`GyroCorrection` that ``fit``, the ``standstill`` and ``scale_prior`` support: no
+    bias beyond ``max_bias``, nor a visual-odometry one alone within ``significance`` stds."""
     notes = []
-    scale, scale_std = calibrated_scale(scale_prior, params, notes)
-    visual, used = visual_bias(fit, scale_prior, params)
+    scale, scale_std = calibrated_scale(scale_prior, notes)
+    visual, used = visual_bias(fit, scale_prior)
     if visual is None:
         notes.append('only %d windows with valid visual odometry (need %d)'
                      % (used, int(fit.min_windows)))
     bias, bias_std = fuse_bias([e for e in (visual, standstill) if e is not None])
-    problem = _bias_problem(bias, bias_std, params, standstill is not None) \
-        if math.isfinite(bias_std) else 'no bias measurement'
+    max_bias, significance = CORRECTION_DEFAULTS['max_bias'], CORRECTION_DEFAULTS['significance']
+    problem = None
+    if not math.isfinite(bias_std):
+        problem = 'no bias measurement'
+    elif abs(bias) > max_bias:
+        problem = 'bias estimate %.2e rad/s beyond %.2e' % (bias, max_bias)
+    elif bias == 0.0 or (standstill is None and abs(bias) <= significance * bias_std):
+        problem = 'bias %.2e rad/s not significant (std %.1e)' % (bias, bias_std)
     if problem:
         notes.insert(0, problem)
         bias, bias_std = 0.0, float('inf')
-    status = {(True, True): 'full', (True, False): 'bias',
-              (False, True): 'scale', (False, False): 'none'}[(not problem, scale != 0.0)]
+        status = 'scale' if scale != 0.0 else 'none'
+    else:
+        status = 'full' if scale != 0.0 else 'bias'
     return GyroCorrection(bias, scale, bias_std, scale_std, used, status, '; '.join(notes))
-
-
-def _bias_problem(bias, bias_std, params, measured=False):
-    """Why the bias is not used (beyond ``max_bias``; not significant unless ``measured``), or None."""
-    max_bias = _param(params, 'max_bias')
-    if abs(bias) > max_bias:
-        return 'bias estimate %.2e rad/s beyond %.2e' % (bias, max_bias)
-    if bias == 0.0 or (not measured and abs(bias) <= _param(params, 'significance') * bias_std):
-        return 'bias %.2e rad/s not significant (std %.1e)' % (bias, bias_std)
-    return None
 
 
 class CorrectedOdometry(object):
@@ -142,8 +139,7 @@ class CorrectedOdometry(object):
             frame.update(reference)
         else:
             try:
-                raw, raw_yaw, pose = snapshot['raw'], float(snapshot['raw_yaw']), snapshot['pose']
-                values = [float(v) for v in raw] + [raw_yaw] + [float(v) for v in pose]
+                values = [float(v) for v in [*snapshot['raw'], snapshot['raw_yaw'], *snapshot['pose']]]
             except (KeyError, TypeError, ValueError):
                 raise ValueError('corrected-frame snapshot must hold raw [x, y, yaw, stamp], raw_yaw '
                                  'and pose [x, y, yaw], got %r' % (snapshot,))
@@ -161,7 +157,7 @@ def correct_landmarks(landmarks, correction, reference_yaw=None, recorded_after=
     """``landmarks`` in the corrected frame equal to the raw one at yaw ``reference_yaw`` (default
     the last ``psi``), ``recorded_after`` s before the last landmark."""
     landmarks = list(landmarks)
-    if not correction.applied or not landmarks:
+    if correction.status == 'none' or not landmarks:
         return landmarks
     last = landmarks[-1]
     turned = wrap_angle(last.psi - (last.psi if reference_yaw is None else reference_yaw))

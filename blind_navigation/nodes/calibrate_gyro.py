@@ -1,7 +1,6 @@
 #!/usr/bin/env python3
-"""The calibrate_gyro node: the one-off gyro calibration (launch/calibrate_gyro.launch);
-exits 0 when the calibration is written, 1 when it failed. The class:
-blind_navigation/ros/calibrate_gyro.py."""
+"""The calibrate_gyro node (launch/calibrate_gyro.launch, ros/calibrate_gyro.py): exits 0 when the
+calibration is written, 1 when it failed."""
 import sys
 import time
 

@@ -1,7 +1,6 @@
 """calibrate_gyro: the one-off gyro scale calibration (core/gyro_calibration.py): ``turns``
 spins each way fitting odometry against visual-odometry yaw, then ``calibration_file`` written
-atomically (the old one kept as ``.previous``); on failure the robot stops, the file stays.
-"""
+atomically (the old one kept as ``.previous``); on failure the robot stops, the file stays."""
 import os
 import shutil
 import threading

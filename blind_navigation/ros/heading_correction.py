@@ -1,7 +1,6 @@
 """The heading correction: while recording, gyro fitted against visual-odometry yaw; in
 ``rotating`` the bias measured standing still; the correction latched on ``heading_correction``
-for the drivers' feeds (docs/back_travel.md, "Gyro heading correction").
-"""
+for the drivers' feeds (docs/back_travel.md, "Gyro heading correction")."""
 import datetime
 import os
 import threading
@@ -44,10 +43,7 @@ def scale_prior(path, log):
 def correction_message(correction, reference, frame_id):
     """The HeadingCorrection of a GyroCorrection whose frame starts at the raw ``reference``
     (None: now, at the origin) in ``frame_id``."""
-    msg = HeadingCorrection(bias=correction.bias, scale=correction.scale,
-                            bias_std=correction.bias_std, scale_std=correction.scale_std,
-                            windows=correction.windows, status=correction.status,
-                            reason=correction.reason)
+    msg = HeadingCorrection(**correction._asdict())
     msg.header.stamp = rospy.Time.from_sec(reference.stamp) if reference else rospy.Time.now()
     msg.header.frame_id = frame_id
     if reference is not None:
@@ -94,8 +90,7 @@ class HeadingCorrectionRole(Role):
         self.layer.visual_odometry.acquire(self.ROLE)
 
     def _on_vo(self, wire):
-        self._vo_last = rospy.get_time()
-        yaw = visual_yaw(wire)
+        self._vo_last, yaw = rospy.get_time(), visual_yaw(wire)
         with self._lock:
             if not self.lost:
                 self.fit.add_visual(wire.stamp, yaw)
