@@ -34,7 +34,6 @@ class LandmarkFileError(FileContentError):
 
     def __init__(self, path, reason, entry=None):
         super(LandmarkFileError, self).__init__(path, entry, reason)
-        self.entry = entry
 
 
 def label_for(index):
