@@ -5,8 +5,9 @@ import math
 from array import array
 from collections import namedtuple
 
-#: Command of entry 0: where the recording started.
-START = 'start'
+#: PathSample.command values: a tick, the last; ``START``: a RecordedSamples answer's entry 0.
+SAMPLE, FINAL, START = 'sample', 'final', 'start'
+COMMANDS = (SAMPLE, FINAL)
 #: Samples kept by default (about 28 hours at one a second; 50 bytes each).
 CAPACITY = 100000
 

@@ -15,7 +15,7 @@ from nav_msgs.msg import Path
 from blind_navigation import names
 from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.recorder import PathRecorder
-from blind_navigation.core.sample_log import START, answer_problem
+from blind_navigation.core.sample_log import COMMANDS, FINAL, START, answer_problem
 from blind_navigation.core.store import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.core.role_params import LANDMARK_SAVING
@@ -24,7 +24,6 @@ from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmark
 from blind_navigation.ros.common import ros_home_file, set_pose, subscribe
 from blind_navigation.ros.mission import Role
 from blind_navigation.ros.mission_store import FileStore
-from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
 #: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
 LANDMARK_FILE = os.path.join('blind_navigation', 'landmarks.yaml')
