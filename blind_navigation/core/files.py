@@ -38,15 +38,12 @@ class FileContentError(Exception):
 
 
 class NotRegularFileError(OSError):
-    """``path`` exists but is not a regular file (or a symlink to one)."""
+    """``path`` exists but is not a regular file (or a symlink to one): ``what`` it is."""
 
     def __init__(self, path, what):
-        super(NotRegularFileError, self).__init__(errno.EINVAL, 'is %s, not a regular file' % what)
-        self.filename = self.path = path
+        super(NotRegularFileError, self).__init__(errno.EINVAL, 'is %s, not a regular file' % what,
+                                                  path)
         self.what = what
-
-    def __str__(self):
-        return '%s is %s, not a regular file' % (self.path, self.what)
 
 
 def describe_mode(mode):
