@@ -38,15 +38,12 @@ class FileContentError(Exception):
 
 
 class NotRegularFileError(OSError):
-    """``path`` exists but is not a regular file (or a symlink to one)."""
+    """``path`` exists but is not a regular file (or a symlink to one): ``what`` it is."""
 
     def __init__(self, path, what):
-        super(NotRegularFileError, self).__init__(errno.EINVAL, 'is %s, not a regular file' % what)
-        self.filename = self.path = path
+        super(NotRegularFileError, self).__init__(errno.EINVAL, 'is %s, not a regular file' % what,
+                                                  path)
         self.what = what
-
-    def __str__(self):
-        return '%s is %s, not a regular file' % (self.path, self.what)
 
 
 def describe_mode(mode):
@@ -95,16 +92,6 @@ def _free_name(make, shown):
                           % TEMPORARY_ATTEMPTS, shown)
 
 
-def create_exclusive(directory, prefix, suffix='.tmp', mode=0o666):
-    """``(fd, path)`` of a new ``<directory>/<prefix><random><suffix>`` (never existing, never a symlink)."""
-    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | getattr(os, 'O_CLOEXEC', 0)
-
-    def make(token):
-        path = os.path.join(directory, '%s%s%s' % (prefix, token, suffix))
-        return os.open(path, flags, mode), path
-    return _free_name(make, os.path.join(directory, prefix + '*' + suffix))
-
-
 def replace_with_symlink(path, target):
     """Make ``path`` a symlink to ``target`` atomically (made beside it, renamed over it)."""
     directory, name = os.path.split(os.path.abspath(path))
@@ -122,15 +109,28 @@ def replace_with_symlink(path, target):
     fsync_directory(directory)
 
 
+def remove_quietly(path):
+    """Remove ``path`` if it can be (best effort)."""
+    try:
+        os.unlink(path)
+    except OSError:
+        pass
+
+
 def write_atomically(path, text):
     """Replace ``path`` by ``text`` atomically; StorageError naming it on failure (old content kept)."""
     path = os.path.abspath(path)
     directory, name = os.path.split(path)
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | getattr(os, 'O_CLOEXEC', 0)
     temporary = None
+
+    def create(token):      # a new file: never an existing one, never through a symlink
+        created = os.path.join(directory, '.%s.%s.tmp' % (name, token))
+        return os.open(created, flags, 0o666), created
     try:
         if os.path.isdir(path) and not os.path.islink(path):
             raise IsADirectoryError(errno.EISDIR, 'is a directory', path)
-        fd, temporary = create_exclusive(directory, '.%s.' % name)
+        fd, temporary = _free_name(create, os.path.join(directory, '.%s.*.tmp' % name))
         try:
             write_all(fd, text.encode('utf-8'))
             os.fsync(fd)
@@ -143,10 +143,7 @@ def write_atomically(path, text):
         raise StorageError(path, error)
     finally:
         if temporary is not None:
-            try:
-                os.unlink(temporary)
-            except OSError:
-                pass
+            remove_quietly(temporary)
 
 
 def read_regular_file(path, max_bytes, follow_symlinks=True):

@@ -9,10 +9,10 @@ from collections import namedtuple
 
 import yaml
 
-from .files import StorageError, describe_mode, fsync_directory, read_regular_file, \
-    replace_with_symlink, write_all
+from .files import (StorageError, describe_mode, fsync_directory, read_regular_file,
+                    remove_quietly, replace_with_symlink, write_all)
 from .geometry import wrap_angle
-from .landmark import FIELDS, Limits
+from .landmark import FIELDS
 from .store import (FINISHED_KEY, FORMAT_VERSION, MAX_FILE_BYTES, METADATA_KEY, OWN_LINES,
                     LandmarkFileError, flow_line, format_entry, label_for, load_landmarks, parse)
 
@@ -47,7 +47,7 @@ class LandmarkWriter(object):
             fsync_directory(os.path.dirname(self.path))
         except OSError as error:
             self.close()
-            _remove(self.path)
+            remove_quietly(self.path)
             raise StorageError(self.path, error, 'create')
 
     def _setup(self, path, fsync):
@@ -61,11 +61,12 @@ class LandmarkWriter(object):
         self._offset = None         # (recording, seq - label index) the last samples_ entry set
 
     @classmethod
-    def resume(cls, path, fsync=True, limits=Limits(), reason='the recorder restarted'):
-        """Continue ``path`` (validated, torn tail cut, a gap pending; a finished file is not reopened)."""
+    def resume(cls, path, fsync=True):
+        """Continue ``path`` (validated, torn tail cut, a RESTART_GAP pending; a finished file is
+        not reopened)."""
         writer = cls.__new__(cls)
         writer._setup(path, fsync)
-        loaded = load_landmarks(writer.path, limits, allow_empty=True, follow_symlinks=False)
+        loaded = load_landmarks(writer.path, allow_empty=True, follow_symlinks=False)
         writer.count, writer.total_distance = len(loaded.landmarks), loaded.total_distance
         writer._psi = loaded.landmarks[-1].psi if loaded.landmarks else None
         writer._next_index, writer._gaps = loaded.last_index + 1, loaded.gap_entries
@@ -89,12 +90,8 @@ class LandmarkWriter(object):
         except OSError as error:
             writer.close()
             raise StorageError(writer.path, error, 'reopen')
-        writer.pending_gap = str(reason)
+        writer.pending_gap = RESTART_GAP
         return writer
-
-    @property
-    def next_label(self):
-        return label_for(self._next_index)
 
     def holds(self, sample):
         """True if the SampleMark ``sample`` is in the file already (its recording, not later)."""
@@ -107,26 +104,26 @@ class LandmarkWriter(object):
 
     def _gap_line(self, reason):
         key = 'gap_%d' % (self._gaps + 1)
-        return key, flow_line(key, {'before': self.next_label, 'reason': str(reason)})
+        return key, flow_line(key, {'before': label_for(self._next_index), 'reason': str(reason)})
 
     def append(self, landmark, sample=None):
         """Write ``landmark`` (at SampleMark ``sample``) with the gap and ``samples_`` entries it
         needs in one write; its label. StorageError: lost (its d and heading change counted)."""
-        label = self.next_label
+        label = label_for(self._next_index)
         self._check_open('append %s' % label)
-        lines, gap_key, offset = [], None, self._offset
+        lines, gap_key = [], None
         if self.pending_gap is not None:
             gap_key, line = self._gap_line(self.pending_gap)
             lines.append(line)
+        offset = self._offset if sample is None else (sample.recording, sample.seq - self._next_index)
+        if offset != self._offset:
+            lines.append(flow_line('samples_%d' % (self._samples_entries + 1), {
+                'from': label, 'recording': float(sample.recording), 'sample': int(sample.seq)}))
+        lines.append(format_entry(label, landmark))
         self._next_index += 1
         turn = (abs(wrap_angle(landmark.psi - self._psi)) if self._psi is not None
                 else abs(landmark.w) * landmark.T)
         self._psi = landmark.psi
-        if sample is not None and (sample.recording, sample.seq - (self._next_index - 1)) != offset:
-            offset = (sample.recording, sample.seq - (self._next_index - 1))
-            lines.append(flow_line('samples_%d' % (self._samples_entries + 1), {
-                'from': label, 'recording': float(sample.recording), 'sample': int(sample.seq)}))
-        lines.append(format_entry(label, landmark))
         try:
             self._write_line(''.join(lines))
         except OSError as error:
@@ -254,21 +251,6 @@ def _mode(stat_call, landmark_file, problem):
         raise LandmarkFileError(landmark_file, problem % (error.strerror or error))
 
 
-def _new_target(landmark_file, when):
-    """The unused time-stamped name of a new mission file (``landmark_file`` inspected)."""
-    os.makedirs(os.path.dirname(landmark_file), exist_ok=True)
-    inspect_landmark_file(landmark_file)
-    return _unused(mission_file_name(landmark_file, when))
-
-
-def _point_at(landmark_file, target):
-    """``landmark_file`` a symlink to ``target`` (an old layout's regular file there archived)."""
-    if inspect_landmark_file(landmark_file) == 'regular':
-        mtime = datetime.datetime.fromtimestamp(os.path.getmtime(landmark_file))
-        os.rename(landmark_file, _unused(mission_file_name(landmark_file, mtime)))
-    replace_with_symlink(landmark_file, os.path.basename(target))
-
-
 def read_mission(path):
     """The ``mission`` id in the header of the landmark file ``path``, or None."""
     try:
@@ -288,36 +270,33 @@ def read_mission(path):
     return None
 
 
-def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, limits=Limits(),
-                      when=None):
+def open_mission_file(landmark_file, mission=None, metadata=None, fsync=True, when=None):
     """The writer of the current mission: the file ``landmark_file`` points at if its header carries
-    this ``mission`` id (resumed), else a new one, pointed at once it holds its header."""
+    this ``mission`` id (resumed), else a new one, pointed at once it holds its header (an old
+    layout's regular file there archived)."""
     if mission is not None and not (isinstance(mission, str) and mission.strip()):
         raise ValueError('mission must be a non-empty string or None, got %r' % (mission,))
     landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
     if inspect_landmark_file(landmark_file) == 'symlink' and mission is not None:
         target = os.path.realpath(landmark_file)
         if read_mission(target) == mission:
-            return LandmarkWriter.resume(target, fsync, limits, reason=RESTART_GAP)
+            return LandmarkWriter.resume(target, fsync)
     header = dict(metadata or {})
     if mission is not None:
         header['mission'] = mission
-    writer = LandmarkWriter(_new_target(landmark_file, when), header, fsync)
+    os.makedirs(os.path.dirname(landmark_file), exist_ok=True)
+    writer = LandmarkWriter(_unused(mission_file_name(landmark_file, when)), header, fsync)
     try:
-        _point_at(landmark_file, writer.path)
+        if inspect_landmark_file(landmark_file) == 'regular':
+            mtime = datetime.datetime.fromtimestamp(os.path.getmtime(landmark_file))
+            os.rename(landmark_file, _unused(mission_file_name(landmark_file, mtime)))
+        replace_with_symlink(landmark_file, os.path.basename(writer.path))
     except OSError as error:
         writer.close()
-        _remove(writer.path)
+        remove_quietly(writer.path)
         raise StorageError(landmark_file, error, 'make a symlink to %s at'
                            % os.path.basename(writer.path))
     return writer
-
-
-def _remove(path):
-    try:
-        os.unlink(path)
-    except OSError:
-        pass
 
 
 def _unused(path):

@@ -5,15 +5,14 @@ import math
 from array import array
 from collections import namedtuple
 
-#: Command of entry 0: where the recording started.
-START = 'start'
+#: PathSample.command values: a tick, the last; ``START``: a RecordedSamples answer's entry 0.
+SAMPLE, FINAL, START = 'sample', 'final', 'start'
+COMMANDS = (SAMPLE, FINAL)
 #: Samples kept by default (about 28 hours at one a second; 50 bytes each).
 CAPACITY = 100000
 
+#: One sample as published (``seq`` from 0 = the start), the odometry read at its stamp.
 LoggedSample = namedtuple('LoggedSample', 'seq command stamp yaw period x y v w')
-LoggedSample.__doc__ = ('One sample as published (``seq`` from 0 = the start) and the odometry '
-                        '(``x``, ``y``, ``v``, ``w``) read at its stamp.')
-
 _FIELDS = LoggedSample._fields[2:]
 
 
@@ -67,7 +66,6 @@ class SampleLog(object):
         self._drop(min(self.confirmed.values()) - self.first)
 
     def _drop(self, count):
-        """Drop the ``count`` oldest entries."""
         if count <= 0:
             return
         del self._commands[:count]

@@ -3,6 +3,7 @@
 :func:`load_landmarks`. Writing: core/mission_files.py; docs/recording.md, "File"."""
 import re
 from collections import namedtuple
+from types import SimpleNamespace
 
 import yaml
 
@@ -34,7 +35,6 @@ class LandmarkFileError(FileContentError):
 
     def __init__(self, path, reason, entry=None):
         super(LandmarkFileError, self).__init__(path, entry, reason)
-        self.entry = entry
 
 
 def label_for(index):
@@ -94,12 +94,9 @@ def drop_torn_tail(path, text, warnings):
     return text
 
 
-class LoadedPath(object):
+class LoadedPath(SimpleNamespace):
     """What :func:`load_landmarks` read: ``landmarks``, ``labels``, ``metadata``, ``warnings``, ``gaps``,
     ``finished``, ``dropped``, ``size``, ``intact_bytes``, ``last_index`` and its ``sample``."""
-
-    def __init__(self, **fields):
-        self.__dict__.update(fields)
 
     @property
     def total_distance(self):

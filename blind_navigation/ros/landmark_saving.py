@@ -15,7 +15,7 @@ from nav_msgs.msg import Path
 from blind_navigation import names
 from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.recorder import PathRecorder
-from blind_navigation.core.sample_log import START, answer_problem
+from blind_navigation.core.sample_log import COMMANDS, FINAL, START, answer_problem
 from blind_navigation.core.store import SampleMark
 from blind_navigation.core.mission_files import open_mission_file
 from blind_navigation.core.role_params import LANDMARK_SAVING
@@ -24,7 +24,6 @@ from blind_navigation.srv import RecordedSamples, RecordLandmark, RecordLandmark
 from blind_navigation.ros.common import ros_home_file, set_pose, subscribe
 from blind_navigation.ros.mission import Role
 from blind_navigation.ros.mission_store import FileStore
-from blind_navigation.ros.sampling_publisher import COMMANDS, FINAL
 
 #: The landmark file when ``landmark_file`` is empty: under $ROS_HOME (default ~/.ros).
 LANDMARK_FILE = os.path.join('blind_navigation', 'landmarks.yaml')
@@ -48,18 +47,12 @@ class LandmarkSaving(Role):
         self.storage_pub = rospy.Publisher(names.STORAGE, StorageUsage, queue_size=10)
         self.path_pub = rospy.Publisher(names.RECORDED_PATH, Path, queue_size=1, latch=True)
         self.follow('%s: recording' % self.ROLE)
-
-    def _diagnose(self, stat):
-        self.store.status(stat, self.finished)
-
-    def when_ready(self, start):
-        """``start()`` (taking samples) once the feed has a state, at once or at its first."""
-        once = threading.Lock()
+        once = threading.Lock()     # ready: samples taken once the feed has a state
 
         def on_state(_state):
             if once.acquire(False):
                 self.odometry.remove_listener(listener)
-                start()
+                self._take_samples()
         listener = self.guard(on_state)
         self.odometry.add_listener(listener)
         if self.odometry.latest() is not None:
@@ -67,6 +60,9 @@ class LandmarkSaving(Role):
         else:
             self.log.warn('no odometry on %s yet: not taking samples until it comes',
                           rospy.resolve_name(names.ODOM))
+
+    def _diagnose(self, stat):
+        self.store.status(stat, self.finished)
 
     def _open(self):
         """Open the mission's file (continued within the mission, else a new one), the path
@@ -157,60 +153,6 @@ class LandmarkSaving(Role):
             self.log.info('final landmark saved; recording finished')
         return label, landmark
 
-    def start_catch_up(self, subscribed):
-        """Take the lock and catch up in a thread (samples arriving meanwhile wait): call before
-        subscribing; it asks once ``subscribed()`` or after ``catch_up_timeout``."""
-        self._lock.acquire()
-
-        def run():
-            try:
-                deadline = time.monotonic() + self.params.catch_up_timeout
-                while not subscribed() and time.monotonic() < deadline and not rospy.is_shutdown():
-                    time.sleep(0.01)
-                self._catch_up()
-            finally:
-                self._lock.release()
-        threading.Thread(target=self.guard(run), name='catch_up', daemon=True).start()
-
-    def _catch_up(self):
-        """Save the samples this file misses, asked of the publisher (lock held); True: restored."""
-        mark = self.writer.sample
-        if mark is None and self.writer.count:
-            problem = '%s does not say which sample its last landmark came from' % self.writer.path
-        else:
-            try:
-                rospy.wait_for_service(names.RECORDED_SAMPLES, self.params.catch_up_timeout)
-                answer = rospy.ServiceProxy(names.RECORDED_SAMPLES, RecordedSamples)(
-                    recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
-                problem = answer_problem(answer, mark)
-            except (rospy.ROSException, rospy.ServiceException) as error:
-                problem = str(error)
-        if problem:
-            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on after a gap',
-                          problem)
-            return False
-        caught = []
-        for index, sample in enumerate(answer.samples):
-            state = OdomState(answer.x[index], answer.y[index], sample.yaw, answer.v[index],
-                              answer.w[index], sample.header.stamp.to_sec())
-            if index == 0:              # the file's last sample (or the start): the chain
-                self.recorder = PathRecorder()
-                self._start_chain(state)
-                self.writer.chain_restored()
-                continue
-            if sample.command == START or self.finished:
-                break
-            label, landmark = self._take(sample.command, sample.yaw, sample.period, state,
-                                         SampleMark(answer.recording, sample.seq))
-            if label:
-                caught.append((label, landmark))
-        self.log.warn('caught up: %d landmark(s) of samples %d to %d saved from the sampling '
-                      "publisher's record; no gap in %s", len(caught), answer.samples[0].seq + 1,
-                      answer.samples[-1].seq, self.writer.path)
-        if caught:
-            self._report(*caught[-1])
-        return True
-
     def _on_reanchor(self, reason, trusted):
         """A re-anchor: ``trusted`` (carried across) goes on, else the d chain breaks (a gap)."""
         if trusted:
@@ -260,16 +202,64 @@ class LandmarkSaver(LandmarkSaving):
     """The paper's subscriber: each sample is one landmark (restarted: caught up first)."""
 
     ROLE, VARIANT = 'landmark_saver', 'topic'
-
-    def __init__(self, layer):
-        LandmarkSaving.__init__(self, layer)
-        self.sample_sub = None
-        self.when_ready(self._take_samples)
+    sample_sub = None
 
     def _take_samples(self):
-        if self.writer.resumed is not None and not self.finished:     # continued the file: catch up
-            self.start_catch_up(lambda: self.sample_sub is not None and self.sample_sub.get_num_connections() > 0)
+        """Subscribe to the samples; a continued file first catches up, the lock held until it
+        asked (once subscribed, or after ``catch_up_timeout``) so that samples arriving wait."""
+        if self.writer.resumed is not None and not self.finished:
+            self._lock.acquire()
+            threading.Thread(target=self.guard(self._catch_up), name='catch_up', daemon=True).start()
         self.sample_sub = subscribe(names.SAMPLE, PathSample, self.guard(self.on_sample), queue_size=20)
+
+    def _catch_up(self):
+        """Save the samples this file misses, asked of the publisher (lock held, then released)."""
+        try:
+            deadline = time.monotonic() + self.params.catch_up_timeout
+            while (self.sample_sub is None or self.sample_sub.get_num_connections() == 0) \
+                    and time.monotonic() < deadline and not rospy.is_shutdown():
+                time.sleep(0.01)
+            self._save_missed()
+        finally:
+            self._lock.release()
+
+    def _save_missed(self):
+        """The catch-up itself (lock held)."""
+        mark = self.writer.sample
+        if mark is None and self.writer.count:
+            problem = '%s does not say which sample its last landmark came from' % self.writer.path
+        else:
+            try:
+                rospy.wait_for_service(names.RECORDED_SAMPLES, self.params.catch_up_timeout)
+                answer = rospy.ServiceProxy(names.RECORDED_SAMPLES, RecordedSamples)(
+                    recording=mark.recording if mark else 0.0, after=mark.seq if mark else 0)
+                problem = answer_problem(answer, mark)
+            except (rospy.ROSException, rospy.ServiceException) as error:
+                problem = str(error)
+        if problem:
+            self.log.warn('cannot catch up on the samples missed: %s; the recording goes on after a gap',
+                          problem)
+            return
+        caught = []
+        for index, sample in enumerate(answer.samples):
+            state = OdomState(answer.x[index], answer.y[index], sample.yaw, answer.v[index],
+                              answer.w[index], sample.header.stamp.to_sec())
+            if index == 0:              # the file's last sample (or the start): the chain
+                self.recorder = PathRecorder()
+                self._start_chain(state)
+                self.writer.chain_restored()
+                continue
+            if sample.command == START or self.finished:
+                break
+            label, landmark = self._take(sample.command, sample.yaw, sample.period, state,
+                                         SampleMark(answer.recording, sample.seq))
+            if label:
+                caught.append((label, landmark))
+        self.log.warn('caught up: %d landmark(s) of samples %d to %d saved from the sampling '
+                      "publisher's record; no gap in %s", len(caught), answer.samples[0].seq + 1,
+                      answer.samples[-1].seq, self.writer.path)
+        if caught:
+            self._report(*caught[-1])
 
     def on_sample(self, msg):
         self.save(msg.command, msg.yaw, msg.period, msg.header.stamp.to_sec(),
@@ -280,15 +270,15 @@ class RecordServer(LandmarkSaving):
     """The paper's service server: a ``record_landmark`` request is one landmark."""
 
     ROLE, VARIANT = 'record_server', 'service'
+    service = None
 
-    def __init__(self, layer):
-        LandmarkSaving.__init__(self, layer)
-        self.service = None
-        self.when_ready(lambda: setattr(self, 'service', rospy.Service(
-            names.RECORD_LANDMARK, RecordLandmark, self.guard(self.on_request))))
+    def _take_samples(self):
+        self.service = rospy.Service(names.RECORD_LANDMARK, RecordLandmark,
+                                     self.guard(self.on_request))
 
     def on_request(self, request):
-        label, why_not = self.save(request.command, request.yaw, request.period, request.header.stamp.to_sec())
+        label, why_not = self.save(request.command, request.yaw, request.period,
+                                   request.header.stamp.to_sec())
         return RecordLandmarkResponse(saved=bool(label), label=label, message=why_not)
 
 

@@ -79,10 +79,9 @@ class FileStore(object):
     def status(self, stat, finished):
         """The recording's diagnostics; ``finished``: the recording is over."""
         writer = self.writer
-        stat.add('file', writer.path)
-        stat.add('landmarks', writer.count)
-        stat.add('bytes', writer.bytes)
-        stat.add('lost', writer.lost)
+        for name, value in (('file', writer.path), ('landmarks', writer.count),
+                            ('bytes', writer.bytes), ('lost', writer.lost)):
+            stat.add(name, value)
         if self.error:
             stat.summary(diagnostics.ERROR, '%d landmark(s) lost: %s' % (writer.lost, self.error))
         elif self.space.warning:

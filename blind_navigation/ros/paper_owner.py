@@ -46,11 +46,11 @@ def paper_params(layer):
 
 class SaverFile(object):
     """The saver's landmark file as core/mission's store, read only; ``losses``: the WriteLoss
-    reported per real path."""
+    reported per real path; ``damage``, ``space.warning``: as the saver's ``storage`` says."""
 
     def __init__(self, path, losses, limits):
         self.path, self.losses, self.limits = path, losses, limits
-        self.error, self.damage, self.space, self.loaded = '', '', SimpleNamespace(warning=''), None
+        self.damage, self.space, self.loaded = '', SimpleNamespace(warning=''), None
 
     def problem(self, allow_empty=True):
         """Why the file gives no way back (a core/outcome.Ending), or None; the file read kept."""

@@ -14,7 +14,7 @@ from blind_navigation import names
 from blind_navigation.core import mission_state
 from blind_navigation.core.geometry import OdomState
 from blind_navigation.core.mission_record import MissionRecording
-from blind_navigation.core.sample_log import SampleLog, Ticks
+from blind_navigation.core.sample_log import FINAL, SAMPLE, SampleLog, Ticks
 from blind_navigation.core.role_params import SAMPLING_PUBLISHER
 from blind_navigation.core.segment import period_of
 from blind_navigation.msg import PathSample, StorageUsage
@@ -23,10 +23,7 @@ from blind_navigation.ros import diagnostics
 from blind_navigation.ros.common import subscribe
 from blind_navigation.ros.mission import Role
 
-#: PathSample.command values; the ticks' store (published, not kept).
-SAMPLE = 'sample'
-FINAL = 'final'
-COMMANDS = (SAMPLE, FINAL)
+#: The ticks' store (published, not kept).
 UNKEPT = SimpleNamespace(append=lambda tick: None, note_gap=lambda reason: None)
 
 

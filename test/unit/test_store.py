@@ -12,18 +12,9 @@ import yaml
 
 from blind_navigation.core.files import StorageError
 from blind_navigation.core.landmark import Landmark, landmark_from_values
-from blind_navigation.core import mission_files
 from blind_navigation.core.mission_files import (RESTART_GAP, LandmarkWriter, mission_number,
                                                  next_mission_id, open_mission_file)
 from blind_navigation.core.store import Gap, LandmarkFileError, SampleMark, format_entry, load_landmarks
-
-
-def start_mission_file(landmark_file, when=None):
-    """A new mission file's path, ``landmark_file`` pointed at it (open_mission_file's rules)."""
-    landmark_file = os.path.abspath(os.path.expanduser(landmark_file))
-    target = mission_files._new_target(landmark_file, when)
-    mission_files._point_at(landmark_file, target)
-    return target
 
 
 PATH = [Landmark(0.0861, 0.0012, 0.1718, 2.0, 0.0131),
@@ -91,13 +82,14 @@ def test_torn_last_entry_is_dropped_and_reported(tmp_path):
 
 def test_start_mission_file_keeps_earlier_missions(tmp_path):
     link = str(tmp_path / 'dir' / 'landmarks.yaml')
-    first = start_mission_file(link)
-    write(first)
-    second = start_mission_file(link)
-    assert first != second and not os.path.exists(second)
-    write(second, PATH[:1])
+    with closing(open_mission_file(link, fsync=False)) as first:
+        for landmark in PATH:
+            first.append(landmark)
+    with closing(open_mission_file(link, fsync=False)) as second:
+        second.append(PATH[0])
+    assert first.path != second.path and os.path.realpath(link) == second.path
     assert load_landmarks(link).landmarks == PATH[:1]
-    assert load_landmarks(first).landmarks == PATH
+    assert load_landmarks(first.path).landmarks == PATH
 
 
 
@@ -127,8 +119,9 @@ def test_a_new_mission_id_opens_a_new_file_and_keeps_the_old_one_byte_identical(
 def test_start_mission_file_archives_a_regular_file(tmp_path):
     link = tmp_path / 'landmarks.yaml'
     write(link)
-    target = start_mission_file(str(link))
-    archived = [p for p in tmp_path.iterdir() if p.name.startswith('landmarks-')]
+    with closing(open_mission_file(str(link), fsync=False)) as writer:
+        target = writer.path
+    archived = [p for p in tmp_path.iterdir() if p.name.startswith('landmarks-') and str(p) != target]
     assert len(archived) == 1 and load_landmarks(str(archived[0])).landmarks == PATH
     assert os.path.realpath(str(link)) == target
 
@@ -183,10 +176,9 @@ def test_landmark_rejects_booleans_and_bad_psi():
 def test_a_directory_as_landmark_file_is_refused_by_name(tmp_path):
     link = tmp_path / 'landmarks.yaml'
     link.mkdir()
-    for start in (start_mission_file, open_mission_file):
-        with pytest.raises(LandmarkFileError) as error:
-            start(str(link))
-        assert str(link) in str(error.value) and 'is a directory' in str(error.value)
+    with pytest.raises(LandmarkFileError) as error:
+        open_mission_file(str(link))
+    assert str(link) in str(error.value) and 'is a directory' in str(error.value)
     assert link.is_dir() and sorted(p.name for p in tmp_path.iterdir()) == ['landmarks.yaml']
     with pytest.raises(LandmarkFileError, match='is a directory, not a regular file'):
         load_landmarks(str(link))
