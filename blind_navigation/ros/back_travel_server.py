@@ -41,10 +41,6 @@ class BackTravelServer(Role):
     def __init__(self, layer):
         Role.__init__(self, layer)
         p = self.params
-        for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset',
-                     'status_frequency'):
-            if not getattr(p, name) > 0:
-                raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
         OdomGrace(p), Contacts(p)        # validates the odometry's and the contacts' params now
         layer.safety.contact_wait = p.contact_wait     # its bounces log once per contact
         self.goal_params = types.SimpleNamespace(**dict(
@@ -98,12 +94,10 @@ class BackTravelServer(Role):
 
     def _read_route(self, request):
         """(Route, landmarks) of a SetReturnRoute request; ValueError naming what is wrong."""
-        state = self.layer.mission.state
-        if state != mission_state.RETURNING:
-            raise ValueError('the mission is %s, not returning' % state)
-        sender = request._connection_header.get('callerid', '?')
-        if sender != self.layer.mission_owner:
-            raise ValueError('only %s sets the return route, not %s' % (self.layer.mission_owner, sender))
+        refused = self._refusal(request._connection_header.get('callerid', '?'),
+                                'sets the return route')
+        if refused:
+            raise ValueError(refused)
         route = route_of(request)
         landmarks = landmarks_from_flat(request.landmarks)
         if len(landmarks) != len(route.sections):
@@ -137,12 +131,10 @@ class BackTravelServer(Role):
 
     def _goal_problem(self, handle):
         """Why a goal is rejected, or None."""
-        state = self.layer.mission.state
-        if state != mission_state.RETURNING:
-            return 'the mission is %s, not returning' % state
-        sender = handle.goal._connection_header.get('callerid', '?') if handle.goal else '?'
-        if sender != self.layer.mission_owner:
-            return 'only %s sends back-travel goals, not %s' % (self.layer.mission_owner, sender)
+        refused = self._refusal(handle.goal._connection_header.get('callerid', '?') if handle.goal
+                                else '?', 'sends back-travel goals')
+        if refused:
+            return refused
         goal = handle.get_goal()
         values = [goal.v, goal.w, goal.d, goal.T, goal.psi]
         try:
@@ -159,6 +151,15 @@ class BackTravelServer(Role):
             index, expected = self.drive.index, self.landmarks[self.drive.index]
         if tuple(landmark) != tuple(expected):
             return 'not the next landmark of the route (goal %d expects %r)' % (index + 1, list(expected))
+        return None
+
+    def _refusal(self, sender, sends):
+        """Why ``sender``'s request is refused (the mission not returning, not its owner)."""
+        state = self.layer.mission.state
+        if state != mission_state.RETURNING:
+            return 'the mission is %s, not returning' % state
+        if sender != self.layer.mission_owner:
+            return 'only %s %s, not %s' % (self.layer.mission_owner, sends, sender)
         return None
 
     def _on_cancel(self, handle):
@@ -252,7 +253,11 @@ class BackTravelServer(Role):
         calls = []
         if self.active is not None and d.index > self.index:
             calls.append(self._end(drive.Outcome(drive.SUCCEEDED, ''), now, d.goal.travelled))
-            _report_late(self.follower, self.log)
+            while self.follower is not None and self.follower.late:
+                late, taken, nominal = self.follower.late.pop(0)
+                self.log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the '
+                              'return stops only when it stops making progress)', late + 1, taken,
+                              nominal)
         elif self.active is not None and d.phase == GOAL and now >= self.feedback_at:
             handle, travelled = self.active, d.goal.travelled
             calls.append(lambda: handle.publish_feedback(BackTravelFeedback(distance=travelled)))
@@ -277,14 +282,6 @@ class BackTravelServer(Role):
             self.last_abort = reason
         end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
         return lambda: end.get(ended.kind, handle.set_aborted)(result, reason)
-
-
-def _report_late(follower, log):
-    """Log the sections that took longer than their nominal time (not a failure)."""
-    while follower is not None and follower.late:
-        index, taken, nominal = follower.late.pop(0)
-        log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
-                 'only when it stops making progress)', index + 1, taken, nominal)
 
 
 def route_of(request):

@@ -149,9 +149,8 @@ class VisionMonitor(Role):
                 if self.done:
                     return
                 self.done = True
-            self.log.info('mission %s: no longer watching', new)
-            with self.lock:
                 camera_info, self.camera_info_sub = self.camera_info_sub, None
+            self.log.info('mission %s: no longer watching', new)
             for subscriber in self.subscribers + ([camera_info] if camera_info else []):
                 unsubscribe(subscriber)
             if self.watching_vo:
