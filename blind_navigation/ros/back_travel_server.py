@@ -50,7 +50,7 @@ class BackTravelServer(Role):
         layer.heading_correction()       # drive on the corrected odometry once it exists
         self.driver = DriveNode(self, (p.max_v, p.max_w), layer.mission, True, self._label)
         self.output = self.driver.output
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()      # re-entered: _busy() while setting a route
         self.follower = self.drive = None   # the return's RouteFollower (closed_loop), ReturnDrive
         self.landmarks = []             # its goals' landmarks, return order
         self.active = self.pending = None   # the goal handle driven; accepted, waiting
@@ -206,17 +206,15 @@ class BackTravelServer(Role):
 
     def run(self):
         """Step the return while a goal, a hand-over or the final hold is under way."""
-        for now, jump in self.driver.ticks(self._locked_busy):
+        for now, jump in self.driver.ticks(self._busy):
             self._cycle(now, jump)
 
-    def _locked_busy(self):
-        with self._lock:
-            return self._busy()
-
     def _busy(self):
-        d = self.drive
-        return self.pending is not None or (d is not None and self.ended is None and (
-            self.active is not None or d.phase == FINAL or d.phase == HANDOVER and d.command != ZERO))
+        with self._lock:
+            d = self.drive
+            return self.pending is not None or (d is not None and self.ended is None and (
+                self.active is not None or d.phase == FINAL
+                or d.phase == HANDOVER and d.command != ZERO))
 
     def _label(self):
         d = self.drive
