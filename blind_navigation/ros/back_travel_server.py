@@ -207,7 +207,13 @@ class BackTravelServer(Role):
     def run(self):
         """Step the return while a goal, a hand-over or the final hold is under way."""
         for now, jump in self.driver.ticks(self._busy):
-            self._cycle(now, jump)
+            handle = self.active        # actionlib's calls outside the lock (its callbacks take it)
+            cancelled = handle is not None and handle.get_goal_status().status in (
+                actionlib.GoalStatus.PREEMPTING, actionlib.GoalStatus.RECALLING)
+            with self._lock:
+                calls = self._step(now, jump, cancelled and handle is self.active)
+            for call in calls:
+                call()
 
     def _busy(self):
         with self._lock:
@@ -219,15 +225,6 @@ class BackTravelServer(Role):
     def _label(self):
         d = self.drive
         return 'goal %d' % (d.index + 1) if d.phase == GOAL else 'hand-over after goal %d' % d.index
-
-    def _cycle(self, now, jump):
-        handle = self.active            # actionlib's calls outside the lock (its callbacks take it)
-        cancelled = handle is not None and handle.get_goal_status().status in (
-            actionlib.GoalStatus.PREEMPTING, actionlib.GoalStatus.RECALLING)
-        with self._lock:
-            calls = self._step(now, jump, cancelled and handle is self.active)
-        for call in calls:
-            call()
 
     def _step(self, now, jump, cancelled):
         """This cycle: the goal's start, the drive's step, the goal's end; the handle's calls."""
