@@ -36,8 +36,7 @@ def visual_yaw(wire):
 class OdometryFeed(object):
     """Shared odometry of ``topic``."""
 
-    def __init__(self, topic, checked=True, guard=None, frame_topic=None):
-        guard = guard or (lambda fn: fn)
+    def __init__(self, topic, guard, checked=True, frame_topic=None):
         self.topic, self.checked = topic, checked
         self._on_message_guarded = guard(self._on_message)
         self.carrier = ResetCarrier(OdometryGate()) if checked else None
