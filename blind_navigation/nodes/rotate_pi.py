@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
-"""The rotate_pi node, the pi turn after vision loss, alone in its process (launch/paper.launch).
-The role's class: blind_navigation/ros/rotate_pi.py."""
+"""The rotate_pi node (launch/paper.launch): ros/rotate_pi.RotatePi alone in its process."""
 from blind_navigation.ros.rotate_pi import RotatePi
 from blind_navigation.ros.layer import run_node
 

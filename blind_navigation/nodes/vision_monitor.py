@@ -1,6 +1,5 @@
 #!/usr/bin/env python3
-"""The vision_monitor node, automatic vision-loss detection, alone in its process
-(launch/paper.launch). The role's class: blind_navigation/ros/vision_monitor.py."""
+"""The vision_monitor node (launch/paper.launch): ros/vision_monitor.VisionMonitor alone."""
 from blind_navigation.ros.vision_monitor import VisionMonitor
 from blind_navigation.ros.layer import run_node
 

@@ -41,10 +41,6 @@ class BackTravelServer(Role):
     def __init__(self, layer):
         Role.__init__(self, layer)
         p = self.params
-        for name in ('control_rate', 'feedback_rate', 'handover_timeout', 'route_max_offset',
-                     'status_frequency'):
-            if not getattr(p, name) > 0:
-                raise ValueError('~%s must be positive, got %r' % (name, getattr(p, name)))
         OdomGrace(p), Contacts(p)        # validates the odometry's and the contacts' params now
         layer.safety.contact_wait = p.contact_wait     # its bounces log once per contact
         self.goal_params = types.SimpleNamespace(**dict(
@@ -54,7 +50,7 @@ class BackTravelServer(Role):
         layer.heading_correction()       # drive on the corrected odometry once it exists
         self.driver = DriveNode(self, (p.max_v, p.max_w), layer.mission, True, self._label)
         self.output = self.driver.output
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()      # re-entered: _busy() while setting a route
         self.follower = self.drive = None   # the return's RouteFollower (closed_loop), ReturnDrive
         self.landmarks = []             # its goals' landmarks, return order
         self.active = self.pending = None   # the goal handle driven; accepted, waiting
@@ -98,12 +94,10 @@ class BackTravelServer(Role):
 
     def _read_route(self, request):
         """(Route, landmarks) of a SetReturnRoute request; ValueError naming what is wrong."""
-        state = self.layer.mission.state
-        if state != mission_state.RETURNING:
-            raise ValueError('the mission is %s, not returning' % state)
-        sender = request._connection_header.get('callerid', '?')
-        if sender != self.layer.mission_owner:
-            raise ValueError('only %s sets the return route, not %s' % (self.layer.mission_owner, sender))
+        refused = self._refusal(request._connection_header.get('callerid', '?'),
+                                'sets the return route')
+        if refused:
+            raise ValueError(refused)
         route = route_of(request)
         landmarks = landmarks_from_flat(request.landmarks)
         if len(landmarks) != len(route.sections):
@@ -137,12 +131,10 @@ class BackTravelServer(Role):
 
     def _goal_problem(self, handle):
         """Why a goal is rejected, or None."""
-        state = self.layer.mission.state
-        if state != mission_state.RETURNING:
-            return 'the mission is %s, not returning' % state
-        sender = handle.goal._connection_header.get('callerid', '?') if handle.goal else '?'
-        if sender != self.layer.mission_owner:
-            return 'only %s sends back-travel goals, not %s' % (self.layer.mission_owner, sender)
+        refused = self._refusal(handle.goal._connection_header.get('callerid', '?') if handle.goal
+                                else '?', 'sends back-travel goals')
+        if refused:
+            return refused
         goal = handle.get_goal()
         values = [goal.v, goal.w, goal.d, goal.T, goal.psi]
         try:
@@ -159,6 +151,15 @@ class BackTravelServer(Role):
             index, expected = self.drive.index, self.landmarks[self.drive.index]
         if tuple(landmark) != tuple(expected):
             return 'not the next landmark of the route (goal %d expects %r)' % (index + 1, list(expected))
+        return None
+
+    def _refusal(self, sender, sends):
+        """Why ``sender``'s request is refused (the mission not returning, not its owner)."""
+        state = self.layer.mission.state
+        if state != mission_state.RETURNING:
+            return 'the mission is %s, not returning' % state
+        if sender != self.layer.mission_owner:
+            return 'only %s %s, not %s' % (self.layer.mission_owner, sends, sender)
         return None
 
     def _on_cancel(self, handle):
@@ -205,30 +206,25 @@ class BackTravelServer(Role):
 
     def run(self):
         """Step the return while a goal, a hand-over or the final hold is under way."""
-        for now, jump in self.driver.ticks(self._locked_busy):
-            self._cycle(now, jump)
-
-    def _locked_busy(self):
-        with self._lock:
-            return self._busy()
+        for now, jump in self.driver.ticks(self._busy):
+            handle = self.active        # actionlib's calls outside the lock (its callbacks take it)
+            cancelled = handle is not None and handle.get_goal_status().status in (
+                actionlib.GoalStatus.PREEMPTING, actionlib.GoalStatus.RECALLING)
+            with self._lock:
+                calls = self._step(now, jump, cancelled and handle is self.active)
+            for call in calls:
+                call()
 
     def _busy(self):
-        d = self.drive
-        return self.pending is not None or (d is not None and self.ended is None and (
-            self.active is not None or d.phase == FINAL or d.phase == HANDOVER and d.command != ZERO))
+        with self._lock:
+            d = self.drive
+            return self.pending is not None or (d is not None and self.ended is None and (
+                self.active is not None or d.phase == FINAL
+                or d.phase == HANDOVER and d.command != ZERO))
 
     def _label(self):
         d = self.drive
         return 'goal %d' % (d.index + 1) if d.phase == GOAL else 'hand-over after goal %d' % d.index
-
-    def _cycle(self, now, jump):
-        handle = self.active            # actionlib's calls outside the lock (its callbacks take it)
-        cancelled = handle is not None and handle.get_goal_status().status in (
-            actionlib.GoalStatus.PREEMPTING, actionlib.GoalStatus.RECALLING)
-        with self._lock:
-            calls = self._step(now, jump, cancelled and handle is self.active)
-        for call in calls:
-            call()
 
     def _step(self, now, jump, cancelled):
         """This cycle: the goal's start, the drive's step, the goal's end; the handle's calls."""
@@ -252,7 +248,11 @@ class BackTravelServer(Role):
         calls = []
         if self.active is not None and d.index > self.index:
             calls.append(self._end(drive.Outcome(drive.SUCCEEDED, ''), now, d.goal.travelled))
-            _report_late(self.follower, self.log)
+            while self.follower is not None and self.follower.late:
+                late, taken, nominal = self.follower.late.pop(0)
+                self.log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the '
+                              'return stops only when it stops making progress)', late + 1, taken,
+                              nominal)
         elif self.active is not None and d.phase == GOAL and now >= self.feedback_at:
             handle, travelled = self.active, d.goal.travelled
             calls.append(lambda: handle.publish_feedback(BackTravelFeedback(distance=travelled)))
@@ -277,14 +277,6 @@ class BackTravelServer(Role):
             self.last_abort = reason
         end = {drive.SUCCEEDED: handle.set_succeeded, drive.CANCELLED: handle.set_canceled}
         return lambda: end.get(ended.kind, handle.set_aborted)(result, reason)
-
-
-def _report_late(follower, log):
-    """Log the sections that took longer than their nominal time (not a failure)."""
-    while follower is not None and follower.late:
-        index, taken, nominal = follower.late.pop(0)
-        log.warn('goal %d took %.1f s, nominally %.1f s (logged, not a failure: the return stops '
-                 'only when it stops making progress)', index + 1, taken, nominal)
 
 
 def route_of(request):

@@ -31,15 +31,15 @@ LAYER_NODES = ('blind_navigation', 'back_travel_server', 'rotate_pi', 'calibrate
 class SafetyMonitor(object):
     """The Kobuki's safety events (``active``); ``contact_wait``: s after a release a press bounces."""
 
-    def __init__(self, guard=None):
+    def __init__(self, guard):
         self.contact_wait = CONTACT_DEFAULTS['contact_wait']
         self._events = SafetyEvents()
         self._lock = threading.Lock()
         self._callbacks = []
         for kind, topic in names.SAFETY_EVENTS.items():
             msg_type, index_field = EVENT_TYPES[kind]
-            subscribe_checked(topic, msg_type, guard(self._on_event) if guard else self._on_event,
-                              (kind, index_field), queue_size=10)
+            subscribe_checked(topic, msg_type, guard(self._on_event), (kind, index_field),
+                              queue_size=10)
 
     def on_trip(self, callback):
         self._callbacks.append(callback)
@@ -93,11 +93,10 @@ class MotionOutput(object):
         if mission_state.may_move(self.role, old) and not mission_state.may_move(self.role, new):
             self.halt('mission state %s' % new)
 
-    def limit(self, limits=None):
-        """Clamp to ``limits`` (a goal's) as well as the configured ones; None resets."""
+    def limit(self, limits):
+        """Clamp to ``limits`` (a goal's) as well as the configured ones."""
         with self._lock:
-            self.limits = VelocityLimits(min(self.max_v, limits.max_v), min(self.max_w, limits.max_w)) \
-                if limits else VelocityLimits(self.max_v, self.max_w)
+            self.limits = VelocityLimits(min(self.max_v, limits.max_v), min(self.max_w, limits.max_w))
 
     def publish(self, v, w):
         with self._lock:

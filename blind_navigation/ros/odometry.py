@@ -36,12 +36,10 @@ def visual_yaw(wire):
 class OdometryFeed(object):
     """Shared odometry of ``topic``."""
 
-    def __init__(self, topic, checked=True, history=10.0, guard=None, frame_topic=None):
-        guard = guard or (lambda fn: fn)
-        self.topic, self.checked, self.history = topic, checked, float(history)
+    def __init__(self, topic, guard, checked=True, frame_topic=None):
+        self.topic, self.checked = topic, checked
         self._on_message_guarded = guard(self._on_message)
-        self.gate = OdometryGate() if checked else None
-        self.carrier = ResetCarrier(self.gate) if checked else None
+        self.carrier = ResetCarrier(OdometryGate()) if checked else None
         self.expected = Expected.of(Odometry)
         self._reanchor_listeners, self._holders = [], set()
         self.lost = None            # why the odometry's frame is lost (an untrusted reset), or None
@@ -49,7 +47,7 @@ class OdometryFeed(object):
         self._lock, self.carrier_lock = threading.Condition(), threading.Lock()  # the state; a message
         self._waiting = 0           # threads waiting for a state: notified per state
         self._subscriber = self._subscribed_at = None     # and when (rospy time) it began
-        self._states = OdometryHistory(self.history)   # the accepted OdomStates
+        self._states = OdometryHistory()    # the accepted OdomStates
         self._received = None       # rospy time (s) the newest accepted state arrived
         self._listeners = self._raw_listeners = ()     # f(state) per accepted state; f(wire) per message
         self._corrector, self._new_subscription = None, False
@@ -135,7 +133,7 @@ class OdometryFeed(object):
             return
         if self._new_subscription:
             self._new_subscription = False
-            self.gate.reset()               # the first state heard now is the reference
+            self.carrier.gate.reset()       # the first state heard now is the reference
         taken = self.carrier.take(state)
         if taken.problem:
             self._refuse(taken.problem)

@@ -33,9 +33,6 @@ class RotatePi(Role):
     def __init__(self, layer):
         Role.__init__(self, layer)
         p = self.params
-        if p.control_rate <= 0 or p.recording_end_timeout < 0 or p.correction_margin < 0:
-            raise ValueError('~control_rate must be positive, ~recording_end_timeout and '
-                             '~correction_margin not negative')
         Rotation(p), OdomGrace(p)   # validates the rotation's and the odometry's params now
         self.correction_timeout = standstill_timeout(p) + p.correction_margin
         # the mission's turn without its own checks: the client times and checks the turn

@@ -44,7 +44,6 @@ class VisionMonitor(Role):
         self.lost_pub = rospy.Publisher(names.VISION_LOST, Empty, queue_size=1, latch=True)
         self.loss_pub = rospy.Publisher('~loss', String, queue_size=1, latch=True)
         self.back_pub = rospy.Publisher(names.VISION_BACK, String, queue_size=1)
-        self.on_vo_guarded, self.on_wheel_guarded = guard(self.on_vo), guard(self.on_wheel_odometry)
         # kept across missions: a new subscription would get a latched vision_lost again
         self.manual_sub = subscribe(names.VISION_LOST, Empty, guard(self.on_vision_lost))
         self.camera_info_sub = None   # read until visual odometry arrives
@@ -71,12 +70,12 @@ class VisionMonitor(Role):
             self.camera_topic = None
         self.camera_info_until_vo = self.camera_info_sub is not None and 'vo_stall' in enabled
         self.watching_vo = bool(enabled & {'vo_lost', 'vo_stall'})
-        if self.watching_vo:
-            self.layer.visual_odometry.add_listener(self.on_vo_guarded, raw=True)
-            self.layer.visual_odometry.acquire(self.ROLE)
         # the wheel odometry's arrivals tell a host stall from a vision fault
-        self.layer.odometry.add_listener(self.on_wheel_guarded, raw=True)
-        self.layer.odometry.acquire(self.ROLE)
+        self.feeds = [(self.layer.odometry, guard(self.on_wheel_odometry))] + (
+            [(self.layer.visual_odometry, guard(self.on_vo))] if self.watching_vo else [])
+        for feed, listener in self.feeds:
+            feed.add_listener(listener, raw=True)
+            feed.acquire(self.ROLE)
         if 'odom_info' in enabled:
             self.subscribers.append(subscribe(names.VO_ODOM_INFO, rospy.AnyMsg,
                                               guard(self.on_odom_info), expected=ODOM_INFO,
@@ -149,16 +148,13 @@ class VisionMonitor(Role):
                 if self.done:
                     return
                 self.done = True
-            self.log.info('mission %s: no longer watching', new)
-            with self.lock:
                 camera_info, self.camera_info_sub = self.camera_info_sub, None
+            self.log.info('mission %s: no longer watching', new)
             for subscriber in self.subscribers + ([camera_info] if camera_info else []):
                 unsubscribe(subscriber)
-            if self.watching_vo:
-                self.layer.visual_odometry.remove_listener(self.on_vo_guarded)
-                self.layer.visual_odometry.release(self.ROLE)
-            self.layer.odometry.remove_listener(self.on_wheel_guarded)
-            self.layer.odometry.release(self.ROLE)
+            for feed, listener in self.feeds:
+                feed.remove_listener(listener)
+                feed.release(self.ROLE)
 
     def watch_stalls(self, generation):
         """Check the stall detectors whenever one could fire next, while this mission is watched."""
