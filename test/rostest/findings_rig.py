@@ -152,7 +152,10 @@ class LayerLaunch(object):
         log_dir = os.environ.get('ROS_LOG_DIR') or directory
         os.makedirs(log_dir, exist_ok=True)
         self.log_path = os.path.join(log_dir, 'safety_findings_%s.launch.log' % label)
-        command = [roslaunch, 'blind_navigation', 'mission_rig.launch', 'fake:=%s' % str(fake).lower(),
+        # --sigint-timeout: a node that outlives its master (safety_findings restarts it) is
+        # killed after 5 s, not roslaunch's 15 s + 2 s; the layer ends on SIGINT well within it.
+        command = [roslaunch, '--sigint-timeout=5', 'blind_navigation', 'mission_rig.launch',
+                   'fake:=%s' % str(fake).lower(),
                    'control:=closed_loop', 'rtf:=%g' % rtf, 'dir:=%s' % directory,
                    'one_process:=%s' % ('true' if one_process else 'false')] + list(args)
         self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
