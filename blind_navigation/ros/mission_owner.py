@@ -214,7 +214,7 @@ class MissionOwner(object):
         step = self.mission.step(now, inputs)
         if step.stored:
             space = self.store.space.warning
-            self.storage_pub.publish(self.store.storage(rospy.Time.now())[0])
+            self.storage_pub.publish(self.store.storage(rospy.Time.now()))
             if self.store.space.warning != space:
                 self.publish_status()
         self.outputs.stepped(step.stored)
