@@ -73,13 +73,3 @@ ROLE_FAILURE = 'blind_navigation/role_failure'
 HEADING_CORRECTION = 'blind_navigation/heading_correction'
 #: geometry_msgs/PoseStamped, latched, paper layout only: a carried reset's frame (docs/safety.md)
 ODOMETRY_FRAME = 'blind_navigation/odometry_frame'
-
-# --- the fake TurtleBot's evaluation names (sim/ and evaluation/ only, INTERFACE.md)
-#: nav_msgs/Odometry, the true pose (frame world)
-GROUND_TRUTH = 'ground_truth/odom'
-#: service std_srvs/SetBool: false makes vision fail now, true restores it
-SET_VISION = 'fake_turtlebot/set_vision'
-#: std_msgs/Bool, latched: the scripted operator has played its mission
-MISSION_DONE = 'mission_driver/done'
-#: std_msgs/Empty, latched: the scripted operator may start (with its ``wait_for_go``)
-MISSION_GO = 'mission_driver/go'

@@ -41,17 +41,6 @@ def stopped(odom):
         abs(odom.w) <= BACK_TRAVEL_DEFAULTS['stopped_w']
 
 
-def home_check(odom, end, tolerance):
-    """(home, text): the stopped robot at ``odom`` within ``tolerance`` m of ``end`` (0: unchecked)."""
-    off = distance(odom.x, odom.y, end[0], end[1])
-    if not tolerance:
-        return True, '%.2f m from the start by odometry (not checked in this mode)' % off
-    if off > tolerance:
-        return False, ('every goal done, but the robot is %.2f m from the start by odometry '
-                       '(home_tolerance %.2f m): not home' % (off, tolerance))
-    return True, '%.3f m from the start by odometry' % off
-
-
 def _param(params, name, defaults=BACK_TRAVEL_DEFAULTS):
     return float(getattr(params, name, defaults[name]))
 

@@ -8,7 +8,7 @@ from .allowance import ABORT, HOLD
 from .back_travel import BACK_TRAVEL_DEFAULTS, _param as back_travel_param, stopped
 from .drive import DriveCycle
 from .geometry import distance, wrap_angle
-from .mission_drive import ZERO, home_verdict
+from .mission_drive import ZERO
 from .mission_limits import PausedClock
 
 SETTLE, APPROACH = 'settle', 'final approach'
@@ -85,6 +85,24 @@ class FinalApproach(object):
     def describe(self, odom):
         return 'final approach: backed %.2f m, %s' % (
             distance(odom.x, odom.y, self.start[0], self.start[1]), self.ended or 'stopped')
+
+
+def home_verdict(odom, route, goals, mode, tolerance, warning=''):
+    """(state, core/outcome code, reason) once every goal is done and the robot stopped at ``odom``:
+    ``home`` within ``tolerance`` m of the ``route``'s end (None: the paper's modes, not checked;
+    0: its distance not checked; the reason ends with the return's ``warning``), else ``aborted``."""
+    warning = '; ' + warning if warning else ''
+    if route is None:
+        return mission_state.HOME, outcome.HOME, 'travelled %d landmarks (%s mode: not checked)%s' % (
+            goals, mode, warning)
+    off = distance(odom.x, odom.y, route.x[-1], route.y[-1])
+    if tolerance and off > tolerance:
+        return mission_state.ABORTED, outcome.NOT_HOME, (
+            'every goal done, but the robot is %.2f m from the start by odometry '
+            '(home_tolerance %.2f m): not home' % (off, tolerance))
+    text = ('%.3f m from the start by odometry' % off if tolerance else
+            '%.2f m from the start by odometry (not checked in this mode)' % off)
+    return mission_state.HOME, outcome.HOME, 'travelled %d landmarks; %s%s' % (goals, text, warning)
 
 
 class ReturnEnding(object):

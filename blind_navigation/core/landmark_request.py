@@ -4,8 +4,8 @@
 import math
 
 from .mission import RECORDING
+from .sample_log import FINAL, SAMPLE
 
-SAMPLE, FINAL = 'sample', 'final'
 #: The answer to a ``final`` request (docs/recording.md says why).
 FINAL_REFUSED = ("refused: 'final' is not taken here: the mission takes its final landmark "
                  'itself when vision is lost or go_home is called (a recorder request never '

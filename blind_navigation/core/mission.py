@@ -18,7 +18,7 @@ from .mission_drive import DONE, FAILED, ZERO, Pauses, RemoteReturn, ReturnDrive
 from .mission_limits import LIMIT_DEFAULTS, PausedClock, ReturnWatch
 from .mission_record import MissionRecording, Standstill
 from .return_plan import (frame_lost, nothing_to_retrace, plan_return, recording_problem,
-                          return_goals, return_warning, still_loss)
+                          return_warning, still_loss)
 from .route_follower import RouteFollower
 
 #: The mission's settings beyond the controllers' params (each overridable by keyword).
@@ -319,8 +319,9 @@ def _plan(m):
     """Mission ``m``'s return: its route (closed_loop; pruned with prune_loops; or kept) and its goals."""
     c, follower, kept = m.config, None, m.kept
     labels = getattr(m.loaded, 'labels', [])
-    goals = return_goals(labels if len(labels) == len(m.landmarks) else
-                         [str(number + 1) for number in range(len(m.landmarks))], m.landmarks)
+    if len(labels) != len(m.landmarks):
+        labels = [str(number + 1) for number in range(len(m.landmarks))]
+    goals = list(zip(labels, m.landmarks))[::-1]    # (label, landmark), the last recorded first
     if c.mode == 'closed_loop':
         m.route, m.pruning = (kept.route, None) if kept else m.planned or plan_return(
             m.landmarks, m.anchor, m.params, c.prune_loops, m.correction)

@@ -1,10 +1,9 @@
 """What the mission drives, stepped once per control cycle: the pi turn (TurnDrive), the
 return's goals (ReturnDrive; RemoteReturn: sent to a remote driver), the pauses of a drive
-(core/pause) and the home verdict. Used by core/mission.
+(core/pause). Used by core/mission.
 """
 from . import mission_state, outcome
 from .allowance import ABORT, DRIVE, HOLD
-from .back_travel import home_check
 from .drive import DriveCycle
 from .goal import CommandHold, HandoverBridge, bridges, make_goal
 from .mission_limits import rotation_timeout, with_defaults
@@ -13,19 +12,6 @@ from .rotation import Rotation, turn_problem
 
 ZERO = (0.0, 0.0)
 GOAL, HANDOVER, FINAL, DONE, FAILED = 'goal', 'hand-over', 'final hold', 'done', 'failed'
-
-
-def home_verdict(odom, route, goals, mode, tolerance, warning=''):
-    """(state, core/outcome code, reason) once every goal is done and the robot stopped at ``odom``:
-    ``home`` within ``tolerance`` m of the ``route``'s end (None: the paper's modes, not checked;
-    its reason ends with the return's ``warning``), else ``aborted``."""
-    warning = '; ' + warning if warning else ''
-    if route is None:
-        return mission_state.HOME, outcome.HOME, 'travelled %d landmarks (%s mode: not checked)%s' % (
-            goals, mode, warning)
-    home, text = home_check(odom, (route.x[-1], route.y[-1]), tolerance)
-    return (mission_state.HOME, outcome.HOME, 'travelled %d landmarks; %s%s' % (goals, text, warning)) \
-        if home else (mission_state.ABORTED, outcome.NOT_HOME, text)
 
 
 class PiTurn(object):

@@ -11,15 +11,16 @@ from .progress import (ProgressError, ReturnProgress, file_digest, heading_recor
 from .resume import ABORT, IGNORE, kept_return, resume_from_file, settle_abort
 
 
-class ProgressKeeper(object):
-    """The progress file of the returns recorded in ``landmark_file``."""
+class MissionProgress(object):
+    """The progress of a core/mission.Mission's returns (``mission_id()``, ``frame_id()``)."""
 
-    def __init__(self, landmark_file, log, changed=None):
+    def __init__(self, landmark_file, mission_id, frame_id, log, changed=None):
+        self.landmark_file, self.mission_id, self.frame_id = landmark_file, mission_id, frame_id
         self.path = progress_path(landmark_file)
-        self.log = log
-        self.progress = None
+        self.log, self.mission = log, None
         self.warning = ''           # why the progress cannot be written, or ''
         self._changed = changed     # called when ``warning`` changes
+        self.forget()
 
     def save(self, progress):
         """Keep and persist ``progress``; if it cannot: ``warning``, the stale file removed."""
@@ -47,19 +48,9 @@ class ProgressKeeper(object):
             return ' (and the older %s cannot be removed: %s)' % (self.path, error.strerror)
         return ''
 
-
-class MissionProgress(object):
-    """The progress of a core/mission.Mission's returns (``mission_id()``, ``frame_id()``)."""
-
-    def __init__(self, landmark_file, mission_id, frame_id, log, changed=None):
-        self.landmark_file, self.mission_id, self.frame_id = landmark_file, mission_id, frame_id
-        self.mission = None
-        self.keeper = ProgressKeeper(landmark_file, log, changed)
-        self.forget()
-
     def forget(self):
         """A new mission: the last return's progress forgotten."""
-        self.keeper.progress, self.at, self.travelled, self.route = None, None, 0.0, None
+        self.progress, self.at, self.travelled, self.route = None, None, 0.0, None
 
     def _route_data(self):
         m = self.mission
@@ -70,26 +61,26 @@ class MissionProgress(object):
     def first_state(self, mission, position, params):
         """The core/resume.KeptReturn of a return a previous run left, or None (``mission``
         aborted if one cannot continue); ``position()`` waits for the robot's [x, y]."""
-        keeper, limits = self.keeper, Limits(params.max_v, params.max_w)
-        if not os.path.lexists(keeper.path):
+        limits = Limits(params.max_v, params.max_w)
+        if not os.path.lexists(self.path):
             return None
-        decision = resume_from_file(keeper.path, time.time(), position(), self.mission_id(),
+        decision = resume_from_file(self.path, time.time(), position(), self.mission_id(),
                                     params.resume_timeout, params.resume_max_offset, limits)
         if decision.action == IGNORE:
-            keeper.log.info('%s', decision.reason)
+            self.log.info('%s', decision.reason)
             return None
         if decision.action == ABORT:
             try:
-                settle_abort(keeper.path, decision, time.time())
+                settle_abort(self.path, decision, time.time())
             except (OSError, ProgressError) as error:
-                keeper.log.error('cannot record the abort in %s: %s', keeper.path, error)
+                self.log.error('cannot record the abort in %s: %s', self.path, error)
             mission.cancel(decision.reason, outcome.RESUME)
             return None
-        keeper.progress = decision.progress
-        keeper.log.warn('%s (%s)', decision.reason, keeper.path)
-        kept, reason = kept_return(keeper.progress, keeper.path, limits)
+        self.progress = decision.progress
+        self.log.warn('%s (%s)', decision.reason, self.path)
+        kept, reason = kept_return(self.progress, self.path, limits)
         if kept is None:
-            keeper.save(keeper.progress.finish(state.ABORTED, reason, time.time()))
+            self.save(self.progress.finish(state.ABORTED, reason, time.time()))
             mission.cancel(reason, outcome.RESUME)
             return None
         self.route, self.travelled = kept.route, kept.travelled
@@ -97,10 +88,10 @@ class MissionProgress(object):
 
     def update(self, m, route):
         """After a step of ``m``: the turn began, the return began (``route``), a goal was done."""
-        self.mission, progress = m, self.keeper.progress
+        self.mission, progress = m, self.progress
         if progress is None and m.correction is not None:
-            self.keeper.save(ReturnProgress.begin(self.landmark_file, m.anchor, self.frame_id(),
-                                                  time.time(), self.mission_id()))
+            self.save(ReturnProgress.begin(self.landmark_file, m.anchor, self.frame_id(),
+                                           time.time(), self.mission_id()))
         elif route is not None and self.route is None and progress is not None \
                 and progress.status == state.ROTATING:
             self.route = route
@@ -112,11 +103,10 @@ class MissionProgress(object):
         try:
             digest = file_digest(progress.landmark_file)
         except OSError as error:
-            self.keeper.log.warn('no return progress: cannot read %s: %s', progress.landmark_file,
-                                 error.strerror)
+            self.log.warn('no return progress: cannot read %s: %s', progress.landmark_file,
+                          error.strerror)
             return
-        self.keeper.save(progress.start(digest, goals, time.time(),
-                                        route=self._route_data()))
+        self.save(progress.start(digest, goals, time.time(), route=self._route_data()))
 
     def _driven(self, m, progress):
         if self.at is not None:
@@ -126,11 +116,11 @@ class MissionProgress(object):
         if progress is not None and progress.status == state.RETURNING and done > progress.completed:
             progress = progress.goal_done(min(done, progress.landmarks), time.time(), self.at,
                                           self.travelled)
-            self.keeper.save(progress._replace(route=self._route_data()).checked())
+            self.save(progress._replace(route=self._route_data()).checked())
 
     def ending(self, new, reason):
         """The mission becomes ``new``: a terminal state (or ``docking``: home) ends the progress."""
-        progress, m = self.keeper.progress, self.mission
+        progress, m = self.progress, self.mission
         if progress is None or not progress.unfinished or new not in state.TERMINAL + (state.DOCKING,):
             return
         position = [m.last.x, m.last.y] if m.last is not None else None
@@ -140,6 +130,6 @@ class MissionProgress(object):
                 progress = progress.goal_done(progress.landmarks, time.time(), position)
             progress = progress.finish(new, reason, time.time(), position)
         except ProgressError as error:      # home, but the return's start was never kept
-            self.keeper.log.warn('the return progress keeps its last step: %s', error)
+            self.log.warn('the return progress keeps its last step: %s', error)
             return
-        self.keeper.save(progress)
+        self.save(progress)

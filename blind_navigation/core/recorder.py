@@ -1,16 +1,12 @@
 """Path recording (paper 3.3.1): :class:`PathRecorder` turns the odometry at each sampling
-tick into the path landmark; also a recording's storage (count, bytes, bytes per metre)
-and its low-space watch (:class:`SpaceWatch`)."""
+tick into the path landmark; also a recording's low-space watch (:class:`SpaceWatch`)."""
 import bisect
 import itertools
 import os
-from collections import deque, namedtuple
+from collections import deque
 
 from .geometry import distance, wrap_angle
 from .landmark import Limits, landmark_from_values
-
-PathStorage = namedtuple('PathStorage', 'landmarks bytes distance bytes_per_metre')
-PathStorage.__doc__ = 'Storage used by a recorded path: landmarks, bytes, length (m), bytes per metre.'
 
 #: Minutes of recording the free space must hold, else a warning (docs/safety.md, "Decide before the turn").
 LOW_SPACE_MINUTES = 10.0
@@ -18,12 +14,6 @@ LOW_SPACE_MINUTES = 10.0
 ASSUMED_BYTES_PER_MINUTE = 80.0 * 60
 #: s of recording after which its own rate replaces the assumed one.
 RATE_WINDOW = 60.0
-
-
-def storage_usage(landmarks, size_bytes, total_distance):
-    """Storage of ``landmarks`` landmarks stored in ``size_bytes`` bytes over ``total_distance`` m."""
-    per_metre = size_bytes / total_distance if total_distance > 0.0 else 0.0
-    return PathStorage(int(landmarks), int(size_bytes), float(total_distance), per_metre)
 
 
 def free_bytes(directory):

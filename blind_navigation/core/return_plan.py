@@ -71,11 +71,6 @@ def return_warning(loaded, loss=None):
     return '; '.join(parts)
 
 
-def return_goals(labels, landmarks):
-    """[(label, landmark)] in return order (the last recorded first)."""
-    return list(zip(labels, landmarks))[::-1]
-
-
 def plan_return(landmarks, anchor, params, prune, correction=None):
     """(route, core/pruning.PruneResult or None) from ``anchor`` over ``landmarks``, pruned
     with ``prune`` in the frame of ``correction``; ValueError if it cannot be built."""

@@ -24,6 +24,7 @@ from std_srvs.srv import SetBool
 from blind_navigation import names
 from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.msg import StorageUsage
+from blind_navigation.sim.node_common import MISSION_DONE, MISSION_GO, SET_VISION
 
 #: The fake TurtleBot's nodes (launch/fake_turtlebot.launch) and the master's own: not the layer.
 NOT_LAYER = ('/mobile_base', '/cmd_vel_mux', '/fake_vision', '/mission_driver', '/rosout')
@@ -112,11 +113,11 @@ class CostProbe(object):
         self.times = {}
         rospy.Subscriber(names.STATE, String, self._on_state, queue_size=10)
         rospy.Subscriber(names.VISION_LOST, Empty, self._on_vision_lost, queue_size=1)
-        rospy.Subscriber(names.MISSION_DONE, Bool, self._on_done, queue_size=1)
+        rospy.Subscriber(MISSION_DONE, Bool, self._on_done, queue_size=1)
         rospy.Subscriber(names.STORAGE, StorageUsage, self._on_storage, queue_size=10)
         for topic in LOSS_TOPICS:
             rospy.Subscriber(topic, String, self._on_loss, queue_size=1)
-        self.go = rospy.Publisher(names.MISSION_GO, Empty, queue_size=1, latch=True)
+        self.go = rospy.Publisher(MISSION_GO, Empty, queue_size=1, latch=True)
 
     # --- what the layer says --------------------------------------------------------------------
     def _on_state(self, msg):
@@ -213,9 +214,9 @@ class CostProbe(object):
         a = self.args
         self.wait(lambda: self.mission_done, a.drive_timeout, 'the scripted drive to end')
         time.sleep(a.settle)
-        rospy.wait_for_service(names.SET_VISION, timeout=30.0)
+        rospy.wait_for_service(SET_VISION, timeout=30.0)
         self.times['failure'] = rospy.get_time()
-        rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
+        rospy.ServiceProxy(SET_VISION, SetBool)(False)
         self.wait(lambda: 'vision_lost' in self.times, a.detect_timeout, 'vision_lost')
         if a.until == 'recording_end':
             self.wait(lambda: self.state != 'recording' and self.storage_after_recording,

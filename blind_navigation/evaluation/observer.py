@@ -15,7 +15,8 @@ from blind_navigation import names
 from blind_navigation.core.geometry import distance
 from blind_navigation.core.mission_state import TERMINAL
 from blind_navigation.msg import StorageUsage
-from blind_navigation.sim.node_common import load_params, start_node
+from blind_navigation.sim.node_common import (GROUND_TRUTH, MISSION_DONE, MISSION_GO, SET_VISION,
+                                               load_params, start_node)
 
 
 class DemoObserver(object):
@@ -33,9 +34,9 @@ class DemoObserver(object):
         self.paths = {'forward': [], 'return': []}
         rospy.Subscriber(names.STATE, String, self._on_state)
         rospy.Subscriber(names.STORAGE, StorageUsage, self._on_storage)
-        rospy.Subscriber(names.MISSION_DONE, Bool, self._on_done)
-        rospy.Subscriber(names.GROUND_TRUTH, Odometry, self._on_truth, queue_size=20)
-        self.go = rospy.Publisher(names.MISSION_GO, Empty, queue_size=1, latch=True)
+        rospy.Subscriber(MISSION_DONE, Bool, self._on_done)
+        rospy.Subscriber(GROUND_TRUTH, Odometry, self._on_truth, queue_size=20)
+        self.go = rospy.Publisher(MISSION_GO, Empty, queue_size=1, latch=True)
 
     def _on_state(self, msg):
         self.state = msg.data
@@ -67,8 +68,8 @@ class DemoObserver(object):
         self.go.publish(Empty())
         self.wait(lambda: self.mission_done, 3600.0, 'the scripted mission to finish')
         rospy.sleep(p.settle)
-        rospy.wait_for_service(names.SET_VISION, timeout=30.0)
-        rospy.ServiceProxy(names.SET_VISION, SetBool)(False)
+        rospy.wait_for_service(SET_VISION, timeout=30.0)
+        rospy.ServiceProxy(SET_VISION, SetBool)(False)
         rospy.loginfo('demo: vision failed on purpose; waiting for the return')
         self.wait(lambda: self.state in TERMINAL, p.timeout, 'state home or aborted')
         rospy.sleep(p.settle)

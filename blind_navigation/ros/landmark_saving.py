@@ -182,9 +182,9 @@ class LandmarkSaving(Role):
             self.path_pub.publish(path_message(self._poses, now, self.odometry.frame_id))
 
     def _publish_storage(self, now):
-        msg, used = self.store.storage(now)
+        msg = self.store.storage(now)
         self.storage_pub.publish(msg)
-        return used
+        return msg
 
 
 def path_message(poses, stamp, frame_id):

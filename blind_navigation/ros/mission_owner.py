@@ -214,7 +214,7 @@ class MissionOwner(object):
         step = self.mission.step(now, inputs)
         if step.stored:
             space = self.store.space.warning
-            self.storage_pub.publish(self.store.storage(rospy.Time.now())[0])
+            self.storage_pub.publish(self.store.storage(rospy.Time.now()))
             if self.store.space.warning != space:
                 self.publish_status()
         self.outputs.stepped(step.stored)
@@ -257,7 +257,7 @@ class MissionOwner(object):
         """What is degraded though the mission goes on, or ''."""
         m = self.mission
         return '; '.join(w for w in (m.warning or self.store.warning(), self.store.space.warning,
-                                     self.outputs.progress.keeper.warning,
+                                     self.outputs.progress.warning,
                                      m.pauses.describe(m.now or 0.0)) if w)
 
     def publish_status(self):

@@ -5,7 +5,7 @@ import os
 import rospy
 
 from blind_navigation.core.files import StorageError
-from blind_navigation.core.recorder import SpaceWatch, storage_usage
+from blind_navigation.core.recorder import SpaceWatch
 from blind_navigation.core.return_plan import damage_warning, write_loss
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import StorageUsage
@@ -62,19 +62,20 @@ class FileStore(object):
         return damage_warning(loss, self.writer.path) if loss.count or self.error else ''
 
     def storage(self, now):
-        """(StorageUsage, core/recorder storage_usage) at ``now`` (rospy.Time), the free space checked."""
+        """The StorageUsage at ``now`` (rospy.Time), the free space checked."""
         warning, appeared = self.space.update(now.to_sec(), self.writer.bytes, self.writer.count)
         if appeared:
             self.log.warn('%s', warning)
         writer, mark = self.writer, self.writer.sample
-        used = storage_usage(writer.count, writer.bytes, writer.total_distance)
-        msg = StorageUsage(file=writer.path, landmarks=used.landmarks, bytes=used.bytes,
-                           distance=used.distance, bytes_per_metre=used.bytes_per_metre,
+        metres = float(writer.total_distance)
+        per_metre = writer.bytes / metres if metres > 0.0 else 0.0
+        msg = StorageUsage(file=writer.path, landmarks=int(writer.count), bytes=int(writer.bytes),
+                           distance=metres, bytes_per_metre=per_metre,
                            lost=writer.lost, lost_distance=writer.lost_distance,
                            lost_turn=writer.lost_turn, error=self.error, space_warning=warning,
                            recording=mark.recording if mark else 0.0, sample=mark.seq if mark else 0)
         msg.header.stamp = now
-        return msg, used
+        return msg
 
     def status(self, stat, finished):
         """The recording's diagnostics; ``finished``: the recording is over."""

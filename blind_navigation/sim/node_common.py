@@ -1,11 +1,22 @@
-"""The rig's nodes' rospy glue (the fake TurtleBot, the bench's observer): plain params,
-odometry messages as OdomStates, a node started or exited on a bad param."""
+"""The rig's nodes' rospy glue (the fake TurtleBot, the bench's observer): the rig's own
+evaluation names, plain params, odometry messages as OdomStates, a node started or exited
+on a bad param."""
 import math
 
 import rospy
 
 from ..core.geometry import OdomState, yaw_from_quaternion
 from ..core.params import REQUIRED
+
+# the fake TurtleBot's evaluation names, relative (INTERFACE.md; names.py holds the layer's)
+#: nav_msgs/Odometry, the true pose (frame world)
+GROUND_TRUTH = 'ground_truth/odom'
+#: service std_srvs/SetBool: false makes vision fail now, true restores it
+SET_VISION = 'fake_turtlebot/set_vision'
+#: std_msgs/Bool, latched: the scripted operator has played its mission
+MISSION_DONE = 'mission_driver/done'
+#: std_msgs/Empty, latched: the scripted operator may start (with its ``wait_for_go``)
+MISSION_GO = 'mission_driver/go'
 
 
 def load_params(defaults, namespace='~'):

@@ -28,6 +28,7 @@ from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
 from blind_navigation.ros.back_travel_server import BackTravelServer  # noqa: E402
 from blind_navigation.sim.kobuki import SENSOR_PERIOD  # noqa: E402
+from blind_navigation.sim.node_common import GROUND_TRUTH  # noqa: E402
 
 #: Cancel mid-return: goals done and ground-truth speed (m/s) when cancelling.
 GOALS_BEFORE_CANCEL, MOVING_SPEED = 4, 0.05
@@ -44,7 +45,7 @@ class TimedSpeeds(object):
 
     def __init__(self):
         self._lock, self.items = threading.Lock(), []
-        self.sub = rospy.Subscriber(names.GROUND_TRUTH, Odometry, self._on_msg, queue_size=100)
+        self.sub = rospy.Subscriber(GROUND_TRUTH, Odometry, self._on_msg, queue_size=100)
 
     def _on_msg(self, msg):
         t = msg.twist.twist

@@ -26,6 +26,7 @@ from tf2_msgs.msg import TFMessage
 
 from blind_navigation import names
 from blind_navigation.core.mission_state import TERMINAL
+from blind_navigation.sim.node_common import GROUND_TRUTH
 
 import waiting
 
@@ -64,7 +65,7 @@ class Robot(object):
         self.start = self.latest = None
         self._lock = threading.Lock()
         rospy.Subscriber(self.name(names.STATE), String, self._on_state)
-        rospy.Subscriber(self.name(names.GROUND_TRUTH), Odometry, self._on_truth, queue_size=1)
+        rospy.Subscriber(self.name(GROUND_TRUTH), Odometry, self._on_truth, queue_size=1)
 
     def name(self, relative):
         return '/%s/%s' % (self.namespace, relative)

@@ -21,6 +21,7 @@ from recording_tools import Collector  # noqa: E402
 
 from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
+from blind_navigation.sim.node_common import SET_VISION  # noqa: E402
 
 #: m, the paper's time mode on the left arc (mission_left_arc_time.test's bound and why)
 PAPER_MAX_ERROR = 0.59
@@ -33,8 +34,8 @@ class VisionBackTest(unittest.TestCase):
         mission = rospy.get_param('~mission')
         cls.run_ = run = MissionRun(float(rospy.get_param('~wall_timeout', 200.0)))
         cls.status = Collector(names.STATUS, MissionStatus)
-        rospy.wait_for_service(names.SET_VISION, timeout=30.0)
-        set_vision = rospy.ServiceProxy(names.SET_VISION, SetBool)
+        rospy.wait_for_service(SET_VISION, timeout=30.0)
+        set_vision = rospy.ServiceProxy(SET_VISION, SetBool)
         try:
             run.wait_for_layer()
             run.start_operator(mission)

@@ -90,7 +90,7 @@ def test_the_progress_follows_the_return_to_home(tmp_path):
     home = load_progress(progress_path(progress.landmark_file))
     assert (home.status, home.completed, home.reason) == (state.HOME, 2, 'travelled 2 landmarks')
     progress.forget()
-    assert progress.keeper.progress is None
+    assert progress.progress is None
 
 
 @pytest.mark.parametrize('end', [state.DOCKED, state.HOME, state.ABORTED])
@@ -122,7 +122,7 @@ def test_a_return_whose_start_was_not_kept_does_not_end_home_in_the_file(tmp_pat
     _at(m, 0.2, 8.0)
     progress.ending(state.HOME, 'travelled 1 landmarks')
     assert load_progress(progress_path(progress.landmark_file)).status == state.ROTATING
-    assert [level for level, _ in progress.keeper.log.lines] == ['warn', 'warn']
+    assert [level for level, _ in progress.log.lines] == ['warn', 'warn']
 
 
 PARAMS = types.SimpleNamespace(max_v=0.7, max_w=2.0, resume_timeout=600.0, resume_max_offset=0.5)

@@ -83,7 +83,7 @@ def test_a_return_resumed_after_a_restart_comes_home_on_ground_truth(tmp_path):
     resumed = Mission(before.params, before.store, kept=kept, **vars(before.config))
     assert (resumed.state, resumed.reason) == (state.RETURNING, RESUMED)
     progress = MissionProgress(path, lambda: 'mission_1', lambda: 'odom', Log())
-    progress.keeper.progress, progress.route = decision.progress, kept.route
+    progress.progress, progress.route = decision.progress, kept.route
     _drive(run, resumed, progress, lambda: resumed.phase == 'ended')
     harness._stop(run, resumed, harness._settings({}))
     assert resumed.state == state.HOME, resumed.reason

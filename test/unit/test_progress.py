@@ -14,7 +14,7 @@ from blind_navigation.core.progress import (FORMAT_VERSION, ProgressError, Retur
                                             file_digest, load_progress, progress_path,
                                             save_progress)
 from blind_navigation.core.route import build_route
-from blind_navigation.core.progress_keeper import ProgressKeeper
+from blind_navigation.core.progress_keeper import MissionProgress
 from blind_navigation.core.resume import (ABORT, IGNORE, RESUME, resume_decision, resume_from_file,
                                           settle_abort)
 
@@ -156,7 +156,7 @@ def test_a_progress_that_cannot_be_written_is_a_warning_and_no_stale_file_is_lef
     link, path, digest = mission
     warned, changes = [], []
     log = type('Log', (), {'warn': lambda self, *args: warned.append(args[0] % args[1:])})()
-    keeper = ProgressKeeper(link, log, changed=lambda: changes.append(keeper.warning))
+    keeper = MissionProgress(link, None, None, log, changed=lambda: changes.append(keeper.warning))
     keeper.save(returning(link, digest, completed=4))
     assert load_progress(path).completed == 4 and keeper.warning == '' and changes == []
     real_write = os.write

@@ -9,8 +9,7 @@ import pytest
 
 from blind_navigation.core.geometry import OdomState, distance, wrap_angle
 from blind_navigation.core.recorder import (ASSUMED_BYTES_PER_MINUTE, LOW_SPACE_MINUTES, RATE_WINDOW,
-                                           OdometryHistory, PathRecorder, SpaceWatch, free_bytes,
-                                           storage_usage)
+                                           OdometryHistory, PathRecorder, SpaceWatch, free_bytes)
 from blind_navigation.core.segment import SamplingSchedule
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), '..'))
@@ -143,11 +142,6 @@ def test_bad_tick_raises_and_keeps_the_previous_position(v, yaw, period, field):
         recorder.take(OdomState(1.0, 0.0, 0.0, v, 0.0, 1.0), yaw, period)
     assert recorder.count == 0
     assert recorder.take(OdomState(2.0, 0.0, 0.0, 0.1, 0.0, 4.0), 0.0, 4.0).d == 2.0
-
-
-def test_storage_usage():
-    assert storage_usage(10, 800, 2.0) == (10, 800, 2.0, 400.0)
-    assert storage_usage(0, 150, 0.0).bytes_per_metre == 0.0
 
 
 def test_odometry_history_reads_the_state_at_a_stamp():

@@ -13,7 +13,7 @@ from blind_navigation.core.odometry_reset import UNTRUSTED
 from blind_navigation.core.pruning import prune_route
 from blind_navigation.core.return_plan import (NO_LOSS, STILL_LOSS_DISTANCE, STILL_LOSS_TURN,
                                                WriteLoss, plan_return, recording_problem,
-                                               return_goals, return_warning, still_loss)
+                                               return_warning, still_loss)
 from blind_navigation.core.route import build_route
 from blind_navigation.core.store import load_landmarks
 
@@ -87,10 +87,6 @@ def test_an_untrusted_reset_refuses_the_return_naming_the_last():
     problem = ending.reason
     assert ending.code == outcome.ODOMETRY
     assert 'could not carry across (%s b, before landmark_000005)' % UNTRUSTED in problem
-
-
-def test_goals_go_in_return_order():
-    assert return_goals(['a', 'b', 'c'], [1, 2, 3]) == [('c', 3), ('b', 2), ('a', 1)]
 
 
 def plan_route(landmarks, anchor, params, prune):

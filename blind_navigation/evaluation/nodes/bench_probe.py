@@ -25,6 +25,7 @@ from blind_navigation.core.store import load_landmarks
 from blind_navigation.evaluation import survival
 from blind_navigation.evaluation.observer import DemoObserver, main as observe
 from blind_navigation.msg import BackTravelActionGoal, BackTravelActionResult
+from blind_navigation.sim.node_common import SET_VISION
 
 #: The layer as blind_navigation.launch starts it by default: every role in one node, so the
 #: pi turn's commands and the vision monitor's ~loss come from that node (with
@@ -131,9 +132,9 @@ class BenchProbe(DemoObserver):
         self.find_processes()
         rss_timer = rospy.Timer(rospy.Duration(0.5), self._sample_all_rss)
         cpu_start, wall_start, sim_start = self.cpu_snapshot(), time.time(), rospy.Time.now().to_sec()
-        rospy.wait_for_service(names.SET_VISION, timeout=30.0)
+        rospy.wait_for_service(SET_VISION, timeout=30.0)
         from std_srvs.srv import SetBool
-        set_vision = rospy.ServiceProxy(names.SET_VISION, SetBool)
+        set_vision = rospy.ServiceProxy(SET_VISION, SetBool)
         if p.case:      # its own script (the loss may come mid-mission): no one failure, no latency
             self.case_findings = survival.run_case(self, set_vision)
             self.times.pop('trigger', None)

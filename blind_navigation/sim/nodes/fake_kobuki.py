@@ -57,7 +57,6 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 from std_msgs.msg import Empty, Float64, Header, String
 
-from blind_navigation import names
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.sim.arena import arena_from_dict
 from blind_navigation.sim.battery import SIM_BATTERY_DEFAULTS, SimBattery
@@ -66,7 +65,7 @@ from blind_navigation.sim.kobuki import ODOM_POSE_COVARIANCE, SENSOR_PERIOD, Com
 from blind_navigation.sim.mujoco_kobuki import engine_name, make_base
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import set_pose, subscribe
-from blind_navigation.sim.node_common import load_params
+from blind_navigation.sim.node_common import GROUND_TRUTH, load_params
 
 DBL_MAX = sys.float_info.max
 #: Kobuki sensor names (sim/arena.py) -> kobuki_msgs' index constants.
@@ -134,7 +133,7 @@ class FakeKobuki(object):
         publishes_clock = p.clock and not p.wall_time
         self.clock_pub = rospy.Publisher('/clock', Clock, queue_size=SYNCHRONOUS) if publishes_clock else None
         self.odom_pub = rospy.Publisher('odom', Odometry, queue_size=SYNCHRONOUS)
-        self.truth_pub = rospy.Publisher(names.GROUND_TRUTH, Odometry, queue_size=SYNCHRONOUS)
+        self.truth_pub = rospy.Publisher(GROUND_TRUTH, Odometry, queue_size=SYNCHRONOUS)
         self.imu_pub = rospy.Publisher('mobile_base/sensors/imu_data', Imu, queue_size=SYNCHRONOUS)
         self.joint_pub = rospy.Publisher('joint_states', JointState, queue_size=SYNCHRONOUS)
         self.event_pubs = {

@@ -23,7 +23,7 @@ from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.sim.odom_info import OdomInfo
 from blind_navigation.sim.visual_odometry import VO_DRIFT_DEFAULTS, VO_RATE, DriftingOdometry
 from blind_navigation.ros.common import shutting_down, set_pose, subscribe
-from blind_navigation.sim.node_common import load_params
+from blind_navigation.sim.node_common import GROUND_TRUTH, MISSION_DONE, SET_VISION, load_params
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 MODES = ('dark', 'stall', 'lost')
@@ -52,7 +52,7 @@ class FakeVision(object):
         self.fail_at = float(p.vision_fail_at) if str(p.vision_fail_at).strip() else None
         if str(p.vision_fail_after_mission).strip():
             self.fail_after_mission = float(p.vision_fail_after_mission)
-            subscribe(names.MISSION_DONE, Bool, self.on_mission_done, queue_size=1)
+            subscribe(MISSION_DONE, Bool, self.on_mission_done, queue_size=1)
         self.failed = False
         self.truth = None
         self.drift = DriftingOdometry(int(p.seed) + 1, p.scale_error_std, p.yaw_drift_per_metre,
@@ -67,10 +67,10 @@ class FakeVision(object):
         self.odom_pub = rospy.Publisher('rtabmap/odom', Odometry, queue_size=10)
         self.odom_info_pub = rospy.Publisher(names.VO_ODOM_INFO, OdomInfo, queue_size=10)
         self.tf = tf2_ros.TransformBroadcaster() if p.publish_tf else None
-        rospy.Service(names.SET_VISION, SetBool, self.on_set_vision)
+        rospy.Service(SET_VISION, SetBool, self.on_set_vision)
         self.period = 1.0 / p.rate
         self.next_frame = None
-        subscribe(names.GROUND_TRUTH, Odometry, self.on_truth, queue_size=RECEIVE_QUEUE)  # every pose
+        subscribe(GROUND_TRUTH, Odometry, self.on_truth, queue_size=RECEIVE_QUEUE)  # every pose
 
     def on_truth(self, msg):
         """Frames are clocked by the base's 50 Hz true pose stamps: one frame per ``period``

@@ -13,14 +13,13 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, Empty
 
-from blind_navigation import names
 
 from blind_navigation.sim.kobuki import MAX_V, MAX_W, clamp
 from blind_navigation.sim.mission import load_mission
 from blind_navigation.core.geometry import Pose2D
 from blind_navigation.ros.clock import LoopClock
 from blind_navigation.ros.common import subscribe, twist
-from blind_navigation.sim.node_common import load_params, odom_state_from_msg
+from blind_navigation.sim.node_common import MISSION_GO, load_params, odom_state_from_msg
 from blind_navigation.ros.odometry import RECEIVE_QUEUE
 
 STOP_MESSAGES = 3
@@ -45,7 +44,7 @@ class MissionDriver(object):
         self.latest_pose = None
         self.go = threading.Event()
         if p.wait_for_go:
-            subscribe(names.MISSION_GO, Empty, lambda _msg: self.go.set())
+            subscribe(MISSION_GO, Empty, lambda _msg: self.go.set())
         else:
             self.go.set()
         if self.operator is not None:
@@ -67,7 +66,7 @@ class MissionDriver(object):
         start = rospy.Time.now() + rospy.Duration(self.params.start_delay)
         rospy.loginfo('mission_driver: %s (%.1f s, %.2f m nominal) starts at sim t %.2f s%s',
                       self.mission.name, self.mission.duration, self.mission.nominal_length(), start.to_sec(),
-                      ' at the earliest, after the go on %s' % rospy.resolve_name(names.MISSION_GO) if self.params.wait_for_go else '')
+                      ' at the earliest, after the go on %s' % rospy.resolve_name(MISSION_GO) if self.params.wait_for_go else '')
         rospy.sleep(start - rospy.Time.now())
         if self.params.wait_for_go:
             while not rospy.is_shutdown() and not self.go.wait(0.1):
