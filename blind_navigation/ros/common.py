@@ -134,3 +134,28 @@ def set_pose(pose_msg, x, y, yaw):
     pose_msg.position.x, pose_msg.position.y = x, y
     q = pose_msg.orientation
     q.x, q.y, q.z, q.w = quaternion_from_yaw(yaw)
+
+
+class RoleLog(object):
+    """rospy logging with the role's name in every line."""
+
+    def __init__(self, prefix):
+        self.prefix = prefix + ': '
+        self._warned = {}               # text -> when it was last logged (warn_throttle)
+
+    def info(self, text, *args):
+        rospy.loginfo(self.prefix + text, *args)
+
+    def warn(self, text, *args):
+        rospy.logwarn(self.prefix + text, *args)
+
+    def error(self, text, *args):
+        rospy.logerr(self.prefix + text, *args)
+
+    def warn_throttle(self, period, text, *args):
+        """``text`` at most once per ``period`` s of this role (rospy's own throttle keys on
+        the calling line: this one, for every role and text)."""
+        now, last = rospy.get_time(), self._warned.get(text)
+        if last is None or not last <= now < last + period:
+            self._warned[text] = now
+            rospy.logwarn(self.prefix + text, *args)

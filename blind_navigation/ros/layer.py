@@ -11,7 +11,7 @@ from ..core.heading_correction import GyroCorrection
 from ..core.files import FileContentError
 from blind_navigation.msg import HeadingCorrection
 from std_msgs.msg import String
-from .common import subscribe
+from .common import RoleLog, subscribe
 from .diagnostics import Diagnostics
 from . import faults
 from .mission import MissionStateView
@@ -21,25 +21,6 @@ from .odometry import OdometryFeed
 #: The mission state's owner in the paper layout; the param of the mission's id.
 MISSION_OWNER = 'back_travel_client'
 MISSION_ID = 'blind_navigation/mission_id'
-
-
-class RoleLog(object):
-    """rospy logging with the role's name in every line."""
-
-    def __init__(self, prefix):
-        self.prefix = prefix + ': '
-
-    def info(self, text, *args):
-        rospy.loginfo(self.prefix + text, *args)
-
-    def warn(self, text, *args):
-        rospy.logwarn(self.prefix + text, *args)
-
-    def error(self, text, *args):
-        rospy.logerr(self.prefix + text, *args)
-
-    def warn_throttle(self, period, text, *args):
-        rospy.logwarn_throttle(period, self.prefix + (text % args if args else text))
 
 
 class Layer(object):

@@ -10,7 +10,7 @@ from blind_navigation.core.return_plan import damage_warning, write_loss
 from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import StorageUsage
 from blind_navigation.ros import diagnostics
-from blind_navigation.ros.layer import RoleLog
+from blind_navigation.ros.common import RoleLog
 
 
 class FileStore(object):
