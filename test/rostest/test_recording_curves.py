@@ -40,9 +40,10 @@ class RecordingCurvesTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.mission = load_mission(rospy.get_param('~mission'))
+        cls.arc_w = max(abs(w) for _, w, _ in cls.mission.segments)
         cls.landmark_file = rospy.get_param('~landmark_file')
         cls.samples = Collector(names.SAMPLE, PathSample)
-        cls.operator_start = []
+        cls.operator_start, cls.turning = [], []
         # the base's stamped odometry, not the receipt time of a command: under load a
         # message reaches this node late, and at rtf 10 each wall ms is 10 ms of sim time
         rospy.Subscriber('/odom', Odometry, cls.on_odom, queue_size=200)
@@ -57,14 +58,17 @@ class RecordingCurvesTest(unittest.TestCase):
         cls.ticks = [s for s in cls.samples.snapshot() if s.command == 'sample']
         wait_for(lambda: cls.saved() >= len(cls.ticks), 'the saver did not save every tick')
         cls.loaded = load_landmarks(cls.landmark_file)
-        moving = [(t0, t0 + duration, w) for t0, (v, w, duration)
-                  in zip(cls.segment_starts(), cls.mission.segments)]
-        cls.arc = next((t0, t1) for t0, t1, w in moving if w)
+        # the arc as the base drove it (under load the operator's first command can reach
+        # the base late, and its timed segments then end early against the base's start)
+        assert cls.turning, 'the base never turned'
+        cls.arc = (cls.turning[0] - cls.operator_start[0], cls.turning[-1] - cls.operator_start[0])
 
     @classmethod
     def on_odom(cls, msg):
         if not cls.operator_start and abs(msg.twist.twist.linear.x) > 1e-3:  # it starts straight
             cls.operator_start.append(msg.header.stamp.to_sec())
+        if cls.operator_start and abs(msg.twist.twist.angular.z) > cls.arc_w / 2:
+            cls.turning.append(msg.header.stamp.to_sec())
 
     @classmethod
     def saved(cls):
@@ -72,14 +76,6 @@ class RecordingCurvesTest(unittest.TestCase):
             return len(load_landmarks(cls.landmark_file, allow_empty=True).landmarks)
         except Exception:           # not created yet
             return 0
-
-    @classmethod
-    def segment_starts(cls):
-        starts, t = [], 0.0
-        for _, _, duration in cls.mission.segments:
-            starts.append(t)
-            t += duration
-        return starts
 
     @classmethod
     def tearDownClass(cls):
