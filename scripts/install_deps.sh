@@ -6,8 +6,8 @@
 # where ROS Noetic lives in /opt/ros/noetic, from the ros-noetic-* packages.
 # "a|b" installs a, or b where the distribution has no a.
 # Then the pinned virtual environments (scripts/venvs.sh, requirements/): tools
-# (vermin) and, for each Python lane whose interpreter is found (3.8, 3.12, 3.13: pyenv's
-# or on PATH), its pyXY venv (scripts/python_lane.sh).
+# (vermin, vulture) and sim (MuJoCo). Each Python lane (3.8, 3.12, 3.13) makes its own
+# pyXY venv in its set-up (scripts/python_lane.sh), beside make test's rostests.
 set -euo pipefail
 
 COMMON=(g++ cmake make libyaml-cpp-dev python3-yaml python3-numpy python3-rospkg
@@ -85,18 +85,9 @@ fi
 source "$(dirname "$0")/venvs.sh"
 # the venvs at once (pip's downloads and unpacking wait on the disk and network more than
 # on the CPU), each failure named by make_venv
-lane_venv() {
-  local version=$1 lane=py${1/./} python
-  if python=$(find_python "$version"); then
-    make_venv "$lane" "$python" "$lane.txt" && debian_ros_behind "$BN_WS/venvs/$lane"
-  else
-    echo "install_deps: no Python $version (pyenv or python$version on PATH): no $lane venv, its lane will be skipped"
-  fi
-}
 jobs=()
 make_venv tools /usr/bin/python3 tools.txt & jobs+=($!)
 make_venv sim /usr/bin/python3 sim.txt --system-site-packages & jobs+=($!)  # the fake's physics engine (MuJoCo)
-for version in $LANE_PYTHONS; do lane_venv "$version" & jobs+=($!); done
 failed=0
 for job in "${jobs[@]}"; do wait "$job" || failed=1; done
 [ $failed -eq 0 ] || { echo "install_deps: a venv could not be made (above)" >&2; exit 1; }

@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """rostest (install_space.test): the package as a user gets it from `catkin_make install`.
 
-Builds the package in a fresh workspace (a temporary directory, the package's source
-linked in) with `catkin_make install`, in an environment that knows only the system's
-ROS (no devel space of the workspace running the tests), then, sourcing only
+Builds the package in a fresh workspace (the package's source linked in) with
+`catkin_make install`, in an environment that knows only the system's ROS (no devel
+space of the workspace running the tests; scripts/install_space.sh): in a temporary
+directory, or make test's build beside the rostests (BN_INSTALL_SPACE names its
+workspace: the test waits for its status file). Then, sourcing only
 install/setup.bash: the package, its Python modules and its launch files resolve to
 install/, only the layer's nodes and the test rig's are installed (no dev script), and
 the shipped demo.launch runs a mission to `home` from there without an [ERROR] line
@@ -20,6 +22,8 @@ import unittest
 import rospkg
 import rospy
 import rostest
+
+from waiting import wait_for
 
 
 PACKAGE = 'blind_navigation'
@@ -49,18 +53,20 @@ class InstallSpaceTest(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        cls.ws = tempfile.mkdtemp(prefix='bn_install_')
+        cls.ws = os.environ.get('BN_INSTALL_SPACE') or tempfile.mkdtemp(prefix='bn_install_')
         cls.install = os.path.join(cls.ws, 'install')
-        os.makedirs(os.path.join(cls.ws, 'src'))
-        os.symlink(rospkg.RosPack().get_path(PACKAGE), os.path.join(cls.ws, 'src', PACKAGE))
-        cls.build = cls.run_clean(
-            SYSTEM_SETUP + 'catkin_make -C "$WS" install -DPYTHON_EXECUTABLE=/usr/bin/python3 '
-            '-DCATKIN_ENABLE_TESTING=OFF -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$WS/install"',
-            BUILD_TIMEOUT)
+        status = os.path.join(cls.ws, 'build.status')
+        if 'BN_INSTALL_SPACE' not in os.environ:
+            script = os.path.join(rospkg.RosPack().get_path(PACKAGE), 'scripts', 'install_space.sh')
+            subprocess.run(['bash', script, cls.ws], timeout=BUILD_TIMEOUT)
+        wait_for(lambda: os.path.exists(status), 'the install space build (%s)' % status, BUILD_TIMEOUT, poll=0.5)
+        with open(status) as code, open(os.path.join(cls.ws, 'build.log')) as log:
+            cls.build = int(code.read()), log.read()
 
     @classmethod
     def tearDownClass(cls):
-        shutil.rmtree(cls.ws, ignore_errors=True)
+        if 'BN_INSTALL_SPACE' not in os.environ:
+            shutil.rmtree(cls.ws, ignore_errors=True)
 
     @classmethod
     def run_clean(cls, script, timeout, installed=False):
