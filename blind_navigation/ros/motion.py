@@ -4,7 +4,6 @@
 and battery for the mission owner (:class:`DockingClient`, :func:`subscribe_battery`)."""
 import threading
 
-import actionlib
 import rospy
 from actionlib.action_client import get_name_of_constant
 from actionlib_msgs.msg import GoalStatus
@@ -19,6 +18,7 @@ from ..core.pause import CONTACT_DEFAULTS, Takeover
 from ..core.safety import CONTACT, SafetyEvents, VelocityLimits
 from . import faults, kobuki_msgs_compat as kobuki
 from .common import subscribe, subscribe_checked, twist
+from .goal_client import GoalClient
 
 #: How a halt by a safety event begins; kind -> (message class, field naming the sensor)
 SAFETY_HALT = 'safety: '
@@ -193,7 +193,7 @@ class DockingClient(object):
     def __init__(self, inbox, takeover, log):
         self.inbox, self.takeover, self.log = inbox, takeover, log
         # made at start-up: by the docking the server has long been found
-        self.client = actionlib.SimpleActionClient(names.DOCK_DRIVE, kobuki.AutoDockingAction)
+        self.client = GoalClient(names.DOCK_DRIVE, kobuki.AutoDockingAction)
         self.velocity = rospy.Publisher(names.MUX_OUTPUT, Twist, queue_size=1)
         self._lock = threading.Lock()
         self._goal = 0              # the goal's number; 0: none pending

@@ -13,13 +13,13 @@ import subprocess
 import time
 import unittest
 
-import actionlib
 import rospy
 import rostest
 from actionlib_msgs.msg import GoalID, GoalStatus
 from rosgraph_msgs.msg import Log
 
 from blind_navigation.msg import BackTravelAction, BackTravelActionResult, BackTravelGoal
+from blind_navigation.ros.goal_client import GoalClient
 
 from fake_base import FakeBase
 from mission_owner import UNDRIVABLE, MissionOwner
@@ -34,7 +34,7 @@ class BackTravelServerTest(unittest.TestCase):
     def setUpClass(cls):
         rospy.init_node('test_back_travel_server')
         cls.base = FakeBase()
-        cls.client = actionlib.SimpleActionClient('/blind_navigation/back_travel', BackTravelAction)
+        cls.client = GoalClient('/blind_navigation/back_travel', BackTravelAction)
         assert cls.client.wait_for_server(rospy.Duration(TIMEOUT)), 'server did not come up'
         cls.owner = MissionOwner('/back_travel_server')
         cls.owner.publish('returning')

@@ -6,7 +6,6 @@ import math
 import threading
 import unittest
 
-import actionlib
 import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus
@@ -15,6 +14,7 @@ from nav_msgs.msg import Odometry
 from blind_navigation.core.geometry import Pose2D, yaw_from_quaternion
 from blind_navigation.ros import kobuki_msgs_compat as kobuki_msgs
 from blind_navigation.ros.common import twist
+from blind_navigation.ros.goal_client import GoalClient
 from blind_navigation.sim.dock import CHARGING, DISCHARGING, Dock
 
 import waiting
@@ -46,7 +46,7 @@ class FakeDockTest(unittest.TestCase):
         cls.ir = Latest('/mobile_base/sensors/dock_ir', kobuki_msgs.DockInfraRed)
         cls.truth = Latest('/ground_truth/odom', Odometry)
         cls.teleop = rospy.Publisher('/cmd_vel_mux/input/teleop', type(twist()), queue_size=10)
-        cls.client = actionlib.SimpleActionClient('/dock_drive_action', kobuki_msgs.AutoDockingAction)
+        cls.client = GoalClient('/dock_drive_action', kobuki_msgs.AutoDockingAction)
         waiting.wait_for(lambda: cls.client.wait_for_server(rospy.Duration(0.1)) or False,
                          'the dock_drive_action server', TIMEOUT)
         waiting.wait_for(lambda: cls.core.msg and cls.ir.msg and cls.truth.msg, 'core, dock_ir, ground truth',

@@ -28,6 +28,7 @@ from blind_navigation.core.store import load_landmarks
 from blind_navigation.msg import (BackTravelAction, BackTravelFeedback, BackTravelGoal,
                                   BackTravelResult, PathSample)
 from blind_navigation.ros import kobuki_msgs_compat as kobuki
+from blind_navigation.ros.goal_client import GoalClient
 from blind_navigation.ros.motion import DockingClient
 from blind_navigation.ros.mission_owner import Inbox
 from blind_navigation.srv import RecordLandmark, RecordLandmarkResponse
@@ -123,7 +124,7 @@ class InterfacesTest(unittest.TestCase):
         server = actionlib.SimpleActionServer('interfaces_test/back_travel', BackTravelAction,
                                               execute_cb=execute, auto_start=False)
         server.start()
-        client = actionlib.SimpleActionClient('interfaces_test/back_travel', BackTravelAction)
+        client = GoalClient('interfaces_test/back_travel', BackTravelAction)
         self.assertTrue(client.wait_for_server(rospy.Duration(TIMEOUT)),
                         'action server did not come up within %.0f s' % TIMEOUT)
         client.send_goal(BackTravelGoal(v=0.1, w=0.0, d=0.2, T=2.0, psi=0.0))
@@ -133,7 +134,7 @@ class InterfacesTest(unittest.TestCase):
     def test_the_mission_owner_rejects_back_travel_goals(self):
         teleop = Collector('/cmd_vel_mux/input/teleop', Twist)
         statuses = Collector('/blind_navigation/back_travel/status', GoalStatusArray)
-        client = actionlib.SimpleActionClient('/blind_navigation/back_travel', BackTravelAction)
+        client = GoalClient('/blind_navigation/back_travel', BackTravelAction)
         self.assertTrue(client.wait_for_server(rospy.Duration(LAYER_TIMEOUT)),
                         'the layer served no back_travel action within %.0f s' % LAYER_TIMEOUT)
         client.send_goal(BackTravelGoal(v=0.1, w=0.0, d=0.2, T=2.0, psi=0.0))

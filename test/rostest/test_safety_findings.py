@@ -26,7 +26,6 @@ import threading
 import time
 import unittest
 
-import actionlib
 import rosgraph
 import rospy
 import rostest
@@ -48,6 +47,7 @@ from blind_navigation.core.plausibility import RouteBudget  # noqa: E402
 from blind_navigation.core.progress import load_progress, progress_path  # noqa: E402
 from blind_navigation.core.route import build_route  # noqa: E402
 from blind_navigation.core.store import load_landmarks  # noqa: E402
+from blind_navigation.ros.goal_client import GoalClient  # noqa: E402
 from blind_navigation.ros.paper_owner import route_message  # noqa: E402
 from blind_navigation.msg import BackTravelAction, BackTravelGoal  # noqa: E402
 from blind_navigation.srv import SetReturnRoute  # noqa: E402
@@ -161,7 +161,7 @@ class Stranger(object):
     """A second client of the layer's action: its goals as another node."""
 
     def __init__(self):
-        self.client = actionlib.SimpleActionClient(names.BACK_TRAVEL, BackTravelAction)
+        self.client = GoalClient(names.BACK_TRAVEL, BackTravelAction)
         assert self.client.wait_for_server(rospy.Duration(WALL_TIMEOUT)), 'no back_travel server'
 
     def send(self, goal):

@@ -42,7 +42,9 @@ dock (a world event): ``x y yaw``, or ``start`` behind the robot where it stands
 namespaces) only one publishes it; the others run with ``~clock`` false and step
 their base with that clock, stamping from the time they joined it.
 """
+import faulthandler
 import math
+import signal
 import sys
 import threading
 import time
@@ -396,6 +398,9 @@ class FakeKobuki(object):
 
 def main():
     rospy.init_node('mobile_base')
+    # a stop that hung twice in CI (no exit on SIGINT, killed 17 s later): roslaunch's SIGTERM
+    # leaves every thread's stack on stderr, then rospy's handler runs
+    faulthandler.register(signal.SIGTERM, chain=True)
     try:
         node = FakeKobuki()
     except (ValueError, OSError, ImportError) as error:
