@@ -8,7 +8,7 @@
 #   - the unit tests (pytest-pyXY-unit.xml),
 #   - test/lanes' harness missions (pytest-pyXY-lane.xml),
 #   - its mission rostests (test/lanes/lane_MISSION.test, MISSIONS below) with every node
-#     and test script under VERSION (each checks so: interpreter_check.py), results as
+#     and test script under VERSION (lane_mission.py checks so), results as
 #     rosunit-pyXY-*.xml,
 # all into catkin's results dir, which scripts/test_summary.py counts.
 #   python_lane.sh VERSION [all|unit|rostests] [RESULTS_DIR]

@@ -40,7 +40,7 @@ OPERATOR = '/mission_driver'
 #: The 2.3 m mission the issue's faults were tried on (config/missions/test_safety.yaml).
 MISSION = 'test_safety'
 #: m from the start a closed-loop return ends within on the ideal profile (the limit of
-#: mission_closed_loop.test and the other closed-loop missions): "home within normal accuracy".
+#: lane_mission_closed_loop.test and the other closed-loop missions): "home within normal accuracy".
 NORMAL_ACCURACY = 0.075
 #: s wall any one wait of a mission may take (layer start-up, a phase of the mission).
 WALL_TIMEOUT = 90.0

@@ -114,7 +114,7 @@ def odometry_burst(mission, make, rate=BURST_RATE, duration=BURST_TIME):
 
 def lose_vision(mission):
     """vision_lost from this node, once it is connected to every subscriber (`rostopic pub -1`,
-    which mission_closed_loop.test types, would wait 3 s of wall time for late ones)."""
+    which lane_mission_closed_loop.test types, would wait 3 s of wall time for late ones)."""
     publisher = mission.keep(rospy.Publisher(names.VISION_LOST, Empty, queue_size=1))
     wait_connected(publisher, mission.owner, 'vision_lost')
     publisher.publish(Empty())

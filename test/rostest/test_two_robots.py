@@ -36,7 +36,7 @@ GLOBAL_TOPICS = {'/clock', '/rosout', '/rosout_agg', '/diagnostics', '/tf', '/tf
 #: and two fakes on two cores)
 MISSION_TIMEOUT = 240.0
 #: m: the closed-loop target on the ideal profile (0.05 m) + 50 % for ROS timing, as
-#: mission_closed_loop.test
+#: lane_mission_closed_loop.test
 MAX_ERROR = 0.075
 #: diagnostic_updater's placeholder when a status is added, before its first check ran
 STARTING = 'Node starting up'

@@ -23,7 +23,7 @@ from blind_navigation import names  # noqa: E402
 from blind_navigation.msg import MissionStatus  # noqa: E402
 from blind_navigation.sim.node_common import SET_VISION  # noqa: E402
 
-#: m, the paper's time mode on the left arc (mission_left_arc_time.test's bound and why)
+#: m, the paper's time mode on the left arc (lane_mission_left_arc_time.test's bound and why)
 PAPER_MAX_ERROR = 0.59
 
 
@@ -60,7 +60,7 @@ class VisionBackTest(unittest.TestCase):
         self.assertTrue(self.reasons('rotating')[0].startswith('vision lost'), self.reasons('rotating'))
         rospy.loginfo('PAPER LOSS: home within %.4f m on a %.2f m path', self.outcome.error,
                       self.loaded.total_distance)
-        # the paper's time mode on the ideal fake: mission_left_arc_time.test's bound
+        # the paper's time mode on the ideal fake: lane_mission_left_arc_time.test's bound
         self.assertLess(self.outcome.error, PAPER_MAX_ERROR)
 
 

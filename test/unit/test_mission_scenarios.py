@@ -58,7 +58,7 @@ def test_arcs_come_home_closed_loop(mission):
 # --- time mode on arcs (test_mission.py, ideal profile, limit 30 % of the path) ------------
 @pytest.mark.parametrize('mission, limit', [('test_right_arc', 0.59), ('test_s_curve', 1.06)])
 def test_arcs_come_home_in_time_mode(mission, limit):
-    """Replaces mission_right_arc_time and mission_s_curve_time (mission_left_arc_time.test
+    """Replaces mission_right_arc_time and mission_s_curve_time (lane_mission_left_arc_time.test
     keeps the left arc over ROS, the paper's layout): the paper's rule replays the arcs'
     first samples without their turn, so even the ideal robot misses the start; the limit is
     30 % of the path (1.97 m, 3.54 m), and a turn replayed unmirrored ends metres away."""
