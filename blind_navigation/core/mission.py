@@ -137,8 +137,8 @@ class Mission(object):
             self._end(state.ABORTED, outcome.SAFETY_EVENT, '%s: safety stop: %s' % (where, inputs.tripped))
         command = self._step(now, inputs, stored)
         self.halt = self.halt and ended     # the step that ended the mission returned zero
-        return Step(command, self.phase, self.state, stored, getattr(self.drive, 'send', None),
-                    self.phase == DOCK and self.drive.requested())
+        return Step(command, self.phase, self.state, stored, self.drive.take() if isinstance(self.drive, RemoteReturn)
+                    else None, self.phase == DOCK and self.drive.requested())
 
     def _step(self, now, inputs, stored):
         if self.phase == ENDED:

@@ -187,6 +187,11 @@ class RemoteReturn(object):
     def resumed(self, seconds):
         """Pauses are the remote driver's."""
 
+    def take(self):
+        """The goal to send now, once: None after (a mission that ends sends nothing more)."""
+        goal, self.send = self.send, None
+        return goal
+
     def step(self, now, inputs):
         result = inputs.goal_result
         self.watch.update(now, bool(inputs.operator or inputs.bumper))    # paused: not counted

@@ -8,7 +8,7 @@ import pytest
 
 from blind_navigation.core import outcome
 from blind_navigation.core.back_travel import BACK_TRAVEL_DEFAULTS
-from blind_navigation.core.drive import SUCCEEDED, Outcome
+from blind_navigation.core.drive import FAILED, SUCCEEDED, Outcome
 from blind_navigation.core.goal import make_goal
 from blind_navigation.core.mission import Inputs, Mission
 from blind_navigation.core.geometry import OdomState
@@ -217,6 +217,23 @@ def test_new_mission_starts_again_from_a_terminal_state_only():
     assert mission.step(1.1).command is None
     assert mission.new_mission(None) is None and mission.state == 'idle'
     assert 'refused' in mission.go_home()
+
+
+def test_a_remote_goal_ended_at_once_is_not_sent_again():
+    """A goal that fails on the step after it was sent (a cancel of every goal, the server's
+    answer at once) aborts the mission, and no goal goes out after it (once the paper client
+    sent the same goal every cycle until it was stopped: mission_cancel.test, CI run K)."""
+    recorded = harness._Recorded(MISSION, 'paper', 0, harness._settings({'floor': False}), None, None)
+    run, mission = recorded.run, recorded.owner
+    mission.configure_return(remote_goals=True)
+    step = mission.step(run.base.t, Inputs(odom=run.base.odom))
+    assert step.goal is not None and step.goal[0] == 0
+    cancelled = Outcome(FAILED, 'ended PREEMPTED: canceled after 0.000 m', outcome.CANCELLED)
+    later = [mission.step(run.base.t + 0.02 * (k + 1), Inputs(odom=run.base.odom,
+                                                              goal_result=cancelled if k == 0 else None))
+             for k in range(50)]
+    assert mission.state == 'aborted' and mission.reason.endswith('canceled after 0.000 m'), mission.reason
+    assert [s.goal for s in later if s.goal is not None] == []
 
 
 def test_remote_goals_are_sent_one_at_a_time_and_come_home():
